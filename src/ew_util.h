@@ -1,0 +1,34 @@
+/* Small helpers shared by every stage (internal). */
+#ifndef EW_UTIL_H
+#define EW_UTIL_H
+
+#include "edgewise.h"
+#include <stdint.h>
+#include <string.h>
+
+#if defined(__GNUC__)
+#define EW_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define EW_PRINTF(a, b)
+#endif
+
+/* Formats one error line into err (if non-NULL); always returns -1. */
+int ew_fail(ew_error *err, const char *fmt, ...) EW_PRINTF(2, 3);
+
+/* Little-endian reads from a byte buffer (callers check bounds first). */
+static inline uint32_t ew_u32(const uint8_t *p) {
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+static inline int32_t ew_i32(const uint8_t *p) { return (int32_t)ew_u32(p); }
+static inline uint16_t ew_u16(const uint8_t *p) { return (uint16_t)(p[0] | p[1] << 8); }
+static inline int16_t ew_i16(const uint8_t *p) { return (int16_t)ew_u16(p); }
+static inline float ew_f32(const uint8_t *p) {
+    uint32_t u = ew_u32(p);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+double ew_now_ms(void);  /* monotonic clock */
+
+#endif

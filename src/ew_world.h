@@ -1,0 +1,132 @@
+/*
+ * The loaded world (internal).  Both BSP29 and BSP2 load into these same
+ * 32-bit structures; every index in them has been validated by the loader,
+ * so the renderer may use them without checks.  A world is read-only after
+ * loading: all per-frame marks (visframes, edge caches) live in the
+ * renderer.
+ */
+#ifndef EW_WORLD_H
+#define EW_WORLD_H
+
+#include "edgewise.h"
+#include <stdint.h>
+
+enum {
+    EW_LUMP_ENTITIES, EW_LUMP_PLANES, EW_LUMP_TEXTURES, EW_LUMP_VERTEXES,
+    EW_LUMP_VISIBILITY, EW_LUMP_NODES, EW_LUMP_TEXINFO, EW_LUMP_FACES,
+    EW_LUMP_LIGHTING, EW_LUMP_CLIPNODES, EW_LUMP_LEAFS, EW_LUMP_MARKSURFACES,
+    EW_LUMP_EDGES, EW_LUMP_SURFEDGES, EW_LUMP_MODELS, EW_NUM_LUMPS
+};
+
+/* Leaf contents (Quake's values). */
+enum {
+    EW_CONTENTS_EMPTY = -1, EW_CONTENTS_SOLID = -2, EW_CONTENTS_WATER = -3,
+    EW_CONTENTS_SLIME = -4, EW_CONTENTS_LAVA = -5, EW_CONTENTS_SKY = -6
+};
+
+/* Face flags. */
+enum {
+    EW_SURF_PLANEBACK = 1,  /* face looks along -plane normal */
+    EW_SURF_SKY       = 2,  /* texture name starts with "sky" */
+    EW_SURF_TURB      = 4,  /* '*' liquid: warped, unlit */
+    EW_SURF_FENCE     = 8,  /* '{' texture: index 255 is see-through */
+    EW_SURF_MISSING   = 16  /* texture slot without pixel data */
+};
+
+typedef struct ew_plane {
+    float normal[3];
+    float dist;
+    int   type;      /* 0..2 axial x/y/z, else 3..5 */
+} ew_plane;
+
+typedef struct ew_texture {
+    char     name[16];
+    int      width, height;     /* mip 0 size; >= 8, multiples of 8 */
+    const uint8_t *mip[4];      /* pixel data of each mip level */
+    int      flags;             /* EW_SURF_SKY / TURB / FENCE / MISSING */
+    /* animation (+0..+9 and +a..+j): cycle of anim_total frames;
+     * this texture is frame anim_min..anim_max-1 of it (in 0.2 s steps) */
+    int      anim_total, anim_min, anim_max;
+    int      anim_next;         /* next texture in the cycle, -1 none */
+    int      alternate_anims;   /* first texture of the +a cycle, -1 none */
+} ew_texture;
+
+typedef struct ew_texinfo {
+    float vecs[2][4];  /* s = dot(p, vecs[0].xyz) + vecs[0][3], likewise t */
+    int   texture;     /* index into world->textures */
+    int   flags;       /* file flags (1 = special: sky/liquid) */
+    float mipadjust;   /* texture scale factor used in mip selection */
+} ew_texinfo;
+
+typedef struct ew_face {
+    int     plane;
+    int     firstedge, numedges;  /* into surfedges, numedges >= 3 */
+    int     texinfo;
+    int     flags;                /* EW_SURF_* */
+    uint8_t styles[4];            /* 255 = unused */
+    int     lightofs;             /* byte offset into lighting, -1 none */
+    int     texturemins[2];       /* multiples of 16 */
+    int     extents[2];           /* texels, multiples of 16 */
+} ew_face;
+
+/* children[i] >= 0: node index; < 0: leaf index -1 - children[i]. */
+typedef struct ew_node {
+    int   plane;
+    int   children[2];
+    float mins[3], maxs[3];
+    int   firstface, numfaces;
+    int   parent;                 /* -1 for a model's head node */
+} ew_node;
+
+typedef struct ew_leaf {
+    int     contents;
+    int     visofs;               /* into visdata, -1 none */
+    float   mins[3], maxs[3];
+    int     firstmark, nummarks;  /* into marksurfaces */
+    int     parent;
+    uint8_t ambient[4];
+} ew_leaf;
+
+typedef struct ew_model {
+    float mins[3], maxs[3], origin[3];
+    int   headnode;               /* hull 0 */
+    int   visleafs;
+    int   firstface, numfaces;
+} ew_model;
+
+struct ew_world {
+    char         name[256];
+    char         version[8];      /* "29", "BSP2", "2PSB" */
+    ew_lump_info lumps[EW_NUM_LUMPS];
+
+    ew_plane   *planes;       int numplanes;
+    float     (*verts)[3];    int numverts;
+    uint32_t  (*edges)[2];    int numedges;
+    int        *surfedges;    int numsurfedges;
+    ew_texinfo *texinfo;      int numtexinfo;
+    ew_texture *textures;     int numtextures;  /* the last one is the placeholder */
+    ew_face    *faces;        int numfaces;
+    int        *marksurfaces; int nummarksurfaces;
+    ew_node    *nodes;        int numnodes;
+    ew_leaf    *leaves;       int numleaves;
+    ew_model   *models;       int nummodels;
+    uint8_t    *lighting;     int lightsize;
+    uint8_t    *visdata;      int vissize;
+    char       *entities;     /* NUL-terminated copy */
+    int         textures_missing;
+
+    uint8_t    *texpixels;    /* owned pixel storage behind ew_texture.mip */
+};
+
+/* Vertex index of the i-th corner of face f. */
+static inline int ew_face_vertex(const ew_world *w, const ew_face *f, int i) {
+    int se = w->surfedges[f->firstedge + i];
+    return se >= 0 ? (int)w->edges[se][0] : (int)w->edges[-se][1];
+}
+/* Edge index (always >= 0) of the i-th side of face f. */
+static inline int ew_face_edge(const ew_world *w, const ew_face *f, int i) {
+    int se = w->surfedges[f->firstedge + i];
+    return se >= 0 ? se : -se;
+}
+
+#endif
