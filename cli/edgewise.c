@@ -1,1 +1,599 @@
-int main(void){return 0;}
+/*
+ * edgewise: the command line.
+ *
+ *   edgewise render MAP [options]   one frame to a PNG (and --stats as JSON)
+ *   edgewise demo [options]         the built-in scene, no files needed
+ *   edgewise views MAP              the view set of BENCHMARK.md
+ *   edgewise info MAP               what the BSP holds
+ *
+ * stdout carries only data (stats JSON, views, info) so it can be piped;
+ * progress ("wrote x.png") and errors go to stderr.  Every error is one line
+ * "edgewise: <message>"; usage errors exit 2, everything else that fails 1.
+ */
+#include "edgewise.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define EW_CLI_VERSION "0.1.0"
+
+/* Which view of the built-in scene `edgewise demo` shows. */
+#define EW_DEMO_VIEW 0
+
+enum { EXIT_USAGE = 2 };
+
+/* Frame sizes ew_renderer_create accepts. */
+enum { MIN_W = 320, MIN_H = 200, MAX_W = 7680, MAX_H = 4320 };
+
+/* Camera values beyond these only make the renderer's float maths overflow. */
+#define MAX_COORD 1e6
+#define MAX_TIME 1e6
+
+static const char usage_text[] =
+    "usage: edgewise COMMAND [ARGS]\n"
+    "\n"
+    "commands:\n"
+    "  render MAP [options]   render one frame of MAP to a PNG\n"
+    "  demo [options]         render the built-in scene (needs no game data)\n"
+    "  views MAP [--data DIR] list the view set: INDEX X Y Z PITCH YAW ROLL\n"
+    "  info MAP [--data DIR]  BSP version, lumps and counts\n"
+    "  help, --help           this text\n"
+    "  --version              the version\n"
+    "\n"
+    "MAP is a path to a .bsp file, a map name looked up as maps/NAME.bsp in\n"
+    "the game directory given by --data, or the word 'builtin'.\n"
+    "\n"
+    "render options:\n"
+    "  --data DIR           game directory (maps/, gfx/palette.lmp, gfx/colormap.lmp)\n"
+    "  --size WxH           frame size, 320x200 up to 7680x4320 (default 640x480)\n"
+    "  --view N             camera N of the view set (default 0)\n"
+    "  --pos X,Y,Z          free camera position (needs --angles; not with --view)\n"
+    "  --angles P,Y,R       free camera pitch, yaw, roll in degrees\n"
+    "  --fov DEG            horizontal field of view, between 1 and 179 (default 90)\n"
+    "  --time T             seconds, for animated textures, sky and liquids (default 0)\n"
+    "  --out FILE.png       output (default MAPNAME_vN.png, MAPNAME_free.png with --pos)\n"
+    "  --stats              print the frame's counters and times as one JSON object\n"
+    "\n"
+    "demo options: --size, --view, --fov, --time, --out (default demo.png), --stats\n"
+    "\n"
+    "examples:\n"
+    "  edgewise demo\n"
+    "  edgewise render e1m1 --data ../shared/data/librequake --view 3 --size 1280x720\n"
+    "  edgewise render maps/start.bsp --pos 0,0,64 --angles 0,90,0 --out start.png\n"
+    "  edgewise views e1m1 --data ../shared/data/librequake\n";
+
+/* Prints one error line; control characters (from file names or arguments)
+ * are replaced so the message stays one line. */
+static void error_line(const char *fmt, ...) {
+    char buf[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    for (char *p = buf; *p; p++)
+        if ((unsigned char)*p < ' ' || *p == 0x7f)
+            *p = '?';
+    fprintf(stderr, "edgewise: %s\n", buf);
+}
+
+/* ---- options --------------------------------------------------------------- */
+
+enum {
+    O_DATA = 1 << 0, O_SIZE = 1 << 1, O_VIEW = 1 << 2, O_POS = 1 << 3, O_ANGLES = 1 << 4,
+    O_FOV = 1 << 5, O_TIME = 1 << 6, O_OUT = 1 << 7, O_STATS = 1 << 8, O_HELP = 1 << 9
+};
+
+static const struct option_def {
+    const char *name;
+    int         flag;
+    int         has_value;
+} option_defs[] = {
+    { "--data", O_DATA, 1 },   { "--size", O_SIZE, 1 }, { "--view", O_VIEW, 1 },
+    { "--pos", O_POS, 1 },     { "--angles", O_ANGLES, 1 }, { "--fov", O_FOV, 1 },
+    { "--time", O_TIME, 1 },   { "--out", O_OUT, 1 },   { "--stats", O_STATS, 0 },
+    { "--help", O_HELP, 0 },   { "-h", O_HELP, 0 },
+};
+
+typedef struct options {
+    int         given;        /* O_* flags seen */
+    const char *map, *data, *out;
+    int         width, height, view;
+    float       pos[3], angles[3];
+    double      fov, time;
+} options;
+
+/* strtol/strtod accept leading blanks; a command-line number should not. */
+static int starts_number(const char *s) {
+    return *s && !isspace((unsigned char)*s);
+}
+
+static int parse_long(const char *s, long *out) {
+    if (!starts_number(s))
+        return -1;
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end || errno == ERANGE)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_double(const char *s, double *out) {
+    if (!starts_number(s))
+        return -1;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || *end || !isfinite(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+/* "X,Y,Z": exactly three finite numbers within +-MAX_COORD. */
+static int parse_vec3(const char *opt, const char *s, float v[3]) {
+    const char *p = s;
+    for (int i = 0; i < 3; i++) {
+        char *end;
+        if (!starts_number(p))
+            goto bad;
+        double d = strtod(p, &end);
+        if (end == p || !isfinite(d) || *end != (i < 2 ? ',' : '\0'))
+            goto bad;
+        if (fabs(d) > MAX_COORD) {
+            error_line("%s %s: each value must be between -%g and %g", opt, s, MAX_COORD,
+                       MAX_COORD);
+            return -1;
+        }
+        v[i] = (float)d;
+        p = end + 1;
+    }
+    return 0;
+bad:
+    error_line("%s %s: expected three numbers separated by commas, e.g. %s", opt, s,
+               strcmp(opt, "--pos") == 0 ? "128,-64,40" : "0,90,0");
+    return -1;
+}
+
+static int parse_size(const char *s, int *w, int *h) {
+    long lw, lh;
+    const char *x = strpbrk(s, "xX");
+    char buf[64];
+    if (!x || (size_t)(x - s) >= sizeof buf)
+        goto bad;
+    memcpy(buf, s, (size_t)(x - s));
+    buf[x - s] = '\0';
+    if (parse_long(buf, &lw) < 0 || parse_long(x + 1, &lh) < 0)
+        goto bad;
+    if (lw < MIN_W || lw > MAX_W || lh < MIN_H || lh > MAX_H) {
+        error_line("--size %s: out of range (from %dx%d up to %dx%d)", s, MIN_W, MIN_H, MAX_W,
+                   MAX_H);
+        return -1;
+    }
+    *w = (int)lw;
+    *h = (int)lh;
+    return 0;
+bad:
+    error_line("--size %s: expected WIDTHxHEIGHT, e.g. 640x480", s);
+    return -1;
+}
+
+/* Checks and stores one option's value; prints the error itself. */
+static int set_option(options *o, int flag, const char *name, const char *v) {
+    long l;
+    double d;
+    switch (flag) {
+    case O_DATA:
+        if (!*v) {
+            error_line("--data: empty directory name");
+            return -1;
+        }
+        o->data = v;
+        return 0;
+    case O_OUT:
+        if (!*v) {
+            error_line("--out: empty file name");
+            return -1;
+        }
+        o->out = v;
+        return 0;
+    case O_SIZE:
+        return parse_size(v, &o->width, &o->height);
+    case O_VIEW:
+        if (parse_long(v, &l) < 0) {
+            error_line("--view %s: not a whole number", v);
+            return -1;
+        }
+        /* The upper bound depends on the map: checked once it is loaded. */
+        if (l < 0 || l > INT_MAX) {
+            error_line("--view %s: out of range (views are numbered from 0)", v);
+            return -1;
+        }
+        o->view = (int)l;
+        return 0;
+    case O_POS:
+        return parse_vec3(name, v, o->pos);
+    case O_ANGLES:
+        return parse_vec3(name, v, o->angles);
+    case O_FOV:
+        if (parse_double(v, &d) < 0) {
+            error_line("--fov %s: not a number", v);
+            return -1;
+        }
+        if (!(d > 1 && d < 179)) {
+            error_line("--fov %s: must be between 1 and 179 degrees", v);
+            return -1;
+        }
+        o->fov = d;
+        return 0;
+    case O_TIME:
+        if (parse_double(v, &d) < 0) {
+            error_line("--time %s: not a number", v);
+            return -1;
+        }
+        if (d < 0 || d > MAX_TIME) {
+            error_line("--time %s: must be between 0 and %g seconds", v, MAX_TIME);
+            return -1;
+        }
+        o->time = d;
+        return 0;
+    }
+    return 0;
+}
+
+/* Parses argv[first..] for command cmd.  needs_map: the command takes MAP.
+ * Returns 0, 1 for --help (usage printed), or -1 (error printed). */
+static int parse_args(int argc, char **argv, int first, const char *cmd, int allowed,
+                      int needs_map, options *o) {
+    int only_positional = 0;
+    for (int i = first; i < argc; i++) {
+        const char *a = argv[i];
+        if (!only_positional && strcmp(a, "--") == 0) {
+            only_positional = 1;
+            continue;
+        }
+        if (!only_positional && a[0] == '-' && a[1]) {
+            const char *eq = strchr(a, '=');
+            size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
+            const struct option_def *def = NULL;
+            for (size_t k = 0; k < sizeof option_defs / sizeof option_defs[0]; k++)
+                if (strlen(option_defs[k].name) == nlen &&
+                    strncmp(option_defs[k].name, a, nlen) == 0)
+                    def = &option_defs[k];
+            if (!def) {
+                error_line("%s: unknown option '%.*s' (see edgewise --help)", cmd, (int)nlen, a);
+                return -1;
+            }
+            if (!(allowed & def->flag)) {
+                error_line("%s: option '%s' does not apply here (see edgewise --help)", cmd,
+                           def->name);
+                return -1;
+            }
+            if (def->flag == O_HELP) {
+                fputs(usage_text, stdout);
+                return 1;
+            }
+            const char *value = NULL;
+            if (def->has_value) {
+                if (eq)
+                    value = eq + 1;
+                else if (i + 1 < argc)
+                    value = argv[++i];
+                else {
+                    error_line("%s: option '%s' needs a value", cmd, def->name);
+                    return -1;
+                }
+                if (set_option(o, def->flag, def->name, value) < 0)
+                    return -1;
+            } else if (eq) {
+                error_line("%s: option '%s' takes no value", cmd, def->name);
+                return -1;
+            }
+            o->given |= def->flag;
+            continue;
+        }
+        if (needs_map && !o->map) {
+            if (!*a) {
+                error_line("%s: empty map name", cmd);
+                return -1;
+            }
+            o->map = a;
+            continue;
+        }
+        error_line("%s: unexpected argument '%s'", cmd, a);
+        return -1;
+    }
+    if (needs_map && !o->map) {
+        error_line("%s: missing MAP (a .bsp path, a map name with --data, or 'builtin')", cmd);
+        return -1;
+    }
+    if (!!(o->given & O_POS) != !!(o->given & O_ANGLES)) {
+        error_line("%s: --pos and --angles go together", cmd);
+        return -1;
+    }
+    if ((o->given & O_POS) && (o->given & O_VIEW)) {
+        error_line("%s: --view cannot be combined with --pos/--angles", cmd);
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- shared steps ---------------------------------------------------------- */
+
+static int is_builtin(const char *map) { return strcmp(map, "builtin") == 0; }
+
+/* "maps/e1m1.bsp" -> "e1m1", for default file names and the stats. */
+static void map_basename(const char *map, char *out, size_t size) {
+    const char *b = strrchr(map, '/');
+    b = b ? b + 1 : map;
+    size_t n = strlen(b);
+    if (n > 4 && (strcmp(b + n - 4, ".bsp") == 0 || strcmp(b + n - 4, ".BSP") == 0))
+        n -= 4;
+    if (n == 0) {
+        b = "map";
+        n = 3;
+    }
+    snprintf(out, size, "%.*s", (int)n, b);
+}
+
+static int load(const options *o, ew_assets *a) {
+    ew_error err = { "" };
+    memset(a, 0, sizeof *a);
+    int rc = is_builtin(o->map) ? ew_assets_builtin(a, &err)
+                                : ew_assets_load(o->map, o->data, a, &err);
+    if (rc < 0 || !a->world) {
+        error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
+        return -1;
+    }
+    return 0;
+}
+
+/* Writes s as a JSON string. */
+static void json_string(FILE *f, const char *s) {
+    fputc('"', f);
+    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+        if (*p == '"' || *p == '\\')
+            fprintf(f, "\\%c", *p);
+        else if (*p < 0x20)
+            fprintf(f, "\\u%04x", *p);
+        else
+            fputc(*p, f);
+    }
+    fputc('"', f);
+}
+
+/* JSON has no inf/nan. */
+static void json_number(FILE *f, double v) {
+    if (isfinite(v))
+        fprintf(f, "%.6g", v);
+    else
+        fputs("null", f);
+}
+
+static void print_stats(const char *name, const options *o, int view, const ew_camera *cam,
+                        const char *out, const ew_stats *s) {
+    FILE *f = stdout;
+    fputs("{\"map\":", f);
+    json_string(f, name);
+    fprintf(f, ",\"width\":%d,\"height\":%d,\"view\":", o->width, o->height);
+    if (view >= 0)
+        fprintf(f, "%d", view);
+    else
+        fputs("null", f);
+    fputs(",\"origin\":[", f);
+    for (int i = 0; i < 3; i++) {
+        json_number(f, cam->origin[i]);
+        fputs(i < 2 ? "," : "],\"angles\":[", f);
+    }
+    for (int i = 0; i < 3; i++) {
+        json_number(f, cam->angles[i]);
+        fputs(i < 2 ? "," : "]", f);
+    }
+    fputs(",\"fov\":", f);
+    json_number(f, cam->fov);
+    fputs(",\"time\":", f);
+    json_number(f, cam->time);
+    fputs(",\"out\":", f);
+    json_string(f, out);
+    fprintf(f,
+            ",\"pixels\":%ld,\"pixels_written\":%ld,\"pixels_covered\":%ld,\"overdraw\":",
+            s->pixels, s->pixels_written, s->pixels_covered);
+    json_number(f, s->overdraw);
+    fprintf(f,
+            ",\"edges\":%d,\"edges_cached\":%d,\"surfaces\":%d,\"spans\":%d,"
+            "\"surfaces_built\":%d,\"surfaces_cached\":%d,\"visible_leaves\":%d,\"dropped\":%d",
+            s->edges, s->edges_cached, s->surfaces, s->spans, s->surfaces_built,
+            s->surfaces_cached, s->visible_leaves, s->dropped);
+    const char *ms_names[4] = { "ms_front", "ms_scan", "ms_draw", "ms_total" };
+    const double ms[4] = { s->ms_front, s->ms_scan, s->ms_draw, s->ms_total };
+    for (int i = 0; i < 4; i++) {
+        fprintf(f, ",\"%s\":", ms_names[i]);
+        json_number(f, ms[i]);
+    }
+    fputs("}\n", f);
+}
+
+/* ---- commands -------------------------------------------------------------- */
+
+static int cmd_render(options *o, int default_view, const char *default_out) {
+    ew_assets a;
+    if (load(o, &a) < 0)
+        return 1;
+
+    char name[256];
+    map_basename(o->map, name, sizeof name);
+    int rc = 1, view = -1;
+    ew_renderer *r = NULL;
+    ew_error err = { "" };
+    ew_camera cam;
+    memset(&cam, 0, sizeof cam);
+
+    if (o->given & O_POS) {
+        memcpy(cam.origin, o->pos, sizeof cam.origin);
+        memcpy(cam.angles, o->angles, sizeof cam.angles);
+        cam.fov = 90;
+    } else {
+        ew_camera views[EW_MAX_VIEWS];
+        int n = ew_view_set(a.world, views);
+        view = (o->given & O_VIEW) ? o->view : default_view;
+        if (n == 0) {
+            error_line("%s: no views (no info_player* or info_intermission entity); "
+                       "use --pos and --angles", o->map);
+            goto done;
+        }
+        if (view >= n) {
+            error_line("--view %d: out of range, %s has %d view%s (0 to %d)", view, o->map, n,
+                       n == 1 ? "" : "s", n - 1);
+            goto done;
+        }
+        cam = views[view];
+    }
+    if (o->given & O_FOV)
+        cam.fov = (float)o->fov;
+    if (o->given & O_TIME)
+        cam.time = o->time;
+
+    char out[512];
+    if (o->out)
+        snprintf(out, sizeof out, "%s", o->out);
+    else if (default_out)
+        snprintf(out, sizeof out, "%s", default_out);
+    else if (view >= 0)
+        snprintf(out, sizeof out, "%s_v%d.png", name, view);
+    else
+        snprintf(out, sizeof out, "%s_free.png", name);
+
+    r = ew_renderer_create(a.world, a.palette, a.colormap, o->width, o->height, &err);
+    if (!r) {
+        error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
+        goto done;
+    }
+    ew_stats st;
+    memset(&st, 0, sizeof st);
+    const uint8_t *pixels;
+    if (ew_render(r, &cam, &st) < 0 || !(pixels = ew_frame_pixels(r)) ||
+        ew_frame_width(r) != o->width || ew_frame_height(r) != o->height) {
+        error_line("%s: cannot render this camera (origin %g,%g,%g angles %g,%g,%g fov %g)",
+                   name, cam.origin[0], cam.origin[1], cam.origin[2], cam.angles[0],
+                   cam.angles[1], cam.angles[2], cam.fov);
+        goto done;
+    }
+    if (ew_write_png(out, pixels, o->width, o->height, a.palette, &err) < 0) {
+        error_line("%s", err.msg);
+        goto done;
+    }
+    if (o->given & O_STATS)
+        print_stats(name, o, view, &cam, out, &st);
+    fprintf(stderr, "wrote %s (%dx%d)\n", out, o->width, o->height);
+    rc = 0;
+done:
+    ew_renderer_free(r);
+    ew_assets_free(&a);
+    if (fflush(stdout) != 0 && rc == 0) {
+        error_line("stdout: %s", strerror(errno));
+        rc = 1;
+    }
+    return rc;
+}
+
+static int cmd_views(options *o) {
+    ew_assets a;
+    if (load(o, &a) < 0)
+        return 1;
+    ew_camera views[EW_MAX_VIEWS];
+    int n = ew_view_set(a.world, views);
+    for (int i = 0; i < n; i++)
+        printf("%d %g %g %g %g %g %g\n", i, views[i].origin[0], views[i].origin[1],
+               views[i].origin[2], views[i].angles[0], views[i].angles[1], views[i].angles[2]);
+    ew_assets_free(&a);
+    if (fflush(stdout) != 0) {
+        error_line("stdout: %s", strerror(errno));
+        return 1;
+    }
+    return 0;
+}
+
+static int cmd_info(options *o) {
+    ew_assets a;
+    if (load(o, &a) < 0)
+        return 1;
+    ew_world_info info;
+    memset(&info, 0, sizeof info);
+    ew_world_get_info(a.world, &info);
+    char version[sizeof info.version + 1];
+    snprintf(version, sizeof version, "%.*s", (int)sizeof info.version, info.version);
+
+    printf("map       %s\n", o->map);
+    printf("version   %s\n", version[0] ? version : "?");
+    printf("%-14s %10s %10s %8s\n", "lump", "offset", "length", "count");
+    for (int i = 0; i < 15; i++) {
+        const ew_lump_info *l = &info.lumps[i];
+        printf("%-14s %10lu %10lu %8d\n", l->name ? l->name : "?", (unsigned long)l->offset,
+               (unsigned long)l->length, l->count);
+    }
+    printf("models    %d\n", info.models);
+    printf("textures  %d (%d missing)\n", info.textures, info.textures_missing);
+    printf("faces     %d\n", info.faces);
+    printf("leaves    %d\n", info.leaves);
+    printf("nodes     %d\n", info.nodes);
+    ew_assets_free(&a);
+    if (fflush(stdout) != 0) {
+        error_line("stdout: %s", strerror(errno));
+        return 1;
+    }
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        error_line("missing command (try 'edgewise --help')");
+        return EXIT_USAGE;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+        fputs(usage_text, stdout);
+        return 0;
+    }
+    if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
+        printf("edgewise %s\n", EW_CLI_VERSION);
+        return 0;
+    }
+
+    options o;
+    memset(&o, 0, sizeof o);
+    o.width = 640;
+    o.height = 480;
+    o.fov = 90;
+
+    int pr;
+    if (strcmp(cmd, "render") == 0) {
+        pr = parse_args(argc, argv, 2, cmd,
+                        O_DATA | O_SIZE | O_VIEW | O_POS | O_ANGLES | O_FOV | O_TIME | O_OUT |
+                            O_STATS | O_HELP,
+                        1, &o);
+        return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_render(&o, 0, NULL);
+    }
+    if (strcmp(cmd, "demo") == 0) {
+        pr = parse_args(argc, argv, 2, cmd, O_SIZE | O_VIEW | O_FOV | O_TIME | O_OUT | O_STATS |
+                                                O_HELP, 0, &o);
+        o.map = "builtin";
+        return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_render(&o, EW_DEMO_VIEW, "demo.png");
+    }
+    if (strcmp(cmd, "views") == 0) {
+        pr = parse_args(argc, argv, 2, cmd, O_DATA | O_HELP, 1, &o);
+        return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_views(&o);
+    }
+    if (strcmp(cmd, "info") == 0) {
+        pr = parse_args(argc, argv, 2, cmd, O_DATA | O_HELP, 1, &o);
+        return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_info(&o);
+    }
+    error_line("unknown command '%s' (commands: render, demo, views, info, help)", cmd);
+    return EXIT_USAGE;
+}

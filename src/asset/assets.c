@@ -1,0 +1,105 @@
+/* Everything one map needs: the BSP, the palette and the colormap, from a
+ * .bsp path or by name from a game directory. */
+#define _POSIX_C_SOURCE 200809L
+#include "ew_util.h"
+#include "ew_world.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+
+static int ends_with_bsp(const char *s) {
+    size_t n = strlen(s);
+    if (n < 4) return 0;
+    const char *e = s + n - 4;
+    return e[0] == '.' && (e[1] | 32) == 'b' && (e[2] | 32) == 's' && (e[3] | 32) == 'p';
+}
+
+static int is_file(const char *path) {
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+typedef int (*lmp_parse)(const uint8_t *, size_t, const char *, uint8_t *, ew_error *);
+
+/* Reads one .lmp from the game directory (fs) or from a plain path. */
+static int load_lmp(const ew_fs *fs, const char *name, lmp_parse parse, uint8_t *out,
+                    ew_error *err) {
+    uint8_t *data;
+    size_t size;
+    int rc = fs ? ew_fs_load(fs, name, &data, &size, err) : ew_read_file(name, &data, &size, err);
+    if (rc == 0) rc = parse(data, size, name, out, err);
+    free(data);
+    return rc;
+}
+
+static int parse_palette(const uint8_t *d, size_t s, const char *f, uint8_t *out, ew_error *e) {
+    return ew_palette_parse(d, s, f, out, e);
+}
+static int parse_colormap(const uint8_t *d, size_t s, const char *f, uint8_t *out, ew_error *e) {
+    return ew_colormap_parse(d, s, f, out, e);
+}
+
+int ew_assets_load(const char *map, const char *data_dir, ew_assets *out, ew_error *err) {
+    memset(out, 0, sizeof *out);
+    ew_fs *fs = NULL;
+    uint8_t *bsp = NULL;
+    size_t bsp_size = 0;
+    char bsp_name[1024];
+    int direct = ends_with_bsp(map) || is_file(map);
+
+    if (direct) {
+        snprintf(bsp_name, sizeof bsp_name, "%s", map);
+        if (ew_read_file(map, &bsp, &bsp_size, err) != 0) goto fail;
+    } else {
+        if (!data_dir || !*data_dir) {
+            ew_fail(err, "%s: not a .bsp file and no --data directory given", map);
+            goto fail;
+        }
+        snprintf(bsp_name, sizeof bsp_name, "maps/%s.bsp", map);
+    }
+    if (data_dir && *data_dir && !(fs = ew_fs_open(data_dir, err))) goto fail;
+    if (!direct && ew_fs_load(fs, bsp_name, &bsp, &bsp_size, err) != 0) goto fail;
+
+    if (!(out->world = ew_world_load(bsp, bsp_size, bsp_name, err))) goto fail;
+    free(bsp);
+    bsp = NULL;
+    const char *base = strrchr(bsp_name, '/');
+    base = base ? base + 1 : bsp_name;
+    size_t n = strlen(base);
+    if (n >= sizeof out->world->name) n = sizeof out->world->name - 1;
+    memcpy(out->world->name, base, n);
+    out->world->name[n] = '\0';
+
+    if (fs) {
+        if (load_lmp(fs, "gfx/palette.lmp", parse_palette, out->palette, err) != 0 ||
+            load_lmp(fs, "gfx/colormap.lmp", parse_colormap, out->colormap, err) != 0)
+            goto fail;
+    } else {
+        /* A bare .bsp: the gfx/ folder beside its maps/ folder. */
+        char dir[1024], path[1100];
+        snprintf(dir, sizeof dir, "%s", map);
+        char *slash = strrchr(dir, '/');
+        if (slash)
+            *slash = '\0';
+        else
+            strcpy(dir, ".");
+        snprintf(path, sizeof path, "%s/../gfx/palette.lmp", dir);
+        if (load_lmp(NULL, path, parse_palette, out->palette, err) != 0) goto fail;
+        snprintf(path, sizeof path, "%s/../gfx/colormap.lmp", dir);
+        if (load_lmp(NULL, path, parse_colormap, out->colormap, err) != 0) goto fail;
+    }
+    ew_fs_close(fs);
+    return 0;
+fail:
+    free(bsp);
+    ew_fs_close(fs);
+    ew_assets_free(out);
+    return -1;
+}
+
+void ew_assets_free(ew_assets *a) {
+    if (!a) return;
+    ew_world_free(a->world);
+    a->world = NULL;
+}

@@ -1,0 +1,145 @@
+/* A Quake game directory: loose files first, then pak0.pak, pak1.pak, ...
+ * searched from the highest number down, so later paks override earlier. */
+#define _POSIX_C_SOURCE 200809L
+#include "ew_util.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+
+/* Quake stops at the first missing pakN; the cap only guards against a
+ * directory full of generated names. */
+#define FS_MAX_PAKS 1000
+
+typedef struct fs_pak {
+    char         *path;
+    uint8_t      *data;
+    size_t        size;
+    ew_pak_entry *entries;
+    int           count;
+} fs_pak;
+
+struct ew_fs {
+    char   *dir;
+    fs_pak *paks;
+    int     npaks;
+};
+
+static char *dup_str(const char *s) {
+    size_t n = strlen(s) + 1;
+    char *d = malloc(n);
+    if (d) memcpy(d, s, n);
+    return d;
+}
+
+/* "dir/name" in a fresh allocation. */
+static char *join(const char *dir, const char *name) {
+    size_t a = strlen(dir), b = strlen(name);
+    char *p = malloc(a + b + 2);
+    if (!p) return NULL;
+    memcpy(p, dir, a);
+    p[a] = '/';
+    memcpy(p + a + 1, name, b + 1);
+    return p;
+}
+
+static int lower(int c) { return c >= 'A' && c <= 'Z' ? c + 32 : c; }
+
+/* Pak names are lowercase by convention; compare without case to be lenient. */
+static int same_name(const char *a, const char *b) {
+    for (; *a && *b; a++, b++)
+        if (lower((unsigned char)*a) != lower((unsigned char)*b)) return 0;
+    return *a == *b;
+}
+
+void ew_fs_close(ew_fs *fs) {
+    if (!fs) return;
+    for (int i = 0; i < fs->npaks; i++) {
+        free(fs->paks[i].path);
+        free(fs->paks[i].data);
+        free(fs->paks[i].entries);
+    }
+    free(fs->paks);
+    free(fs->dir);
+    free(fs);
+}
+
+ew_fs *ew_fs_open(const char *dir, ew_error *err) {
+    struct stat st;
+    if (stat(dir, &st) != 0) {
+        ew_fail(err, "%s: cannot open: %s", dir, strerror(errno));
+        return NULL;
+    }
+    if (!S_ISDIR(st.st_mode)) {
+        ew_fail(err, "%s: not a directory", dir);
+        return NULL;
+    }
+    ew_fs *fs = calloc(1, sizeof *fs);
+    if (!fs || !(fs->dir = dup_str(dir))) {
+        free(fs);
+        ew_fail(err, "%s: out of memory", dir);
+        return NULL;
+    }
+    for (int i = 0; i < FS_MAX_PAKS; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "pak%d.pak", i);
+        char *path = join(dir, name);
+        if (!path) {
+            ew_fail(err, "%s: out of memory", dir);
+            goto fail;
+        }
+        if (stat(path, &st) != 0) {  /* the first missing pak ends the list */
+            free(path);
+            break;
+        }
+        fs_pak *grown = realloc(fs->paks, (size_t)(fs->npaks + 1) * sizeof *grown);
+        if (!grown) {
+            free(path);
+            ew_fail(err, "%s: out of memory", dir);
+            goto fail;
+        }
+        fs->paks = grown;
+        fs_pak *p = &fs->paks[fs->npaks++];
+        memset(p, 0, sizeof *p);
+        p->path = path;
+        if (ew_read_file(path, &p->data, &p->size, err) != 0 ||
+            ew_pak_parse(p->data, p->size, path, &p->entries, &p->count, err) != 0)
+            goto fail;
+    }
+    return fs;
+fail:
+    ew_fs_close(fs);
+    return NULL;
+}
+
+int ew_fs_load(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
+               ew_error *err) {
+    *data = NULL;
+    *size = 0;
+    char *path = join(fs->dir, name);
+    if (!path) return ew_fail(err, "%s: out of memory", fs->dir);
+    struct stat st;
+    if (stat(path, &st) == 0) {  /* a loose file wins over every pak */
+        int rc = ew_read_file(path, data, size, err);
+        free(path);
+        return rc;
+    }
+    free(path);
+    for (int i = fs->npaks - 1; i >= 0; i--) {
+        const fs_pak *p = &fs->paks[i];
+        for (int j = 0; j < p->count; j++) {
+            if (!same_name(p->entries[j].name, name)) continue;
+            /* ew_pak_parse checked the entry lies inside the pak. */
+            size_t n = p->entries[j].size;
+            uint8_t *buf = malloc(n ? n : 1);
+            if (!buf) return ew_fail(err, "%s: %s: out of memory (%zu bytes)", p->path, name, n);
+            memcpy(buf, p->data + p->entries[j].offset, n);
+            *data = buf;
+            *size = n;
+            return 0;
+        }
+    }
+    return ew_fail(err, "%s: %s not found (searched %s and %d pak%s)", fs->dir, name, fs->dir,
+                   fs->npaks, fs->npaks == 1 ? "" : "s");
+}

@@ -1,0 +1,192 @@
+/*
+ * Renderer state (internal).  Everything a frame needs lives in an
+ * ew_renderer (per-world marks, the edge list, surfaces, surface cache) or
+ * in an ew_band (one horizontal band's scan state and spans), never in
+ * globals, so bands of one frame can later be scanned and drawn on several
+ * threads from the shared per-frame edge setup.
+ *
+ * Frame pipeline, one file per stage:
+ *   world/view.c      camera basis, projection, frustum planes
+ *   world/pvs.c       view leaf, PVS decompression, visible-leaf marks
+ *   world/bsp_walk.c  front-to-back walk, box culling, backface culling
+ *   world/edges.c     polygon clipping, projection, shared edge emission
+ *   hsr/edge_scan.c   active edge list + surface stack -> spans
+ *   raster/span.c     perspective-correct spans (divide per 16 px) + z-fill
+ *   raster/sky.c      two-layer scrolling sky;  raster/turb.c  liquids
+ *   light/surface.c   lit surface building;     light/cache.c  surface cache
+ *   hsr/reference.c   brute-force z-buffer reference path (for tests)
+ */
+#ifndef EW_RENDER_H
+#define EW_RENDER_H
+
+#include "ew_world.h"
+
+/* ---- view ---- */
+typedef struct ew_view {
+    float origin[3];
+    float forward[3], right[3], up[3];
+    float xcenter, ycenter;   /* pixel centres are integers */
+    float xscale, yscale;     /* pixels per unit of x/z, y/z */
+    ew_plane frustum[4];      /* world space, normals point inward */
+    int   width, height;
+    double time;
+} ew_view;
+
+void ew_view_setup(ew_view *v, const ew_camera *cam, int width, int height);
+/* World point -> view space (x right, y up, z forward). */
+static inline void ew_view_transform(const ew_view *v, const float p[3], float out[3]) {
+    float d0 = p[0] - v->origin[0], d1 = p[1] - v->origin[1], d2 = p[2] - v->origin[2];
+    out[0] = d0 * v->right[0] + d1 * v->right[1] + d2 * v->right[2];
+    out[1] = d0 * v->up[0] + d1 * v->up[1] + d2 * v->up[2];
+    out[2] = d0 * v->forward[0] + d1 * v->forward[1] + d2 * v->forward[2];
+}
+
+/* ---- edge list (built by the front end, read by the scan) ---- */
+typedef struct ew_edge {
+    int32_t  u;          /* 16.16 screen x at the first scanline */
+    int32_t  u_step;     /* 16.16 per scanline */
+    int32_t  v_first;    /* first scanline crossed */
+    int32_t  v_last;     /* last scanline crossed */
+    uint16_t surfs[2];   /* [0]: surface it trails (right side), [1]: leads */
+    int32_t  next_new;   /* next edge starting on the same line, -1 end */
+    float    nearzi;     /* larger 1/z of its two ends */
+} ew_edge;
+
+/* A polygon in the edge list. */
+typedef struct ew_surf {
+    int   key;           /* BSP order: smaller is nearer */
+    int   face;          /* world face, -1 for the background */
+    int   flags;         /* EW_SURF_* */
+    float nearzi;        /* largest 1/z of its clipped vertices (mip choice) */
+} ew_surf;
+
+typedef struct ew_span {
+    int32_t u, v, count;
+    int32_t next;        /* next span of the same surface, -1 end */
+} ew_span;
+
+/* One horizontal band [y0, y1): its scan state and its spans. */
+typedef struct ew_active {
+    int32_t  u, u_step, v_last;
+    uint16_t surfs[2];
+} ew_active;
+
+typedef struct ew_band {
+    int y0, y1;
+    /* surface stack, indexed by surface number; 0 is the background */
+    int32_t *st_next, *st_prev, *st_state, *st_lastu;
+    int32_t *span_head;             /* per surface */
+    ew_span *spans;  int nspans, max_spans;
+    ew_active *aet;  int naet, max_aet;
+    int dropped;
+} ew_band;
+
+/* ---- surface cache ---- */
+typedef struct ew_cached_surf {
+    struct ew_cached_surf *lru_prev, *lru_next;
+    int      face, mip, texture;
+    int      light[4];   /* style values it was lit with */
+    int      width, height;
+    int      last_frame;
+    uint8_t *pixels;
+} ew_cached_surf;
+
+typedef struct ew_surf_cache {
+    ew_cached_surf **slot;        /* numfaces * 4 (per mip) */
+    ew_cached_surf  *lru_head, *lru_tail;
+    size_t bytes, budget;
+} ew_surf_cache;
+
+/* ---- the renderer ---- */
+struct ew_renderer {
+    const ew_world *world;
+    const uint8_t  *palette, *colormap;
+    int width, height;
+    uint8_t *frame;
+    float   *zbuf;
+    int     *face_ids;
+    int      face_ids_on;
+    int      lightstyle[64];
+
+    /* per-world marks, compared against framecount */
+    int  framecount;
+    int *leaf_frame, *node_frame, *face_frame;
+    int *edge_cache_frame, *edge_cache_index; /* per world edge */
+    int8_t *edge_cache_down;                  /* +1: +sign traversal goes down */
+
+    ew_view view;
+    int     viewleaf;
+    int     currentkey;
+
+    ew_edge *edges;   int nedges, max_edges;
+    int32_t *new_edges;                       /* per scanline: first edge, -1 */
+    ew_surf *surfs;   int nsurfs, max_surfs;
+
+    ew_band band;
+    ew_surf_cache cache;
+    uint8_t *coverage;                        /* stats: per-pixel write count */
+
+    ew_stats stats;
+    int32_t  turb[128];                      /* liquid warp for this frame's time */
+    int     *blocklights;                    /* surface building scratch */
+    /* reference path: when set, the walk hands visible faces to it */
+    void (*face_hook)(ew_renderer *r, int face, int clipflags, void *ctx);
+    void *face_hook_ctx;
+};
+
+/* renderer.c: new frame number, view, turbulence, empty edge list, PVS marks. */
+int  ew_frame_begin(ew_renderer *r, const ew_camera *cam);
+
+/* world/pvs.c: marks the leaves (and their ancestors) visible from the
+ * camera's leaf for this frame; returns the view leaf. */
+int  ew_pvs_mark(ew_renderer *r);
+int  ew_point_leaf(const ew_world *w, int headnode, const float p[3]);
+
+/* world/bsp_walk.c: front-to-back walk emitting every visible face. */
+void ew_walk_world(ew_renderer *r);
+
+/* world/edges.c: clip, project and emit one face into the edge list. */
+void ew_emit_face(ew_renderer *r, int face, int clipflags);
+/* Clips a polygon (view-independent world coords) against the frustum
+ * planes in clipflags; returns the vertex count (0 if all clipped).
+ * orig[i] = index of the original edge leaving vertex i, or -1. */
+#define EW_MAX_POLY 256
+int  ew_clip_poly(const ew_view *v, int clipflags, float (*in)[3], int nin,
+                  float (*out)[3], int *edge_tag_in, int *edge_tag_out);
+
+/* hsr/edge_scan.c */
+int  ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet);
+void ew_band_free(ew_band *b);
+void ew_scan_band(ew_renderer *r, ew_band *b);
+
+/* raster */
+typedef struct ew_gradients {
+    float zi_u, zi_v, zi_0;       /* 1/z = zi_u*u + zi_v*v + zi_0 */
+    float s_u, s_v, s_0;          /* s/z likewise, in surface texels */
+    float t_u, t_v, t_0;
+    int32_t s_max, t_max;         /* 16.16 clamp limits */
+} ew_gradients;
+void ew_face_gradients(const ew_renderer *r, const ew_face *f, int mip, float soff,
+                       float toff, ew_gradients *g);
+void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
+                   const uint8_t *pixels, int pitch);
+void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_texture *t);
+void ew_draw_turb_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
+                        const ew_texture *t);
+void ew_zfill_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g);
+void ew_draw_band(ew_renderer *r, ew_band *b);
+/* Sky colour of one pixel (shared with the reference path). */
+uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y);
+void    ew_turb_table(int32_t table[128], double time);
+uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, int32_t tt);
+
+/* light */
+int  ew_face_mip(const ew_renderer *r, const ew_face *f, float nearzi);
+const ew_texture *ew_face_texture(const ew_world *w, const ew_face *f, double time);
+const ew_cached_surf *ew_cache_get(ew_renderer *r, int face, int mip);
+void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *tex,
+                      int mip, const int light[4], uint8_t *out);
+int  ew_cache_init(ew_surf_cache *c, int numfaces, size_t budget);
+void ew_cache_free(ew_surf_cache *c);
+
+#endif

@@ -1,0 +1,139 @@
+/* Hidden-surface removal: scan the global edge list top to bottom.  Each
+ * scanline keeps an active edge list sorted by x and a surface stack sorted
+ * by BSP key (smaller = nearer).  A leading edge pushes its surface; if it
+ * lands on top, the old top's span ends there.  A trailing edge pops its
+ * surface; if it was on top, its span ends and the next one down resumes.
+ * So every pixel of the band is emitted exactly once, for the nearest
+ * surface, and surface 0 (the background, farthest of all) fills any gap. */
+#include "ew_render.h"
+
+#include <limits.h>
+#include <stdlib.h>
+
+int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
+    b->st_next = malloc(sizeof(int32_t) * max_surfs);
+    b->st_prev = malloc(sizeof(int32_t) * max_surfs);
+    b->st_state = calloc(max_surfs, sizeof(int32_t));
+    b->st_lastu = malloc(sizeof(int32_t) * max_surfs);
+    b->span_head = malloc(sizeof(int32_t) * max_surfs);
+    b->spans = malloc(sizeof(ew_span) * max_spans);
+    b->aet = malloc(sizeof(ew_active) * max_aet);
+    b->max_spans = max_spans;
+    b->max_aet = max_aet;
+    return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->span_head && b->spans && b->aet ? 0 : -1;
+}
+
+void ew_band_free(ew_band *b) {
+    free(b->st_next), free(b->st_prev), free(b->st_state), free(b->st_lastu);
+    free(b->span_head), free(b->spans), free(b->aet);
+}
+
+static void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
+    if (u1 <= u0) return;
+    if (b->nspans >= b->max_spans) {
+        b->dropped++;
+        return;
+    }
+    ew_span *sp = &b->spans[b->nspans];
+    sp->u = u0, sp->v = v, sp->count = u1 - u0;
+    sp->next = b->span_head[surf];
+    b->span_head[surf] = b->nspans++;
+}
+
+static void add_active(ew_band *b, const ew_edge *e, int v) {
+    if (b->naet >= b->max_aet) {
+        b->dropped++;
+        return;
+    }
+    ew_active *a = &b->aet[b->naet++];
+    a->u = e->u + (v - e->v_first) * e->u_step;
+    a->u_step = e->u_step;
+    a->v_last = e->v_last;
+    a->surfs[0] = e->surfs[0];
+    a->surfs[1] = e->surfs[1];
+}
+
+/* Insertion sort by (u, u_step): the list is nearly sorted every line, and
+ * ties put the edge heading left first so a sliver's leading edge comes
+ * before its trailing edge. */
+static void sort_active(ew_active *a, int n) {
+    for (int i = 1; i < n; i++) {
+        ew_active x = a[i];
+        int j = i - 1;
+        while (j >= 0 && (a[j].u > x.u || (a[j].u == x.u && a[j].u_step > x.u_step))) {
+            a[j + 1] = a[j];
+            j--;
+        }
+        a[j + 1] = x;
+    }
+}
+
+void ew_scan_band(ew_renderer *r, ew_band *b) {
+    const ew_surf *surfs = r->surfs;
+    int32_t *next = b->st_next, *prev = b->st_prev, *state = b->st_state, *lastu = b->st_lastu;
+    int width = r->width;
+
+    b->nspans = 0;
+    b->naet = 0;
+    for (int i = 0; i < r->nsurfs; i++) b->span_head[i] = -1, state[i] = 0;
+
+    /* Edges that began above the band and are still alive at its top. */
+    for (int i = 0; i < r->nedges; i++) {
+        const ew_edge *e = &r->edges[i];
+        if (e->v_first < b->y0 && e->v_last >= b->y0) add_active(b, e, b->y0);
+    }
+
+    for (int v = b->y0; v < b->y1; v++) {
+        for (int i = r->new_edges[v]; i >= 0; i = r->edges[i].next_new) add_active(b, &r->edges[i], v);
+        sort_active(b->aet, b->naet);
+
+        int top = 0;  /* the background, always at the bottom of the stack */
+        next[0] = -1, prev[0] = -1, lastu[0] = 0;
+        for (int i = 0; i < b->naet; i++) {
+            const ew_active *a = &b->aet[i];
+            int iu = (int)(((int64_t)a->u + 0xFFFF) >> 16);  /* first pixel centre right of the edge */
+            iu = iu < 0 ? 0 : iu > width ? width : iu;
+            int s = a->surfs[0];
+            if (s && state[s] > 0 && --state[s] == 0) {        /* trailing edge */
+                if (s == top) {
+                    emit_span(b, s, lastu[s], iu, v);
+                    top = next[s];
+                    prev[top] = -1;
+                    lastu[top] = iu;
+                } else {
+                    next[prev[s]] = next[s];
+                    if (next[s] >= 0) prev[next[s]] = prev[s];
+                }
+            }
+            s = a->surfs[1];
+            if (s && ++state[s] == 1) {                          /* leading edge */
+                int key = surfs[s].key;
+                if (key < surfs[top].key) {
+                    emit_span(b, top, lastu[top], iu, v);
+                    next[s] = top, prev[s] = -1;
+                    prev[top] = s;
+                    top = s;
+                    lastu[s] = iu;
+                } else {
+                    int p = top;
+                    while (surfs[next[p]].key <= key) p = next[p];
+                    next[s] = next[p], prev[s] = p;
+                    prev[next[p]] = s;
+                    next[p] = s;
+                }
+            }
+        }
+        emit_span(b, top, lastu[top], width, v);
+        /* Surfaces left open by inconsistent edges must not leak into the next line. */
+        for (int s = top; s > 0; s = next[s]) state[s] = 0;
+
+        int n = 0;
+        for (int i = 0; i < b->naet; i++) {
+            ew_active a = b->aet[i];
+            if (a.v_last <= v) continue;
+            a.u += a.u_step;
+            b->aet[n++] = a;
+        }
+        b->naet = n;
+    }
+}

@@ -1,0 +1,133 @@
+/* The reference path: hidden surfaces removed by brute force, independent
+ * of the edge list.  The same front end picks the visible faces; each is
+ * clipped, projected and filled pixel by pixel (pixel centres inside the
+ * polygon), with 1/z from its plane equation tested against a z-buffer.
+ * Texels come from the same lit surfaces, sampled with a true divide per
+ * pixel.  Slow and simple on purpose: it is what the tests trust. */
+#include "ew_render.h"
+#include "ew_util.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+typedef struct ref_ctx {
+    uint8_t *pixels;
+    int     *ids;
+    float   *z;
+} ref_ctx;
+
+static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
+    (void)clipflags;
+    ref_ctx *c = vctx;
+    const ew_world *w = r->world;
+    const ew_face *f = &w->faces[fi];
+    const ew_view *v = &r->view;
+    int n = f->numedges;
+    if (n > EW_MAX_POLY - 8) return;
+    float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
+    int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
+    for (int i = 0; i < n; i++) {
+        const float *p = w->verts[ew_face_vertex(w, f, i)];
+        in[i][0] = p[0], in[i][1] = p[1], in[i][2] = p[2];
+        tin[i] = i;
+    }
+    /* Clip against all four planes, whatever the walk knew. */
+    int m = ew_clip_poly(v, 15, in, n, out, tin, tout);
+    if (m < 3) return;
+    float pu[EW_MAX_POLY], pv[EW_MAX_POLY], nearzi = 0;
+    float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
+    for (int i = 0; i < m; i++) {
+        float t[3];
+        ew_view_transform(v, out[i], t);
+        float zi = 1.0f / (t[2] < 0.01f ? 0.01f : t[2]);
+        pu[i] = v->xcenter + v->xscale * t[0] * zi;
+        pv[i] = v->ycenter - v->yscale * t[1] * zi;
+        if (zi > nearzi) nearzi = zi;
+        if (pu[i] < umin) umin = pu[i];
+        if (pu[i] > umax) umax = pu[i];
+        if (pv[i] < vmin) vmin = pv[i];
+        if (pv[i] > vmax) vmax = pv[i];
+    }
+    /* Orientation of the projected polygon, so "inside" has one sign. */
+    double area = 0;
+    for (int i = 0; i < m; i++) {
+        int j = i + 1 == m ? 0 : i + 1;
+        area += (double)pu[i] * pv[j] - (double)pu[j] * pv[i];
+    }
+    if (area == 0) return;
+    double sign = area > 0 ? 1 : -1;
+
+    int x0 = (int)ceilf(umin), x1 = (int)ceilf(umax) - 1;
+    int y0 = (int)ceilf(vmin), y1 = (int)ceilf(vmax) - 1;
+    if (x0 < 0) x0 = 0;
+    if (y0 < 0) y0 = 0;
+    if (x1 > r->width - 1) x1 = r->width - 1;
+    if (y1 > r->height - 1) y1 = r->height - 1;
+
+    int mip = 0;
+    const ew_texture *tex = ew_face_texture(w, f, v->time);
+    const ew_cached_surf *cs = NULL;
+    ew_gradients g;
+    if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) {
+        ew_face_gradients(r, f, 0, (float)f->texturemins[0], (float)f->texturemins[1], &g);
+    } else {
+        mip = ew_face_mip(r, f, nearzi);
+        cs = ew_cache_get(r, fi, mip);
+        ew_face_gradients(r, f, mip, (float)f->texturemins[0], (float)f->texturemins[1], &g);
+    }
+    for (int y = y0; y <= y1; y++) {
+        for (int x = x0; x <= x1; x++) {
+            int inside = 1;
+            for (int i = 0; i < m && inside; i++) {
+                int j = i + 1 == m ? 0 : i + 1;
+                double e = ((double)pu[j] - pu[i]) * ((double)y - pv[i]) -
+                           ((double)pv[j] - pv[i]) * ((double)x - pu[i]);
+                if (e * sign < 0) inside = 0;
+            }
+            if (!inside) continue;
+            size_t o = (size_t)y * r->width + x;
+            float zi = g.zi_u * x + g.zi_v * y + g.zi_0;
+            if (zi <= c->z[o]) continue;
+            c->z[o] = zi;
+            if (c->ids) c->ids[o] = fi;
+            uint8_t px;
+            if (f->flags & EW_SURF_SKY) {
+                px = ew_sky_pixel(v, tex, (float)x, (float)y);
+            } else {
+                float z = 65536.0f / zi;
+                float sf = (g.s_u * x + g.s_v * y + g.s_0) * z;
+                float tf = (g.t_u * x + g.t_v * y + g.t_0) * z;
+                int32_t s = !(sf > 0) ? 0 : sf >= g.s_max ? g.s_max : (int32_t)sf;
+                int32_t t = !(tf > 0) ? 0 : tf >= g.t_max ? g.t_max : (int32_t)tf;
+                if (f->flags & EW_SURF_TURB)
+                    px = ew_turb_texel(r->turb, tex, s, t);
+                else
+                    px = cs ? cs->pixels[(t >> 16) * cs->width + (s >> 16)] : 0;
+            }
+            c->pixels[o] = px;
+        }
+    }
+}
+
+int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, int *face_ids,
+                        ew_error *err) {
+    size_t px = (size_t)r->width * r->height;
+    ref_ctx c = {pixels, face_ids, malloc(sizeof(float) * px)};
+    if (!c.z) return ew_fail(err, "reference: out of memory");
+    if (ew_frame_begin(r, cam) < 0) {
+        free(c.z);
+        return ew_fail(err, "reference: bad camera");
+    }
+    for (size_t i = 0; i < px; i++) {
+        c.z[i] = 0;
+        pixels[i] = 0;
+        if (face_ids) face_ids[i] = -1;
+    }
+    r->face_hook = ref_face;
+    r->face_hook_ctx = &c;
+    ew_walk_world(r);
+    r->face_hook = NULL;
+    r->face_hook_ctx = NULL;
+    free(c.z);
+    return 0;
+}

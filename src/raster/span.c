@@ -1,0 +1,80 @@
+/* Back end: draw a surface's spans from its cached, lit surface with
+ * perspective-correct texture mapping, and z-fill the world's 1/z. */
+#include "span_step.h"
+
+#include <math.h>
+
+void ew_face_gradients(const ew_renderer *r, const ew_face *f, int mip, float soff,
+                       float toff, ew_gradients *g) {
+    const ew_world *w = r->world;
+    const ew_view *v = &r->view;
+    const ew_plane *pl = &w->planes[f->plane];
+    const ew_texinfo *ti = &w->texinfo[f->texinfo];
+    float nx = 0, ny = 0, nz = 0, od = 0;
+    for (int k = 0; k < 3; k++) {
+        nx += pl->normal[k] * v->right[k];
+        ny += pl->normal[k] * v->up[k];
+        nz += pl->normal[k] * v->forward[k];
+        od += pl->normal[k] * v->origin[k];
+    }
+    float dist = pl->dist - od;  /* plane in view space: n.p = dist */
+    if (fabsf(dist) < 1e-3f) dist = dist < 0 ? -1e-3f : 1e-3f;
+    float xs = v->xscale, ys = v->yscale, xc = v->xcenter, yc = v->ycenter;
+    g->zi_u = nx / (xs * dist);
+    g->zi_v = -ny / (ys * dist);
+    g->zi_0 = nz / dist - xc * g->zi_u - yc * g->zi_v;
+
+    float scale = 1.0f / (float)(1 << mip);
+    float off[2] = {soff, toff};
+    float *out[2][3] = {{&g->s_u, &g->s_v, &g->s_0}, {&g->t_u, &g->t_v, &g->t_0}};
+    for (int a = 0; a < 2; a++) {
+        const float *vec = ti->vecs[a];
+        float sr = 0, su = 0, sf = 0, so = 0;
+        for (int k = 0; k < 3; k++) {
+            sr += vec[k] * v->right[k];
+            su += vec[k] * v->up[k];
+            sf += vec[k] * v->forward[k];
+            so += vec[k] * v->origin[k];
+        }
+        sr *= scale, su *= scale, sf *= scale;
+        float c = (so + vec[3] - off[a]) * scale;  /* texel coordinate at the eye */
+        *out[a][0] = sr / xs + c * g->zi_u;
+        *out[a][1] = -su / ys + c * g->zi_v;
+        *out[a][2] = sf - xc * sr / xs + yc * su / ys + c * g->zi_0;
+    }
+    g->s_max = (int32_t)(((int64_t)(f->extents[0] >> mip) << 16) - 1);
+    g->t_max = (int32_t)(((int64_t)(f->extents[1] >> mip) << 16) - 1);
+}
+
+void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
+                   const uint8_t *pixels, int pitch) {
+    int w = r->width;
+    for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
+        const ew_span *sp = &b->spans[si];
+        uint8_t *dst = r->frame + (size_t)sp->v * w + sp->u;
+        ew_stepper st;
+        int32_t s, t, ds, dt;
+        int n;
+        ew_step_begin(&st, g, sp->u, sp->v, sp->count);
+        while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
+            for (int i = 0; i < n; i++) {
+                *dst++ = pixels[(t >> 16) * pitch + (s >> 16)];
+                s += ds;
+                t += dt;
+            }
+        }
+    }
+}
+
+void ew_zfill_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g) {
+    int w = r->width;
+    for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
+        const ew_span *sp = &b->spans[si];
+        float *z = r->zbuf + (size_t)sp->v * w + sp->u;
+        float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0;
+        for (int i = 0; i < sp->count; i++) {
+            z[i] = zi;
+            zi += g->zi_u;
+        }
+    }
+}

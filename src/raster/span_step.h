@@ -1,0 +1,65 @@
+/* Walking a span with perspective correction every 16 pixels (internal).
+ * s/z, t/z and 1/z are linear in screen space; at each 16-pixel point the
+ * true s and t come from one divide, and the pixels between are stepped
+ * affinely.  Used by the textured and the liquid span drawers. */
+#ifndef EW_SPAN_STEP_H
+#define EW_SPAN_STEP_H
+
+#include "ew_render.h"
+
+typedef struct ew_stepper {
+    const ew_gradients *g;
+    float zi, sz, tz;      /* at the current segment start */
+    int32_t s, t;          /* 16.16 at the current segment start */
+    int left;              /* pixels left in the span */
+} ew_stepper;
+
+static inline int32_t ew_clamp_fix(float x, int32_t hi) {
+    if (!(x > 0)) return 0;  /* also catches NaN */
+    if (x >= (float)hi) return hi;
+    return (int32_t)x;
+}
+
+static inline void ew_step_begin(ew_stepper *st, const ew_gradients *g, int u, int v, int count) {
+    st->g = g;
+    st->zi = g->zi_u * u + g->zi_v * v + g->zi_0;
+    st->sz = g->s_u * u + g->s_v * v + g->s_0;
+    st->tz = g->t_u * u + g->t_v * v + g->t_0;
+    float z = 65536.0f / st->zi;
+    st->s = ew_clamp_fix(st->sz * z, g->s_max);
+    st->t = ew_clamp_fix(st->tz * z, g->t_max);
+    st->left = count;
+}
+
+/* Next segment of up to 16 pixels: start point, per-pixel steps, length. */
+static inline int ew_step_next(ew_stepper *st, int32_t *s, int32_t *t, int32_t *ds, int32_t *dt) {
+    int n = st->left < 16 ? st->left : 16;
+    if (n <= 0) return 0;
+    st->left -= n;
+    *s = st->s, *t = st->t;
+    const ew_gradients *g = st->g;
+    /* A full segment aims at the next segment's first pixel; the last one
+     * at its own last pixel, so the span ends exactly on the true s, t. */
+    int adv = st->left > 0 ? 16 : n - 1;
+    if (adv == 0) {
+        *ds = *dt = 0;
+        return n;
+    }
+    st->zi += g->zi_u * adv;
+    st->sz += g->s_u * adv;
+    st->tz += g->t_u * adv;
+    float z = 65536.0f / st->zi;
+    int32_t sn = ew_clamp_fix(st->sz * z, g->s_max);
+    int32_t tn = ew_clamp_fix(st->tz * z, g->t_max);
+    if (adv == 16) {
+        *ds = (sn - *s) / 16;
+        *dt = (tn - *t) / 16;
+    } else {
+        *ds = (sn - *s) / adv;
+        *dt = (tn - *t) / adv;
+    }
+    st->s = sn, st->t = tn;
+    return n;
+}
+
+#endif

@@ -1,0 +1,230 @@
+/* The renderer context and the frame: front end (PVS, BSP walk, edges),
+ * edge scan into spans, then the back end draws each surface's spans. */
+#include "ew_render.h"
+#include "ew_util.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define EW_MIN_W 320
+#define EW_MIN_H 200
+#define EW_MAX_W 7680
+#define EW_MAX_H 4320
+
+ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
+                                const uint8_t colormap[EW_COLORMAP_SIZE], int width, int height,
+                                ew_error *err) {
+    if (!w || !palette || !colormap) {
+        ew_fail(err, "renderer: no world, palette or colormap");
+        return NULL;
+    }
+    if (width < EW_MIN_W || height < EW_MIN_H || width > EW_MAX_W || height > EW_MAX_H) {
+        ew_fail(err, "renderer: frame size %dx%d outside %dx%d..%dx%d", width, height, EW_MIN_W,
+                EW_MIN_H, EW_MAX_W, EW_MAX_H);
+        return NULL;
+    }
+    ew_renderer *r = calloc(1, sizeof *r);
+    if (!r) goto oom;
+    r->world = w, r->palette = palette, r->colormap = colormap;
+    r->width = width, r->height = height;
+    for (int i = 0; i < 64; i++) r->lightstyle[i] = 264;  /* Quake's normal level, "m" */
+
+    /* Budgets grow with the frame: more pixels can show more polygons. */
+    long px = (long)width * height;
+    r->max_surfs = (int)(4096 + px / 256);
+    if (r->max_surfs > 65535) r->max_surfs = 65535;  /* surface numbers are 16-bit */
+    r->max_edges = r->max_surfs * 6;
+    int max_spans = height * 192;
+
+    int maxlm = 1;
+    for (int i = 0; i < w->numfaces; i++) {
+        int n = ((w->faces[i].extents[0] >> 4) + 1) * ((w->faces[i].extents[1] >> 4) + 1);
+        if (!(w->faces[i].flags & (EW_SURF_SKY | EW_SURF_TURB)) && n > maxlm) maxlm = n;
+    }
+    r->frame = malloc((size_t)px);
+    r->zbuf = malloc(sizeof(float) * (size_t)px);
+    r->leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
+    r->node_frame = calloc((size_t)w->numnodes + 1, sizeof(int));
+    r->face_frame = calloc((size_t)w->numfaces + 1, sizeof(int));
+    r->edge_cache_frame = calloc((size_t)w->numedges + 1, sizeof(int));
+    r->edge_cache_index = calloc((size_t)w->numedges + 1, sizeof(int));
+    r->edge_cache_down = calloc((size_t)w->numedges + 1, 1);
+    r->edges = malloc(sizeof(ew_edge) * r->max_edges);
+    r->new_edges = malloc(sizeof(int32_t) * (size_t)(height + 1));
+    r->surfs = malloc(sizeof(ew_surf) * r->max_surfs);
+    r->blocklights = malloc(sizeof(int) * (size_t)maxlm);
+    if (!r->frame || !r->zbuf || !r->leaf_frame || !r->node_frame || !r->face_frame ||
+        !r->edge_cache_frame || !r->edge_cache_index || !r->edge_cache_down || !r->edges ||
+        !r->new_edges || !r->surfs || !r->blocklights)
+        goto oom;
+    if (ew_band_init(&r->band, r->max_surfs, max_spans, r->max_edges) < 0) goto oom;
+    /* The cache holds several frames' worth of surfaces at this size. */
+    size_t budget = (size_t)px * 6;
+    if (budget < ((size_t)16 << 20)) budget = (size_t)16 << 20;
+    if (ew_cache_init(&r->cache, w->numfaces, budget) < 0) goto oom;
+    return r;
+oom:
+    ew_renderer_free(r);
+    ew_fail(err, "renderer: out of memory for a %dx%d frame", width, height);
+    return NULL;
+}
+
+void ew_renderer_free(ew_renderer *r) {
+    if (!r) return;
+    ew_cache_free(&r->cache);
+    ew_band_free(&r->band);
+    free(r->frame), free(r->zbuf), free(r->face_ids), free(r->coverage);
+    free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
+    free(r->edge_cache_frame), free(r->edge_cache_index), free(r->edge_cache_down);
+    free(r->edges), free(r->new_edges), free(r->surfs), free(r->blocklights);
+    free(r);
+}
+
+int ew_frame_width(const ew_renderer *r) { return r->width; }
+int ew_frame_height(const ew_renderer *r) { return r->height; }
+const uint8_t *ew_frame_pixels(const ew_renderer *r) { return r->frame; }
+const float *ew_frame_zbuffer(const ew_renderer *r) { return r->zbuf; }
+const int *ew_frame_face_ids(const ew_renderer *r) { return r->face_ids; }
+
+void ew_set_lightstyle(ew_renderer *r, int style, int value) {
+    if (style >= 0 && style < 64) r->lightstyle[style] = value < 0 ? 0 : value > 1024 ? 1024 : value;
+}
+
+void ew_enable_face_ids(ew_renderer *r, int on) {
+    r->face_ids_on = on;
+    if (on && !r->face_ids) r->face_ids = malloc(sizeof(int) * (size_t)r->width * r->height);
+    if (!r->face_ids) r->face_ids_on = 0;
+}
+
+static int camera_ok(const ew_camera *c) {
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(c->origin[i]) || !isfinite(c->angles[i]) || fabsf(c->origin[i]) > 1e6f) return 0;
+    return isfinite(c->fov) && c->fov >= 0 && c->fov < 179 && isfinite(c->time);
+}
+
+/* Starts a frame: new frame number (resetting the marks if it wraps), view. */
+int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
+    if (!camera_ok(cam)) return -1;
+    const ew_world *w = r->world;
+    if (++r->framecount == INT32_MAX) {
+        memset(r->leaf_frame, 0, sizeof(int) * (size_t)w->numleaves);
+        memset(r->node_frame, 0, sizeof(int) * (size_t)w->numnodes);
+        memset(r->face_frame, 0, sizeof(int) * (size_t)w->numfaces);
+        memset(r->edge_cache_frame, 0, sizeof(int) * (size_t)w->numedges);
+        r->framecount = 1;
+    }
+    memset(&r->stats, 0, sizeof r->stats);
+    ew_view_setup(&r->view, cam, r->width, r->height);
+    ew_turb_table(r->turb, cam->time);
+    r->nedges = 0;
+    r->nsurfs = 1;  /* surface 0: the background, behind everything */
+    r->surfs[0].key = INT32_MAX;
+    r->surfs[0].face = -1;
+    r->surfs[0].flags = 0;
+    r->surfs[0].nearzi = 0;
+    r->currentkey = 0;
+    for (int v = 0; v <= r->height; v++) r->new_edges[v] = -1;
+    r->viewleaf = ew_pvs_mark(r);
+    return 0;
+}
+
+/* Draws every surface that has spans in the band. */
+void ew_draw_band(ew_renderer *r, ew_band *b) {
+    const ew_world *w = r->world;
+    for (int s = 0; s < r->nsurfs; s++) {
+        if (b->span_head[s] < 0) continue;
+        if (s == 0) {  /* gaps: nothing covers them; draw black, far away */
+            for (int si = b->span_head[0]; si >= 0; si = b->spans[si].next) {
+                const ew_span *sp = &b->spans[si];
+                size_t o = (size_t)sp->v * r->width + sp->u;
+                memset(r->frame + o, 0, (size_t)sp->count);
+                for (int i = 0; i < sp->count; i++) r->zbuf[o + i] = 0;
+            }
+            continue;
+        }
+        const ew_surf *sf = &r->surfs[s];
+        const ew_face *f = &w->faces[sf->face];
+        ew_gradients g;
+        if (f->flags & EW_SURF_SKY) {
+            ew_face_gradients(r, f, 0, 0, 0, &g);
+            ew_draw_sky_spans(r, b, s, ew_face_texture(w, f, r->view.time));
+        } else if (f->flags & EW_SURF_TURB) {
+            const ew_texture *t = ew_face_texture(w, f, r->view.time);
+            ew_face_gradients(r, f, 0, (float)f->texturemins[0], (float)f->texturemins[1], &g);
+            ew_draw_turb_spans(r, b, s, &g, t);
+        } else {
+            int mip = ew_face_mip(r, f, sf->nearzi);
+            const ew_cached_surf *cs = ew_cache_get(r, sf->face, mip);
+            ew_face_gradients(r, f, mip, (float)f->texturemins[0], (float)f->texturemins[1], &g);
+            if (cs) {
+                ew_draw_spans(r, b, s, &g, cs->pixels, cs->width);
+            } else {  /* out of memory for the surface: flat colour, counted */
+                b->dropped++;
+                for (int si = b->span_head[s]; si >= 0; si = b->spans[si].next)
+                    memset(r->frame + (size_t)b->spans[si].v * r->width + b->spans[si].u, 0,
+                           (size_t)b->spans[si].count);
+            }
+        }
+        ew_zfill_spans(r, b, s, &g);
+    }
+}
+
+/* Counters that need a look at every span: writes, coverage, face ids. */
+static void account_spans(ew_renderer *r, const ew_band *b, int count_coverage) {
+    long written = 0;
+    if (count_coverage) {
+        if (!r->coverage) r->coverage = malloc((size_t)r->width * r->height);
+        if (r->coverage) memset(r->coverage, 0, (size_t)r->width * r->height);
+    }
+    for (int s = 1; s < r->nsurfs; s++) {
+        for (int si = b->span_head[s]; si >= 0; si = b->spans[si].next) {
+            const ew_span *sp = &b->spans[si];
+            size_t o = (size_t)sp->v * r->width + sp->u;
+            written += sp->count;
+            if (count_coverage && r->coverage)
+                for (int i = 0; i < sp->count; i++)
+                    if (r->coverage[o + i] < 255) r->coverage[o + i]++;
+            if (r->face_ids_on)
+                for (int i = 0; i < sp->count; i++) r->face_ids[o + i] = r->surfs[s].face;
+        }
+    }
+    if (r->face_ids_on)
+        for (int si = b->span_head[0]; si >= 0; si = b->spans[si].next)
+            for (int i = 0; i < b->spans[si].count; i++)
+                r->face_ids[(size_t)b->spans[si].v * r->width + b->spans[si].u + i] = -1;
+    r->stats.pixels_written = written;
+    if (count_coverage && r->coverage) {
+        long covered = 0;
+        for (long i = 0; i < (long)r->width * r->height; i++) covered += r->coverage[i] != 0;
+        r->stats.pixels_covered = covered;
+    } else {
+        r->stats.pixels_covered = written;
+    }
+    r->stats.overdraw = r->stats.pixels_covered ? (double)written / r->stats.pixels_covered : 0;
+}
+
+int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
+    double t0 = ew_now_ms();
+    if (ew_frame_begin(r, cam) < 0) return -1;
+    ew_walk_world(r);
+    double t1 = ew_now_ms();
+
+    ew_band *b = &r->band;
+    b->y0 = 0, b->y1 = r->height, b->dropped = 0;
+    ew_scan_band(r, b);
+    double t2 = ew_now_ms();
+    ew_draw_band(r, b);
+    double t3 = ew_now_ms();
+
+    ew_stats *st = &r->stats;
+    st->pixels = (long)r->width * r->height;
+    st->edges = r->nedges;
+    st->surfaces = r->nsurfs - 1;
+    st->spans = b->nspans;
+    st->dropped += b->dropped;
+    st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2, st->ms_total = t3 - t0;
+    if (stats || r->face_ids_on) account_spans(r, b, stats != NULL);
+    if (stats) *stats = *st;
+    return 0;
+}

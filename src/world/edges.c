@@ -1,0 +1,185 @@
+/* Front end, last step: clip a face to the frustum, project it and add its
+ * edges to the global edge list.  Faces share edges: an unclipped world
+ * edge emitted for one face is cached for the frame, and the face on its
+ * other side reuses it (filling the edge's other surface slot) instead of
+ * clipping and projecting it again. */
+#include "ew_render.h"
+
+#include <math.h>
+
+#define NEAR_Z 0.01f
+
+typedef struct proj { float u, v, zi; } proj;
+
+static void project(const ew_renderer *r, const float p[3], proj *out) {
+    const ew_view *v = &r->view;
+    float t[3];
+    ew_view_transform(v, p, t);
+    float z = t[2] < NEAR_Z ? NEAR_Z : t[2];
+    float zi = 1.0f / z;
+    float u = v->xcenter + v->xscale * t[0] * zi;
+    float y = v->ycenter - v->yscale * t[1] * zi;
+    /* Frustum clipping leaves points on the screen's borders; float error
+     * must not push them past, or spans would leave the frame. */
+    float umax = v->width - 0.5f, vmax = v->height - 0.5f;
+    out->u = u < -0.5f ? -0.5f : u > umax ? umax : u;
+    out->v = y < -0.5f ? -0.5f : y > vmax ? vmax : y;
+    out->zi = zi;
+}
+
+/* Adds the edge a->b for surface s; returns its index, or -1 if it crosses
+ * no scanline centre (horizontal or too short) and so never bounds a span. */
+static int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) {
+    int down = b->v > a->v;
+    const proj *top = down ? a : b, *bot = down ? b : a;
+    int first = (int)ceilf(top->v), last = (int)ceilf(bot->v) - 1;
+    if (first > last) return -1;
+    if (r->nedges >= r->max_edges) {
+        r->stats.dropped++;
+        return -1;
+    }
+    ew_edge *e = &r->edges[r->nedges];
+    double slope = (double)(bot->u - top->u) / (double)(bot->v - top->v);
+    double u = top->u + (first - top->v) * slope;
+    e->u = (int32_t)floor(u * 65536.0 + 0.5);
+    e->u_step = first == last ? 0 : (int32_t)floor(slope * 65536.0 + 0.5);
+    e->v_first = first;
+    e->v_last = last;
+    e->surfs[0] = down ? (uint16_t)s : 0;  /* going down on screen: right side */
+    e->surfs[1] = down ? 0 : (uint16_t)s;
+    e->nearzi = a->zi > b->zi ? a->zi : b->zi;
+    e->next_new = r->new_edges[first];
+    r->new_edges[first] = r->nedges;
+    return r->nedges++;
+}
+
+/* Emits (or reuses) world edge `se` (a signed surfedge) between a and b,
+ * projecting the ends on demand.  Returns the nearest 1/z it saw. */
+static float emit_world_edge(ew_renderer *r, int se, const float *pa, const float *pb,
+                             proj *ja, int *va, proj *jb, int *vb, int s) {
+    int e = se >= 0 ? se : -se, sign = se >= 0 ? 1 : -1;
+    if (r->edge_cache_frame[e] == r->framecount) {
+        int idx = r->edge_cache_index[e];
+        if (idx < 0) return 0;  /* known not to cross a scanline */
+        int slot = sign * r->edge_cache_down[e] > 0 ? 0 : 1;
+        ew_edge *ed = &r->edges[idx];
+        if (ed->surfs[slot] == 0) {
+            ed->surfs[slot] = (uint16_t)s;
+            r->stats.edges_cached++;
+            return ed->nearzi;
+        }
+        /* Both faces use it the same way round: give this one its own. */
+    }
+    if (!*va) project(r, pa, ja), *va = 1;
+    if (!*vb) project(r, pb, jb), *vb = 1;
+    int idx = add_edge(r, ja, jb, s);
+    r->edge_cache_frame[e] = r->framecount;
+    r->edge_cache_index[e] = idx;
+    r->edge_cache_down[e] = (int8_t)((jb->v > ja->v) ? sign : -sign);
+    return ja->zi > jb->zi ? ja->zi : jb->zi;
+}
+
+int ew_clip_poly(const ew_view *v, int clipflags, float (*in)[3], int nin,
+                 float (*out)[3], int *tag_in, int *tag_out) {
+    float buf[2][EW_MAX_POLY][3];
+    int tagbuf[2][EW_MAX_POLY];
+    float (*src)[3] = in;
+    int *stag = tag_in, n = nin;
+    int which = 0;
+    for (int pi = 0; pi < 4; pi++) {
+        if (!(clipflags & (1 << pi))) continue;
+        const ew_plane *p = &v->frustum[pi];
+        float d[EW_MAX_POLY];
+        int any_out = 0;
+        for (int i = 0; i < n; i++) {
+            d[i] = src[i][0] * p->normal[0] + src[i][1] * p->normal[1] + src[i][2] * p->normal[2] - p->dist;
+            if (d[i] < 0) any_out = 1;
+        }
+        if (!any_out) continue;
+        float (*dst)[3] = buf[which];
+        int *dtag = tagbuf[which];
+        int m = 0;
+        for (int i = 0; i < n && m < EW_MAX_POLY - 2; i++) {
+            int j = i + 1 == n ? 0 : i + 1;
+            int in_i = d[i] >= 0, in_j = d[j] >= 0;
+            if (in_i) {
+                dst[m][0] = src[i][0], dst[m][1] = src[i][1], dst[m][2] = src[i][2];
+                dtag[m++] = in_j ? stag[i] : -1;
+            }
+            if (in_i != in_j) {
+                /* Always interpolate from the inside end, so the two faces that
+                 * share this edge get bit-identical points and no crack. */
+                const float *a = in_i ? src[i] : src[j], *b = in_i ? src[j] : src[i];
+                float da = in_i ? d[i] : d[j], db = in_i ? d[j] : d[i];
+                float t = da / (da - db);
+                for (int k = 0; k < 3; k++) dst[m][k] = a[k] + t * (b[k] - a[k]);
+                dtag[m++] = -1;
+            }
+        }
+        src = dst, stag = dtag, n = m;
+        which ^= 1;
+        if (n < 3) return 0;
+    }
+    for (int i = 0; i < n; i++) {
+        out[i][0] = src[i][0], out[i][1] = src[i][1], out[i][2] = src[i][2];
+        tag_out[i] = stag[i];
+    }
+    return n;
+}
+
+void ew_emit_face(ew_renderer *r, int fi, int clipflags) {
+    const ew_world *w = r->world;
+    const ew_face *f = &w->faces[fi];
+    int n = f->numedges;
+    if (r->nsurfs >= r->max_surfs || n > EW_MAX_POLY - 8 ||
+        r->nedges + n + 4 > r->max_edges) {
+        r->stats.dropped++;
+        return;
+    }
+    int s = r->nsurfs;
+    float nearzi = 0;
+    proj pj[EW_MAX_POLY];
+    int valid[EW_MAX_POLY] = {0};
+
+    if (clipflags == 0) {
+        /* Wholly inside the frustum: every edge is a whole world edge. */
+        for (int i = 0; i < n; i++) {
+            int j = i + 1 == n ? 0 : i + 1;
+            const float *pa = w->verts[ew_face_vertex(w, f, i)];
+            const float *pb = w->verts[ew_face_vertex(w, f, j)];
+            float zi = emit_world_edge(r, w->surfedges[f->firstedge + i], pa, pb,
+                                       &pj[i], &valid[i], &pj[j], &valid[j], s);
+            if (zi > nearzi) nearzi = zi;
+        }
+    } else {
+        float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
+        int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
+        for (int i = 0; i < n; i++) {
+            const float *p = w->verts[ew_face_vertex(w, f, i)];
+            in[i][0] = p[0], in[i][1] = p[1], in[i][2] = p[2];
+            tin[i] = i;
+        }
+        int m = ew_clip_poly(&r->view, clipflags, in, n, out, tin, tout);
+        if (m < 3) return;
+        for (int i = 0; i < m; i++) {
+            int j = i + 1 == m ? 0 : i + 1;
+            float zi;
+            if (tout[i] >= 0) {
+                zi = emit_world_edge(r, w->surfedges[f->firstedge + tout[i]], out[i], out[j],
+                                     &pj[i], &valid[i], &pj[j], &valid[j], s);
+            } else {
+                if (!valid[i]) project(r, out[i], &pj[i]), valid[i] = 1;
+                if (!valid[j]) project(r, out[j], &pj[j]), valid[j] = 1;
+                add_edge(r, &pj[i], &pj[j], s);
+                zi = pj[i].zi > pj[j].zi ? pj[i].zi : pj[j].zi;
+            }
+            if (zi > nearzi) nearzi = zi;
+        }
+    }
+    ew_surf *sf = &r->surfs[s];
+    sf->key = r->currentkey;
+    sf->face = fi;
+    sf->flags = f->flags;
+    sf->nearzi = nearzi;
+    r->nsurfs++;
+}

@@ -1,0 +1,301 @@
+/*
+ * The `edgewise` command (path in EW_CLI, set by CMake): bad arguments and
+ * bad files must fail with one line on stderr that names the problem, never
+ * crash.  Success cases go through expect_ok (see test_success).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "util.h"
+
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static const char *cli;
+static char tmpdir[256];
+
+typedef struct run_result {
+    int  status;      /* exit code, or -1 if it did not exit normally */
+    int  signal;      /* the signal that killed it, 0 if none */
+    char out[65536];  /* stdout */
+    char err[8192];   /* stderr */
+} run_result;
+
+static const char *tmp_path(const char *name) {
+    static char buf[4][512];
+    static int next;
+    char *out = buf[next++ & 3];
+    snprintf(out, 512, "%s/%s", tmpdir, name);
+    return out;
+}
+
+static void slurp(const char *path, char *buf, size_t size) {
+    buf[0] = '\0';
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return;
+    size_t n = fread(buf, 1, size - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+}
+
+/* Runs EW_CLI with args (NULL-terminated), no shell, in tmpdir. */
+static void run(run_result *r, const char *const *args) {
+    const char *argv[64];
+    int n = 0;
+    argv[n++] = cli;
+    for (; *args && n < 63; args++)
+        argv[n++] = *args;
+    argv[n] = NULL;
+
+    const char *out = tmp_path("stdout.txt"), *err = tmp_path("stderr.txt");
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        int fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fo < 0 || fe < 0 || chdir(tmpdir) != 0)
+            _exit(127);
+        dup2(fo, 1);
+        dup2(fe, 2);
+        execv(cli, (char *const *)argv);
+        _exit(127);
+    }
+    int st = 0;
+    r->status = -1;
+    r->signal = 0;
+    if (pid > 0 && waitpid(pid, &st, 0) == pid) {
+        if (WIFEXITED(st))
+            r->status = WEXITSTATUS(st);
+        else if (WIFSIGNALED(st))
+            r->signal = WTERMSIG(st);
+    }
+    slurp(out, r->out, sizeof r->out);
+    slurp(err, r->err, sizeof r->err);
+}
+
+static int count_lines(const char *s) {
+    int n = 0;
+    for (; *s; s++)
+        n += *s == '\n';
+    return n;
+}
+
+static void describe(char *buf, size_t size, const char *const *args) {
+    size_t used = 0;
+    buf[0] = '\0';
+    for (; *args && used < size; args++)
+        used += (size_t)snprintf(buf + used, size - used, " %s", *args);
+}
+
+/* The command fails cleanly: a normal non-zero exit, exactly one line
+ * "edgewise: ..." on stderr containing every string in needles. */
+static void expect_fail_(int line, const char *const *args, const char *const *needles,
+                         run_result *r) {
+    char cmd[1024];
+    describe(cmd, sizeof cmd, args);
+    run(r, args);
+    CHECK(r->signal == 0, "line %d:%s: killed by signal %d", line, cmd, r->signal);
+    CHECK(r->status > 0 && r->status < 126, "line %d:%s: exit %d", line, cmd, r->status);
+    CHECK(count_lines(r->err) == 1 && r->err[strlen(r->err) - 1] == '\n',
+          "line %d:%s: want one stderr line, got:\n%s", line, cmd, r->err);
+    CHECK(strncmp(r->err, "edgewise: ", 10) == 0 && strlen(r->err) > 12,
+          "line %d:%s: stderr '%s'", line, cmd, r->err);
+    for (; needles && *needles; needles++)
+        CHECK(strstr(r->err, *needles) != NULL, "line %d:%s: '%s' not in: %s", line, cmd,
+              *needles, r->err);
+}
+
+#define ARGS(...) ((const char *const[]){ __VA_ARGS__, NULL })
+#define NEEDS(...) ((const char *const[]){ __VA_ARGS__, NULL })
+#define expect_fail(args, needles)                                                   \
+    do {                                                                             \
+        run_result *r_ = malloc(sizeof *r_);                                         \
+        expect_fail_(__LINE__, args, needles, r_);                                   \
+        free(r_);                                                                    \
+    } while (0)
+
+/* The command succeeds: exit 0, nothing on stderr but "wrote ..." lines.
+ * Returns the result (caller frees) for further checks on r->out. */
+static run_result *expect_ok_(int line, const char *const *args) {
+    char cmd[1024];
+    describe(cmd, sizeof cmd, args);
+    run_result *r = malloc(sizeof *r);
+    run(r, args);
+    CHECK(r->signal == 0 && r->status == 0, "line %d:%s: exit %d signal %d, stderr: %s", line,
+          cmd, r->status, r->signal, r->err);
+    for (const char *p = r->err; *p; p = strchr(p, '\n') ? strchr(p, '\n') + 1 : p + strlen(p))
+        CHECK(strncmp(p, "wrote ", 6) == 0, "line %d:%s: stderr: %s", line, cmd, r->err);
+    return r;
+}
+#define expect_ok(args) expect_ok_(__LINE__, args)
+
+static void write_file(const char *path, const void *data, size_t size) {
+    FILE *f = fopen(path, "wb");
+    if (f) {
+        fwrite(data, 1, size, f);
+        fclose(f);
+    }
+}
+
+/* Until the loader/builtin/renderer land, their stubs answer "not
+ * implemented": a message that still names the map, but not the problem a
+ * finished pipeline would find. */
+static int stubbed(const run_result *r) { return strstr(r->err, "not implemented") != NULL; }
+
+static void test_usage(void) {
+    run_result *r = malloc(sizeof *r);
+    run(r, ARGS("--help"));
+    CHECK(r->status == 0 && strstr(r->out, "usage: edgewise") && !r->err[0], "--help: %d %s",
+          r->status, r->err);
+    run(r, ARGS("help"));
+    CHECK(r->status == 0 && strstr(r->out, "render MAP"), "help: %d", r->status);
+    run(r, ARGS("render", "--help"));
+    CHECK(r->status == 0 && strstr(r->out, "--size"), "render --help: %d", r->status);
+    run(r, ARGS("--version"));
+    CHECK(r->status == 0 && strncmp(r->out, "edgewise ", 9) == 0, "--version: %s", r->out);
+    free(r);
+
+    r = malloc(sizeof *r);
+    expect_fail_(__LINE__, (const char *const[]){ NULL }, NEEDS("missing command"), r);
+    free(r);
+    expect_fail(ARGS("frobnicate"), NEEDS("frobnicate", "unknown command"));
+    expect_fail(ARGS("render"), NEEDS("missing MAP"));
+    expect_fail(ARGS("render", "builtin", "--size", "10x10"), NEEDS("--size", "10x10", "range"));
+    expect_fail(ARGS("render", "builtin", "--size", "7681x480"), NEEDS("7681x480"));
+    expect_fail(ARGS("render", "builtin", "--size", "640x4321"), NEEDS("640x4321"));
+    expect_fail(ARGS("render", "builtin", "--size", "abc"), NEEDS("--size", "abc"));
+    expect_fail(ARGS("render", "builtin", "--size", "640x"), NEEDS("640x"));
+    expect_fail(ARGS("render", "builtin", "--size", "640x480x3"), NEEDS("640x480x3"));
+    expect_fail(ARGS("render", "builtin", "--size", "99999999999999999999x480"), NEEDS("--size"));
+    expect_fail(ARGS("render", "builtin", "--size"), NEEDS("--size", "needs a value"));
+    expect_fail(ARGS("render", "builtin", "--view", "-1"), NEEDS("--view", "-1"));
+    expect_fail(ARGS("render", "builtin", "--view", "1.5"), NEEDS("--view", "1.5"));
+    expect_fail(ARGS("render", "builtin", "--view", ""), NEEDS("--view"));
+    expect_fail(ARGS("render", "builtin", "--fov", "179"), NEEDS("--fov", "179"));
+    expect_fail(ARGS("render", "builtin", "--fov", "1"), NEEDS("--fov"));
+    expect_fail(ARGS("render", "builtin", "--fov", "nan"), NEEDS("--fov", "nan"));
+    expect_fail(ARGS("render", "builtin", "--fov", "90deg"), NEEDS("--fov", "90deg"));
+    expect_fail(ARGS("render", "builtin", "--time", "inf"), NEEDS("--time", "inf"));
+    expect_fail(ARGS("render", "builtin", "--time", "-1"), NEEDS("--time"));
+    expect_fail(ARGS("render", "builtin", "--pos", "1,2,3"), NEEDS("--angles"));
+    expect_fail(ARGS("render", "builtin", "--angles", "1,2,3"), NEEDS("--pos"));
+    expect_fail(ARGS("render", "builtin", "--pos", "1,2", "--angles", "0,0,0"), NEEDS("1,2"));
+    expect_fail(ARGS("render", "builtin", "--pos", "1,2,3,4", "--angles", "0,0,0"),
+                NEEDS("1,2,3,4"));
+    expect_fail(ARGS("render", "builtin", "--pos", "1,x,3", "--angles", "0,0,0"), NEEDS("1,x,3"));
+    expect_fail(ARGS("render", "builtin", "--pos", "1,2,3", "--angles", "0,1e300,0"),
+                NEEDS("--angles"));
+    expect_fail(ARGS("render", "builtin", "--pos", "0,0,0", "--angles", "0,0,0", "--view", "1"),
+                NEEDS("--view"));
+    expect_fail(ARGS("render", "builtin", "--wibble"), NEEDS("--wibble"));
+    expect_fail(ARGS("render", "builtin", "--stats=yes"), NEEDS("--stats"));
+    expect_fail(ARGS("render", "builtin", "extra"), NEEDS("extra"));
+    expect_fail(ARGS("views", "builtin", "--size", "640x480"), NEEDS("--size"));
+    expect_fail(ARGS("info"), NEEDS("missing MAP"));
+    expect_fail(ARGS("demo", "builtin"), NEEDS("builtin"));
+    /* Control characters in an argument cannot break the one-line rule. */
+    expect_fail(ARGS("render", "builtin", "--size", "64\n0x480"), NEEDS("--size"));
+}
+
+static void test_bad_files(void) {
+    const char *missing = tmp_path("no-such-map.bsp");
+    expect_fail(ARGS("render", missing), NEEDS(missing));
+    expect_fail(ARGS("info", missing), NEEDS(missing));
+    expect_fail(ARGS("views", missing), NEEDS(missing));
+    expect_fail(ARGS("render", "nosuchmap", "--data", tmpdir), NEEDS("nosuchmap"));
+
+    /* A BSP29 header that promises lumps far beyond the file's end. */
+    unsigned char head[4 + 15 * 8 + 20];
+    memset(head, 0, sizeof head);
+    head[0] = 29;
+    for (int i = 0; i < 15; i++) {
+        head[4 + 8 * i + 0] = 0x00;
+        head[4 + 8 * i + 1] = 0x10;   /* offset 4096 */
+        head[4 + 8 * i + 5] = 0x01;   /* length 256 */
+    }
+    const char *trunc = tmp_path("truncated.bsp");
+    write_file(trunc, head, sizeof head);
+    expect_fail(ARGS("render", trunc), NEEDS("truncated.bsp"));
+    expect_fail(ARGS("info", trunc), NEEDS("truncated.bsp"));
+    expect_fail(ARGS("views", trunc), NEEDS("truncated.bsp"));
+
+    /* Only half a header. */
+    write_file(trunc, head, 30);
+    expect_fail(ARGS("info", trunc), NEEDS("truncated.bsp"));
+
+    const char *text = tmp_path("notabsp.bsp");
+    const char msg[] = "this is a text file, not a BSP\n";
+    write_file(text, msg, sizeof msg - 1);
+    expect_fail(ARGS("render", text), NEEDS("notabsp.bsp"));
+    expect_fail(ARGS("info", text), NEEDS("notabsp.bsp"));
+
+    write_file(text, "", 0);
+    expect_fail(ARGS("info", text), NEEDS("notabsp.bsp"));
+
+    /* A directory where a map should be. */
+    expect_fail(ARGS("info", tmpdir), NEEDS(tmpdir));
+
+    remove(trunc);
+    remove(text);
+}
+
+/* View numbers beyond the map's view set, and outputs that cannot be
+ * written, need a loadable map: the shared e1m1 (29 views). */
+static void test_with_map(void) {
+    const char *rel = "data/librequake/maps/e1m1.bsp";
+    if (!ew_t_have_shared(rel)) {
+        printf("skip map tests: %s not found\n", ew_t_shared(rel));
+        return;
+    }
+    char map[1024];
+    snprintf(map, sizeof map, "%s", ew_t_shared(rel));
+    if (map[0] != '/') {   /* the CLI runs in tmpdir */
+        char cwd[512];
+        if (getcwd(cwd, sizeof cwd)) {
+            char abs[1024];
+            snprintf(abs, sizeof abs, "%s/%s", cwd, map);
+            snprintf(map, sizeof map, "%s", abs);
+        }
+    }
+    run_result *r = malloc(sizeof *r);
+    expect_fail_(__LINE__, ARGS("render", map, "--view", "999"), NULL, r);
+    if (stubbed(r))
+        printf("skip view-range checks: %s", r->err);
+    else
+        CHECK(strstr(r->err, "999") && strstr(r->err, "29 views"), "view 999: %s", r->err);
+    expect_fail_(__LINE__, ARGS("render", map, "--view", "29"), NULL, r);
+    if (!stubbed(r))
+        CHECK(strstr(r->err, "29") && strstr(r->err, "29 views"), "view 29: %s", r->err);
+    free(r);
+}
+
+/* Rendering succeeds: added once the renderer lands, e.g.
+ *   run_result *r = expect_ok(ARGS("demo", "--out", tmp_path("d.png"), "--stats"));
+ *   CHECK(strstr(r->out, "\"pixels\":307200"), ...);  free(r);            */
+static void test_success(void) {
+    (void)expect_ok_;
+}
+
+int main(void) {
+    cli = getenv("EW_CLI");
+    if (!cli || !*cli || access(cli, X_OK) != 0) {
+        fprintf(stderr, "EW_CLI is not set to the edgewise binary (run through ctest)\n");
+        return 1;
+    }
+    const char *t = getenv("TMPDIR");
+    snprintf(tmpdir, sizeof tmpdir, "%s/ew_cli_XXXXXX", t && *t ? t : "/tmp");
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    test_usage();
+    test_bad_files();
+    test_with_map();
+    test_success();
+    remove(tmp_path("stdout.txt"));
+    remove(tmp_path("stderr.txt"));
+    rmdir(tmpdir);
+    return ew_t_finish();
+}
