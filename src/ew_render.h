@@ -162,12 +162,12 @@ void ew_scan_band(ew_renderer *r, ew_band *b);
 /* raster */
 typedef struct ew_gradients {
     float zi_u, zi_v, zi_0;       /* 1/z = zi_u*u + zi_v*v + zi_0 */
-    float s_u, s_v, s_0;          /* s/z likewise, in surface texels */
+    float s_u, s_v, s_0;          /* s/z likewise, seen from the eye */
     float t_u, t_v, t_0;
+    int32_t s_adjust, t_adjust;   /* 16.16: s = (s/z) * z + s_adjust */
     int32_t s_max, t_max;         /* 16.16 clamp limits */
 } ew_gradients;
-void ew_face_gradients(const ew_renderer *r, const ew_face *f, int mip, float soff,
-                       float toff, ew_gradients *g);
+void ew_face_gradients(const ew_renderer *r, const ew_face *f, int mip, ew_gradients *g);
 void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
                    const uint8_t *pixels, int pitch);
 void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_texture *t);

@@ -28,7 +28,7 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     if (!r) goto oom;
     r->world = w, r->palette = palette, r->colormap = colormap;
     r->width = width, r->height = height;
-    for (int i = 0; i < 64; i++) r->lightstyle[i] = 264;  /* Quake's normal level, "m" */
+    for (int i = 0; i < 64; i++) r->lightstyle[i] = 256;
 
     /* Budgets grow with the frame: more pixels can show more polygons. */
     long px = (long)width * height;
@@ -147,16 +147,16 @@ void ew_draw_band(ew_renderer *r, ew_band *b) {
         const ew_face *f = &w->faces[sf->face];
         ew_gradients g;
         if (f->flags & EW_SURF_SKY) {
-            ew_face_gradients(r, f, 0, 0, 0, &g);
+            ew_face_gradients(r, f, 0, &g);
             ew_draw_sky_spans(r, b, s, ew_face_texture(w, f, r->view.time));
         } else if (f->flags & EW_SURF_TURB) {
             const ew_texture *t = ew_face_texture(w, f, r->view.time);
-            ew_face_gradients(r, f, 0, (float)f->texturemins[0], (float)f->texturemins[1], &g);
+            ew_face_gradients(r, f, 0, &g);
             ew_draw_turb_spans(r, b, s, &g, t);
         } else {
             int mip = ew_face_mip(r, f, sf->nearzi);
             const ew_cached_surf *cs = ew_cache_get(r, sf->face, mip);
-            ew_face_gradients(r, f, mip, (float)f->texturemins[0], (float)f->texturemins[1], &g);
+            ew_face_gradients(r, f, mip, &g);
             if (cs) {
                 ew_draw_spans(r, b, s, &g, cs->pixels, cs->width);
             } else {  /* out of memory for the surface: flat colour, counted */

@@ -22,10 +22,8 @@ typedef struct run_result {
     char err[8192];   /* stderr */
 } run_result;
 
-static const char *tmp_path(const char *name) {
-    static char buf[4][512];
-    static int next;
-    char *out = buf[next++ & 3];
+/* Path of name in tmpdir, in the caller's buffer (512 bytes). */
+static char *tmp_path(char out[512], const char *name) {
     snprintf(out, 512, "%s/%s", tmpdir, name);
     return out;
 }
@@ -49,7 +47,9 @@ static void run(run_result *r, const char *const *args) {
         argv[n++] = *args;
     argv[n] = NULL;
 
-    const char *out = tmp_path("stdout.txt"), *err = tmp_path("stderr.txt");
+    char out[512], err[512];
+    tmp_path(out, "stdout.txt");
+    tmp_path(err, "stderr.txt");
     fflush(NULL);
     pid_t pid = fork();
     if (pid == 0) {
@@ -200,7 +200,10 @@ static void test_usage(void) {
 }
 
 static void test_bad_files(void) {
-    const char *missing = tmp_path("no-such-map.bsp");
+    char missing[512], trunc[512], text[512];
+    tmp_path(missing, "no-such-map.bsp");
+    tmp_path(trunc, "truncated.bsp");
+    tmp_path(text, "notabsp.bsp");
     expect_fail(ARGS("render", missing), NEEDS(missing));
     expect_fail(ARGS("info", missing), NEEDS(missing));
     expect_fail(ARGS("views", missing), NEEDS(missing));
@@ -215,7 +218,6 @@ static void test_bad_files(void) {
         head[4 + 8 * i + 1] = 0x10;   /* offset 4096 */
         head[4 + 8 * i + 5] = 0x01;   /* length 256 */
     }
-    const char *trunc = tmp_path("truncated.bsp");
     write_file(trunc, head, sizeof head);
     expect_fail(ARGS("render", trunc), NEEDS("truncated.bsp"));
     expect_fail(ARGS("info", trunc), NEEDS("truncated.bsp"));
@@ -225,7 +227,6 @@ static void test_bad_files(void) {
     write_file(trunc, head, 30);
     expect_fail(ARGS("info", trunc), NEEDS("truncated.bsp"));
 
-    const char *text = tmp_path("notabsp.bsp");
     const char msg[] = "this is a text file, not a BSP\n";
     write_file(text, msg, sizeof msg - 1);
     expect_fail(ARGS("render", text), NEEDS("notabsp.bsp"));
@@ -249,16 +250,12 @@ static void test_with_map(void) {
         printf("skip map tests: %s not found\n", ew_t_shared(rel));
         return;
     }
-    char map[1024];
-    snprintf(map, sizeof map, "%s", ew_t_shared(rel));
-    if (map[0] != '/') {   /* the CLI runs in tmpdir */
-        char cwd[512];
-        if (getcwd(cwd, sizeof cwd)) {
-            char abs[1024];
-            snprintf(abs, sizeof abs, "%s/%s", cwd, map);
-            snprintf(map, sizeof map, "%s", abs);
-        }
-    }
+    /* The CLI runs in tmpdir: make the path absolute. */
+    char map[2048], cwd[512] = "";
+    const char *shared = ew_t_shared(rel);
+    if (shared[0] != '/' && !getcwd(cwd, sizeof cwd))
+        cwd[0] = '\0';
+    snprintf(map, sizeof map, "%s%s%s", cwd, cwd[0] ? "/" : "", shared);
     run_result *r = malloc(sizeof *r);
     expect_fail_(__LINE__, ARGS("render", map, "--view", "999"), NULL, r);
     if (stubbed(r))
@@ -271,11 +268,105 @@ static void test_with_map(void) {
     free(r);
 }
 
-/* Rendering succeeds: added once the renderer lands, e.g.
- *   run_result *r = expect_ok(ARGS("demo", "--out", tmp_path("d.png"), "--stats"));
- *   CHECK(strstr(r->out, "\"pixels\":307200"), ...);  free(r);            */
+/* Every ew_stats field and the frame's description are in the JSON. */
+static void check_stats_json(const char *what, const char *out) {
+    static const char *const keys[] = {
+        "map", "width", "height", "view", "pixels", "pixels_written", "pixels_covered",
+        "overdraw", "edges", "edges_cached", "surfaces", "spans", "surfaces_built",
+        "surfaces_cached", "visible_leaves", "dropped", "ms_front", "ms_scan", "ms_draw",
+        "ms_total",
+    };
+    CHECK(out[0] == '{' && count_lines(out) == 1 && strstr(out, "}\n"), "%s: stdout: %s", what,
+          out);
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
+        char key[64];
+        snprintf(key, sizeof key, "\"%s\":", keys[i]);
+        CHECK(strstr(out, key) != NULL, "%s: %s missing from %s", what, key, out);
+    }
+}
+
+static void check_png(const char *what, const char *path, int w, int h) {
+    uint8_t *rgb = NULL;
+    int rw = 0, rh = 0;
+    ew_error err = { "" };
+    CHECK(ew_read_png_rgb(path, &rgb, &rw, &rh, &err) == 0, "%s: %s", what, err.msg);
+    CHECK(rw == w && rh == h, "%s: %dx%d, want %dx%d", what, rw, rh, w, h);
+    free(rgb);
+    remove(path);
+}
+
+/* Commands that succeed, on the shared e1m1 (and the built-in scene once it
+ * exists).  Stubbed stages are skipped, not failed. */
 static void test_success(void) {
-    (void)expect_ok_;
+    const char *rel = "data/librequake/maps/e1m1.bsp";
+    if (!ew_t_have_shared(rel)) {
+        printf("skip success tests: %s not found\n", ew_t_shared(rel));
+        return;
+    }
+    char map[2048], cwd[512] = "";
+    const char *shared = ew_t_shared(rel);
+    if (shared[0] != '/' && !getcwd(cwd, sizeof cwd))
+        cwd[0] = '\0';
+    snprintf(map, sizeof map, "%s%s%s", cwd, cwd[0] ? "/" : "", shared);
+
+    run_result *r = malloc(sizeof *r);
+    run(r, ARGS("views", map));
+    if (stubbed(r)) {
+        printf("skip success tests: %s", r->err);
+        free(r);
+        return;
+    }
+    free(r);
+    r = expect_ok(ARGS("views", map));
+    CHECK(count_lines(r->out) == 29 && strncmp(r->out, "0 ", 2) == 0, "views: %s", r->out);
+    free(r);
+    r = expect_ok(ARGS("info", map));
+    CHECK(strstr(r->out, "version   29") && strstr(r->out, "entities") &&
+              strstr(r->out, "models") && strstr(r->out, "missing"), "info: %s", r->out);
+    free(r);
+
+    char png[512], path[512];
+    tmp_path(png, "e1m1.png");
+    r = malloc(sizeof *r);
+    run(r, ARGS("render", map, "--view", "28", "--size", "320x200", "--out", png, "--stats"));
+    if (stubbed(r)) {
+        printf("skip render tests: %s", r->err);
+        free(r);
+    } else {
+        free(r);
+        r = expect_ok(ARGS("render", map, "--view=28", "--size=320x200", "--out", png, "--stats"));
+        check_stats_json("render --stats", r->out);
+        CHECK(strstr(r->out, "\"view\":28,") && strstr(r->out, "\"pixels\":64000,") &&
+                  strstr(r->out, "\"map\":\"e1m1\""), "stats: %s", r->out);
+        CHECK(strstr(r->err, "wrote ") != NULL, "no 'wrote' line: %s", r->err);
+        free(r);
+        check_png("render", png, 320, 200);
+
+        /* Default names, in the working directory (tmpdir). */
+        r = expect_ok(ARGS("render", map, "--view", "2", "--size", "320x200"));
+        CHECK(!r->out[0], "stdout without --stats: %s", r->out);
+        free(r);
+        check_png("default name", tmp_path(path, "e1m1_v2.png"), 320, 200);
+        r = expect_ok(ARGS("render", map, "--pos", "464,2048,-178", "--angles", "10,45,0",
+                           "--fov", "100", "--time", "1.5", "--size", "400x300", "--stats"));
+        check_stats_json("free camera", r->out);
+        CHECK(strstr(r->out, "\"view\":null") && strstr(r->out, "\"fov\":100"), "free: %s",
+              r->out);
+        free(r);
+        check_png("free camera", tmp_path(path, "e1m1_free.png"), 400, 300);
+
+        tmp_path(png, "demo.png");
+        r = malloc(sizeof *r);
+        run(r, ARGS("demo", "--out", png, "--size", "320x200", "--stats"));
+        if (stubbed(r)) {
+            printf("skip demo: %s", r->err);
+        } else {
+            CHECK(r->status == 0, "demo: exit %d: %s", r->status, r->err);
+            check_stats_json("demo", r->out);
+            check_png("demo", png, 320, 200);
+        }
+        free(r);
+    }
 }
 
 int main(void) {
@@ -294,8 +385,9 @@ int main(void) {
     test_bad_files();
     test_with_map();
     test_success();
-    remove(tmp_path("stdout.txt"));
-    remove(tmp_path("stderr.txt"));
+    char path[512];
+    remove(tmp_path(path, "stdout.txt"));
+    remove(tmp_path(path, "stderr.txt"));
     rmdir(tmpdir);
     return ew_t_finish();
 }

@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static char tmpdir[256];
@@ -218,10 +219,13 @@ static void test_errors(void) {
     CHECK(ew_write_png(tmpdir, px, 4, 4, pal, &err) < 0 && has(err.msg, "cannot write"),
           "directory as file: %s", err.msg);
 
-    if (access("/dev/full", W_OK) == 0) {
+    /* A full disk, and a failed write to a device must leave the device. */
+    struct stat st;
+    if (stat("/dev/full", &st) == 0 && S_ISCHR(st.st_mode) && access("/dev/full", W_OK) == 0) {
         CHECK(ew_write_png("/dev/full", px, 320, 4, pal, &err) < 0 &&
                   has(err.msg, "/dev/full: cannot write: No space left on device"),
               "full disk: %s", err.msg);
+        CHECK(stat("/dev/full", &st) == 0 && S_ISCHR(st.st_mode), "/dev/full was removed");
     }
 
     uint8_t *rgb = (uint8_t *)&err;   /* must be reset to NULL on failure */

@@ -3,6 +3,7 @@
 #include "util.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -122,6 +123,33 @@ static void test_malformed(void) {
         ew_entities_free(&e);
         free(copy);
     }
+}
+
+/* Random text made of the tokenizer's own characters: whatever it gets,
+ * it must not crash or read out of bounds (ASan watches the bounds; each
+ * text sits in an exactly-sized buffer with no NUL). */
+static void test_fuzz(void) {
+    static const char alphabet[] = "{}\"\"\"//\n\r \t ab0 -9.e";
+    uint32_t seed = 12345;
+    int closed = 0;
+    for (int iter = 0; iter < 20000; iter++) {
+        size_t len = (size_t)(iter % 97);
+        char *text = malloc(len ? len : 1);
+        for (size_t i = 0; i < len; i++) {
+            seed = seed * 1664525u + 1013904223u;
+            text[i] = alphabet[(seed >> 16) % (sizeof alphabet - 1)];
+        }
+        ew_entities e;
+        ew_entities_parse(text, len, &e, NULL);
+        for (int i = 0; i < e.count; i++) {
+            float v[3];
+            ew_entity_floats(&e.ents[i], "a", v, 3);
+            closed++;
+        }
+        ew_entities_free(&e);
+        free(text);
+    }
+    CHECK(closed > 0, "the fuzz never produced an entity");
 }
 
 static void test_view_set(void) {
@@ -266,6 +294,7 @@ static void test_real_maps(void) {
 int main(void) {
     test_tokenizer();
     test_malformed();
+    test_fuzz();
     test_view_set();
     test_real_maps();
     return ew_t_finish();

@@ -53,14 +53,21 @@ static void add_active(ew_band *b, const ew_edge *e, int v) {
     a->surfs[1] = e->surfs[1];
 }
 
-/* Insertion sort by (u, u_step): the list is nearly sorted every line, and
- * ties put the edge heading left first so a sliver's leading edge comes
- * before its trailing edge. */
+/* Order of the active edges: by u; at equal u the edge heading left first,
+ * then edges that only lead before edges that trail, so a sliver's leading
+ * edge comes before its trailing edge. */
+static int after(const ew_active *a, const ew_active *b) {
+    if (a->u != b->u) return a->u > b->u;
+    if (a->u_step != b->u_step) return a->u_step > b->u_step;
+    return a->surfs[0] != 0 && b->surfs[0] == 0;
+}
+
+/* Insertion sort: the list is nearly sorted every line. */
 static void sort_active(ew_active *a, int n) {
     for (int i = 1; i < n; i++) {
         ew_active x = a[i];
         int j = i - 1;
-        while (j >= 0 && (a[j].u > x.u || (a[j].u == x.u && a[j].u_step > x.u_step))) {
+        while (j >= 0 && after(&a[j], &x)) {
             a[j + 1] = a[j];
             j--;
         }
@@ -94,7 +101,10 @@ void ew_scan_band(ew_renderer *r, ew_band *b) {
             int iu = (int)(((int64_t)a->u + 0xFFFF) >> 16);  /* first pixel centre right of the edge */
             iu = iu < 0 ? 0 : iu > width ? width : iu;
             int s = a->surfs[0];
-            if (s && state[s] > 0 && --state[s] == 0) {        /* trailing edge */
+            /* A trailing edge met before its leading edge (crossed by rounding,
+             * or a zero-width sliver) drives the count negative, and the
+             * late leading edge then brings it back to zero without a push. */
+            if (s && --state[s] == 0) {                          /* trailing edge */
                 if (s == top) {
                     emit_span(b, s, lastu[s], iu, v);
                     top = next[s];
@@ -124,8 +134,8 @@ void ew_scan_band(ew_renderer *r, ew_band *b) {
             }
         }
         emit_span(b, top, lastu[top], width, v);
-        /* Surfaces left open by inconsistent edges must not leak into the next line. */
-        for (int s = top; s > 0; s = next[s]) state[s] = 0;
+        /* Counts left unbalanced by inconsistent edges must not leak into the next line. */
+        for (int i = 0; i < b->naet; i++) state[b->aet[i].surfs[0]] = state[b->aet[i].surfs[1]] = 0;
 
         int n = 0;
         for (int i = 0; i < b->naet; i++) {

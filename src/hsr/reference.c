@@ -4,7 +4,7 @@
  * polygon), with 1/z from its plane equation tested against a z-buffer.
  * Texels come from the same lit surfaces, sampled with a true divide per
  * pixel.  Slow and simple on purpose: it is what the tests trust. */
-#include "ew_render.h"
+#include "../raster/span_step.h"
 #include "ew_util.h"
 
 #include <math.h>
@@ -69,11 +69,11 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
     const ew_cached_surf *cs = NULL;
     ew_gradients g;
     if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) {
-        ew_face_gradients(r, f, 0, (float)f->texturemins[0], (float)f->texturemins[1], &g);
+        ew_face_gradients(r, f, 0, &g);
     } else {
         mip = ew_face_mip(r, f, nearzi);
         cs = ew_cache_get(r, fi, mip);
-        ew_face_gradients(r, f, mip, (float)f->texturemins[0], (float)f->texturemins[1], &g);
+        ew_face_gradients(r, f, mip, &g);
     }
     for (int y = y0; y <= y1; y++) {
         for (int x = x0; x <= x1; x++) {
@@ -95,10 +95,8 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
                 px = ew_sky_pixel(v, tex, (float)x, (float)y);
             } else {
                 float z = 65536.0f / zi;
-                float sf = (g.s_u * x + g.s_v * y + g.s_0) * z;
-                float tf = (g.t_u * x + g.t_v * y + g.t_0) * z;
-                int32_t s = !(sf > 0) ? 0 : sf >= g.s_max ? g.s_max : (int32_t)sf;
-                int32_t t = !(tf > 0) ? 0 : tf >= g.t_max ? g.t_max : (int32_t)tf;
+                int32_t s = ew_tex_fix((g.s_u * x + g.s_v * y + g.s_0) * z, g.s_adjust, 0, g.s_max);
+                int32_t t = ew_tex_fix((g.t_u * x + g.t_v * y + g.t_0) * z, g.t_adjust, 0, g.t_max);
                 if (f->flags & EW_SURF_TURB)
                     px = ew_turb_texel(r->turb, tex, s, t);
                 else

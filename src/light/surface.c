@@ -68,16 +68,18 @@ void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *
         for (int i = 0; i < smax - 1; i++) {
             int l00 = bl[j * smax + i], l10 = bl[j * smax + i + 1];
             int l01 = bl[(j + 1) * smax + i], l11 = bl[(j + 1) * smax + i + 1];
-            for (int y = 0; y < bs; y++) {
-                int left = l00 + (((l01 - l00) * y) >> shift);
-                int right = l10 + (((l11 - l10) * y) >> shift);
+            /* Stepped in fixed point from the right-hand sample leftwards, as
+             * the original did: the same rounding gives the same light rings. */
+            int lstep = (l01 - l00) >> shift, rstep = (l11 - l10) >> shift;
+            int left = l00, right = l10;
+            for (int y = 0; y < bs; y++, left += lstep, right += rstep) {
                 const uint8_t *row = tp + ((t0 + j * bs + y) % th) * tw;
                 uint8_t *dst = out + (size_t)(j * bs + y) * width + i * bs;
-                int sx = (s0 + i * bs) % tw;
-                for (int x = 0; x < bs; x++) {
-                    int l = left + (((right - left) * x) >> shift);
+                int step = (left - right) >> shift, l = right;
+                int sx = (s0 + i * bs + bs - 1) % tw;
+                for (int x = bs - 1; x >= 0; x--, l += step) {
                     dst[x] = cmap[(l & 0xFF00) + row[sx]];
-                    if (++sx == tw) sx = 0;
+                    if (--sx < 0) sx = tw - 1;
                 }
             }
         }

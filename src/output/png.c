@@ -1,4 +1,5 @@
 /* PNG output (8-bit frames through the palette) and input (any PNG to RGB8). */
+#define _POSIX_C_SOURCE 200809L
 #include "ew_util.h"
 
 #include <errno.h>
@@ -8,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* Bigger than any frame (7680x4320) or reference image; keeps w*h*3 far
  * from overflowing and refuses absurd headers before allocating. */
@@ -44,6 +46,10 @@ int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
     FILE *f = fopen(path, "wb");
     if (!f)
         return ew_fail(err, "%s: cannot write: %s", path, strerror(errno));
+    /* A half-written PNG is removed on failure, but only a regular file:
+     * never a device or pipe the caller named (/dev/stdout, /dev/full). */
+    struct stat st;
+    const int regular = fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode);
 
     png_ctx ctx = { "" };
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &ctx, on_error, on_warning);
@@ -54,7 +60,8 @@ int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
     if (!png || !info) {
         png_destroy_write_struct(png ? &png : NULL, NULL);
         fclose(f);
-        remove(path);
+        if (regular)
+            remove(path);
         return ew_fail(err, "%s: cannot write: out of memory", path);
     }
     if (setjmp(png_jmpbuf(png))) {
@@ -62,7 +69,8 @@ int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
         png_destroy_write_struct(&png, &info);
         free(row);
         fclose(f);
-        remove(path);
+        if (regular)
+            remove(path);
         /* libpng's own "Write Error" says less than the OS does. */
         if (io || strcmp(ctx.msg, "Write Error") == 0)
             return ew_fail(err, "%s: cannot write: %s", path, strerror(e ? e : EIO));
@@ -92,7 +100,8 @@ int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
     int bad = ferror(f);
     if (fclose(f) != 0 || bad) {
         int e = errno ? errno : EIO;
-        remove(path);
+        if (regular)
+            remove(path);
         return ew_fail(err, "%s: cannot write: %s", path, strerror(e));
     }
     return 0;

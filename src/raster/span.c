@@ -4,8 +4,7 @@
 
 #include <math.h>
 
-void ew_face_gradients(const ew_renderer *r, const ew_face *f, int mip, float soff,
-                       float toff, ew_gradients *g) {
+void ew_face_gradients(const ew_renderer *r, const ew_face *f, int mip, ew_gradients *g) {
     const ew_world *w = r->world;
     const ew_view *v = &r->view;
     const ew_plane *pl = &w->planes[f->plane];
@@ -24,9 +23,13 @@ void ew_face_gradients(const ew_renderer *r, const ew_face *f, int mip, float so
     g->zi_v = -ny / (ys * dist);
     g->zi_0 = nz / dist - xc * g->zi_u - yc * g->zi_v;
 
+    /* s/z and t/z of the direction from the eye; the eye's own texture
+     * coordinate is added after the divide, in fixed point, as the
+     * original did (it keeps the big offset out of the float gradients). */
     float scale = 1.0f / (float)(1 << mip);
-    float off[2] = {soff, toff};
+    int mins[2] = {f->texturemins[0], f->texturemins[1]};
     float *out[2][3] = {{&g->s_u, &g->s_v, &g->s_0}, {&g->t_u, &g->t_v, &g->t_0}};
+    int32_t *adj[2] = {&g->s_adjust, &g->t_adjust};
     for (int a = 0; a < 2; a++) {
         const float *vec = ti->vecs[a];
         float sr = 0, su = 0, sf = 0, so = 0;
@@ -37,10 +40,14 @@ void ew_face_gradients(const ew_renderer *r, const ew_face *f, int mip, float so
             so += vec[k] * v->origin[k];
         }
         sr *= scale, su *= scale, sf *= scale;
-        float c = (so + vec[3] - off[a]) * scale;  /* texel coordinate at the eye */
-        *out[a][0] = sr / xs + c * g->zi_u;
-        *out[a][1] = -su / ys + c * g->zi_v;
-        *out[a][2] = sf - xc * sr / xs + yc * su / ys + c * g->zi_0;
+        *out[a][0] = sr / xs;
+        *out[a][1] = -su / ys;
+        *out[a][2] = sf - xc * sr / xs + yc * su / ys;
+        double c = (double)so * scale * 65536.0 + 0.5;
+        if (c > 1e9) c = 1e9;
+        if (c < -1e9) c = -1e9;
+        *adj[a] = (int32_t)c - (int32_t)(((int64_t)mins[a] * 65536) >> mip) +
+                  (int32_t)(vec[3] * 65536.0f * scale);
     }
     g->s_max = (int32_t)(((int64_t)(f->extents[0] >> mip) << 16) - 1);
     g->t_max = (int32_t)(((int64_t)(f->extents[1] >> mip) << 16) - 1);

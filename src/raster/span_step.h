@@ -14,10 +14,12 @@ typedef struct ew_stepper {
     int left;              /* pixels left in the span */
 } ew_stepper;
 
-static inline int32_t ew_clamp_fix(float x, int32_t hi) {
-    if (!(x > 0)) return 0;  /* also catches NaN */
-    if (x >= (float)hi) return hi;
-    return (int32_t)x;
+/* (s/z) * z plus the eye's coordinate, clamped to the surface. */
+static inline int32_t ew_tex_fix(float x, int32_t adjust, int32_t lo, int32_t hi) {
+    if (!(x > -1e9f)) x = -1e9f;  /* also catches NaN */
+    if (x > 1e9f) x = 1e9f;
+    int64_t s = (int64_t)x + adjust;
+    return s < lo ? lo : s > hi ? hi : (int32_t)s;
 }
 
 static inline void ew_step_begin(ew_stepper *st, const ew_gradients *g, int u, int v, int count) {
@@ -26,8 +28,8 @@ static inline void ew_step_begin(ew_stepper *st, const ew_gradients *g, int u, i
     st->sz = g->s_u * u + g->s_v * v + g->s_0;
     st->tz = g->t_u * u + g->t_v * v + g->t_0;
     float z = 65536.0f / st->zi;
-    st->s = ew_clamp_fix(st->sz * z, g->s_max);
-    st->t = ew_clamp_fix(st->tz * z, g->t_max);
+    st->s = ew_tex_fix(st->sz * z, g->s_adjust, 0, g->s_max);
+    st->t = ew_tex_fix(st->tz * z, g->t_adjust, 0, g->t_max);
     st->left = count;
 }
 
@@ -49,11 +51,12 @@ static inline int ew_step_next(ew_stepper *st, int32_t *s, int32_t *t, int32_t *
     st->sz += g->s_u * adv;
     st->tz += g->t_u * adv;
     float z = 65536.0f / st->zi;
-    int32_t sn = ew_clamp_fix(st->sz * z, g->s_max);
-    int32_t tn = ew_clamp_fix(st->tz * z, g->t_max);
+    /* Not quite 0 at the low end: 16 floored steps may undershoot by 15. */
+    int32_t sn = ew_tex_fix(st->sz * z, g->s_adjust, 16, g->s_max);
+    int32_t tn = ew_tex_fix(st->tz * z, g->t_adjust, 16, g->t_max);
     if (adv == 16) {
-        *ds = (sn - *s) / 16;
-        *dt = (tn - *t) / 16;
+        *ds = (sn - *s) >> 4;
+        *dt = (tn - *t) >> 4;
     } else {
         *ds = (sn - *s) / adv;
         *dt = (tn - *t) / adv;

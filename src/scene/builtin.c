@@ -1,0 +1,189 @@
+/*
+ * The built-in scene: a small level the project makes itself, so `make
+ * demo` needs no files from outside the repository.
+ *
+ * Layout (cells of 16 units; x east, y north, z up):
+ *   - a courtyard open to the sky, with a pool of water, two stone pillars
+ *     and a metal platform reached by two steps;
+ *   - a metal corridor east into a lower brick hall with a metal column and
+ *     an animated button on its far wall;
+ *   - a wooden staircase north from the hall up into a tall stone room with
+ *     a window looking back into the courtyard.
+ * The grid is turned into a real BSP29 image (builtin_bsp.c) and loaded
+ * through ew_world_load like any map.
+ */
+#include "scene/builtin.h"
+#include "ew_util.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { NX = 64, NY = 50, NZ = 22 };
+
+/* floor (top of the cell), sides, ceiling (underside) */
+static const uint8_t material_tex[BI_NUM_MATERIALS][3] = {
+    [BI_M_BRICK] = {BI_T_FLOOR, BI_T_BRICK, BI_T_WOOD},
+    [BI_M_STONE] = {BI_T_STONE, BI_T_STONE, BI_T_STONE},
+    [BI_M_METAL] = {BI_T_METAL, BI_T_METAL, BI_T_METAL},
+    [BI_M_WOOD] = {BI_T_WOOD, BI_T_WOOD, BI_T_WOOD},
+    [BI_M_PLATFORM] = {BI_T_WOOD, BI_T_METAL, BI_T_METAL},
+    [BI_M_BUTTON] = {BI_T_METAL, BI_T_BUTTON0, BI_T_METAL},
+    [BI_M_TILE] = {BI_T_FLOOR, BI_T_STONE, BI_T_STONE},
+};
+
+int bi_face_texture(int self_kind, int other_kind, int other_mat, int facing) {
+    if (other_kind == BI_SKY) return BI_T_SKY;
+    /* the water surface, seen from above or below */
+    if (other_kind == BI_WATER || (self_kind == BI_WATER && other_kind == BI_EMPTY)) return BI_T_WATER;
+    int part = facing == 4 ? 0 : facing == 5 ? 2 : 1;
+    return material_tex[other_mat][part];
+}
+
+static void fill(bi_grid *g, int x0, int y0, int z0, int x1, int y1, int z1, int kind, int mat) {
+    for (int z = z0; z < z1; z++)
+        for (int y = y0; y < y1; y++)
+            for (int x = x0; x < x1; x++) {
+                size_t i = ((size_t)z * g->n[1] + y) * g->n[0] + x;
+                g->kind[i] = (uint8_t)kind;
+                g->mat[i] = (uint8_t)mat;
+            }
+}
+/* Solid with a material (paint walls before carving rooms out of them). */
+static void paint(bi_grid *g, int x0, int y0, int z0, int x1, int y1, int z1, int mat) {
+    fill(g, x0, y0, z0, x1, y1, z1, BI_SOLID, mat);
+}
+static void carve(bi_grid *g, int x0, int y0, int z0, int x1, int y1, int z1) {
+    fill(g, x0, y0, z0, x1, y1, z1, BI_EMPTY, 0);
+}
+
+static void layout(bi_grid *g) {
+    fill(g, 0, 0, 0, NX, NY, NZ, BI_SOLID, BI_M_BRICK);
+
+    /* courtyard: brick walls, stone floor, sky above */
+    paint(g, 2, 2, 0, 28, 36, 4, BI_M_STONE);
+    carve(g, 2, 2, 4, 28, 36, 17);
+    fill(g, 2, 2, 17, 28, 36, 19, BI_SKY, 0);
+    carve(g, 12, 4, 3, 22, 11, 4);                /* pool: air above the water */
+    fill(g, 12, 4, 1, 22, 11, 3, BI_WATER, 0);
+    paint(g, 8, 10, 4, 10, 12, 13, BI_M_STONE);   /* pillars */
+    paint(g, 8, 20, 4, 10, 22, 13, BI_M_STONE);
+    paint(g, 2, 26, 4, 8, 36, 7, BI_M_PLATFORM);  /* platform and two steps */
+    paint(g, 8, 26, 4, 10, 36, 6, BI_M_PLATFORM);
+    paint(g, 10, 26, 4, 12, 36, 5, BI_M_PLATFORM);
+
+    /* metal corridor east into the hall */
+    paint(g, 28, 11, 3, 34, 17, 11, BI_M_METAL);
+    carve(g, 28, 12, 4, 34, 16, 10);
+
+    /* hall: tiled floor, brick walls, wooden ceiling, a metal column */
+    paint(g, 34, 4, 0, 56, 24, 4, BI_M_TILE);
+    carve(g, 34, 4, 4, 56, 24, 12);
+    paint(g, 44, 12, 4, 46, 14, 12, BI_M_METAL);
+    paint(g, 56, 14, 6, 57, 16, 8, BI_M_BUTTON);
+
+    /* stone room to the north, floor 48 units above the hall */
+    paint(g, 29, 29, 0, 59, 47, 17, BI_M_STONE);
+    paint(g, 30, 30, 0, 58, 46, 7, BI_M_WOOD);
+    carve(g, 30, 30, 7, 58, 46, 16);
+    paint(g, 36, 40, 7, 38, 42, 16, BI_M_BRICK);  /* brick columns */
+    paint(g, 50, 40, 7, 52, 42, 16, BI_M_BRICK);
+    paint(g, 42, 35, 7, 46, 38, 8, BI_M_STONE);   /* a low stone dais */
+    carve(g, 28, 31, 10, 30, 35, 13);             /* window into the courtyard */
+
+    /* wooden stairs from the hall up to the stone room */
+    paint(g, 44, 24, 0, 48, 30, 7, BI_M_WOOD);
+    carve(g, 44, 24, 5, 48, 26, 11);
+    carve(g, 44, 26, 6, 48, 28, 12);
+    carve(g, 44, 28, 7, 48, 30, 13);
+}
+
+static const bi_light scene_lights[] = {
+    {{80, 496, 200}, 250},   /* over the platform */
+    {{344, 120, 168}, 220},  /* over the pool */
+    {{496, 224, 144}, 200},  /* corridor */
+    {{640, 176, 176}, 300},  /* hall */
+    {{736, 432, 184}, 180},  /* stairs */
+    {{704, 600, 232}, 320},  /* stone room */
+};
+
+/* Player start: in the courtyard; its four views look at the corridor,
+ * the platform, the pillars and the pool. */
+static const int start_origin[3] = {240, 248, 88}, start_angle = 0;
+static const int intermission_origin[3] = {56, 56, 232}, intermission_mangle[3] = {20, 40, 0};
+
+static char *make_entities(void) {
+    size_t cap = 4096;
+    char *e = malloc(cap);
+    if (!e) return NULL;
+    int n = snprintf(e, cap,
+                     "{\n\"classname\" \"worldspawn\"\n\"message\" \"edgewise built-in scene\"\n"
+                     "\"wad\" \"\"\n}\n"
+                     "{\n\"classname\" \"info_player_start\"\n\"origin\" \"%d %d %d\"\n\"angle\" \"%d\"\n}\n"
+                     "{\n\"classname\" \"info_intermission\"\n\"origin\" \"%d %d %d\"\n"
+                     "\"mangle\" \"%d %d %d\"\n}\n",
+                     start_origin[0], start_origin[1], start_origin[2], start_angle,
+                     intermission_origin[0], intermission_origin[1], intermission_origin[2],
+                     intermission_mangle[0], intermission_mangle[1], intermission_mangle[2]);
+    for (size_t i = 0; i < sizeof scene_lights / sizeof scene_lights[0]; i++) {
+        const bi_light *l = &scene_lights[i];
+        n += snprintf(e + n, cap - (size_t)n,
+                      "{\n\"classname\" \"light\"\n\"origin\" \"%d %d %d\"\n\"light\" \"%d\"\n}\n",
+                      (int)l->origin[0], (int)l->origin[1], (int)l->origin[2], (int)l->intensity);
+    }
+    return e;
+}
+
+int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
+                        uint8_t colormap[EW_COLORMAP_SIZE], ew_error *err) {
+    *bsp = NULL, *bsp_size = 0;
+    bi_scene sc;
+    memset(&sc, 0, sizeof sc);
+    sc.grid.n[0] = NX, sc.grid.n[1] = NY, sc.grid.n[2] = NZ;
+    sc.grid.kind = malloc((size_t)NX * NY * NZ);
+    sc.grid.mat = malloc((size_t)NX * NY * NZ);
+    char *ents = make_entities();
+    if (!sc.grid.kind || !sc.grid.mat || !ents) {
+        free(sc.grid.kind), free(sc.grid.mat), free(ents);
+        return ew_fail(err, "builtin: out of memory");
+    }
+    layout(&sc.grid);
+    /* the outer shell must be solid: faces only exist on interior planes */
+    for (int z = 0; z < NZ; z++)
+        for (int y = 0; y < NY; y++)
+            for (int x = 0; x < NX; x++)
+                if ((x == 0 || y == 0 || z == 0 || x == NX - 1 || y == NY - 1 || z == NZ - 1) &&
+                    bi_kind(&sc.grid, x, y, z) != BI_SOLID) {
+                    free(sc.grid.kind), free(sc.grid.mat), free(ents);
+                    return ew_fail(err, "builtin: the scene leaks at cell %d %d %d", x, y, z);
+                }
+    sc.nlights = (int)(sizeof scene_lights / sizeof scene_lights[0]);
+    memcpy(sc.lights, scene_lights, sizeof scene_lights);
+    /* late-afternoon sun from the north-east, high up */
+    sc.sun_dir[0] = -0.37f, sc.sun_dir[1] = -0.46f, sc.sun_dir[2] = -0.81f;
+    sc.sun_intensity = 110;
+    sc.ambient = 20;
+    sc.entities = ents;
+
+    bi_make_palette(palette);
+    bi_make_colormap(palette, colormap);
+    bi_buf out = {0};
+    int rc = bi_build_bsp(&sc, palette, &out, err);
+    free(sc.grid.kind), free(sc.grid.mat), free(ents);
+    if (rc) {
+        free(out.data);
+        return -1;
+    }
+    *bsp = out.data, *bsp_size = out.len;
+    return 0;
+}
+
+int ew_assets_builtin(ew_assets *out, ew_error *err) {
+    memset(out, 0, sizeof *out);
+    uint8_t *bsp;
+    size_t size;
+    if (ew_builtin_generate(&bsp, &size, out->palette, out->colormap, err)) return -1;
+    out->world = ew_world_load(bsp, size, "builtin", err);
+    free(bsp);
+    return out->world ? 0 : -1;
+}
