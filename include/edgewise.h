@@ -159,8 +159,15 @@ int            ew_frame_height(const ew_renderer *r);
 const uint8_t *ew_frame_pixels(const ew_renderer *r);   /* width*height, row-major */
 const float   *ew_frame_zbuffer(const ew_renderer *r);  /* 1/z per pixel */
 
-/* Light style values (256 = normal; Quake's "m" is 264). Default: 264 for all. */
+/* Light style values (256 = normal, twice that = double bright). Default:
+ * 256 for every style, which is what the reference renders show. */
 void ew_set_lightstyle(ew_renderer *r, int style, int value);
+
+/* Perspective-correct divide every `pixels` pixels along a span (1, 2, 4,
+ * 8, 16 or 32; default 16, as the original), affine in between.  1 makes
+ * texturing exact, for measuring what the approximation changes.
+ * Returns 0, or -1 for another value. */
+int ew_set_subdivision(ew_renderer *r, int pixels);
 
 /* Test/verification hook: when enabled, the next frames also record the
  * face index that won each pixel (-1 where nothing was drawn). */

@@ -106,6 +106,7 @@ struct ew_renderer {
     float   *zbuf;
     int     *face_ids;
     int      face_ids_on;
+    int      subdiv_shift;                   /* perspective divide every 1 << shift px */
     int      lightstyle[64];
 
     /* per-world marks, compared against framecount */

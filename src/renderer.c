@@ -28,7 +28,8 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     if (!r) goto oom;
     r->world = w, r->palette = palette, r->colormap = colormap;
     r->width = width, r->height = height;
-    for (int i = 0; i < 64; i++) r->lightstyle[i] = 256;
+    for (int i = 0; i < 64; i++) r->lightstyle[i] = 256;  /* normal light */
+    r->subdiv_shift = 4;                                   /* a divide every 16 pixels */
 
     /* Budgets grow with the frame: more pixels can show more polygons. */
     long px = (long)width * height;
@@ -89,6 +90,15 @@ const int *ew_frame_face_ids(const ew_renderer *r) { return r->face_ids; }
 
 void ew_set_lightstyle(ew_renderer *r, int style, int value) {
     if (style >= 0 && style < 64) r->lightstyle[style] = value < 0 ? 0 : value > 1024 ? 1024 : value;
+}
+
+int ew_set_subdivision(ew_renderer *r, int pixels) {
+    for (int shift = 0; shift <= 5; shift++)
+        if (pixels == 1 << shift) {
+            r->subdiv_shift = shift;
+            return 0;
+        }
+    return -1;
 }
 
 void ew_enable_face_ids(ew_renderer *r, int on) {

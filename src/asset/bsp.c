@@ -336,8 +336,7 @@ static int load_textures(ctx *c, ew_world *w) {
                              i, (int)o, (int)len);
         }
         const uint8_t *m = L + o;
-        memcpy(t->name, m, 15);  /* names are at most 15 chars + NUL */
-        t->name[15] = '\0';
+        for (int k = 0; k < 15 && m[k]; k++) t->name[k] = (char)m[k];  /* 15 chars + NUL */
         uint32_t tw = ew_u32(m + 16), th = ew_u32(m + 20), mo[4];
         for (int k = 0; k < 4; k++) mo[k] = ew_u32(m + 24 + 4 * k);
         if (!mo[0] && !mo[1] && !mo[2] && !mo[3]) continue;  /* compiled without pixels */

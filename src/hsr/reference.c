@@ -82,11 +82,13 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
                 int j = i + 1 == m ? 0 : i + 1;
                 double e = ((double)pu[j] - pu[i]) * ((double)y - pv[i]) -
                            ((double)pv[j] - pv[i]) * ((double)x - pu[i]);
-                if (e * sign < 0) inside = 0;
+                /* A hair of tolerance so pixel centres exactly on a shared
+                 * edge are covered by both sides (the z test picks one). */
+                if (e * sign < -1e-6 * (fabs(pu[j] - pu[i]) + fabs(pv[j] - pv[i]))) inside = 0;
             }
             if (!inside) continue;
             size_t o = (size_t)y * r->width + x;
-            float zi = g.zi_u * x + g.zi_v * y + g.zi_0;
+            float zi = g.zi_u * (float)x + (g.zi_v * (float)y + g.zi_0);
             if (zi <= c->z[o]) continue;
             c->z[o] = zi;
             if (c->ids) c->ids[o] = fi;
@@ -95,8 +97,9 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
                 px = ew_sky_pixel(v, tex, (float)x, (float)y);
             } else {
                 float z = 65536.0f / zi;
-                int32_t s = ew_tex_fix((g.s_u * x + g.s_v * y + g.s_0) * z, g.s_adjust, 0, g.s_max);
-                int32_t t = ew_tex_fix((g.t_u * x + g.t_v * y + g.t_0) * z, g.t_adjust, 0, g.t_max);
+                float fx = (float)x, fy = (float)y;
+                int32_t s = ew_tex_fix((g.s_u * fx + (g.s_v * fy + g.s_0)) * z, g.s_adjust, 0, g.s_max);
+                int32_t t = ew_tex_fix((g.t_u * fx + (g.t_v * fy + g.t_0)) * z, g.t_adjust, 0, g.t_max);
                 if (f->flags & EW_SURF_TURB)
                     px = ew_turb_texel(r->turb, tex, s, t);
                 else

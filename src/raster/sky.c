@@ -50,11 +50,12 @@ void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_text
         const ew_span *sp = &b->spans[si];
         uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
         float s0, t0, s1, t1;
+        int step = r->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
         sky_st(v, t, (float)sp->u, (float)sp->v, &s0, &t0);
-        for (int i = 0; i < sp->count; i += SKY_STEP) {
-            int n = sp->count - i < SKY_STEP ? sp->count - i : SKY_STEP;
-            sky_st(v, t, (float)(sp->u + i + SKY_STEP), (float)sp->v, &s1, &t1);
-            float ds = (s1 - s0) / SKY_STEP, dt = (t1 - t0) / SKY_STEP;
+        for (int i = 0; i < sp->count; i += step) {
+            int n = sp->count - i < step ? sp->count - i : step;
+            sky_st(v, t, (float)(sp->u + i + step), (float)sp->v, &s1, &t1);
+            float ds = (s1 - s0) / step, dt = (t1 - t0) / step;
             for (int k = 0; k < n; k++) dst[i + k] = sky_texel(v, t, s0 + ds * k, t0 + dt * k);
             s0 = s1, t0 = t1;
         }

@@ -62,7 +62,7 @@ void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradient
         ew_stepper st;
         int32_t s, t, ds, dt;
         int n;
-        ew_step_begin(&st, g, sp->u, sp->v, sp->count);
+        ew_step_begin(&st, g, r->subdiv_shift, sp->u, sp->v, sp->count);
         while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
             for (int i = 0; i < n; i++) {
                 *dst++ = pixels[(t >> 16) * pitch + (s >> 16)];

@@ -1,7 +1,9 @@
 /* Walking a span with perspective correction every 16 pixels (internal).
  * s/z, t/z and 1/z are linear in screen space; at each 16-pixel point the
  * true s and t come from one divide, and the pixels between are stepped
- * affinely.  Used by the textured and the liquid span drawers. */
+ * affinely.  The segment length is 1 << shift (4 by default; 0 divides at
+ * every pixel, for measuring what the approximation costs and changes).
+ * Used by the textured and the liquid span drawers. */
 #ifndef EW_SPAN_STEP_H
 #define EW_SPAN_STEP_H
 
@@ -10,8 +12,11 @@
 typedef struct ew_stepper {
     const ew_gradients *g;
     float zi, sz, tz;      /* at the current segment start */
+    float zi_row, s_row, t_row; /* the v and constant terms of this row */
+    int u;                 /* current segment start */
     int32_t s, t;          /* 16.16 at the current segment start */
     int left;              /* pixels left in the span */
+    int shift;             /* log2 of the segment length */
 } ew_stepper;
 
 /* (s/z) * z plus the eye's coordinate, clamped to the surface. */
@@ -22,11 +27,17 @@ static inline int32_t ew_tex_fix(float x, int32_t adjust, int32_t lo, int32_t hi
     return s < lo ? lo : s > hi ? hi : (int32_t)s;
 }
 
-static inline void ew_step_begin(ew_stepper *st, const ew_gradients *g, int u, int v, int count) {
+static inline void ew_step_begin(ew_stepper *st, const ew_gradients *g, int shift, int u, int v,
+                                 int count) {
     st->g = g;
-    st->zi = g->zi_u * u + g->zi_v * v + g->zi_0;
-    st->sz = g->s_u * u + g->s_v * v + g->s_0;
-    st->tz = g->t_u * u + g->t_v * v + g->t_0;
+    st->shift = shift;
+    st->u = u;
+    st->zi_row = g->zi_v * v + g->zi_0;
+    st->s_row = g->s_v * v + g->s_0;
+    st->t_row = g->t_v * v + g->t_0;
+    st->zi = g->zi_u * u + st->zi_row;
+    st->sz = g->s_u * u + st->s_row;
+    st->tz = g->t_u * u + st->t_row;
     float z = 65536.0f / st->zi;
     st->s = ew_tex_fix(st->sz * z, g->s_adjust, 0, g->s_max);
     st->t = ew_tex_fix(st->tz * z, g->t_adjust, 0, g->t_max);
@@ -35,28 +46,33 @@ static inline void ew_step_begin(ew_stepper *st, const ew_gradients *g, int u, i
 
 /* Next segment of up to 16 pixels: start point, per-pixel steps, length. */
 static inline int ew_step_next(ew_stepper *st, int32_t *s, int32_t *t, int32_t *ds, int32_t *dt) {
-    int n = st->left < 16 ? st->left : 16;
+    int seg = 1 << st->shift;
+    int n = st->left < seg ? st->left : seg;
     if (n <= 0) return 0;
     st->left -= n;
     *s = st->s, *t = st->t;
     const ew_gradients *g = st->g;
     /* A full segment aims at the next segment's first pixel; the last one
      * at its own last pixel, so the span ends exactly on the true s, t. */
-    int adv = st->left > 0 ? 16 : n - 1;
+    int adv = st->left > 0 ? seg : n - 1;
     if (adv == 0) {
         *ds = *dt = 0;
         return n;
     }
-    st->zi += g->zi_u * adv;
-    st->sz += g->s_u * adv;
-    st->tz += g->t_u * adv;
+    /* Evaluated afresh at each point rather than accumulated, so long spans
+     * do not drift. */
+    st->u += adv;
+    float fu = (float)st->u;
+    st->zi = g->zi_u * fu + st->zi_row;
+    st->sz = g->s_u * fu + st->s_row;
+    st->tz = g->t_u * fu + st->t_row;
     float z = 65536.0f / st->zi;
-    /* Not quite 0 at the low end: 16 floored steps may undershoot by 15. */
-    int32_t sn = ew_tex_fix(st->sz * z, g->s_adjust, 16, g->s_max);
-    int32_t tn = ew_tex_fix(st->tz * z, g->t_adjust, 16, g->t_max);
-    if (adv == 16) {
-        *ds = (sn - *s) >> 4;
-        *dt = (tn - *t) >> 4;
+    /* Not quite 0 at the low end: floored steps may undershoot by up to seg - 1. */
+    int32_t sn = ew_tex_fix(st->sz * z, g->s_adjust, seg, g->s_max);
+    int32_t tn = ew_tex_fix(st->tz * z, g->t_adjust, seg, g->t_max);
+    if (adv == seg) {
+        *ds = (sn - *s) >> st->shift;
+        *dt = (tn - *t) >> st->shift;
     } else {
         *ds = (sn - *s) / adv;
         *dt = (tn - *t) / adv;

@@ -24,7 +24,7 @@ void ew_draw_turb_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gra
         ew_stepper st;
         int32_t s, tt, ds, dt;
         int n;
-        ew_step_begin(&st, g, sp->u, sp->v, sp->count);
+        ew_step_begin(&st, g, r->subdiv_shift, sp->u, sp->v, sp->count);
         while ((n = ew_step_next(&st, &s, &tt, &ds, &dt)) > 0) {
             for (int i = 0; i < n; i++) {
                 *dst++ = ew_turb_texel(r->turb, t, s, tt);

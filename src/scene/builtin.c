@@ -60,21 +60,35 @@ static void carve(bi_grid *g, int x0, int y0, int z0, int x1, int y1, int z1) {
 static void layout(bi_grid *g) {
     fill(g, 0, 0, 0, NX, NY, NZ, BI_SOLID, BI_M_BRICK);
 
-    /* courtyard: brick walls, stone floor, sky above */
+    /* courtyard: brick walls on a stone plinth under a stone cornice, sky above */
     paint(g, 2, 2, 0, 28, 36, 4, BI_M_STONE);
-    carve(g, 2, 2, 4, 28, 36, 17);
-    fill(g, 2, 2, 17, 28, 36, 19, BI_SKY, 0);
+    carve(g, 2, 2, 4, 28, 36, 14);
+    fill(g, 2, 2, 14, 28, 36, 16, BI_SKY, 0);
+    for (int z = 4; z < 14; z += 9) {  /* plinth at the floor, cornice at the top */
+        paint(g, 2, 2, z, 28, 3, z + 1, BI_M_STONE);
+        paint(g, 2, 35, z, 28, 36, z + 1, BI_M_STONE);
+        paint(g, 2, 2, z, 3, 36, z + 1, BI_M_STONE);
+        paint(g, 27, 2, z, 28, 36, z + 1, BI_M_STONE);
+    }
     carve(g, 12, 4, 3, 22, 11, 4);                /* pool: air above the water */
     fill(g, 12, 4, 1, 22, 11, 3, BI_WATER, 0);
-    paint(g, 8, 10, 4, 10, 12, 13, BI_M_STONE);   /* pillars */
-    paint(g, 8, 20, 4, 10, 22, 13, BI_M_STONE);
+    for (int i = 0; i < 2; i++) {                 /* pillars with a base */
+        int y = i ? 21 : 9;
+        paint(g, 7, y - 1, 4, 11, y + 3, 5, BI_M_STONE);
+        paint(g, 8, y, 5, 10, y + 2, 12, BI_M_STONE);
+        paint(g, 7, y - 1, 12, 11, y + 3, 13, BI_M_STONE);
+    }
     paint(g, 2, 26, 4, 8, 36, 7, BI_M_PLATFORM);  /* platform and two steps */
     paint(g, 8, 26, 4, 10, 36, 6, BI_M_PLATFORM);
     paint(g, 10, 26, 4, 12, 36, 5, BI_M_PLATFORM);
+    /* a metal niche in the west wall with the animated button */
+    paint(g, 0, 15, 4, 2, 21, 10, BI_M_METAL);
+    carve(g, 1, 16, 5, 3, 20, 9);
+    paint(g, 0, 17, 6, 1, 19, 8, BI_M_BUTTON);
 
     /* metal corridor east into the hall */
-    paint(g, 28, 11, 3, 34, 17, 11, BI_M_METAL);
-    carve(g, 28, 12, 4, 34, 16, 10);
+    paint(g, 27, 11, 3, 34, 17, 11, BI_M_METAL);
+    carve(g, 27, 12, 4, 34, 16, 10);
 
     /* hall: tiled floor, brick walls, wooden ceiling, a metal column */
     paint(g, 34, 4, 0, 56, 24, 4, BI_M_TILE);
@@ -89,7 +103,7 @@ static void layout(bi_grid *g) {
     paint(g, 36, 40, 7, 38, 42, 16, BI_M_BRICK);  /* brick columns */
     paint(g, 50, 40, 7, 52, 42, 16, BI_M_BRICK);
     paint(g, 42, 35, 7, 46, 38, 8, BI_M_STONE);   /* a low stone dais */
-    carve(g, 28, 31, 10, 30, 35, 13);             /* window into the courtyard */
+    carve(g, 27, 31, 9, 30, 35, 12);              /* window into the courtyard */
 
     /* wooden stairs from the hall up to the stone room */
     paint(g, 44, 24, 0, 48, 30, 7, BI_M_WOOD);
@@ -99,8 +113,8 @@ static void layout(bi_grid *g) {
 }
 
 static const bi_light scene_lights[] = {
-    {{80, 496, 200}, 250},   /* over the platform */
-    {{344, 120, 168}, 220},  /* over the pool */
+    {{80, 496, 184}, 250},   /* over the platform */
+    {{72, 288, 120}, 160},   /* in front of the niche */
     {{496, 224, 144}, 200},  /* corridor */
     {{640, 176, 176}, 300},  /* hall */
     {{736, 432, 184}, 180},  /* stairs */
@@ -108,9 +122,9 @@ static const bi_light scene_lights[] = {
 };
 
 /* Player start: in the courtyard; its four views look at the corridor,
- * the platform, the pillars and the pool. */
-static const int start_origin[3] = {240, 248, 88}, start_angle = 0;
-static const int intermission_origin[3] = {56, 56, 232}, intermission_mangle[3] = {20, 40, 0};
+ * the platform, the niche between the pillars and the pool. */
+static const int start_origin[3] = {224, 272, 88}, start_angle = 0;
+static const int intermission_origin[3] = {56, 56, 200}, intermission_mangle[3] = {18, 40, 0};
 
 static char *make_entities(void) {
     size_t cap = 4096;
@@ -159,10 +173,10 @@ int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
                 }
     sc.nlights = (int)(sizeof scene_lights / sizeof scene_lights[0]);
     memcpy(sc.lights, scene_lights, sizeof scene_lights);
-    /* late-afternoon sun from the north-east, high up */
-    sc.sun_dir[0] = -0.37f, sc.sun_dir[1] = -0.46f, sc.sun_dir[2] = -0.81f;
-    sc.sun_intensity = 110;
-    sc.ambient = 20;
+    /* afternoon sun from the south-west, high up */
+    sc.sun_dir[0] = 0.50f, sc.sun_dir[1] = 0.33f, sc.sun_dir[2] = -0.80f;
+    sc.sun_intensity = 150;
+    sc.ambient = 22;
     sc.entities = ents;
 
     bi_make_palette(palette);
