@@ -3,10 +3,11 @@
  * demo` needs no files from outside the repository.
  *
  * Layout (cells of 16 units; x east, y north, z up):
- *   - a courtyard open to the sky, with a pool of water, two stone pillars
- *     and a metal platform reached by two steps;
+ *   - a courtyard open to the sky (brick walls on a stone plinth under a
+ *     cornice), with a pool of water, two stone pillars, a metal platform
+ *     reached by two steps and a niche holding an animated button;
  *   - a metal corridor east into a lower brick hall with a metal column and
- *     an animated button on its far wall;
+ *     a second button on its far wall;
  *   - a wooden staircase north from the hall up into a tall stone room with
  *     a window looking back into the courtyard.
  * The grid is turned into a real BSP29 image (builtin_bsp.c) and loaded

@@ -170,7 +170,7 @@ static void tex_metal(uint8_t *p, int w, int h) {
             for (int k = 0; k < 4; k++) {
                 int cx = k & 1 ? 26 : 5, cy = k & 2 ? 26 : 5;
                 int dx = xx - cx, dy = yy - cy;
-                if (dx * dx + dy * dy <= 4) s = dx + dy < 0 ? 13 : dx + dy > 0 ? 3 : 10;
+                if (abs(dx) <= 1 && abs(dy) <= 1) s = dx + dy < 0 ? 13 : dx + dy > 0 ? 4 : 10;
             }
             p[y * w + x] = px(R_STEEL, s);
         }
@@ -189,14 +189,26 @@ static void tex_floor(uint8_t *p, int w, int h) {
         }
 }
 
+/* Flagstones: rows of blocks of random width, each with its own shade,
+ * weathered by noise and a few thin cracks. */
 static void tex_stone(uint8_t *p, int w, int h) {
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             double u = (double)x / w, v = (double)y / h;
-            double n = fbm(u, v, 4, 5, 41);
-            double c = fbm(u, v, 8, 2, 43);
-            double s = 2.5 + 10.0 * n;
-            if (fabs(c - 0.5) < 0.018) s -= 3.5;  /* thin dark cracks */
+            int row = y / 32, yy = y % 32;
+            /* block edges of this row: widths 32..64 tiling the texture */
+            int shift = (int)(rnd01((uint32_t)row, 3, 131) * 4) * 16;
+            int xs = (x + shift) % w, col = xs / 64, xx = xs % 64;
+            if (rnd01((uint32_t)row, (uint32_t)col, 137) < 0.5 && xx >= 32) col += 100, xx -= 32;
+            double n = fbm(u, v, 8, 4, 41);
+            double c = fbm(u, v, 4, 3, 43);
+            if (yy < 2 || xx < 2) {
+                p[y * w + x] = px(R_GREY, 2.5 + 2 * n);
+                continue;
+            }
+            double s = 6.0 + 3.0 * rnd01((uint32_t)row, (uint32_t)col, 139) + 4.0 * (n - 0.5);
+            if (yy == 2 || xx == 2) s += 1.5;
+            if (fabs(c - 0.5) < 0.012) s -= 3;
             p[y * w + x] = px(R_STONE, s);
         }
 }

@@ -1,0 +1,137 @@
+/* Renderer behaviour on a real map: surface cache hits and rebuilds, edge
+ * sharing, light styles, animated textures, budgets, sizes and bad input. */
+#include "util.h"
+#include "ew_render.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static long count_diff(const uint8_t *a, const uint8_t *b, long n) {
+    long d = 0;
+    for (long i = 0; i < n; i++) d += a[i] != b[i];
+    return d;
+}
+
+int main(void) {
+    if (!ew_t_have_shared("data/librequake/maps/e1m1.bsp")) {
+        fprintf(stderr, "../shared/data/librequake not found (set EW_SHARED)\n");
+        return 1;
+    }
+    ew_error err;
+    ew_assets a;
+    int rc = ew_assets_load(ew_t_shared("data/librequake/maps/e1m1.bsp"), NULL, &a, &err);
+    CHECK(rc == 0, "%s", err.msg);
+    if (rc) return ew_t_finish();
+    ew_camera views[EW_MAX_VIEWS];
+    int nv = ew_view_set(a.world, views);
+    CHECK(nv == 29, "e1m1 has %d views", nv);
+
+    /* Sizes outside 320x200..7680x4320 are refused with a message. */
+    CHECK(ew_renderer_create(a.world, a.palette, a.colormap, 100, 100, &err) == NULL &&
+              strstr(err.msg, "100x100"), "tiny frame: %s", err.msg);
+    CHECK(ew_renderer_create(a.world, a.palette, a.colormap, 8000, 5000, &err) == NULL, "huge frame");
+
+    ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, 320, 200, &err);
+    CHECK(r != NULL, "%s", err.msg);
+    if (!r) return ew_t_finish();
+    long n = 320 * 200;
+    uint8_t *first = malloc(n);
+
+    /* Surface cache: the second frame of a view builds nothing. */
+    ew_stats s1, s2;
+    CHECK(ew_render(r, &views[0], &s1) == 0, "render");
+    memcpy(first, ew_frame_pixels(r), n);
+    CHECK(s1.surfaces_built > 0 && s1.surfaces_cached == 0, "first frame built %d cached %d",
+          s1.surfaces_built, s1.surfaces_cached);
+    CHECK(ew_render(r, &views[0], &s2) == 0, "render");
+    CHECK(s2.surfaces_built == 0 && s2.surfaces_cached == s1.surfaces_built,
+          "second frame built %d cached %d (first built %d)", s2.surfaces_built,
+          s2.surfaces_cached, s1.surfaces_built);
+    CHECK(count_diff(first, ew_frame_pixels(r), n) == 0, "same view, same pixels");
+
+    /* Neighbouring faces share emitted edges. */
+    CHECK(s1.edges_cached > 0 && s1.edges > 0, "edges %d, reused %d", s1.edges, s1.edges_cached);
+
+    /* A light style change rebuilds exactly the surfaces that use it. */
+    int uses0 = 0;
+    for (int i = 0; i < r->nsurfs; i++) {
+        const ew_face *f = &a.world->faces[r->surfs[i].face < 0 ? 0 : r->surfs[i].face];
+        if (r->surfs[i].face >= 0 && f->lightofs >= 0 && !(f->flags & (EW_SURF_SKY | EW_SURF_TURB)))
+            for (int k = 0; k < 4; k++) uses0 += f->styles[k] == 0;
+    }
+    ew_set_lightstyle(r, 0, 512);
+    CHECK(ew_render(r, &views[0], &s2) == 0, "render");
+    CHECK(s2.surfaces_built > 0 && s2.surfaces_built <= s1.surfaces_built && uses0 > 0,
+          "style 0 doubled: rebuilt %d of %d", s2.surfaces_built, s1.surfaces_built);
+    long brighter = 0;
+    for (long i = 0; i < n; i++) {
+        const uint8_t *p0 = a.palette + first[i] * 3, *p1 = a.palette + ew_frame_pixels(r)[i] * 3;
+        brighter += p1[0] + p1[1] + p1[2] > p0[0] + p0[1] + p0[2];
+    }
+    CHECK(brighter > n / 4, "double light brightened only %ld pixels", brighter);
+    ew_set_lightstyle(r, 0, 256);
+
+    /* Every view: counters sane, all pixels written exactly once. */
+    for (int v = 0; v < nv; v++) {
+        ew_stats st;
+        CHECK(ew_render(r, &views[v], &st) == 0, "view %d", v);
+        CHECK(st.pixels == n && st.pixels_written == n && st.overdraw == 1.0 && st.dropped == 0,
+              "view %d: written %ld overdraw %g dropped %d", v, st.pixels_written, st.overdraw, st.dropped);
+        CHECK(st.visible_leaves > 0 && st.surfaces > 0 && st.spans >= 200, "view %d counters", v);
+    }
+
+    /* Animated textures: some view changes between time 0 and 0.2 s... */
+    long changed = 0;
+    for (int v = 0; v < nv && !changed; v++) {
+        ew_camera c = views[v];
+        ew_render(r, &c, NULL);
+        memcpy(first, ew_frame_pixels(r), n);
+        c.time = 0.2;
+        ew_render(r, &c, NULL);
+        changed = count_diff(first, ew_frame_pixels(r), n);
+    }
+    CHECK(changed > 0, "no view of e1m1 changed with time");
+
+    /* Budgets: with room for only 40 surfaces the frame still completes,
+     * counts what it refused, and writes every pixel (the rest is background). */
+    int saved = r->max_surfs;
+    r->max_surfs = 40;
+    ew_stats sb;
+    CHECK(ew_render(r, &views[0], &sb) == 0, "render on a small budget");
+    CHECK(sb.dropped > 0 && sb.surfaces <= 39, "dropped %d, surfaces %d", sb.dropped, sb.surfaces);
+    r->max_surfs = saved;
+
+    /* Bad cameras are refused, not rendered. */
+    ew_camera bad = views[0];
+    bad.origin[0] = NAN;
+    CHECK(ew_render(r, &bad, NULL) == -1, "NaN origin accepted");
+    bad = views[0];
+    bad.fov = 500;
+    CHECK(ew_render(r, &bad, NULL) == -1, "fov 500 accepted");
+    CHECK(ew_set_subdivision(r, 3) == -1 && ew_set_subdivision(r, 8) == 0, "subdivision values");
+
+    /* A camera outside the map (in solid) still draws a whole frame. */
+    ew_camera out = views[0];
+    out.origin[0] = out.origin[1] = out.origin[2] = 30000;
+    ew_stats so;
+    CHECK(ew_render(r, &out, &so) == 0 && so.overdraw <= 1.0, "outside the map");
+    ew_renderer_free(r);
+
+    /* Large frames: 3840x2160 and 7680x4320 render every pixel once. */
+    int sizes[2][2] = {{3840, 2160}, {7680, 4320}};
+    for (int k = 0; k < 2; k++) {
+        r = ew_renderer_create(a.world, a.palette, a.colormap, sizes[k][0], sizes[k][1], &err);
+        CHECK(r != NULL, "%s", err.msg);
+        if (!r) continue;
+        ew_stats st;
+        CHECK(ew_render(r, &views[0], &st) == 0, "render %dx%d", sizes[k][0], sizes[k][1]);
+        CHECK(st.pixels_written == st.pixels && st.overdraw == 1.0 && st.dropped == 0,
+              "%dx%d: written %ld of %ld, dropped %d", sizes[k][0], sizes[k][1], st.pixels_written,
+              st.pixels, st.dropped);
+        ew_renderer_free(r);
+    }
+    free(first);
+    ew_assets_free(&a);
+    return ew_t_finish();
+}
