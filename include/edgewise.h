@@ -147,7 +147,14 @@ typedef struct ew_stats {
     int    surfaces_cached; /* surface-cache hits this frame */
     int    visible_leaves;  /* leaves in the PVS and the frustum */
     int    dropped;         /* edges/surfaces/spans refused by a budget */
-    double ms_front, ms_scan, ms_draw, ms_total;
+    /* moving things (entities) */
+    int    entities_drawn, entities_culled, entities_unknown, models_missing;
+    int    alias_tris;          /* alias triangles drawn (front-facing, in view) */
+    int    alias_tris_subdiv;   /* ... of which by the subdivision rasterizer */
+    long   alias_pixels;        /* alias/sprite pixels that passed the z test */
+    int    particles;           /* particles drawn */
+    int    surfaces_rebuilt_by_dlights;
+    double ms_front, ms_scan, ms_draw, ms_models, ms_total;
 } ew_stats;
 
 /* Renders one frame of the world into the renderer's 8-bit frame buffer and

@@ -45,6 +45,12 @@ typedef struct bface {
     int out;
 } bface;
 
+/* One texinfo: world-aligned axes for faces on planes along axis, shifted
+ * by (soff, toff) texels. */
+typedef struct texinfo_def {
+    int tex, axis, soff, toff;
+} texinfo_def;
+
 /* Open-addressing map from a 64-bit key to an int (values >= 0). */
 typedef struct imap {
     uint64_t *keys;
@@ -70,9 +76,7 @@ typedef struct ctx {
     int   *surfedges; int nsurfedges, capsurfedges;
     int    planes[3][MAX_GRID + 1];             /* plane number of (axis, pos), -1 */
     int    nplanes;
-    int    texinfo[BI_NUM_TEXTURES][3];         /* texinfo of (texture, axis), -1 */
-    int    texinfo_tex[BI_NUM_TEXTURES * 3], texinfo_axis[BI_NUM_TEXTURES * 3];
-    int    ntexinfo;
+    texinfo_def *texinfo; int ntexinfo, captexinfo;
 } ctx;
 
 /* Grows *p (element size sz) to hold at least n elements. */
@@ -608,13 +612,14 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
     for (int i = 0; i < c->ntexinfo; i++) {
         bi_buf *b = &L->l[EW_LUMP_TEXINFO];
         int sa, ss, ta, ts;
-        tex_axes(c->texinfo_axis[i], &sa, &ss, &ta, &ts);
+        const texinfo_def *t = &c->texinfo[i];
+        tex_axes(t->axis, &sa, &ss, &ta, &ts);
         for (int k = 0; k < 3; k++) bi_put_f32(b, k == sa ? (float)ss : 0.0f);
-        bi_put_f32(b, 0);
+        bi_put_f32(b, (float)t->soff);
         for (int k = 0; k < 3; k++) bi_put_f32(b, k == ta ? (float)ts : 0.0f);
-        bi_put_f32(b, 0);
-        bi_put_i32(b, c->texinfo_tex[i]);
-        bi_put_i32(b, bi_texture_is_special(c->texinfo_tex[i]) ? 1 : 0);
+        bi_put_f32(b, (float)t->toff);
+        bi_put_i32(b, t->tex);
+        bi_put_i32(b, bi_texture_is_special(t->tex) ? 1 : 0);
     }
 
     /* faces and their light maps */
@@ -625,9 +630,11 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
         int32_t lightofs = -1;
         if (!special) {
             int sa, ss, ta, ts, smin, smax, tmin, tmax;
+            const texinfo_def *ti = &c->texinfo[f->texinfo];
             tex_axes(f->axis, &sa, &ss, &ta, &ts);
             face_range(f, sa, ss, &smin, &smax);
             face_range(f, ta, ts, &tmin, &tmax);
+            smin += ti->soff, smax += ti->soff, tmin += ti->toff, tmax += ti->toff;
             int mins_s = floor16(smin), mins_t = floor16(tmin);
             int ns = (ceil16(smax) - mins_s) / 16 + 1, nt = (ceil16(tmax) - mins_t) / 16 + 1;
             float n[3] = {0, 0, 0};
@@ -638,12 +645,13 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
                     float p[3];
                     int st[2] = {mins_s + 16 * j, mins_t + 16 * k};
                     int ax[2] = {sa, ta}, sg[2] = {ss, ts}, lo[2] = {smin, tmin}, hi[2] = {smax, tmax};
+                    int off[2] = {ti->soff, ti->toff};
                     for (int q = 0; q < 2; q++) {
                         /* keep samples just inside the face so corners are not self-shadowed */
                         double v = st[q];
                         if (v < lo[q] + 1) v = lo[q] + 1;
                         if (v > hi[q] - 1) v = hi[q] - 1;
-                        p[ax[q]] = (float)(v * sg[q]);
+                        p[ax[q]] = (float)((v - off[q]) * sg[q]);
                     }
                     p[f->axis] = (float)(f->pos * BI_CELL) + n[f->axis];
                     bi_put_u8(lt, (uint8_t)bi_light_point(s, p, n));
@@ -742,18 +750,26 @@ int bi_build_bsp(const bi_scene *s, const uint8_t palette[768], bi_buf *out, ew_
         c->faces = sorted, c->capfaces = c->nfaces;
         free(start);
     }
-    for (int t = 0; t < BI_NUM_TEXTURES; t++)
-        for (int a = 0; a < 3; a++) c->texinfo[t][a] = -1;
     for (int i = 0; i < c->nfaces; i++) {
         bface *f = &c->faces[i];
         f->out = i;
-        int *ti = &c->texinfo[f->tex][f->axis];
-        if (*ti < 0) {
-            *ti = c->ntexinfo;
-            c->texinfo_tex[c->ntexinfo] = f->tex, c->texinfo_axis[c->ntexinfo] = f->axis;
-            c->ntexinfo++;
+        texinfo_def want = {f->tex, f->axis, 0, 0};
+        if (f->tex == BI_T_BUTTON0 || f->tex == BI_T_BUTTON1) {
+            /* a button shows whole: its texture starts at the face's corner */
+            int sa, ss, ta, ts, smin, smax, tmin, tmax;
+            tex_axes(f->axis, &sa, &ss, &ta, &ts);
+            face_range(f, sa, ss, &smin, &smax);
+            face_range(f, ta, ts, &tmin, &tmax);
+            want.soff = ((-smin) % 64 + 64) % 64;
+            want.toff = ((-tmin) % 64 + 64) % 64;
         }
-        f->texinfo = *ti;
+        int ti = 0;
+        while (ti < c->ntexinfo && memcmp(&c->texinfo[ti], &want, sizeof want)) ti++;
+        if (ti == c->ntexinfo) {
+            if (GROW(c, c->texinfo, c->ntexinfo, c->captexinfo, 1)) goto oom;
+            c->texinfo[c->ntexinfo++] = want;
+        }
+        f->texinfo = ti;
     }
     if (c->nfaces > 65535 || c->numnodes_out > 32767 || c->numleaves_out > 32767) {
         ew_fail(err, "builtin: scene too big for BSP29 (%d faces, %d nodes, %d leaves)", c->nfaces,
@@ -788,7 +804,7 @@ oom:
 done:
     if (c) {
         free(c->nodes), free(c->faces), free(c->node_of_out), free(c->leaf_of_out);
-        free(c->polys), free(c->verts), free(c->edges), free(c->surfedges);
+        free(c->polys), free(c->verts), free(c->edges), free(c->surfedges), free(c->texinfo);
         imap_free(&c->vmap), imap_free(&c->emap);
     }
     if (L)
