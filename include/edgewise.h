@@ -176,6 +176,13 @@ void ew_set_lightstyle(ew_renderer *r, int style, int value);
  * Returns 0, or -1 for another value. */
 int ew_set_subdivision(ew_renderer *r, int pixels);
 
+/* How alias (triangle) models are rasterized: affine triangles with
+ * Gouraud shading, Carmack's recursive subdivision (for small models), or
+ * automatic choice by the model's projected size (subdivision when its
+ * screen height is below threshold_px).  Default: auto, 40 pixels. */
+typedef enum ew_alias_raster { EW_ALIAS_AUTO, EW_ALIAS_AFFINE, EW_ALIAS_SUBDIV } ew_alias_raster;
+void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float threshold_px);
+
 /* Test/verification hook: when enabled, the next frames also record the
  * face index that won each pixel (-1 where nothing was drawn). */
 void       ew_enable_face_ids(ew_renderer *r, int on);

@@ -107,6 +107,8 @@ struct ew_renderer {
     int     *face_ids;
     int      face_ids_on;
     int      subdiv_shift;                   /* perspective divide every 1 << shift px */
+    int      alias_raster;                   /* ew_alias_raster */
+    float    alias_threshold;                /* auto: subdivide below this screen height */
     int      lightstyle[64];
 
     /* per-world marks, compared against framecount */

@@ -30,6 +30,8 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     r->width = width, r->height = height;
     for (int i = 0; i < 64; i++) r->lightstyle[i] = 256;  /* normal light */
     r->subdiv_shift = 4;                                   /* a divide every 16 pixels */
+    r->alias_raster = EW_ALIAS_AUTO;
+    r->alias_threshold = 40;
 
     /* Budgets grow with the frame: more pixels can show more polygons. */
     long px = (long)width * height;
@@ -99,6 +101,11 @@ int ew_set_subdivision(ew_renderer *r, int pixels) {
             return 0;
         }
     return -1;
+}
+
+void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float threshold_px) {
+    r->alias_raster = mode;
+    if (threshold_px > 0 && threshold_px < 1e6f) r->alias_threshold = threshold_px;
 }
 
 void ew_enable_face_ids(ew_renderer *r, int on) {
