@@ -63,6 +63,7 @@ typedef struct ew_surf {
 typedef struct ew_span {
     int32_t u, v, count;
     int32_t next;        /* next span of the same surface, -1 end */
+    int32_t surf;        /* the surface it belongs to */
 } ew_span;
 
 /* One horizontal band [y0, y1): its scan state and its spans. */
@@ -127,7 +128,6 @@ struct ew_renderer {
 
     ew_band band;
     ew_surf_cache cache;
-    uint8_t *coverage;                        /* stats: per-pixel write count */
 
     ew_stats stats;
     int32_t  turb[128];                      /* liquid warp for this frame's time */

@@ -77,7 +77,7 @@ void ew_renderer_free(ew_renderer *r) {
     if (!r) return;
     ew_cache_free(&r->cache);
     ew_band_free(&r->band);
-    free(r->frame), free(r->zbuf), free(r->face_ids), free(r->coverage);
+    free(r->frame), free(r->zbuf), free(r->face_ids);
     free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
     free(r->edge_cache_frame), free(r->edge_cache_index), free(r->edge_cache_down);
     free(r->edges), free(r->new_edges), free(r->surfs), free(r->blocklights);
@@ -187,38 +187,35 @@ void ew_draw_band(ew_renderer *r, ew_band *b) {
     }
 }
 
-/* Counters that need a look at every span: writes, coverage, face ids. */
-static void account_spans(ew_renderer *r, const ew_band *b, int count_coverage) {
-    long written = 0;
-    if (count_coverage) {
-        if (!r->coverage) r->coverage = malloc((size_t)r->width * r->height);
-        if (r->coverage) memset(r->coverage, 0, (size_t)r->width * r->height);
-    }
-    for (int s = 1; s < r->nsurfs; s++) {
-        for (int si = b->span_head[s]; si >= 0; si = b->spans[si].next) {
-            const ew_span *sp = &b->spans[si];
-            size_t o = (size_t)sp->v * r->width + sp->u;
+/* Writes and coverage, measured on the scan's output rather than trusted:
+ * within a row the scan emits spans left to right, so any span starting
+ * before the previous one ended is overdraw. */
+static void account_spans(ew_renderer *r, const ew_band *b) {
+    long written = 0, covered = 0;
+    int row = -1, end = 0;
+    for (int i = 0; i < b->nspans; i++) {
+        const ew_span *sp = &b->spans[i];
+        if (sp->v != row) row = sp->v, end = 0;
+        int start = sp->u > end ? sp->u : end, stop = sp->u + sp->count;
+        if (sp->surf != 0) {
             written += sp->count;
-            if (count_coverage && r->coverage)
-                for (int i = 0; i < sp->count; i++)
-                    if (r->coverage[o + i] < 255) r->coverage[o + i]++;
-            if (r->face_ids_on)
-                for (int i = 0; i < sp->count; i++) r->face_ids[o + i] = r->surfs[s].face;
+            if (stop > start) covered += stop - start;
         }
+        if (stop > end) end = stop;
     }
-    if (r->face_ids_on)
-        for (int si = b->span_head[0]; si >= 0; si = b->spans[si].next)
-            for (int i = 0; i < b->spans[si].count; i++)
-                r->face_ids[(size_t)b->spans[si].v * r->width + b->spans[si].u + i] = -1;
     r->stats.pixels_written = written;
-    if (count_coverage && r->coverage) {
-        long covered = 0;
-        for (long i = 0; i < (long)r->width * r->height; i++) covered += r->coverage[i] != 0;
-        r->stats.pixels_covered = covered;
-    } else {
-        r->stats.pixels_covered = written;
+    r->stats.pixels_covered = covered;
+    r->stats.overdraw = covered ? (double)written / covered : 0;
+}
+
+/* The face that won each pixel, for the tests' comparisons. */
+static void record_face_ids(ew_renderer *r, const ew_band *b) {
+    for (int i = 0; i < b->nspans; i++) {
+        const ew_span *sp = &b->spans[i];
+        int face = r->surfs[sp->surf].face;
+        int *dst = r->face_ids + (size_t)sp->v * r->width + sp->u;
+        for (int k = 0; k < sp->count; k++) dst[k] = face;
     }
-    r->stats.overdraw = r->stats.pixels_covered ? (double)written / r->stats.pixels_covered : 0;
 }
 
 int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
@@ -241,7 +238,8 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     st->spans = b->nspans;
     st->dropped += b->dropped;
     st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2, st->ms_total = t3 - t0;
-    if (stats || r->face_ids_on) account_spans(r, b, stats != NULL);
+    account_spans(r, b);
+    if (r->face_ids_on) record_face_ids(r, b);
     if (stats) *stats = *st;
     return 0;
 }

@@ -35,7 +35,7 @@ static void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
         return;
     }
     ew_span *sp = &b->spans[b->nspans];
-    sp->u = u0, sp->v = v, sp->count = u1 - u0;
+    sp->u = u0, sp->v = v, sp->count = u1 - u0, sp->surf = surf;
     sp->next = b->span_head[surf];
     b->span_head[surf] = b->nspans++;
 }

@@ -78,10 +78,8 @@ void ew_zfill_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradien
     for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
         const ew_span *sp = &b->spans[si];
         float *z = r->zbuf + (size_t)sp->v * w + sp->u;
-        float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0;
-        for (int i = 0; i < sp->count; i++) {
-            z[i] = zi;
-            zi += g->zi_u;
-        }
+        /* Each value from the start, not accumulated: exact and vectorizable. */
+        float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, dz = g->zi_u;
+        for (int i = 0; i < sp->count; i++) z[i] = zi + (float)i * dz;
     }
 }
