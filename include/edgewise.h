@@ -166,6 +166,11 @@ int            ew_frame_height(const ew_renderer *r);
 const uint8_t *ew_frame_pixels(const ew_renderer *r);   /* width*height, row-major */
 const float   *ew_frame_zbuffer(const ew_renderer *r);  /* 1/z per pixel */
 
+/* Threads that render bands of each frame (0 = one per core, at most 16).
+ * Returns the count in use, or -1 when out of memory. */
+int ew_set_threads(ew_renderer *r, int n);
+int ew_get_threads(const ew_renderer *r);
+
 /* Light style values (256 = normal, twice that = double bright). Default:
  * 256 for every style, which is what the reference renders show. */
 void ew_set_lightstyle(ew_renderer *r, int style, int value);

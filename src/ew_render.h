@@ -98,6 +98,15 @@ typedef struct ew_surf_cache {
     size_t bytes, budget;
 } ew_surf_cache;
 
+/* ---- worker pool (pool.c) ---- */
+#define EW_MAX_THREADS 16
+typedef struct ew_pool ew_pool;
+ew_pool *ew_pool_create(int threads);
+void     ew_pool_free(ew_pool *p);
+int      ew_pool_threads(const ew_pool *p);
+/* Runs job(ctx, i) for every thread index i, 0 on the caller; waits for all. */
+void     ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx);
+
 /* ---- the renderer ---- */
 struct ew_renderer {
     const ew_world *world;
@@ -123,15 +132,27 @@ struct ew_renderer {
     int     currentkey;
 
     ew_edge *edges;   int nedges, max_edges;
+    int      max_spans;                       /* per band */
     int32_t *new_edges;                       /* per scanline: first edge, -1 */
     ew_surf *surfs;   int nsurfs, max_surfs;
 
-    ew_band band;
+    /* bands of the frame, one per thread, with adaptive boundaries */
+    ew_pool *pool;
+    int      nbands;
+    ew_band *bands;
+    double   band_ms[EW_MAX_THREADS];             /* last frame's cost per band */
+    float   *row_cost;                            /* per scanline, from band_ms */
+    int      bands_sized_for;                     /* row_cost valid for this many bands */
+
     ew_surf_cache cache;
+    /* per surface of this frame: its lit surface (normal surfaces only) */
+    ew_cached_surf **surf_cache;
+    ew_cached_surf **to_build;  int nbuild;
+    int      maxlm;                               /* largest light map, in samples */
 
     ew_stats stats;
     int32_t  turb[128];                      /* liquid warp for this frame's time */
-    int     *blocklights;                    /* surface building scratch */
+    int     *blocklights;                    /* surface building scratch, maxlm per thread */
     /* reference path: when set, the walk hands visible faces to it */
     void (*face_hook)(ew_renderer *r, int face, int clipflags, void *ctx);
     void *face_hook_ctx;
@@ -186,9 +207,14 @@ uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, 
 /* light */
 int  ew_face_mip(const ew_renderer *r, const ew_face *f, float nearzi);
 const ew_texture *ew_face_texture(const ew_world *w, const ew_face *f, double time);
-const ew_cached_surf *ew_cache_get(ew_renderer *r, int face, int mip);
+/* Finds (or makes room for) the lit surface of a face at a mip level and
+ * marks it used this frame; *build is set when its pixels must be built
+ * (ew_cache_build, which may run on any thread: entries are distinct).
+ * Serial: lookups allocate and evict.  NULL when out of memory. */
+ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
+void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
 void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *tex,
-                      int mip, const int light[4], uint8_t *out);
+                      int mip, const int light[4], uint8_t *out, int *scratch);
 int  ew_cache_init(ew_surf_cache *c, int numfaces, size_t budget);
 void ew_cache_free(ew_surf_cache *c);
 

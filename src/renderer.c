@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define EW_MIN_W 320
 #define EW_MIN_H 200
@@ -56,12 +57,16 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     r->edges = malloc(sizeof(ew_edge) * r->max_edges);
     r->new_edges = malloc(sizeof(int32_t) * (size_t)(height + 1));
     r->surfs = malloc(sizeof(ew_surf) * r->max_surfs);
-    r->blocklights = malloc(sizeof(int) * (size_t)maxlm);
+    r->maxlm = maxlm;
+    r->max_spans = max_spans;
+    r->surf_cache = malloc(sizeof(ew_cached_surf *) * r->max_surfs);
+    r->to_build = malloc(sizeof(ew_cached_surf *) * r->max_surfs);
+    r->row_cost = malloc(sizeof(float) * (size_t)height);
     if (!r->frame || !r->zbuf || !r->leaf_frame || !r->node_frame || !r->face_frame ||
         !r->edge_cache_frame || !r->edge_cache_index || !r->edge_cache_down || !r->edges ||
-        !r->new_edges || !r->surfs || !r->blocklights)
+        !r->new_edges || !r->surfs || !r->surf_cache || !r->to_build || !r->row_cost)
         goto oom;
-    if (ew_band_init(&r->band, r->max_surfs, max_spans, r->max_edges) < 0) goto oom;
+    if (ew_set_threads(r, 1) < 0) goto oom;
     /* The cache holds several frames' worth of surfaces at this size. */
     size_t budget = (size_t)px * 6;
     if (budget < ((size_t)16 << 20)) budget = (size_t)16 << 20;
@@ -73,10 +78,45 @@ oom:
     return NULL;
 }
 
+static void free_bands(ew_renderer *r) {
+    ew_pool_free(r->pool);
+    r->pool = NULL;
+    for (int i = 0; i < r->nbands; i++) ew_band_free(&r->bands[i]);
+    free(r->bands);
+    r->bands = NULL;
+    r->nbands = 0;
+    free(r->blocklights);
+    r->blocklights = NULL;
+}
+
+int ew_set_threads(ew_renderer *r, int n) {
+    if (n <= 0) {
+        long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        n = cores > 0 ? (int)cores : 1;
+    }
+    if (n > EW_MAX_THREADS) n = EW_MAX_THREADS;
+    if (n > r->height / 8) n = r->height / 8;  /* bands of at least 8 rows */
+    free_bands(r);
+    r->pool = n > 1 ? ew_pool_create(n) : NULL;
+    if (n > 1 && r->pool) n = ew_pool_threads(r->pool);
+    if (n > 1 && !r->pool) n = 1;
+    r->bands = calloc((size_t)n, sizeof(ew_band));
+    r->blocklights = malloc(sizeof(int) * (size_t)r->maxlm * n);
+    if (!r->bands || !r->blocklights) return -1;
+    r->nbands = n;
+    for (int i = 0; i < n; i++)
+        if (ew_band_init(&r->bands[i], r->max_surfs, r->max_spans, r->max_edges) < 0) return -1;
+    r->bands_sized_for = 0;  /* no cost history for this many bands yet */
+    return n;
+}
+
+int ew_get_threads(const ew_renderer *r) { return r->nbands; }
+
 void ew_renderer_free(ew_renderer *r) {
     if (!r) return;
     ew_cache_free(&r->cache);
-    ew_band_free(&r->band);
+    free_bands(r);
+    free(r->surf_cache), free(r->to_build), free(r->row_cost);
     free(r->frame), free(r->zbuf), free(r->face_ids);
     free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
     free(r->edge_cache_frame), free(r->edge_cache_index), free(r->edge_cache_down);
@@ -146,7 +186,8 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     return 0;
 }
 
-/* Draws every surface that has spans in the band. */
+/* Draws every surface that has spans in the band.  Lit surfaces were
+ * looked up and built before the bands started (see ew_render). */
 void ew_draw_band(ew_renderer *r, ew_band *b) {
     const ew_world *w = r->world;
     for (int s = 0; s < r->nsurfs; s++) {
@@ -162,26 +203,22 @@ void ew_draw_band(ew_renderer *r, ew_band *b) {
         }
         const ew_surf *sf = &r->surfs[s];
         const ew_face *f = &w->faces[sf->face];
+        const ew_cached_surf *cs = r->surf_cache[s];
         ew_gradients g;
         if (f->flags & EW_SURF_SKY) {
             ew_face_gradients(r, f, 0, &g);
             ew_draw_sky_spans(r, b, s, ew_face_texture(w, f, r->view.time));
         } else if (f->flags & EW_SURF_TURB) {
-            const ew_texture *t = ew_face_texture(w, f, r->view.time);
             ew_face_gradients(r, f, 0, &g);
-            ew_draw_turb_spans(r, b, s, &g, t);
-        } else {
-            int mip = ew_face_mip(r, f, sf->nearzi);
-            const ew_cached_surf *cs = ew_cache_get(r, sf->face, mip);
-            ew_face_gradients(r, f, mip, &g);
-            if (cs) {
-                ew_draw_spans(r, b, s, &g, cs->pixels, cs->width);
-            } else {  /* out of memory for the surface: flat colour, counted */
-                b->dropped++;
-                for (int si = b->span_head[s]; si >= 0; si = b->spans[si].next)
-                    memset(r->frame + (size_t)b->spans[si].v * r->width + b->spans[si].u, 0,
-                           (size_t)b->spans[si].count);
-            }
+            ew_draw_turb_spans(r, b, s, &g, ew_face_texture(w, f, r->view.time));
+        } else if (cs) {
+            ew_face_gradients(r, f, cs->mip, &g);
+            ew_draw_spans(r, b, s, &g, cs->pixels, cs->width);
+        } else {  /* no memory for the surface: flat colour (counted in dropped) */
+            ew_face_gradients(r, f, 0, &g);
+            for (int si = b->span_head[s]; si >= 0; si = b->spans[si].next)
+                memset(r->frame + (size_t)b->spans[si].v * r->width + b->spans[si].u, 0,
+                       (size_t)b->spans[si].count);
         }
         ew_zfill_spans(r, b, s, &g);
     }
@@ -203,9 +240,8 @@ static void account_spans(ew_renderer *r, const ew_band *b) {
         }
         if (stop > end) end = stop;
     }
-    r->stats.pixels_written = written;
-    r->stats.pixels_covered = covered;
-    r->stats.overdraw = covered ? (double)written / covered : 0;
+    r->stats.pixels_written += written;
+    r->stats.pixels_covered += covered;
 }
 
 /* The face that won each pixel, for the tests' comparisons. */
@@ -218,28 +254,112 @@ static void record_face_ids(ew_renderer *r, const ew_band *b) {
     }
 }
 
+/* Band boundaries: equal shares of the previous frame's cost, so no thread
+ * idles while another finishes a busy band (cost per row is taken as even
+ * within each band).  Without history, equal rows. */
+static void place_bands(ew_renderer *r) {
+    int n = r->nbands, h = r->height;
+    if (r->bands_sized_for != n) {
+        for (int i = 0; i < n; i++) r->bands[i].y0 = h * i / n, r->bands[i].y1 = h * (i + 1) / n;
+        return;
+    }
+    double total = 0;
+    for (int i = 0; i < n; i++) {
+        const ew_band *b = &r->bands[i];
+        double per_row = r->band_ms[i] / (b->y1 - b->y0) + 1e-6;
+        for (int v = b->y0; v < b->y1; v++) r->row_cost[v] = (float)per_row;
+        total += per_row * (b->y1 - b->y0);
+    }
+    double acc = 0;
+    int band = 0, y0 = 0;
+    for (int v = 0; v < h && band < n - 1; v++) {
+        acc += r->row_cost[v];
+        int rows_left = h - (v + 1), bands_left = n - band - 1;
+        if ((acc >= total * (band + 1) / n && v + 1 - y0 >= 8) || rows_left == 8 * bands_left) {
+            r->bands[band].y0 = y0, r->bands[band].y1 = v + 1;
+            y0 = v + 1;
+            band++;
+        }
+    }
+    for (; band < n; band++) {  /* the last band takes the rest */
+        int y1 = band == n - 1 ? h : y0 + 8;
+        r->bands[band].y0 = y0, r->bands[band].y1 = y1;
+        y0 = y1;
+    }
+}
+
+static void job_scan(void *ctx, int i) {
+    ew_renderer *r = ctx;
+    double t0 = ew_now_ms();
+    ew_band *b = &r->bands[i];
+    b->dropped = 0;
+    ew_scan_band(r, b);
+    r->band_ms[i] = ew_now_ms() - t0;
+}
+
+static void job_build(void *ctx, int i) {
+    ew_renderer *r = ctx;
+    int *scratch = r->blocklights + (size_t)r->maxlm * i;
+    for (int k = i; k < r->nbuild; k += r->nbands) ew_cache_build(r, r->to_build[k], scratch);
+}
+
+static void job_draw(void *ctx, int i) {
+    ew_renderer *r = ctx;
+    double t0 = ew_now_ms();
+    ew_draw_band(r, &r->bands[i]);
+    r->band_ms[i] += ew_now_ms() - t0;
+}
+
+/* Serial step between scan and draw: every surface that won a span gets its
+ * lit surface looked up (allocating and evicting as needed); the ones that
+ * must be built are listed for the parallel build. */
+static void prepare_surfaces(ew_renderer *r) {
+    const ew_world *w = r->world;
+    r->nbuild = 0;
+    for (int s = 1; s < r->nsurfs; s++) {
+        r->surf_cache[s] = NULL;
+        const ew_surf *sf = &r->surfs[s];
+        const ew_face *f = &w->faces[sf->face];
+        if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) continue;
+        int used = 0;
+        for (int i = 0; i < r->nbands && !used; i++) used = r->bands[i].span_head[s] >= 0;
+        if (!used) continue;
+        int build;
+        ew_cached_surf *e = ew_cache_lookup(r, sf->face, ew_face_mip(r, f, sf->nearzi), &build);
+        if (!e) r->stats.dropped++;
+        r->surf_cache[s] = e;
+        if (build) r->to_build[r->nbuild++] = e;
+    }
+}
+
 int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double t0 = ew_now_ms();
     if (ew_frame_begin(r, cam) < 0) return -1;
     ew_walk_world(r);
     double t1 = ew_now_ms();
 
-    ew_band *b = &r->band;
-    b->y0 = 0, b->y1 = r->height, b->dropped = 0;
-    ew_scan_band(r, b);
+    place_bands(r);
+    ew_pool_run(r->pool, job_scan, r);
     double t2 = ew_now_ms();
-    ew_draw_band(r, b);
+    prepare_surfaces(r);
+    ew_pool_run(r->pool, job_build, r);
+    ew_pool_run(r->pool, job_draw, r);
+    r->bands_sized_for = r->nbands;
     double t3 = ew_now_ms();
 
     ew_stats *st = &r->stats;
     st->pixels = (long)r->width * r->height;
     st->edges = r->nedges;
     st->surfaces = r->nsurfs - 1;
-    st->spans = b->nspans;
-    st->dropped += b->dropped;
+    for (int i = 0; i < r->nbands; i++) {
+        const ew_band *b = &r->bands[i];
+        st->spans += b->nspans;
+        st->dropped += b->dropped;
+        account_spans(r, b);
+        if (r->face_ids_on) record_face_ids(r, b);
+    }
+    st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
     st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2, st->ms_total = t3 - t0;
-    account_spans(r, b);
-    if (r->face_ids_on) record_face_ids(r, b);
     if (stats) *stats = *st;
     return 0;
 }

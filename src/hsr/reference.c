@@ -72,7 +72,10 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
         ew_face_gradients(r, f, 0, &g);
     } else {
         mip = ew_face_mip(r, f, nearzi);
-        cs = ew_cache_get(r, fi, mip);
+        int build;
+        ew_cached_surf *e = ew_cache_lookup(r, fi, mip, &build);
+        if (e && build) ew_cache_build(r, e, r->blocklights);
+        cs = e;
         ew_face_gradients(r, f, mip, &g);
     }
     for (int y = y0; y <= y1; y++) {

@@ -42,7 +42,7 @@ void ew_cache_free(ew_surf_cache *c) {
     c->slot = NULL;
 }
 
-const ew_cached_surf *ew_cache_get(ew_renderer *r, int face, int mip) {
+ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
     ew_surf_cache *c = &r->cache;
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[face];
@@ -52,40 +52,44 @@ const ew_cached_surf *ew_cache_get(ew_renderer *r, int face, int mip) {
     for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->lightstyle[f->styles[k] & 63];
 
     ew_cached_surf *e = c->slot[face * 4 + mip];
+    *build = 0;
     if (e && e->texture == texture && memcmp(e->light, light, sizeof light) == 0) {
-        r->stats.surfaces_cached++;
-    } else {
-        int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
-        if (!e) {
-            e = calloc(1, sizeof *e);
-            if (!e) return NULL;
-            e->face = face, e->mip = mip;
-            c->slot[face * 4 + mip] = e;
-        } else {
-            lru_unlink(c, e);
-            c->bytes -= (size_t)e->width * e->height;
-            if (e->width * e->height != width * height) free(e->pixels), e->pixels = NULL;
-        }
-        if (!e->pixels) e->pixels = malloc((size_t)width * height);
-        if (!e->pixels) {
-            c->slot[face * 4 + mip] = NULL;
-            free(e);
-            return NULL;
-        }
-        e->width = width, e->height = height, e->texture = texture;
-        memcpy(e->light, light, sizeof light);
-        c->bytes += (size_t)width * height;
-        ew_build_surface(r, f, tex, mip, light, e->pixels);
-        r->stats.surfaces_built++;
+        if (e->last_frame != r->framecount) r->stats.surfaces_cached++;
+        lru_unlink(c, e);
         lru_push_front(c, e);
-        while (c->bytes > c->budget && c->lru_tail && c->lru_tail != e &&
-               c->lru_tail->last_frame != r->framecount)
-            evict(c, c->lru_tail);
         e->last_frame = r->framecount;
         return e;
     }
-    lru_unlink(c, e);
+    int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
+    if (!e) {
+        e = calloc(1, sizeof *e);
+        if (!e) return NULL;
+        e->face = face, e->mip = mip;
+        c->slot[face * 4 + mip] = e;
+    } else {
+        lru_unlink(c, e);
+        c->bytes -= (size_t)e->width * e->height;
+        if (e->width * e->height != width * height) free(e->pixels), e->pixels = NULL;
+    }
+    if (!e->pixels) e->pixels = malloc((size_t)width * height);
+    if (!e->pixels) {
+        c->slot[face * 4 + mip] = NULL;
+        free(e);
+        return NULL;
+    }
+    e->width = width, e->height = height, e->texture = texture;
+    memcpy(e->light, light, sizeof light);
+    c->bytes += (size_t)width * height;
     lru_push_front(c, e);
     e->last_frame = r->framecount;
+    while (c->bytes > c->budget && c->lru_tail && c->lru_tail->last_frame != r->framecount)
+        evict(c, c->lru_tail);
+    r->stats.surfaces_built++;
+    *build = 1;
     return e;
+}
+
+void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch) {
+    const ew_face *f = &r->world->faces[e->face];
+    ew_build_surface(r, f, &r->world->textures[e->texture], e->mip, e->light, e->pixels, scratch);
 }

@@ -33,11 +33,11 @@ static int wrap(int x, int n) {
 }
 
 void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *tex,
-                      int mip, const int light[4], uint8_t *out) {
+                      int mip, const int light[4], uint8_t *out, int *scratch) {
     const ew_world *w = r->world;
     const uint8_t *cmap = r->colormap;
     int smax = (f->extents[0] >> 4) + 1, tmax = (f->extents[1] >> 4) + 1;
-    int *bl = r->blocklights;
+    int *bl = scratch;
     int size = smax * tmax;
 
     if (!w->lighting) {
