@@ -200,6 +200,31 @@ const int *ew_frame_face_ids(const ew_renderer *r);
 int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels,
                         int *face_ids, ew_error *err);
 
+/* ---- moving things ------------------------------------------------------ */
+
+/* A scene: entities drawn over a world.  Brush models (doors, lifts,
+ * buttons: the world's submodels *1, *2, ...) go into the world's edge list
+ * and sort against it; alias models, sprites and particles are z-buffered
+ * over the z-filled world. */
+typedef struct ew_scene ew_scene;
+
+ew_scene *ew_scene_create(const ew_world *w, ew_error *err);
+/* Every entity of the map: brush models by "model" "*N", and known
+ * classnames' models found in the game directory (data_dir, else the folder
+ * above the map's own folder).  Unknown classnames and missing model files
+ * are counted (ew_scene_counts), not errors. */
+ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data_dir,
+                            ew_error *err);
+void ew_scene_free(ew_scene *s);
+/* Adds world submodel N (1..) at an offset and rotation; entity index or -1. */
+int  ew_scene_add_brush(ew_scene *s, int submodel, const float origin[3], const float angles[3]);
+/* A dynamic light: adds light within radius to the surfaces it reaches. */
+int  ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius);
+void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing);
+/* The scene ew_render draws with the world (NULL: world only).  It must
+ * outlive its use by the renderer. */
+void ew_set_scene(ew_renderer *r, const ew_scene *s);
+
 /* ---- output --------------------------------------------------------------*/
 
 /* Expands 8-bit pixels through the palette and writes an RGB PNG. */

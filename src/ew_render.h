@@ -58,6 +58,9 @@ typedef struct ew_surf {
     int   face;          /* world face, -1 for the background */
     int   flags;         /* EW_SURF_* */
     float nearzi;        /* largest 1/z of its clipped vertices (mip choice) */
+    const ew_view *view; /* the camera in the face's own space (moved brush models) */
+    int   insubmodel;    /* brush model fragment: ties in key sort by 1/z */
+    float zi_u, zi_v, zi_0;  /* 1/z plane (brush model fragments only) */
 } ew_surf;
 
 typedef struct ew_span {
@@ -124,6 +127,7 @@ struct ew_renderer {
     /* per-world marks, compared against framecount */
     int  framecount;
     int *leaf_frame, *node_frame, *face_frame;
+    int *leaf_key, *leaf_keyframe;            /* BSP key of each visited leaf */
     int *edge_cache_frame, *edge_cache_index; /* per world edge */
     int8_t *edge_cache_down;                  /* +1: +sign traversal goes down */
 
@@ -150,6 +154,9 @@ struct ew_renderer {
     ew_cached_surf **to_build;  int nbuild;
     int      maxlm;                               /* largest light map, in samples */
 
+    const struct ew_scene *scene;             /* entities to draw, or NULL */
+    ew_view *ent_views;  int max_ent_views;   /* camera in each brush entity's space */
+
     ew_stats stats;
     int32_t  turb[128];                      /* liquid warp for this frame's time */
     int     *blocklights;                    /* surface building scratch, maxlm per thread */
@@ -168,9 +175,16 @@ int  ew_point_leaf(const ew_world *w, int headnode, const float p[3]);
 
 /* world/bsp_walk.c: front-to-back walk emitting every visible face. */
 void ew_walk_world(ew_renderer *r);
+/* -1 if the box is outside a frustum plane in clipflags, else the planes it still crosses. */
+int  ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags);
 
 /* world/edges.c: clip, project and emit one face into the edge list. */
 void ew_emit_face(ew_renderer *r, int face, int clipflags);
+/* Emits a loose world-space polygon (a brush model fragment) for face fi
+ * seen through view v, with BSP key `key`; clipped to the whole frustum. */
+void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
+/* world/bmodel.c: brush model entities into the edge list. */
+void ew_emit_brush_models(ew_renderer *r);
 /* Clips a polygon (view-independent world coords) against the frustum
  * planes in clipflags; returns the vertex count (0 if all clipped).
  * orig[i] = index of the original edge leaving vertex i, or -1. */
@@ -191,7 +205,8 @@ typedef struct ew_gradients {
     int32_t s_adjust, t_adjust;   /* 16.16: s = (s/z) * z + s_adjust */
     int32_t s_max, t_max;         /* 16.16 clamp limits */
 } ew_gradients;
-void ew_face_gradients(const ew_renderer *r, const ew_face *f, int mip, ew_gradients *g);
+void ew_face_gradients(const ew_renderer *r, const ew_view *v, const ew_face *f, int mip,
+                       ew_gradients *g);
 void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
                    const uint8_t *pixels, int pitch);
 void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_texture *t);

@@ -51,6 +51,8 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     r->leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
     r->node_frame = calloc((size_t)w->numnodes + 1, sizeof(int));
     r->face_frame = calloc((size_t)w->numfaces + 1, sizeof(int));
+    r->leaf_key = calloc((size_t)w->numleaves + 1, sizeof(int));
+    r->leaf_keyframe = calloc((size_t)w->numleaves + 1, sizeof(int));
     r->edge_cache_frame = calloc((size_t)w->numedges + 1, sizeof(int));
     r->edge_cache_index = calloc((size_t)w->numedges + 1, sizeof(int));
     r->edge_cache_down = calloc((size_t)w->numedges + 1, 1);
@@ -63,6 +65,7 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     r->to_build = malloc(sizeof(ew_cached_surf *) * r->max_surfs);
     r->row_cost = malloc(sizeof(float) * (size_t)height);
     if (!r->frame || !r->zbuf || !r->leaf_frame || !r->node_frame || !r->face_frame ||
+        !r->leaf_key || !r->leaf_keyframe ||
         !r->edge_cache_frame || !r->edge_cache_index || !r->edge_cache_down || !r->edges ||
         !r->new_edges || !r->surfs || !r->surf_cache || !r->to_build || !r->row_cost)
         goto oom;
@@ -119,6 +122,7 @@ void ew_renderer_free(ew_renderer *r) {
     free(r->surf_cache), free(r->to_build), free(r->row_cost);
     free(r->frame), free(r->zbuf), free(r->face_ids);
     free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
+    free(r->leaf_key), free(r->leaf_keyframe), free(r->ent_views);
     free(r->edge_cache_frame), free(r->edge_cache_index), free(r->edge_cache_down);
     free(r->edges), free(r->new_edges), free(r->surfs), free(r->blocklights);
     free(r);
@@ -168,6 +172,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
         memset(r->leaf_frame, 0, sizeof(int) * (size_t)w->numleaves);
         memset(r->node_frame, 0, sizeof(int) * (size_t)w->numnodes);
         memset(r->face_frame, 0, sizeof(int) * (size_t)w->numfaces);
+        memset(r->leaf_keyframe, 0, sizeof(int) * (size_t)w->numleaves);
         memset(r->edge_cache_frame, 0, sizeof(int) * (size_t)w->numedges);
         r->framecount = 1;
     }
@@ -180,6 +185,8 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->surfs[0].face = -1;
     r->surfs[0].flags = 0;
     r->surfs[0].nearzi = 0;
+    r->surfs[0].view = &r->view;
+    r->surfs[0].insubmodel = 0;
     r->currentkey = 0;
     for (int v = 0; v <= r->height; v++) r->new_edges[v] = -1;
     r->viewleaf = ew_pvs_mark(r);
@@ -206,16 +213,16 @@ void ew_draw_band(ew_renderer *r, ew_band *b) {
         const ew_cached_surf *cs = r->surf_cache[s];
         ew_gradients g;
         if (f->flags & EW_SURF_SKY) {
-            ew_face_gradients(r, f, 0, &g);
+            ew_face_gradients(r, sf->view, f, 0, &g);
             ew_draw_sky_spans(r, b, s, ew_face_texture(w, f, r->view.time));
         } else if (f->flags & EW_SURF_TURB) {
-            ew_face_gradients(r, f, 0, &g);
+            ew_face_gradients(r, sf->view, f, 0, &g);
             ew_draw_turb_spans(r, b, s, &g, ew_face_texture(w, f, r->view.time));
         } else if (cs) {
-            ew_face_gradients(r, f, cs->mip, &g);
+            ew_face_gradients(r, sf->view, f, cs->mip, &g);
             ew_draw_spans(r, b, s, &g, cs->pixels, cs->width);
         } else {  /* no memory for the surface: flat colour (counted in dropped) */
-            ew_face_gradients(r, f, 0, &g);
+            ew_face_gradients(r, sf->view, f, 0, &g);
             for (int si = b->span_head[s]; si >= 0; si = b->spans[si].next)
                 memset(r->frame + (size_t)b->spans[si].v * r->width + b->spans[si].u, 0,
                        (size_t)b->spans[si].count);
@@ -336,6 +343,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double t0 = ew_now_ms();
     if (ew_frame_begin(r, cam) < 0) return -1;
     ew_walk_world(r);
+    ew_emit_brush_models(r);
     double t1 = ew_now_ms();
 
     place_bands(r);

@@ -28,6 +28,18 @@ void ew_band_free(ew_band *b) {
     free(b->span_head), free(b->spans), free(b->aet);
 }
 
+/* Is surface a in front of surface b at pixel (u, v)?  BSP order decides,
+ * except between brush model fragments in the same leaf (same key): there
+ * 1/z at the pixel decides, and where they abut (equal 1/z) the one whose
+ * 1/z grows faster to the right is in front from here on (chapter 51). */
+static inline int nearer(const ew_surf *a, const ew_surf *b, int u, int v) {
+    if (a->key != b->key) return a->key < b->key;
+    if (!a->insubmodel || !b->insubmodel) return 0;
+    float za = a->zi_u * u + a->zi_v * v + a->zi_0, zb = b->zi_u * u + b->zi_v * v + b->zi_0;
+    if (za != zb) return za > zb;
+    return a->zi_u > b->zi_u;
+}
+
 static void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
     if (u1 <= u0) return;
     if (b->nspans >= b->max_spans) {
@@ -117,8 +129,7 @@ void ew_scan_band(ew_renderer *r, ew_band *b) {
             }
             s = a->surfs[1];
             if (s && ++state[s] == 1) {                          /* leading edge */
-                int key = surfs[s].key;
-                if (key < surfs[top].key) {
+                if (nearer(&surfs[s], &surfs[top], iu, v)) {
                     emit_span(b, top, lastu[top], iu, v);
                     next[s] = top, prev[s] = -1;
                     prev[top] = s;
@@ -126,7 +137,7 @@ void ew_scan_band(ew_renderer *r, ew_band *b) {
                     lastu[s] = iu;
                 } else {
                     int p = top;
-                    while (surfs[next[p]].key <= key) p = next[p];
+                    while (!nearer(&surfs[s], &surfs[next[p]], iu, v)) p = next[p];
                     next[s] = next[p], prev[s] = p;
                     prev[next[p]] = s;
                     next[p] = s;

@@ -69,14 +69,14 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
     const ew_cached_surf *cs = NULL;
     ew_gradients g;
     if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) {
-        ew_face_gradients(r, f, 0, &g);
+        ew_face_gradients(r, v, f, 0, &g);
     } else {
         mip = ew_face_mip(r, f, nearzi);
         int build;
         ew_cached_surf *e = ew_cache_lookup(r, fi, mip, &build);
         if (e && build) ew_cache_build(r, e, r->blocklights);
         cs = e;
-        ew_face_gradients(r, f, mip, &g);
+        ew_face_gradients(r, v, f, mip, &g);
     }
     for (int y = y0; y <= y1; y++) {
         for (int x = x0; x <= x1; x++) {

@@ -8,7 +8,7 @@
 #define EW_MAX_WALK_DEPTH 4096
 
 /* Returns -1 if the box is outside a plane, else the reduced clipflags. */
-static int cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags) {
+int ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags) {
     for (int i = 0; i < 4; i++) {
         if (!(clipflags & (1 << i))) continue;
         const ew_plane *p = &v->frustum[i];
@@ -38,8 +38,11 @@ static void walk(ew_renderer *r, int n, int clipflags, int depth) {
         int li = -1 - n;
         const ew_leaf *leaf = &w->leaves[li];
         if (r->leaf_frame[li] != r->framecount || leaf->contents == EW_CONTENTS_SOLID) return;
-        if (clipflags && cull_box(&r->view, leaf->mins, leaf->maxs, clipflags) < 0) return;
+        if (clipflags && ew_cull_box(&r->view, leaf->mins, leaf->maxs, clipflags) < 0) return;
         r->stats.visible_leaves++;
+        /* Brush model fragments in this leaf sort here in BSP order. */
+        r->leaf_key[li] = r->currentkey++;
+        r->leaf_keyframe[li] = r->framecount;
         for (int i = 0; i < leaf->nummarks; i++)
             r->face_frame[w->marksurfaces[leaf->firstmark + i]] = r->framecount;
         return;
@@ -47,7 +50,7 @@ static void walk(ew_renderer *r, int n, int clipflags, int depth) {
     const ew_node *node = &w->nodes[n];
     if (r->node_frame[n] != r->framecount) return;
     if (clipflags) {
-        clipflags = cull_box(&r->view, node->mins, node->maxs, clipflags);
+        clipflags = ew_cull_box(&r->view, node->mins, node->maxs, clipflags);
         if (clipflags < 0) return;
     }
     const ew_plane *pl = &w->planes[node->plane];

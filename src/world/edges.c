@@ -181,5 +181,39 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags) {
     sf->face = fi;
     sf->flags = f->flags;
     sf->nearzi = nearzi;
+    sf->view = &r->view;
+    sf->insubmodel = 0;
+    r->nsurfs++;
+}
+
+void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
+    if (r->nsurfs >= r->max_surfs || n > EW_MAX_POLY - 8 || r->nedges + n + 4 > r->max_edges) {
+        r->stats.dropped++;
+        return;
+    }
+    float out[EW_MAX_POLY][3];
+    int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
+    for (int i = 0; i < n; i++) tin[i] = -1;
+    int m = ew_clip_poly(&r->view, 15, verts, n, out, tin, tout);
+    if (m < 3) return;
+    int s = r->nsurfs;
+    proj pj[EW_MAX_POLY];
+    float nearzi = 0;
+    for (int i = 0; i < m; i++) {
+        project(r, out[i], &pj[i]);
+        if (pj[i].zi > nearzi) nearzi = pj[i].zi;
+    }
+    for (int i = 0; i < m; i++) add_edge(r, &pj[i], &pj[i + 1 == m ? 0 : i + 1], s);
+    ew_surf *sf = &r->surfs[s];
+    const ew_face *f = &r->world->faces[fi];
+    sf->key = key;
+    sf->face = fi;
+    sf->flags = f->flags;
+    sf->nearzi = nearzi;
+    sf->view = v;
+    sf->insubmodel = 1;
+    ew_gradients g;
+    ew_face_gradients(r, v, f, 0, &g);
+    sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
     r->nsurfs++;
 }

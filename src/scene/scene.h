@@ -1,0 +1,39 @@
+/* A scene: the moving things drawn over a world (internal). */
+#ifndef EW_SCENE_H
+#define EW_SCENE_H
+
+#include "ew_world.h"
+
+enum { EW_MODEL_ALIAS = 1, EW_MODEL_SPRITE, EW_MODEL_BOX };
+
+typedef struct ew_scene_model {
+    int   kind;      /* EW_MODEL_* */
+    char  name[64];
+    void *data;      /* ew_mdl *, ew_spr *, or ew_world * (item box) */
+} ew_scene_model;
+
+typedef struct ew_scene_entity {
+    int   model;     /* >= 0: scene model; < 0: world submodel -1 - model (doors...) */
+    float origin[3], angles[3];
+    int   frame, skin;
+} ew_scene_entity;
+
+typedef struct ew_dlight {
+    float origin[3];
+    float radius;
+} ew_dlight;
+
+#define EW_MAX_DLIGHTS 32
+
+struct ew_scene {
+    const ew_world  *world;
+    ew_scene_model  *models;    int nmodels, cap_models;
+    ew_scene_entity *ents;      int nents, cap_ents;
+    ew_dlight        dlights[EW_MAX_DLIGHTS];
+    int              ndlights;
+    struct ew_particle *particles; int nparticles;
+    int              unknown;   /* entities whose classname has no known model */
+    int              missing;   /* entities whose model file was not found */
+};
+
+#endif

@@ -1,0 +1,143 @@
+/* Brush model entities (doors, lifts, buttons, secret walls) in the world's
+ * edge list.  Each polygon the camera can see is moved to the entity's place,
+ * then clipped down the world BSP into the leaves it occupies: fragments in
+ * solid leaves vanish (so it cannot poke through walls), and the rest take
+ * the BSP key of their leaf, so they sort against the world in BSP order
+ * and, within one leaf, against each other by 1/z (see hsr/edge_scan.c). */
+#include "ew_render.h"
+#include "scene/scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#define ON_EPSILON 0.01f
+#define MAX_SPLIT_DEPTH 4096
+
+typedef struct split_ctx {
+    ew_renderer   *r;
+    const ew_view *view;    /* camera in the model's own space */
+    int            face;
+    float          normal[3]; /* the face's outward normal in world space */
+} split_ctx;
+
+static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
+    ew_renderer *r = c->r;
+    const ew_world *w = r->world;
+    if (depth > MAX_SPLIT_DEPTH) return;
+    if (node < 0) {
+        int li = -1 - node;
+        if (r->leaf_keyframe[li] == r->framecount && w->leaves[li].contents != EW_CONTENTS_SOLID)
+            ew_emit_poly(r, p, n, c->face, c->view, r->leaf_key[li]);
+        return;
+    }
+    const ew_node *nd = &w->nodes[node];
+    const ew_plane *pl = &w->planes[nd->plane];
+    float d[EW_MAX_POLY];
+    int front = 0, back = 0;
+    for (int i = 0; i < n; i++) {
+        d[i] = p[i][0] * pl->normal[0] + p[i][1] * pl->normal[1] + p[i][2] * pl->normal[2] - pl->dist;
+        if (d[i] > ON_EPSILON) front = 1;
+        else if (d[i] < -ON_EPSILON) back = 1;
+    }
+    if (!front && !back) {  /* on the plane: goes the way it faces */
+        float dot = c->normal[0] * pl->normal[0] + c->normal[1] * pl->normal[1] + c->normal[2] * pl->normal[2];
+        split(c, p, n, nd->children[dot >= 0 ? 0 : 1], depth + 1);
+        return;
+    }
+    if (!back) {
+        split(c, p, n, nd->children[0], depth + 1);
+        return;
+    }
+    if (!front) {
+        split(c, p, n, nd->children[1], depth + 1);
+        return;
+    }
+    float f[EW_MAX_POLY][3], b[EW_MAX_POLY][3];
+    int nf = 0, nb = 0;
+    for (int i = 0; i < n && nf < EW_MAX_POLY - 9 && nb < EW_MAX_POLY - 9; i++) {
+        int j = i + 1 == n ? 0 : i + 1;
+        if (d[i] >= -ON_EPSILON) f[nf][0] = p[i][0], f[nf][1] = p[i][1], f[nf][2] = p[i][2], nf++;
+        if (d[i] <= ON_EPSILON) b[nb][0] = p[i][0], b[nb][1] = p[i][1], b[nb][2] = p[i][2], nb++;
+        if ((d[i] > ON_EPSILON && d[j] < -ON_EPSILON) || (d[i] < -ON_EPSILON && d[j] > ON_EPSILON)) {
+            float t = d[i] / (d[i] - d[j]);
+            for (int k = 0; k < 3; k++) f[nf][k] = b[nb][k] = p[i][k] + t * (p[j][k] - p[i][k]);
+            nf++, nb++;
+        }
+    }
+    if (nf >= 3) split(c, f, nf, nd->children[0], depth + 1);
+    if (nb >= 3) split(c, b, nb, nd->children[1], depth + 1);
+}
+
+/* Entity rotation: columns are the model's x (forward), y (left), z (up). */
+static void entity_axes(const float angles[3], float ax[3][3]) {
+    ew_camera c = {{0, 0, 0}, {angles[0], angles[1], angles[2]}, 90, 0};
+    ew_view v;
+    ew_view_setup(&v, &c, 320, 200);
+    for (int k = 0; k < 3; k++) ax[k][0] = v.forward[k], ax[k][1] = -v.right[k], ax[k][2] = v.up[k];
+}
+
+void ew_emit_brush_models(ew_renderer *r) {
+    const struct ew_scene *sc = r->scene;
+    if (!sc) return;
+    const ew_world *w = r->world;
+    int used = 0;
+    for (int ei = 0; ei < sc->nents; ei++) {
+        const ew_scene_entity *e = &sc->ents[ei];
+        int sub = -1 - e->model;
+        if (e->model >= 0 || sub <= 0 || sub >= w->nummodels || used >= r->max_ent_views) continue;
+        const ew_model *m = &w->models[sub];
+        float ax[3][3];
+        entity_axes(e->angles, ax);
+
+        /* World box of the moved model, for frustum culling. */
+        float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+        for (int c = 0; c < 8; c++) {
+            float p[3] = {c & 1 ? m->maxs[0] : m->mins[0], c & 2 ? m->maxs[1] : m->mins[1],
+                          c & 4 ? m->maxs[2] : m->mins[2]};
+            for (int k = 0; k < 3; k++) {
+                float q = e->origin[k] + ax[k][0] * p[0] + ax[k][1] * p[1] + ax[k][2] * p[2];
+                if (q < lo[k]) lo[k] = q;
+                if (q > hi[k]) hi[k] = q;
+            }
+        }
+        if (ew_cull_box(&r->view, lo, hi, 15) < 0) {
+            r->stats.entities_culled++;
+            continue;
+        }
+        /* The camera in model space: p_model = A^T (p_world - origin). */
+        ew_view *mv = &r->ent_views[used++];
+        *mv = r->view;
+        const float *src[4] = {r->view.origin, r->view.forward, r->view.right, r->view.up};
+        float *dst[4] = {mv->origin, mv->forward, mv->right, mv->up};
+        for (int q = 0; q < 4; q++) {
+            float d[3] = {src[q][0], src[q][1], src[q][2]};
+            if (q == 0)
+                for (int k = 0; k < 3; k++) d[k] -= e->origin[k];
+            for (int k = 0; k < 3; k++) dst[q][k] = ax[0][k] * d[0] + ax[1][k] * d[1] + ax[2][k] * d[2];
+        }
+        int before = r->nsurfs;
+        for (int i = 0; i < m->numfaces; i++) {
+            int fi = m->firstface + i;
+            const ew_face *f = &w->faces[fi];
+            const ew_plane *pl = &w->planes[f->plane];
+            float dist = mv->origin[0] * pl->normal[0] + mv->origin[1] * pl->normal[1] +
+                         mv->origin[2] * pl->normal[2] - pl->dist;
+            int back = (f->flags & EW_SURF_PLANEBACK) != 0;
+            if ((back && dist >= 0) || (!back && dist <= 0)) continue;  /* faces away */
+            if (f->numedges > EW_MAX_POLY - 16) continue;
+            split_ctx c = {r, mv, fi, {0, 0, 0}};
+            float sign = back ? -1.0f : 1.0f;
+            for (int k = 0; k < 3; k++)
+                c.normal[k] = sign * (ax[k][0] * pl->normal[0] + ax[k][1] * pl->normal[1] + ax[k][2] * pl->normal[2]);
+            float p[EW_MAX_POLY][3];
+            for (int v = 0; v < f->numedges; v++) {
+                const float *q = w->verts[ew_face_vertex(w, f, v)];
+                for (int k = 0; k < 3; k++)
+                    p[v][k] = e->origin[k] + ax[k][0] * q[0] + ax[k][1] * q[1] + ax[k][2] * q[2];
+            }
+            split(&c, p, f->numedges, w->models[0].headnode, 0);
+        }
+        if (r->nsurfs > before) r->stats.entities_drawn++;
+        else r->stats.entities_culled++;
+    }
+}
