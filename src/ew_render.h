@@ -90,6 +90,7 @@ typedef struct ew_cached_surf {
     struct ew_cached_surf *lru_prev, *lru_next;
     int      face, mip, texture;
     int      light[4];   /* style values it was lit with */
+    unsigned dlights;    /* dynamic lights it was built with */
     int      width, height;
     int      last_frame;
     uint8_t *pixels;
@@ -128,6 +129,7 @@ struct ew_renderer {
     int  framecount;
     int *leaf_frame, *node_frame, *face_frame;
     int *leaf_key, *leaf_keyframe;            /* BSP key of each visited leaf */
+    int *face_dlframe; unsigned *face_dlbits; /* dynamic lights on each face */
     int *edge_cache_frame, *edge_cache_index; /* per world edge */
     int8_t *edge_cache_down;                  /* +1: +sign traversal goes down */
 
@@ -185,6 +187,14 @@ void ew_emit_face(ew_renderer *r, int face, int clipflags);
 void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
 /* world/bmodel.c: brush model entities into the edge list. */
 void ew_emit_brush_models(ew_renderer *r);
+/* Entity rotation from Quake angles: columns are the model's x, y, z axes. */
+void ew_entity_axes(const float angles[3], float ax[3][3]);
+
+/* light/dlight.c: mark faces in reach of the scene's dynamic lights; the
+ * lights on a face this frame (bit i = light i); add them to a light map. */
+void     ew_mark_dlights(ew_renderer *r);
+unsigned ew_face_dlights(const ew_renderer *r, int face);
+void     ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *blocklights);
 /* Clips a polygon (view-independent world coords) against the frustum
  * planes in clipflags; returns the vertex count (0 if all clipped).
  * orig[i] = index of the original edge leaving vertex i, or -1. */
@@ -229,7 +239,7 @@ const ew_texture *ew_face_texture(const ew_world *w, const ew_face *f, double ti
 ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
 void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
 void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *tex,
-                      int mip, const int light[4], uint8_t *out, int *scratch);
+                      int mip, const int light[4], unsigned dlights, uint8_t *out, int *scratch);
 int  ew_cache_init(ew_surf_cache *c, int numfaces, size_t budget);
 void ew_cache_free(ew_surf_cache *c);
 

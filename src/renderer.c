@@ -53,6 +53,8 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     r->face_frame = calloc((size_t)w->numfaces + 1, sizeof(int));
     r->leaf_key = calloc((size_t)w->numleaves + 1, sizeof(int));
     r->leaf_keyframe = calloc((size_t)w->numleaves + 1, sizeof(int));
+    r->face_dlframe = calloc((size_t)w->numfaces + 1, sizeof(int));
+    r->face_dlbits = calloc((size_t)w->numfaces + 1, sizeof(unsigned));
     r->edge_cache_frame = calloc((size_t)w->numedges + 1, sizeof(int));
     r->edge_cache_index = calloc((size_t)w->numedges + 1, sizeof(int));
     r->edge_cache_down = calloc((size_t)w->numedges + 1, 1);
@@ -65,7 +67,7 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     r->to_build = malloc(sizeof(ew_cached_surf *) * r->max_surfs);
     r->row_cost = malloc(sizeof(float) * (size_t)height);
     if (!r->frame || !r->zbuf || !r->leaf_frame || !r->node_frame || !r->face_frame ||
-        !r->leaf_key || !r->leaf_keyframe ||
+        !r->leaf_key || !r->leaf_keyframe || !r->face_dlframe || !r->face_dlbits ||
         !r->edge_cache_frame || !r->edge_cache_index || !r->edge_cache_down || !r->edges ||
         !r->new_edges || !r->surfs || !r->surf_cache || !r->to_build || !r->row_cost)
         goto oom;
@@ -123,6 +125,7 @@ void ew_renderer_free(ew_renderer *r) {
     free(r->frame), free(r->zbuf), free(r->face_ids);
     free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
     free(r->leaf_key), free(r->leaf_keyframe), free(r->ent_views);
+    free(r->face_dlframe), free(r->face_dlbits);
     free(r->edge_cache_frame), free(r->edge_cache_index), free(r->edge_cache_down);
     free(r->edges), free(r->new_edges), free(r->surfs), free(r->blocklights);
     free(r);
@@ -173,6 +176,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
         memset(r->node_frame, 0, sizeof(int) * (size_t)w->numnodes);
         memset(r->face_frame, 0, sizeof(int) * (size_t)w->numfaces);
         memset(r->leaf_keyframe, 0, sizeof(int) * (size_t)w->numleaves);
+        memset(r->face_dlframe, 0, sizeof(int) * (size_t)w->numfaces);
         memset(r->edge_cache_frame, 0, sizeof(int) * (size_t)w->numedges);
         r->framecount = 1;
     }
@@ -344,6 +348,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     if (ew_frame_begin(r, cam) < 0) return -1;
     ew_walk_world(r);
     ew_emit_brush_models(r);
+    ew_mark_dlights(r);
     double t1 = ew_now_ms();
 
     place_bands(r);

@@ -51,9 +51,10 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
     int light[4];
     for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->lightstyle[f->styles[k] & 63];
 
+    unsigned dl = ew_face_dlights(r, face);
     ew_cached_surf *e = c->slot[face * 4 + mip];
     *build = 0;
-    if (e && e->texture == texture && memcmp(e->light, light, sizeof light) == 0) {
+    if (e && e->texture == texture && memcmp(e->light, light, sizeof light) == 0 && !dl && !e->dlights) {
         if (e->last_frame != r->framecount) r->stats.surfaces_cached++;
         lru_unlink(c, e);
         lru_push_front(c, e);
@@ -77,7 +78,8 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
         free(e);
         return NULL;
     }
-    e->width = width, e->height = height, e->texture = texture;
+    if (dl || e->dlights) r->stats.surfaces_rebuilt_by_dlights++;
+    e->width = width, e->height = height, e->texture = texture, e->dlights = dl;
     memcpy(e->light, light, sizeof light);
     c->bytes += (size_t)width * height;
     lru_push_front(c, e);
@@ -91,5 +93,5 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
 
 void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch) {
     const ew_face *f = &r->world->faces[e->face];
-    ew_build_surface(r, f, &r->world->textures[e->texture], e->mip, e->light, e->pixels, scratch);
+    ew_build_surface(r, f, &r->world->textures[e->texture], e->mip, e->light, e->dlights, e->pixels, scratch);
 }

@@ -33,7 +33,7 @@ static int wrap(int x, int n) {
 }
 
 void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *tex,
-                      int mip, const int light[4], uint8_t *out, int *scratch) {
+                      int mip, const int light[4], unsigned dlights, uint8_t *out, int *scratch) {
     const ew_world *w = r->world;
     const uint8_t *cmap = r->colormap;
     int smax = (f->extents[0] >> 4) + 1, tmax = (f->extents[1] >> 4) + 1;
@@ -50,6 +50,7 @@ void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *
             for (int k = 0; k < 4 && f->styles[k] != 255; k++, lm += size)
                 for (int i = 0; i < size; i++) bl[i] += lm[i] * light[k];
         }
+        ew_add_dlights(r, f, dlights, bl);
         /* Light 0..255*256 becomes a colormap row in 8.8: bright maps to
          * low rows; the top is held just short of the overbright end. */
         for (int i = 0; i < size; i++) {

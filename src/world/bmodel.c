@@ -69,7 +69,7 @@ static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
 }
 
 /* Entity rotation: columns are the model's x (forward), y (left), z (up). */
-static void entity_axes(const float angles[3], float ax[3][3]) {
+void ew_entity_axes(const float angles[3], float ax[3][3]) {
     ew_camera c = {{0, 0, 0}, {angles[0], angles[1], angles[2]}, 90, 0};
     ew_view v;
     ew_view_setup(&v, &c, 320, 200);
@@ -87,7 +87,7 @@ void ew_emit_brush_models(ew_renderer *r) {
         if (e->model >= 0 || sub <= 0 || sub >= w->nummodels || used >= r->max_ent_views) continue;
         const ew_model *m = &w->models[sub];
         float ax[3][3];
-        entity_axes(e->angles, ax);
+        ew_entity_axes(e->angles, ax);
 
         /* World box of the moved model, for frustum culling. */
         float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};

@@ -1,0 +1,98 @@
+/* Dynamic lights: each frame, every light walks the BSP and marks the faces
+ * within its radius (a node whose plane is farther than the radius from the
+ * light sends it down one side only).  Marked faces get their lit surface
+ * rebuilt with the light added; a surface built with a light is rebuilt once
+ * more when the light has gone.  Faces the light does not reach keep their
+ * cached surfaces. */
+#include "ew_render.h"
+#include "scene/scene.h"
+
+#include <math.h>
+
+static void mark(ew_renderer *r, const float p[3], float radius, int bit, int node, int depth) {
+    const ew_world *w = r->world;
+    while (node >= 0 && depth++ < 4096) {
+        const ew_node *n = &w->nodes[node];
+        const ew_plane *pl = &w->planes[n->plane];
+        float d = p[0] * pl->normal[0] + p[1] * pl->normal[1] + p[2] * pl->normal[2] - pl->dist;
+        if (d > radius) {
+            node = n->children[0];
+            continue;
+        }
+        if (d < -radius) {
+            node = n->children[1];
+            continue;
+        }
+        for (int i = 0; i < n->numfaces; i++) {
+            int fi = n->firstface + i;
+            if (r->face_dlframe[fi] != r->framecount) {
+                r->face_dlframe[fi] = r->framecount;
+                r->face_dlbits[fi] = 0;
+            }
+            r->face_dlbits[fi] |= 1u << bit;
+        }
+        mark(r, p, radius, bit, n->children[0], depth);
+        node = n->children[1];
+    }
+}
+
+void ew_mark_dlights(ew_renderer *r) {
+    const struct ew_scene *sc = r->scene;
+    if (!sc) return;
+    const ew_world *w = r->world;
+    for (int i = 0; i < sc->ndlights; i++) {
+        const ew_dlight *dl = &sc->dlights[i];
+        mark(r, dl->origin, dl->radius, i, w->models[0].headnode, 0);
+        /* Brush entities: the light in each one's own space. */
+        for (int e = 0; e < sc->nents; e++) {
+            const ew_scene_entity *en = &sc->ents[e];
+            int sub = -1 - en->model;
+            if (en->model >= 0 || sub <= 0 || sub >= w->nummodels) continue;
+            float ax[3][3], d[3], p[3];
+            ew_entity_axes(en->angles, ax);
+            for (int k = 0; k < 3; k++) d[k] = dl->origin[k] - en->origin[k];
+            for (int k = 0; k < 3; k++) p[k] = ax[0][k] * d[0] + ax[1][k] * d[1] + ax[2][k] * d[2];
+            mark(r, p, dl->radius, i, w->models[sub].headnode, 0);
+        }
+    }
+}
+
+unsigned ew_face_dlights(const ew_renderer *r, int face) {
+    return r->face_dlframe[face] == r->framecount ? r->face_dlbits[face] : 0;
+}
+
+void ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *bl) {
+    const struct ew_scene *sc = r->scene;
+    const ew_world *w = r->world;
+    if (!sc || !bits) return;
+    const ew_plane *pl = &w->planes[f->plane];
+    const ew_texinfo *ti = &w->texinfo[f->texinfo];
+    int smax = (f->extents[0] >> 4) + 1, tmax = (f->extents[1] >> 4) + 1;
+    /* Texture axes are not unit length: measure distances in world units. */
+    float ls = sqrtf(ti->vecs[0][0] * ti->vecs[0][0] + ti->vecs[0][1] * ti->vecs[0][1] + ti->vecs[0][2] * ti->vecs[0][2]);
+    float lt = sqrtf(ti->vecs[1][0] * ti->vecs[1][0] + ti->vecs[1][1] * ti->vecs[1][1] + ti->vecs[1][2] * ti->vecs[1][2]);
+    if (ls < 1e-6f || lt < 1e-6f) return;
+    for (int i = 0; i < sc->ndlights && i < 32; i++) {
+        if (!(bits & (1u << i))) continue;
+        const ew_dlight *dl = &sc->dlights[i];
+        float o[3] = {dl->origin[0], dl->origin[1], dl->origin[2]};
+        /* Lit with the light in world space: exact for brush entities at
+         * their rest position (no offset, no turn), which is how maps
+         * place them. */
+        float dist = o[0] * pl->normal[0] + o[1] * pl->normal[1] + o[2] * pl->normal[2] - pl->dist;
+        float rad = dl->radius - fabsf(dist);
+        if (rad <= 0) continue;
+        float imp[3];
+        for (int k = 0; k < 3; k++) imp[k] = o[k] - pl->normal[k] * dist;
+        float is = imp[0] * ti->vecs[0][0] + imp[1] * ti->vecs[0][1] + imp[2] * ti->vecs[0][2] + ti->vecs[0][3] - f->texturemins[0];
+        float it = imp[0] * ti->vecs[1][0] + imp[1] * ti->vecs[1][1] + imp[2] * ti->vecs[1][2] + ti->vecs[1][3] - f->texturemins[1];
+        for (int t = 0; t < tmax; t++) {
+            float dt = (it - t * 16) / lt;
+            for (int s = 0; s < smax; s++) {
+                float ds = (is - s * 16) / ls;
+                float d = sqrtf(ds * ds + dt * dt);
+                if (d < rad) bl[t * smax + s] += (int)((rad - d) * 256);
+            }
+        }
+    }
+}
