@@ -187,6 +187,12 @@ void ew_emit_face(ew_renderer *r, int face, int clipflags);
 void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
 /* world/bmodel.c: brush model entities into the edge list. */
 void ew_emit_brush_models(ew_renderer *r);
+/* Calls fn for every camera-facing face of every brush entity in the
+ * frustum, with the polygon moved into world space, the face's world
+ * normal and the camera in model space; fn returns 1 if it drew anything. */
+typedef int (*ew_brush_face_fn)(ew_renderer *r, void *ctx, int face, const ew_view *model_view,
+                                const float normal[3], float (*poly)[3], int n);
+void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx);
 /* Entity rotation from Quake angles: columns are the model's x, y, z axes. */
 void ew_entity_axes(const float angles[3], float ax[3][3]);
 

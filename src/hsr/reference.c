@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct ref_ctx {
     uint8_t *pixels;
@@ -16,32 +17,25 @@ typedef struct ref_ctx {
     float   *z;
 } ref_ctx;
 
-static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
-    (void)clipflags;
-    ref_ctx *c = vctx;
+/* Fills one world-space polygon of face fi; v is the camera in the face's
+ * own space (for texture gradients).  Returns 1 if it won any pixel. */
+static int ref_poly(ew_renderer *r, ref_ctx *c, int fi, const ew_view *v, float (*in)[3], int n) {
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[fi];
-    const ew_view *v = &r->view;
-    int n = f->numedges;
-    if (n > EW_MAX_POLY - 8) return;
-    float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
+    float out[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
-    for (int i = 0; i < n; i++) {
-        const float *p = w->verts[ew_face_vertex(w, f, i)];
-        in[i][0] = p[0], in[i][1] = p[1], in[i][2] = p[2];
-        tin[i] = i;
-    }
+    for (int i = 0; i < n; i++) tin[i] = -1;
     /* Clip against all four planes, whatever the walk knew. */
-    int m = ew_clip_poly(v, 15, in, n, out, tin, tout);
-    if (m < 3) return;
+    int m = ew_clip_poly(&r->view, 15, in, n, out, tin, tout);
+    if (m < 3) return 0;
     float pu[EW_MAX_POLY], pv[EW_MAX_POLY], nearzi = 0;
     float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
     for (int i = 0; i < m; i++) {
         float t[3];
-        ew_view_transform(v, out[i], t);
+        ew_view_transform(&r->view, out[i], t);
         float zi = 1.0f / (t[2] < 0.01f ? 0.01f : t[2]);
-        pu[i] = v->xcenter + v->xscale * t[0] * zi;
-        pv[i] = v->ycenter - v->yscale * t[1] * zi;
+        pu[i] = r->view.xcenter + r->view.xscale * t[0] * zi;
+        pv[i] = r->view.ycenter - r->view.yscale * t[1] * zi;
         if (zi > nearzi) nearzi = zi;
         if (pu[i] < umin) umin = pu[i];
         if (pu[i] > umax) umax = pu[i];
@@ -54,7 +48,7 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
         int j = i + 1 == m ? 0 : i + 1;
         area += (double)pu[i] * pv[j] - (double)pu[j] * pv[i];
     }
-    if (area == 0) return;
+    if (area == 0) return 0;
     double sign = area > 0 ? 1 : -1;
 
     int x0 = (int)ceilf(umin), x1 = (int)ceilf(umax) - 1;
@@ -66,6 +60,7 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
 
     int mip = 0;
     const ew_texture *tex = ew_face_texture(w, f, v->time);
+    int won = 0;
     const ew_cached_surf *cs = NULL;
     ew_gradients g;
     if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) {
@@ -94,10 +89,11 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
             float zi = g.zi_u * (float)x + (g.zi_v * (float)y + g.zi_0);
             if (zi <= c->z[o]) continue;
             c->z[o] = zi;
+            won = 1;
             if (c->ids) c->ids[o] = fi;
             uint8_t px;
             if (f->flags & EW_SURF_SKY) {
-                px = ew_sky_pixel(v, tex, (float)x, (float)y);
+                px = ew_sky_pixel(&r->view, tex, (float)x, (float)y);
             } else {
                 float z = 65536.0f / zi;
                 float fx = (float)x, fy = (float)y;
@@ -111,20 +107,38 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
             c->pixels[o] = px;
         }
     }
+    return won;
 }
 
+static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
+    (void)clipflags;  /* clipped against every plane regardless */
+    const ew_world *w = r->world;
+    const ew_face *f = &w->faces[fi];
+    if (f->numedges > EW_MAX_POLY - 8) return;
+    float in[EW_MAX_POLY][3];
+    for (int i = 0; i < f->numedges; i++) {
+        const float *p = w->verts[ew_face_vertex(w, f, i)];
+        in[i][0] = p[0], in[i][1] = p[1], in[i][2] = p[2];
+    }
+    ref_poly(r, vctx, fi, &r->view, in, f->numedges);
+}
+
+static int ref_brush_face(ew_renderer *r, void *ctx, int fi, const ew_view *mv,
+                          const float normal[3], float (*p)[3], int n) {
+    (void)normal;
+    return ref_poly(r, ctx, fi, mv, p, n);
+}
+
+/* Renders into the renderer's own frame and z-buffer (so the moving
+ * things drawn after it meet the same z-buffer test), then copies out. */
 int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, int *face_ids,
                         ew_error *err) {
     size_t px = (size_t)r->width * r->height;
-    ref_ctx c = {pixels, face_ids, malloc(sizeof(float) * px)};
-    if (!c.z) return ew_fail(err, "reference: out of memory");
-    if (ew_frame_begin(r, cam) < 0) {
-        free(c.z);
-        return ew_fail(err, "reference: bad camera");
-    }
+    ref_ctx c = {r->frame, face_ids, r->zbuf};
+    if (ew_frame_begin(r, cam) < 0) return ew_fail(err, "reference: bad camera");
     for (size_t i = 0; i < px; i++) {
         c.z[i] = 0;
-        pixels[i] = 0;
+        c.pixels[i] = 0;
         if (face_ids) face_ids[i] = -1;
     }
     r->face_hook = ref_face;
@@ -132,6 +146,7 @@ int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, i
     ew_walk_world(r);
     r->face_hook = NULL;
     r->face_hook_ctx = NULL;
-    free(c.z);
+    ew_for_brush_faces(r, ref_brush_face, &c);
+    if (pixels) memcpy(pixels, r->frame, px);
     return 0;
 }

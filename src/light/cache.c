@@ -54,7 +54,9 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
     unsigned dl = ew_face_dlights(r, face);
     ew_cached_surf *e = c->slot[face * 4 + mip];
     *build = 0;
-    if (e && e->texture == texture && memcmp(e->light, light, sizeof light) == 0 && !dl && !e->dlights) {
+    /* A dynamically lit surface is good only for the frame that built it. */
+    if (e && e->texture == texture && memcmp(e->light, light, sizeof light) == 0 && e->dlights == dl &&
+        (!dl || e->last_frame == r->framecount)) {
         if (e->last_frame != r->framecount) r->stats.surfaces_cached++;
         lru_unlink(c, e);
         lru_push_front(c, e);

@@ -76,7 +76,7 @@ void ew_entity_axes(const float angles[3], float ax[3][3]) {
     for (int k = 0; k < 3; k++) ax[k][0] = v.forward[k], ax[k][1] = -v.right[k], ax[k][2] = v.up[k];
 }
 
-void ew_emit_brush_models(ew_renderer *r) {
+void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx) {
     const struct ew_scene *sc = r->scene;
     if (!sc) return;
     const ew_world *w = r->world;
@@ -115,7 +115,7 @@ void ew_emit_brush_models(ew_renderer *r) {
                 for (int k = 0; k < 3; k++) d[k] -= e->origin[k];
             for (int k = 0; k < 3; k++) dst[q][k] = ax[0][k] * d[0] + ax[1][k] * d[1] + ax[2][k] * d[2];
         }
-        int before = r->nsurfs;
+        int drawn = 0;
         for (int i = 0; i < m->numfaces; i++) {
             int fi = m->firstface + i;
             const ew_face *f = &w->faces[fi];
@@ -125,19 +125,29 @@ void ew_emit_brush_models(ew_renderer *r) {
             int back = (f->flags & EW_SURF_PLANEBACK) != 0;
             if ((back && dist >= 0) || (!back && dist <= 0)) continue;  /* faces away */
             if (f->numedges > EW_MAX_POLY - 16) continue;
-            split_ctx c = {r, mv, fi, {0, 0, 0}};
-            float sign = back ? -1.0f : 1.0f;
+            float sign = back ? -1.0f : 1.0f, normal[3];
             for (int k = 0; k < 3; k++)
-                c.normal[k] = sign * (ax[k][0] * pl->normal[0] + ax[k][1] * pl->normal[1] + ax[k][2] * pl->normal[2]);
+                normal[k] = sign * (ax[k][0] * pl->normal[0] + ax[k][1] * pl->normal[1] + ax[k][2] * pl->normal[2]);
             float p[EW_MAX_POLY][3];
             for (int v = 0; v < f->numedges; v++) {
                 const float *q = w->verts[ew_face_vertex(w, f, v)];
                 for (int k = 0; k < 3; k++)
                     p[v][k] = e->origin[k] + ax[k][0] * q[0] + ax[k][1] * q[1] + ax[k][2] * q[2];
             }
-            split(&c, p, f->numedges, w->models[0].headnode, 0);
+            drawn += fn(r, ctx, fi, mv, normal, p, f->numedges);
         }
-        if (r->nsurfs > before) r->stats.entities_drawn++;
+        if (drawn) r->stats.entities_drawn++;
         else r->stats.entities_culled++;
     }
 }
+
+static int emit_fragments(ew_renderer *r, void *ctx, int fi, const ew_view *mv,
+                          const float normal[3], float (*p)[3], int n) {
+    (void)ctx;
+    int before = r->nsurfs;
+    split_ctx c = {r, mv, fi, {normal[0], normal[1], normal[2]}};
+    split(&c, p, n, r->world->models[0].headnode, 0);
+    return r->nsurfs > before;
+}
+
+void ew_emit_brush_models(ew_renderer *r) { ew_for_brush_faces(r, emit_fragments, NULL); }
