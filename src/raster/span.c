@@ -63,12 +63,19 @@ void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradient
         int32_t s, t, ds, dt;
         int n;
         ew_step_begin(&st, g, r->subdiv_shift, sp->u, sp->v, sp->count);
+        uint32_t upitch = (uint32_t)pitch;
         while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
+            /* s and t stay within [0, max] here, so unsigned maths is exact
+             * and spares the sign extension of the index. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 4
+#endif
             for (int i = 0; i < n; i++) {
-                *dst++ = pixels[(t >> 16) * pitch + (s >> 16)];
+                dst[i] = pixels[((uint32_t)t >> 16) * upitch + ((uint32_t)s >> 16)];
                 s += ds;
                 t += dt;
             }
+            dst += n;
         }
     }
 }

@@ -122,9 +122,10 @@ static const bi_light scene_lights[] = {
     {{704, 600, 232}, 320},  /* stone room */
 };
 
-/* Player start: in the courtyard; its four views look at the corridor,
- * the platform, the niche between the pillars and the pool. */
-static const int start_origin[3] = {224, 272, 88}, start_angle = 0;
+/* Player start: in the courtyard, 24 units above the floor.  Its four
+ * views: the corridor with the pool and the sky (the demo picture), the
+ * platform and the window, the niche beside a pillar, the pool. */
+static const int start_origin[3] = {230, 290, 88}, start_angle = 335;
 static const int intermission_origin[3] = {56, 56, 200}, intermission_mangle[3] = {18, 40, 0};
 
 static char *make_entities(void) {

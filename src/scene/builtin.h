@@ -90,19 +90,20 @@ void bi_make_colormap(const uint8_t palette[768], uint8_t colormap[EW_COLORMAP_S
 int  bi_write_textures(const uint8_t palette[768], bi_buf *lump);
 int  bi_texture_is_special(int tex);  /* sky and liquids: no light map */
 
-/* builtin_light.c: line of sight through the grid.  Walks the cells the
- * segment a->b passes through and returns the kind of the first cell that
- * blocks (solid or sky; leaving the grid counts as solid), or -1 if the
- * segment is clear. */
+/* builtin_light.c: light and visibility.
+ * Line of sight through the grid: walks the cells the segment a->b passes
+ * through and returns the kind of the first cell that blocks (solid or
+ * sky; leaving the grid counts as solid), or -1 if the segment is clear. */
 int bi_trace(const bi_grid *g, const float a[3], const float b[3]);
 
 /* Light value (0..255) at world point p on a surface facing along normal n. */
 int bi_light_point(const bi_scene *s, const float p[3], const float n[3]);
 
-/* Fills vis[a * nleaves + b] = 1 if box a can see box b (both ways).
- * Boxes are in world units; open[a] = 0 marks leaves that take no part. */
-int bi_compute_pvs(const bi_grid *g, int nleaves, const int (*lo)[3], const int (*hi)[3],
-                   const uint8_t *open, uint8_t *vis);
+/* Fills vis[a * nleaves + b] = 1 if leaf box a may see leaf box b (a
+ * conservative portal flow; symmetric).  Boxes are in world units;
+ * open[a] = 0 marks leaves that block sight and take no part. */
+int bi_compute_pvs(int nleaves, const int (*lo)[3], const int (*hi)[3], const uint8_t *open,
+                   uint8_t *vis);
 
 /* builtin_bsp.c: builds the BSP image of a scene into out. */
 int bi_build_bsp(const bi_scene *s, const uint8_t palette[768], bi_buf *out, ew_error *err);

@@ -21,7 +21,6 @@
 #include "ew_world.h"
 
 #include <limits.h>
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -72,7 +71,7 @@ typedef struct ctx {
     int  (*verts)[3]; int nverts, capverts;
     imap   vmap;
     int   (*edges)[3]; int nedges, capedges;    /* v0, v1, shared-with-reverse */
-    imap   emap;                                /* directed (v0,v1) -> unshared edge */
+    imap   emap;                                /* directed (v0,v1) -> newest edge for it */
     int   *surfedges; int nsurfedges, capsurfedges;
     int    planes[3][MAX_GRID + 1];             /* plane number of (axis, pos), -1 */
     int    nplanes;
@@ -528,7 +527,7 @@ static int write_vis(ctx *c, bi_buf *vis, int32_t *visofs) {
         open[l] = (uint8_t)is_open(nd->kind);
     }
     memset(lo[0], 0, sizeof lo[0]), memset(hi[0], 0, sizeof hi[0]);
-    if (bi_compute_pvs(c->g, n, (const int (*)[3])lo, (const int (*)[3])hi, open, pvs)) goto done;
+    if (bi_compute_pvs(n, (const int (*)[3])lo, (const int (*)[3])hi, open, pvs)) goto done;
     for (int l = 0; l < n; l++) {
         visofs[l] = -1;
         if (!open[l]) continue;
