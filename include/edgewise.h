@@ -218,6 +218,17 @@ ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data
 void ew_scene_free(ew_scene *s);
 /* Adds world submodel N (1..) at an offset and rotation; entity index or -1. */
 int  ew_scene_add_brush(ew_scene *s, int submodel, const float origin[3], const float angles[3]);
+/* Loads an alias model (MDL), sprite (SPR) or item box (BSP) from memory
+ * for entities to use; returns its model index (the same index again for
+ * the same name), or -1 with err set. */
+int  ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size_t size,
+                         ew_error *err);
+/* An entity using model (an index from ew_scene_load_model) at origin with
+ * Quake angles (pitch yaw roll), frame and skin; entity index or -1. */
+int  ew_scene_add_entity(ew_scene *s, int model, const float origin[3], const float angles[3],
+                         int frame, int skin);
+/* n particles in a deterministic cloud (same seed, same cloud). */
+int  ew_scene_add_particles(ew_scene *s, int n, const float center[3], float radius, uint32_t seed);
 /* A dynamic light: adds light within radius to the surfaces it reaches. */
 int  ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius);
 void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing);

@@ -179,6 +179,8 @@ int  ew_point_leaf(const ew_world *w, int headnode, const float p[3]);
 void ew_walk_world(ew_renderer *r);
 /* -1 if the box is outside a frustum plane in clipflags, else the planes it still crosses. */
 int  ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags);
+/* 1 if a world-space box touches a leaf in this frame's PVS. */
+int  ew_box_in_pvs(const ew_renderer *r, const float lo[3], const float hi[3]);
 
 /* world/edges.c: clip, project and emit one face into the edge list. */
 void ew_emit_face(ew_renderer *r, int face, int clipflags);
@@ -221,7 +223,9 @@ typedef struct ew_gradients {
     int32_t s_adjust, t_adjust;   /* 16.16: s = (s/z) * z + s_adjust */
     int32_t s_max, t_max;         /* 16.16 clamp limits */
 } ew_gradients;
-void ew_face_gradients(const ew_renderer *r, const ew_view *v, const ew_face *f, int mip,
+/* Screen gradients of face f of world w seen through v (the camera in the
+ * face's own space) at a mip level. */
+void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
                        ew_gradients *g);
 void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
                    const uint8_t *pixels, int pitch);
@@ -235,8 +239,34 @@ uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y);
 void    ew_turb_table(int32_t table[128], double time);
 uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, int32_t tt);
 
+/* raster/zpoly.c: the z-buffered polygon fill (reference path, item boxes) */
+typedef struct ew_zpoly {
+    int    n;
+    float  u[EW_MAX_POLY], v[EW_MAX_POLY];
+    float  nearzi;
+    double sign;
+    int    x0, y0, x1, y1;
+} ew_zpoly;
+typedef struct ew_zpoly_look {
+    const ew_world   *world;
+    const ew_face    *face;
+    const ew_view    *view;         /* the camera in the face's own space */
+    const ew_texture *tex;          /* sky and liquids */
+    const uint8_t    *surf;         /* lit surface (others) */
+    int               surf_width, mip;
+} ew_zpoly_look;
+/* Clips (whole frustum) and projects a world-space polygon; 0 if nothing is left. */
+int  ew_zpoly_project(const ew_renderer *r, float (*in)[3], int n, ew_zpoly *p);
+/* Fills it into r->frame and r->zbuf where nearer; ids[pixel] = id where it
+ * wins (ids may be NULL).  Returns the pixels won. */
+long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id);
+
+/* raster/entities.c: alias models, sprites, item boxes and particles of the
+ * scene, z-buffered over the frame. */
+void ew_draw_entities(ew_renderer *r);
+
 /* light */
-int  ew_face_mip(const ew_renderer *r, const ew_face *f, float nearzi);
+int  ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi);
 const ew_texture *ew_face_texture(const ew_world *w, const ew_face *f, double time);
 /* Finds (or makes room for) the lit surface of a face at a mip level and
  * marks it used this frame; *build is set when its pixels must be built
@@ -244,8 +274,11 @@ const ew_texture *ew_face_texture(const ew_world *w, const ew_face *f, double ti
  * Serial: lookups allocate and evict.  NULL when out of memory. */
 ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
 void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
-void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *tex,
-                      int mip, const int light[4], unsigned dlights, uint8_t *out, int *scratch);
+/* Builds face f of world w lit by style values light[] (and, for the
+ * renderer's own world, the dynamic lights in bits dlights) into out. */
+void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
+                      const ew_texture *tex, int mip, const int light[4], unsigned dlights,
+                      uint8_t *out, int *scratch);
 int  ew_cache_init(ew_surf_cache *c, int numfaces, size_t budget);
 void ew_cache_free(ew_surf_cache *c);
 

@@ -217,16 +217,16 @@ void ew_draw_band(ew_renderer *r, ew_band *b) {
         const ew_cached_surf *cs = r->surf_cache[s];
         ew_gradients g;
         if (f->flags & EW_SURF_SKY) {
-            ew_face_gradients(r, sf->view, f, 0, &g);
+            ew_face_gradients(w, sf->view, f, 0, &g);
             ew_draw_sky_spans(r, b, s, ew_face_texture(w, f, r->view.time));
         } else if (f->flags & EW_SURF_TURB) {
-            ew_face_gradients(r, sf->view, f, 0, &g);
+            ew_face_gradients(w, sf->view, f, 0, &g);
             ew_draw_turb_spans(r, b, s, &g, ew_face_texture(w, f, r->view.time));
         } else if (cs) {
-            ew_face_gradients(r, sf->view, f, cs->mip, &g);
+            ew_face_gradients(w, sf->view, f, cs->mip, &g);
             ew_draw_spans(r, b, s, &g, cs->pixels, cs->width);
         } else {  /* no memory for the surface: flat colour (counted in dropped) */
-            ew_face_gradients(r, sf->view, f, 0, &g);
+            ew_face_gradients(w, sf->view, f, 0, &g);
             for (int si = b->span_head[s]; si >= 0; si = b->spans[si].next)
                 memset(r->frame + (size_t)b->spans[si].v * r->width + b->spans[si].u, 0,
                        (size_t)b->spans[si].count);
@@ -336,7 +336,7 @@ static void prepare_surfaces(ew_renderer *r) {
         for (int i = 0; i < r->nbands && !used; i++) used = r->bands[i].span_head[s] >= 0;
         if (!used) continue;
         int build;
-        ew_cached_surf *e = ew_cache_lookup(r, sf->face, ew_face_mip(r, f, sf->nearzi), &build);
+        ew_cached_surf *e = ew_cache_lookup(r, sf->face, ew_face_mip(&r->view, w, f, sf->nearzi), &build);
         if (!e) r->stats.dropped++;
         r->surf_cache[s] = e;
         if (build) r->to_build[r->nbuild++] = e;
@@ -359,6 +359,8 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     ew_pool_run(r->pool, job_draw, r);
     r->bands_sized_for = r->nbands;
     double t3 = ew_now_ms();
+    ew_draw_entities(r);
+    double t4 = ew_now_ms();
 
     ew_stats *st = &r->stats;
     st->pixels = (long)r->width * r->height;
@@ -372,7 +374,8 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         if (r->face_ids_on) record_face_ids(r, b);
     }
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
-    st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2, st->ms_total = t3 - t0;
+    st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2, st->ms_models = t4 - t3;
+    st->ms_total = t4 - t0;
     if (stats) *stats = *st;
     return 0;
 }

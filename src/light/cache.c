@@ -95,5 +95,6 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
 
 void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch) {
     const ew_face *f = &r->world->faces[e->face];
-    ew_build_surface(r, f, &r->world->textures[e->texture], e->mip, e->light, e->dlights, e->pixels, scratch);
+    ew_build_surface(r, r->world, f, &r->world->textures[e->texture], e->mip, e->light, e->dlights, e->pixels,
+                     scratch);
 }

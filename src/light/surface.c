@@ -4,10 +4,8 @@
  * interpolated bilinearly between them; up to four light styles add up. */
 #include "ew_render.h"
 
-int ew_face_mip(const ew_renderer *r, const ew_face *f, float nearzi) {
-    const ew_view *v = &r->view;
-    float scale = nearzi * (v->xscale > v->yscale ? v->xscale : v->yscale) *
-                  r->world->texinfo[f->texinfo].mipadjust;
+int ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi) {
+    float scale = nearzi * (v->xscale > v->yscale ? v->xscale : v->yscale) * w->texinfo[f->texinfo].mipadjust;
     /* Coarser mips once a texel covers less than a pixel (0.8 leaves a little
      * sharpness margin, as the original did). */
     if (scale >= 1.0f) return 0;
@@ -32,9 +30,9 @@ static int wrap(int x, int n) {
     return x < 0 ? x + n : x;
 }
 
-void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *tex,
-                      int mip, const int light[4], unsigned dlights, uint8_t *out, int *scratch) {
-    const ew_world *w = r->world;
+void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
+                      const ew_texture *tex, int mip, const int light[4], unsigned dlights,
+                      uint8_t *out, int *scratch) {
     const uint8_t *cmap = r->colormap;
     int smax = (f->extents[0] >> 4) + 1, tmax = (f->extents[1] >> 4) + 1;
     int *bl = scratch;
@@ -50,7 +48,7 @@ void ew_build_surface(const ew_renderer *r, const ew_face *f, const ew_texture *
             for (int k = 0; k < 4 && f->styles[k] != 255; k++, lm += size)
                 for (int i = 0; i < size; i++) bl[i] += lm[i] * light[k];
         }
-        ew_add_dlights(r, f, dlights, bl);
+        if (w == r->world) ew_add_dlights(r, f, dlights, bl);
         /* Light 0..255*256 becomes a colormap row in 8.8: bright maps to
          * low rows; the top is held just short of the overbright end. */
         for (int i = 0; i < size; i++) {

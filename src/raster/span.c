@@ -4,9 +4,8 @@
 
 #include <math.h>
 
-void ew_face_gradients(const ew_renderer *r, const ew_view *v, const ew_face *f, int mip,
+void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
                        ew_gradients *g) {
-    const ew_world *w = r->world;
     const ew_plane *pl = &w->planes[f->plane];
     const ew_texinfo *ti = &w->texinfo[f->texinfo];
     float nx = 0, ny = 0, nz = 0, od = 0;

@@ -1,9 +1,12 @@
-/* Scenes: the entities of a map (or of a program) drawn over its world. */
+/* Scenes: the entities of a map (or of a program) drawn over its world.
+ * Models are loaded once per scene and shared by the entities using them. */
 #include "scene.h"
 #include "entities.h"
 #include "ew_render.h"
 #include "ew_util.h"
+#include "raster/alias.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -19,10 +22,47 @@ ew_scene *ew_scene_create(const ew_world *w, ew_error *err) {
 
 void ew_scene_free(ew_scene *s) {
     if (!s) return;
+    for (int i = 0; i < s->nmodels; i++) {
+        ew_scene_model *m = &s->models[i];
+        if (m->kind == EW_MODEL_ALIAS) ew_mdl_free(m->data);
+        else if (m->kind == EW_MODEL_SPRITE) ew_spr_free(m->data);
+        else if (m->kind == EW_MODEL_BOX) ew_world_free(m->data);
+    }
     free(s->ents);
     free(s->models);
     free(s->particles);
     free(s);
+}
+
+int ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size_t size, ew_error *err) {
+    for (int i = 0; i < s->nmodels; i++)
+        if (strcmp(s->models[i].name, name) == 0) return i;
+    int kind;
+    void *model;
+    if (size >= 4 && memcmp(data, "IDPO", 4) == 0) {
+        kind = EW_MODEL_ALIAS, model = ew_mdl_load(data, size, name, err);
+    } else if (size >= 4 && memcmp(data, "IDSP", 4) == 0) {
+        kind = EW_MODEL_SPRITE, model = ew_spr_load(data, size, name, err);
+    } else {
+        kind = EW_MODEL_BOX, model = ew_world_load(data, size, name, err);
+    }
+    if (!model) return -1;
+    if (s->nmodels == s->cap_models) {
+        int cap = s->cap_models ? s->cap_models * 2 : 16;
+        ew_scene_model *m = realloc(s->models, sizeof *m * (size_t)cap);
+        if (!m) {
+            if (kind == EW_MODEL_ALIAS) ew_mdl_free(model);
+            else if (kind == EW_MODEL_SPRITE) ew_spr_free(model);
+            else ew_world_free(model);
+            return ew_fail(err, "%s: out of memory", name);
+        }
+        s->models = m, s->cap_models = cap;
+    }
+    ew_scene_model *m = &s->models[s->nmodels];
+    m->kind = kind;
+    m->data = model;
+    snprintf(m->name, sizeof m->name, "%s", name);
+    return s->nmodels++;
 }
 
 int ew_scene_add_entity(ew_scene *s, int model, const float origin[3], const float angles[3],
@@ -58,27 +98,128 @@ int ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius) {
     return s->ndlights++;
 }
 
+int ew_scene_add_particles(ew_scene *s, int n, const float center[3], float radius, uint32_t seed) {
+    if (n < 0 || n > 1000000 || !(radius >= 0) || radius > 1e5f) return -1;
+    ew_particle *p = realloc(s->particles, sizeof *p * (size_t)(s->nparticles + n + 1));
+    if (!p) return -1;
+    s->particles = p;
+    ew_particle_field(p + s->nparticles, n, center, radius, seed);
+    s->nparticles += n;
+    return n;
+}
+
 void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing) {
     if (entities) *entities = s->nents;
     if (unknown) *unknown = s->unknown;
     if (missing) *missing = s->missing;
 }
 
+/* ---- the standard Quake classnames ---------------------------------------- */
+
+typedef struct class_model {
+    const char *classname;
+    const char *model;    /* %c: the key's world type letter (w, m, b) */
+    const char *model_big; /* spawnflags & 1 (big boxes, rotten health) */
+    const char *model_mega; /* spawnflags & 2 (megahealth) */
+    int skin;
+} class_model;
+
+static const class_model class_models[] = {
+    {"monster_army", "progs/soldier.mdl", 0, 0, 0},
+    {"monster_dog", "progs/dog.mdl", 0, 0, 0},
+    {"monster_ogre", "progs/ogre.mdl", 0, 0, 0},
+    {"monster_ogre_marksman", "progs/ogre.mdl", 0, 0, 0},
+    {"monster_knight", "progs/knight.mdl", 0, 0, 0},
+    {"monster_hell_knight", "progs/hknight.mdl", 0, 0, 0},
+    {"monster_zombie", "progs/zombie.mdl", 0, 0, 0},
+    {"monster_demon1", "progs/demon.mdl", 0, 0, 0},
+    {"monster_shambler", "progs/shambler.mdl", 0, 0, 0},
+    {"monster_wizard", "progs/wizard.mdl", 0, 0, 0},
+    {"monster_enforcer", "progs/enforcer.mdl", 0, 0, 0},
+    {"monster_shalrath", "progs/shalrath.mdl", 0, 0, 0},
+    {"monster_tarbaby", "progs/tarbaby.mdl", 0, 0, 0},
+    {"monster_fish", "progs/fish.mdl", 0, 0, 0},
+    {"monster_boss", "progs/boss.mdl", 0, 0, 0},
+    {"monster_oldone", "progs/oldone.mdl", 0, 0, 0},
+    {"item_armor1", "progs/armor.mdl", 0, 0, 0},
+    {"item_armor2", "progs/armor.mdl", 0, 0, 1},
+    {"item_armorInv", "progs/armor.mdl", 0, 0, 2},
+    {"weapon_supershotgun", "progs/g_shot.mdl", 0, 0, 0},
+    {"weapon_nailgun", "progs/g_nail.mdl", 0, 0, 0},
+    {"weapon_supernailgun", "progs/g_nail2.mdl", 0, 0, 0},
+    {"weapon_grenadelauncher", "progs/g_rock.mdl", 0, 0, 0},
+    {"weapon_rocketlauncher", "progs/g_rock2.mdl", 0, 0, 0},
+    {"weapon_lightning", "progs/g_light.mdl", 0, 0, 0},
+    {"item_health", "maps/b_bh25.bsp", "maps/b_bh10.bsp", "maps/b_bh100.bsp", 0},
+    {"item_shells", "maps/b_shell0.bsp", "maps/b_shell1.bsp", 0, 0},
+    {"item_spikes", "maps/b_nail0.bsp", "maps/b_nail1.bsp", 0, 0},
+    {"item_rockets", "maps/b_rock0.bsp", "maps/b_rock1.bsp", 0, 0},
+    {"item_cells", "maps/b_batt0.bsp", "maps/b_batt1.bsp", 0, 0},
+    {"item_key1", "progs/%c_s_key.mdl", 0, 0, 0},
+    {"item_key2", "progs/%c_g_key.mdl", 0, 0, 0},
+    {"item_artifact_super_damage", "progs/quaddama.mdl", 0, 0, 0},
+    {"item_artifact_invulnerability", "progs/invulner.mdl", 0, 0, 0},
+    {"item_artifact_envirosuit", "progs/suit.mdl", 0, 0, 0},
+    {"item_artifact_invisibility", "progs/invisibl.mdl", 0, 0, 0},
+    {"item_sigil", "progs/end1.mdl", 0, 0, 0},
+    {"light_flame_large_yellow", "progs/flame2.mdl", 0, 0, 0},
+    {"light_flame_small_yellow", "progs/flame2.mdl", 0, 0, 0},
+    {"light_flame_small_white", "progs/flame2.mdl", 0, 0, 0},
+    {"light_torch_small_walltorch", "progs/flame.mdl", 0, 0, 0},
+    {"misc_explobox", "maps/b_explob.bsp", 0, 0, 0},
+    {"misc_explobox2", "maps/b_exbox2.bsp", 0, 0, 0},
+};
+
+/* Classnames that are known to draw nothing (triggers, lights, markers). */
+static int invisible_class(const char *c) {
+    static const char *prefixes[] = {"info_", "light", "trigger_", "path_", "ambient_", "func_",
+                                     "target_", "worldspawn", "air_bubbles", "event_", "misc_noisemaker",
+                                     "misc_fireball", "viewthing", "noclass"};
+    for (size_t i = 0; i < sizeof prefixes / sizeof *prefixes; i++)
+        if (strncmp(c, prefixes[i], strlen(prefixes[i])) == 0) return 1;
+    return 0;
+}
+
+/* The game directory of a map: data_dir, or the folder above maps/NAME.bsp. */
+static ew_fs *open_game_dir(const char *map, const char *data_dir) {
+    ew_error err;
+    if (data_dir) return ew_fs_open(data_dir, &err);
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s", map ? map : "");
+    char *slash = strrchr(dir, '/');
+    if (!slash) {
+        snprintf(dir, sizeof dir, "..");
+    } else {
+        *slash = 0;
+        size_t n = strlen(dir);
+        if (n + 4 >= sizeof dir) return NULL;
+        memcpy(dir + n, "/..", 4);
+    }
+    return ew_fs_open(dir, &err);
+}
+
 ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data_dir, ew_error *err) {
-    (void)map, (void)data_dir;
     ew_scene *s = ew_scene_create(w, err);
     if (!s) return NULL;
     const char *text = ew_world_entities(w);
     ew_entities ents;
     ew_error perr;
     ew_entities_parse(text, strlen(text), &ents, &perr);  /* keeps what parsed */
+    ew_fs *fs = open_game_dir(map, data_dir);
+    char worldtype = 'w';
+    for (int i = 0; i < ents.count; i++) {
+        const char *cls = ew_entity_get(&ents.ents[i], "classname");
+        const char *wt = ew_entity_get(&ents.ents[i], "worldtype");
+        if (cls && strcmp(cls, "worldspawn") == 0 && wt) worldtype = wt[0] == '1' ? 'm' : wt[0] == '2' ? 'b' : 'w';
+    }
     for (int i = 0; i < ents.count; i++) {
         const ew_entity *e = &ents.ents[i];
         const char *cls = ew_entity_get(e, "classname");
         const char *model = ew_entity_get(e, "model");
         if (!cls || strcmp(cls, "worldspawn") == 0) continue;
-        float origin[3] = {0, 0, 0}, angles[3] = {0, 0, 0};
+        float origin[3] = {0, 0, 0}, angles[3] = {0, 0, 0}, flags = 0;
         ew_entity_floats(e, "origin", origin, 3);
+        ew_entity_floats(e, "spawnflags", &flags, 1);
         if (model && model[0] == '*') {
             /* A brush entity's "angle" is its direction of travel, not a turn. */
             char *end;
@@ -87,7 +228,31 @@ ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data
                 s->missing++;
             continue;
         }
+        const class_model *cm = NULL;
+        for (size_t k = 0; k < sizeof class_models / sizeof *class_models && !cm; k++)
+            if (strcmp(cls, class_models[k].classname) == 0) cm = &class_models[k];
+        if (!cm) {
+            if (!invisible_class(cls)) s->unknown++;
+            continue;
+        }
+        const char *pattern = cm->model;
+        int sf = (int)flags;
+        if ((sf & 2) && cm->model_mega) pattern = cm->model_mega;
+        else if ((sf & 1) && cm->model_big) pattern = cm->model_big;
+        char path[64];
+        snprintf(path, sizeof path, pattern, worldtype);
+        ew_entity_floats(e, "angle", &angles[1], 1);
+        int mi = -1;
+        uint8_t *data;
+        size_t size;
+        ew_error merr;
+        if (fs && ew_fs_load(fs, path, &data, &size, &merr) == 0) {
+            mi = ew_scene_load_model(s, path, data, size, &merr);
+            free(data);
+        }
+        if (mi < 0 || ew_scene_add_entity(s, mi, origin, angles, 0, cm->skin) < 0) s->missing++;
     }
+    ew_fs_close(fs);
     ew_entities_free(&ents);
     return s;
 }

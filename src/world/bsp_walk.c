@@ -81,3 +81,33 @@ static void walk(ew_renderer *r, int n, int clipflags, int depth) {
 void ew_walk_world(ew_renderer *r) {
     walk(r, r->world->models[0].headnode, 15, 0);
 }
+
+/* Does a world-space box touch any leaf of this frame's PVS?  (Entities in
+ * no visible leaf are hidden however near they are.) */
+static int box_visible(const ew_renderer *r, int n, const float lo[3], const float hi[3], int depth) {
+    const ew_world *w = r->world;
+    while (n >= 0) {
+        if (depth++ > EW_MAX_WALK_DEPTH) return 1;
+        const ew_node *node = &w->nodes[n];
+        const ew_plane *p = &w->planes[node->plane];
+        float dmax = 0, dmin = 0;
+        for (int k = 0; k < 3; k++) {
+            dmax += p->normal[k] * (p->normal[k] >= 0 ? hi[k] : lo[k]);
+            dmin += p->normal[k] * (p->normal[k] >= 0 ? lo[k] : hi[k]);
+        }
+        if (dmin >= p->dist) {
+            n = node->children[0];
+        } else if (dmax < p->dist) {
+            n = node->children[1];
+        } else {
+            if (box_visible(r, node->children[0], lo, hi, depth)) return 1;
+            n = node->children[1];
+        }
+    }
+    int leaf = -1 - n;
+    return r->leaf_frame[leaf] == r->framecount && w->leaves[leaf].contents != EW_CONTENTS_SOLID;
+}
+
+int ew_box_in_pvs(const ew_renderer *r, const float lo[3], const float hi[3]) {
+    return box_visible(r, r->world->models[0].headnode, lo, hi, 0);
+}

@@ -213,7 +213,7 @@ void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_vie
     sf->view = v;
     sf->insubmodel = 1;
     ew_gradients g;
-    ew_face_gradients(r, v, f, 0, &g);
+    ew_face_gradients(r->world, v, f, 0, &g);
     sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
     r->nsurfs++;
 }

@@ -1,0 +1,457 @@
+/* Triangle (alias) models: per-frame vertex transform, projection and
+ * integer snapping; frustum accept/reject/clip by the frame's bounds;
+ * backface + degenerate culling in one cross product; Gouraud shading from
+ * a fixed light direction; the affine triangle filler (the subdivision
+ * rasterizer is in alias_subdiv.c). */
+#include "raster/alias.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NEAR_Z 4.0f          /* view-space near plane for models */
+#define STACK_VERTS 1024     /* vertices handled without malloc */
+#define STACK_TILE 49152     /* bytes of subdivision tile without malloc */
+#define MAX_TILE_PIXELS (1 << 20)
+#define MAX_CLIPPED 12
+
+/* ---- the affine filler ---------------------------------------------------- */
+
+/* ceil(n / d) for d > 0 */
+static inline int32_t ceil_div(int64_t n, int64_t d) {
+    int64_t q = n / d;
+    if (q * d < n) q++;
+    return (int32_t)q;
+}
+
+/* Walks x = ceil(x0 + (y - y0) * dx / dy) down the scanlines (dy > 0):
+ * the first pixel centre on or right of the edge. */
+typedef struct edge_walk {
+    int32_t x, err, step, rstep, dy;
+} edge_walk;
+
+static void edge_start(edge_walk *e, const ew_avert *p, const ew_avert *q, int32_t y) {
+    int32_t dx = q->x - p->x, dy = q->y - p->y;
+    int64_t n = (int64_t)(y - p->y) * dx;
+    int32_t c = ceil_div(n, dy);
+    e->x = p->x + c;
+    e->err = (int32_t)((int64_t)c * dy - n);  /* in [0, dy) */
+    e->dy = dy;
+    /* dx = step * dy + rstep, 0 <= rstep < dy */
+    int32_t step = dx / dy;
+    if (step * dy > dx) step--;
+    e->step = step;
+    e->rstep = dx - step * dy;
+}
+
+static inline void edge_next(edge_walk *e) {
+    e->x += e->step;
+    e->err -= e->rstep;
+    if (e->err < 0) {
+        e->x++;
+        e->err += e->dy;
+    }
+}
+
+/* Per-triangle gradients of one attribute over the screen. */
+typedef struct grad {
+    float dx, dy, v0;  /* value at the triangle's first (top) vertex */
+} grad;
+
+static inline grad make_grad(float a0, float a1, float a2, float x1, float y1, float x2, float y2,
+                             float inv) {
+    float d1 = a1 - a0, d2 = a2 - a0;
+    return (grad){(d1 * y2 - d2 * y1) * inv, (d2 * x1 - d1 * x2) * inv, a0};
+}
+
+/* Clamps a 16.16/8.8 run to [0, max] by its ends: the run is linear, so if
+ * both ends are inside, every value between is. */
+static inline void fix_run(int32_t *start, int32_t *step, int n, int32_t max) {
+    int64_t end = (int64_t)*start + (int64_t)*step * (n - 1);
+    if (*start >= 0 && *start <= max && end >= 0 && end <= max) return;
+    int64_t s = *start < 0 ? 0 : *start > max ? max : *start;
+    int64_t e = end < 0 ? 0 : end > max ? max : end;
+    *start = (int32_t)s;
+    *step = n > 1 ? (int32_t)((e - s) / (n - 1)) : 0;
+}
+
+/* float -> int32 without undefined behaviour for wild values (slivers). */
+static inline int32_t f2i(float f) {
+    if (!(f > -1073741824.0f)) return -1073741824;
+    if (f > 1073741824.0f) return 1073741824;
+    return (int32_t)f;
+}
+
+static void draw_span(ew_araster *ra, int y, int xs, int xe, const ew_avert *top, const grad *gs,
+                      const grad *gt, const grad *gl, const grad *gz) {
+    int n = xe - xs;
+    float fx = (float)(xs - top->x), fy = (float)(y - top->y);
+    int32_t s = f2i(gs->v0 + gs->dx * fx + gs->dy * fy);
+    int32_t t = f2i(gt->v0 + gt->dx * fx + gt->dy * fy);
+    int32_t l = f2i(gl->v0 + gl->dx * fx + gl->dy * fy);
+    float zi = gz->v0 + gz->dx * fx + gz->dy * fy, dzi = gz->dx;
+    int32_t ds = f2i(gs->dx), dt = f2i(gt->dx), dl = f2i(gl->dx);
+    fix_run(&s, &ds, n, (ra->skinw << 16) - 1);
+    fix_run(&t, &dt, n, (ra->skinh << 16) - 1);
+    fix_run(&l, &dl, n, (63 << 8) + 255);
+
+    float *zr = ra->zbuf + (size_t)y * ra->pitch;
+    uint8_t *fr = ra->frame + (size_t)y * ra->pitch;
+    const uint8_t *skin = ra->skin, *cmap = ra->colormap;
+    int sw = ra->skinw;
+    long count = 0;
+    for (int x = xs; x < xe; x++) {
+        if (zi >= zr[x]) {
+            zr[x] = zi;
+            fr[x] = cmap[(l & 0x3F00) + skin[(t >> 16) * sw + (s >> 16)]];
+            count++;
+        }
+        zi += dzi;
+        s += ds;
+        t += dt;
+        l += dl;
+    }
+    ra->pixels += count;
+}
+
+void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c) {
+    int64_t cross = ew_alias_cross(a, b, c);
+    if (cross <= 0) return;
+    /* Sort by y: top, mid, bottom. */
+    const ew_avert *v0 = a, *v1 = b, *v2 = c, *tmp;
+    if (v1->y < v0->y) tmp = v0, v0 = v1, v1 = tmp;
+    if (v2->y < v1->y) tmp = v1, v1 = v2, v2 = tmp;
+    if (v1->y < v0->y) tmp = v0, v0 = v1, v1 = tmp;
+    int32_t ytop = v0->y, ymid = v1->y, ybot = v2->y;
+    int32_t ya = ytop > ra->y0 ? ytop : ra->y0;
+    int32_t yb = ybot < ra->y1 ? ybot : ra->y1;
+    if (ya >= yb) return;
+
+    /* Gradients over the screen from the top vertex (the cross is their
+     * common denominator). */
+    float x1 = (float)(v1->x - v0->x), y1 = (float)(v1->y - v0->y);
+    float x2 = (float)(v2->x - v0->x), y2 = (float)(v2->y - v0->y);
+    float det = x1 * y2 - x2 * y1;  /* +-cross: sorting may have swapped the order */
+    float inv = 1.0f / det;
+    grad gs = make_grad((float)v0->s, (float)v1->s, (float)v2->s, x1, y1, x2, y2, inv);
+    grad gt = make_grad((float)v0->t, (float)v1->t, (float)v2->t, x1, y1, x2, y2, inv);
+    grad gl = make_grad((float)v0->l, (float)v1->l, (float)v2->l, x1, y1, x2, y2, inv);
+    grad gz = make_grad(v0->zi, v1->zi, v2->zi, x1, y1, x2, y2, inv);
+
+    /* Is the middle vertex right of the long edge (then the long edge is the
+     * left one)?  The x range of a scanline is [ceil(xl), ceil(xr)): left
+     * edges include centres on them, right edges exclude them, a top
+     * horizontal edge is drawn and a bottom one is not. */
+    int mid_right = (int64_t)(v1->x - v0->x) * (ybot - ytop) > (int64_t)(v2->x - v0->x) * (ymid - ytop);
+    edge_walk lng, sh;
+    edge_start(&lng, v0, v2, ya);
+    int32_t y = ya;
+    if (y < ymid) {
+        edge_start(&sh, v0, v1, y);
+        int32_t yend = ymid < yb ? ymid : yb;
+        for (; y < yend; y++, edge_next(&lng), edge_next(&sh)) {
+            int32_t xl = mid_right ? lng.x : sh.x, xr = mid_right ? sh.x : lng.x;
+            if (xl < ra->x0) xl = ra->x0;
+            if (xr > ra->x1) xr = ra->x1;
+            if (xl < xr) draw_span(ra, y, xl, xr, v0, &gs, &gt, &gl, &gz);
+        }
+    }
+    if (y < yb) {
+        edge_start(&sh, v1, v2, y);
+        for (; y < yb; y++, edge_next(&lng), edge_next(&sh)) {
+            int32_t xl = mid_right ? lng.x : sh.x, xr = mid_right ? sh.x : lng.x;
+            if (xl < ra->x0) xl = ra->x0;
+            if (xr > ra->x1) xr = ra->x1;
+            if (xl < xr) draw_span(ra, y, xl, xr, v0, &gs, &gt, &gl, &gz);
+        }
+    }
+}
+
+/* ---- the model pipeline --------------------------------------------------- */
+
+/* A vertex of the current frame: view space, clip flags, projection. */
+typedef struct xvert {
+    float   p[3];     /* view space: x right, y up, z forward */
+    float   s, t, l;  /* texel (front), light row 8.8 as floats for clipping */
+    int32_t sback;    /* 16.16 texel s on the back half (onseam) */
+    int     clip;     /* bit k: outside clip plane k */
+    ew_avert sv;      /* projected (valid when clip == 0) */
+} xvert;
+
+/* The five clip planes in view space: a.p + d >= 0 inside.  The side
+ * planes put projected centres within [-0.5, size - 0.5]. */
+typedef struct clip_planes {
+    float n[5][3], d[5];
+} clip_planes;
+
+static void make_planes(const ew_view *v, clip_planes *cp) {
+    float w = (float)v->width, h = (float)v->height;
+    float pl[5][4] = {
+        {0, 0, 1, -NEAR_Z},
+        {v->xscale, 0, v->xcenter + 0.5f, 0},
+        {-v->xscale, 0, w - 0.5f - v->xcenter, 0},
+        {0, -v->yscale, v->ycenter + 0.5f, 0},
+        {0, v->yscale, h - 0.5f - v->ycenter, 0},
+    };
+    for (int k = 0; k < 5; k++) {
+        for (int i = 0; i < 3; i++) cp->n[k][i] = pl[k][i];
+        cp->d[k] = pl[k][3];
+    }
+}
+
+static inline float plane_dist(const clip_planes *cp, int k, const float p[3]) {
+    return cp->n[k][0] * p[0] + cp->n[k][1] * p[1] + cp->n[k][2] * p[2] + cp->d[k];
+}
+
+static inline int clip_flags(const clip_planes *cp, const float p[3]) {
+    int f = 0;
+    for (int k = 0; k < 5; k++)
+        if (plane_dist(cp, k, p) < 0) f |= 1 << k;
+    return f;
+}
+
+static inline int32_t snap(float f, int32_t lo, int32_t hi) {
+    float r = floorf(f + 0.5f);
+    if (!(r >= (float)lo)) return lo;  /* also catches NaN */
+    if (r > (float)hi) return hi;
+    return (int32_t)r;
+}
+
+static void project(const ew_view *v, const float p[3], ew_avert *out) {
+    float zi = 1.0f / p[2];
+    out->x = snap(v->xcenter + v->xscale * p[0] * zi, 0, v->width - 1);
+    out->y = snap(v->ycenter - v->yscale * p[1] * zi, 0, v->height - 1);
+    out->zi = zi;
+}
+
+static inline int32_t fix16(float f, int32_t max) {
+    float x = f * 65536.0f;
+    if (!(x >= 0)) return 0;
+    if (x > (float)max) return max;
+    return (int32_t)x;
+}
+
+/* Quake's angle vectors (x forward, y left, z up; pitch down positive). */
+static void angle_vectors(const float angles[3], float fwd[3], float right[3], float up[3]) {
+    const double d2r = 3.14159265358979323846 / 180.0;
+    double sp = sin(angles[0] * d2r), cp = cos(angles[0] * d2r);
+    double sy = sin(angles[1] * d2r), cy = cos(angles[1] * d2r);
+    double sr = sin(angles[2] * d2r), cr = cos(angles[2] * d2r);
+    fwd[0] = (float)(cp * cy), fwd[1] = (float)(cp * sy), fwd[2] = (float)(-sp);
+    right[0] = (float)(-sr * sp * cy + cr * sy);
+    right[1] = (float)(-sr * sp * sy - cr * cy);
+    right[2] = (float)(-sr * cp);
+    up[0] = (float)(cr * sp * cy + sr * sy);
+    up[1] = (float)(cr * sp * sy - sr * cy);
+    up[2] = (float)(cr * cp);
+}
+
+/* The light comes from this fixed world direction (towards the light),
+ * whatever the scene: from the front-above along +x, as the game's fixed
+ * light vector did. */
+static const float light_towards[3] = {0.8944272f, 0.0f, 0.4472136f};
+
+/* Sutherland-Hodgman against the planes in mask; attributes linear along
+ * edges.  Intersections are computed from the inside vertex, so an edge
+ * shared by two triangles clips to the same point from either side. */
+typedef struct cvert {
+    float p[3], s, t, l;
+} cvert;
+
+static int clip_poly(const clip_planes *cp, int mask, cvert *in, int n, cvert *scratch) {
+    cvert *src = in, *dst = scratch;
+    for (int k = 0; k < 5 && n > 0; k++) {
+        if (!(mask & (1 << k))) continue;
+        int m = 0;
+        for (int i = 0; i < n; i++) {
+            const cvert *a = &src[i], *b = &src[(i + 1) % n];
+            float da = plane_dist(cp, k, a->p), db = plane_dist(cp, k, b->p);
+            if (da >= 0) dst[m++] = *a;
+            if ((da >= 0) != (db >= 0) && m < MAX_CLIPPED) {
+                const cvert *pin = da >= 0 ? a : b, *pout = da >= 0 ? b : a;
+                float di = da >= 0 ? da : db, dout = da >= 0 ? db : da;
+                float f = di / (di - dout);
+                cvert *o = &dst[m++];
+                for (int j = 0; j < 3; j++) o->p[j] = pin->p[j] + f * (pout->p[j] - pin->p[j]);
+                o->s = pin->s + f * (pout->s - pin->s);
+                o->t = pin->t + f * (pout->t - pin->t);
+                o->l = pin->l + f * (pout->l - pin->l);
+            }
+            if (m >= MAX_CLIPPED) break;
+        }
+        n = m;
+        cvert *t = src;
+        src = dst, dst = t;
+    }
+    if (src != in)
+        for (int i = 0; i < n; i++) in[i] = src[i];
+    return n;
+}
+
+int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
+    if (!r || !m || !p) return 0;
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(p->origin[k]) || !isfinite(p->angles[k]) || fabsf(p->origin[k]) > 1e6f) return 0;
+    const ew_view *v = &r->view;
+
+    int frame = p->frame < 0 || p->frame >= m->numframes ? 0 : p->frame;
+    int skin = p->skin < 0 || p->skin >= m->numskins ? 0 : p->skin;
+    const ew_mdl_pose *pose = &m->poses[ew_mdl_anim_pick(&m->frames[frame], p->time)];
+    int image = ew_mdl_anim_pick(&m->skins[skin], p->time);
+
+    /* Model axes in the world (the game negated an alias model's pitch). */
+    float ang[3] = {-p->angles[0], p->angles[1], p->angles[2]};
+    float fwd[3], right[3], up[3];
+    angle_vectors(ang, fwd, right, up);
+    float axis[3][3];  /* model x, y, z in world space */
+    for (int i = 0; i < 3; i++) axis[0][i] = fwd[i], axis[1][i] = -right[i], axis[2][i] = up[i];
+    const float *vrow[3] = {v->right, v->up, v->forward};
+    /* model space -> view space: view = mm * model + mt */
+    float mm[3][3], mt[3], d[3];
+    for (int i = 0; i < 3; i++) d[i] = p->origin[i] - v->origin[i];
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            mm[i][j] = vrow[i][0] * axis[j][0] + vrow[i][1] * axis[j][1] + vrow[i][2] * axis[j][2];
+        mt[i] = vrow[i][0] * d[0] + vrow[i][1] * d[1] + vrow[i][2] * d[2];
+    }
+
+    /* Trivial accept / reject by the frame's bounds. */
+    clip_planes cp;
+    make_planes(v, &cp);
+    int and_flags = 0x1F, or_flags = 0;
+    float vmin = 1e30f, vmax = -1e30f;
+    for (int c = 0; c < 8; c++) {
+        float mp[3] = {c & 1 ? pose->maxs[0] : pose->mins[0], c & 2 ? pose->maxs[1] : pose->mins[1],
+                       c & 4 ? pose->maxs[2] : pose->mins[2]};
+        float vp[3];
+        for (int i = 0; i < 3; i++) vp[i] = mm[i][0] * mp[0] + mm[i][1] * mp[1] + mm[i][2] * mp[2] + mt[i];
+        int f = clip_flags(&cp, vp);
+        and_flags &= f, or_flags |= f;
+        if (vp[2] > 0) {
+            float sy = v->ycenter - v->yscale * vp[1] / vp[2];
+            if (sy < vmin) vmin = sy;
+            if (sy > vmax) vmax = sy;
+        }
+    }
+    if (and_flags) return 0;
+    int accept = or_flags == 0;
+    int subdiv = accept && (r->alias_raster == EW_ALIAS_SUBDIV ||
+                            (r->alias_raster == EW_ALIAS_AUTO && vmax - vmin < r->alias_threshold));
+
+    /* Byte vertex -> view space. */
+    float bm[3][3], bt[3];
+    for (int i = 0; i < 3; i++) {
+        bt[i] = mt[i];
+        for (int j = 0; j < 3; j++) {
+            bm[i][j] = mm[i][j] * m->scale[j];
+            bt[i] += mm[i][j] * m->translate[j];
+        }
+    }
+    /* The light direction in model space. */
+    float lm[3];
+    for (int j = 0; j < 3; j++)
+        lm[j] = light_towards[0] * axis[j][0] + light_towards[1] * axis[j][1] + light_towards[2] * axis[j][2];
+    int ambient = p->ambient, shade = p->shade;
+
+    xvert stack_verts[STACK_VERTS];
+    xvert *xv = m->numverts <= STACK_VERTS ? stack_verts : malloc(sizeof(xvert) * (size_t)m->numverts);
+    if (!xv) return 0;
+    int32_t smax = (m->skinwidth << 16) - 1, tmax = (m->skinheight << 16) - 1;
+    int minx = v->width, miny = v->height, maxx = -1, maxy = -1;
+    for (int i = 0; i < m->numverts; i++) {
+        xvert *x = &xv[i];
+        const uint8_t *bv = pose->verts[i].v;
+        for (int k = 0; k < 3; k++) x->p[k] = bm[k][0] * bv[0] + bm[k][1] * bv[1] + bm[k][2] * bv[2] + bt[k];
+        const float *n = pose->normals[i];
+        float dot = n[0] * lm[0] + n[1] * lm[1] + n[2] * lm[2];
+        int light = ambient + (dot > 0 ? (int)(shade * dot) : 0);
+        int32_t row = ew_alias_light_row(light);
+        const ew_mdl_st *st = &m->st[i];
+        x->s = (float)st->s, x->t = (float)st->t, x->l = (float)row;
+        x->sv.s = fix16((float)st->s, smax);
+        x->sv.t = fix16((float)st->t, tmax);
+        x->sv.l = row;
+        x->sback = st->onseam ? fix16((float)st->s + (float)(m->skinwidth / 2), smax) : x->sv.s;
+        x->clip = accept ? 0 : clip_flags(&cp, x->p);
+        if (!x->clip) {
+            project(v, x->p, &x->sv);
+            if (x->sv.x < minx) minx = x->sv.x;
+            if (x->sv.x > maxx) maxx = x->sv.x;
+            if (x->sv.y < miny) miny = x->sv.y;
+            if (x->sv.y > maxy) maxy = x->sv.y;
+        }
+    }
+
+    ew_araster ra;
+    memset(&ra, 0, sizeof ra);
+    ra.frame = r->frame, ra.zbuf = r->zbuf, ra.pitch = r->width;
+    ra.x0 = 0, ra.y0 = 0, ra.x1 = r->width, ra.y1 = r->height;
+    ra.skin = m->skinpixels + (size_t)image * m->skinwidth * m->skinheight;
+    ra.skinw = m->skinwidth, ra.skinh = m->skinheight;
+    ra.colormap = r->colormap;
+    /* Subdivision draws into a tile over the model's screen bounds. */
+    _Alignas(float) uint8_t stack_tile[STACK_TILE];
+    void *tile = NULL;
+    if (subdiv && maxx >= minx) {
+        int tw = maxx - minx + 1, th = maxy - miny + 1;
+        size_t bytes = ew_alias_tile_bytes(tw, th);
+        if (bytes <= sizeof stack_tile)
+            tile = stack_tile;
+        else if ((size_t)tw * th <= MAX_TILE_PIXELS)
+            tile = malloc(bytes);
+        if (tile) ew_alias_tile_begin(&ra, minx, miny, tw, th, tile);
+    }
+
+    int drawn = 0, drawn_subdiv = 0;
+    for (int ti = 0; ti < m->numtris; ti++) {
+        const ew_mdl_tri *tri = &m->tris[ti];
+        const xvert *x0 = &xv[tri->v[0]], *x1 = &xv[tri->v[1]], *x2 = &xv[tri->v[2]];
+        if (x0->clip & x1->clip & x2->clip) continue;
+        int back = !tri->facesfront;
+        if (!(x0->clip | x1->clip | x2->clip)) {
+            ew_avert a = x0->sv, b = x1->sv, c = x2->sv;
+            if (!ew_alias_tri_visible(&a, &b, &c)) continue;  /* back face or degenerate */
+            if (back) a.s = x0->sback, b.s = x1->sback, c.s = x2->sback;
+            drawn++;
+            if (subdiv) {
+                ew_alias_subdiv_tri(&ra, &a, &b, &c);
+                drawn_subdiv++;
+            } else {
+                ew_alias_affine_tri(&ra, &a, &b, &c);
+            }
+            continue;
+        }
+        /* The clip path: facing from the view-space triangle (the same sign
+         * as the screen cross for vertices in front of the eye). */
+        const float *p0 = x0->p, *p1 = x1->p, *p2 = x2->p;
+        float det = p0[0] * (p1[1] * p2[2] - p1[2] * p2[1]) - p0[1] * (p1[0] * p2[2] - p1[2] * p2[0]) +
+                    p0[2] * (p1[0] * p2[1] - p1[1] * p2[0]);
+        if (!(det < 0)) continue;
+        cvert poly[MAX_CLIPPED], scratch[MAX_CLIPPED];
+        const xvert *src[3] = {x0, x1, x2};
+        for (int k = 0; k < 3; k++) {
+            for (int j = 0; j < 3; j++) poly[k].p[j] = src[k]->p[j];
+            poly[k].s = back ? (float)src[k]->sback / 65536.0f : src[k]->s;
+            poly[k].t = src[k]->t;
+            poly[k].l = src[k]->l;
+        }
+        int n = clip_poly(&cp, x0->clip | x1->clip | x2->clip, poly, 3, scratch);
+        if (n < 3) continue;
+        ew_avert sv[MAX_CLIPPED];
+        for (int k = 0; k < n; k++) {
+            project(v, poly[k].p, &sv[k]);
+            sv[k].s = fix16(poly[k].s, smax);
+            sv[k].t = fix16(poly[k].t, tmax);
+            sv[k].l = (int32_t)poly[k].l;
+        }
+        drawn++;
+        for (int k = 1; k + 1 < n; k++) ew_alias_affine_tri(&ra, &sv[0], &sv[k], &sv[k + 1]);
+    }
+    ew_alias_tile_end(&ra);
+    if (tile && tile != stack_tile) free(tile);
+    if (xv != stack_verts) free(xv);
+    r->stats.alias_tris += drawn;
+    r->stats.alias_tris_subdiv += drawn_subdiv;
+    r->stats.alias_pixels += ra.pixels;
+    return 1;
+}

@@ -1,0 +1,121 @@
+/*
+ * Moving things (internal): triangle (alias) models, sprites, particles,
+ * and the light level of a point for lighting them.  All of them are drawn
+ * after the world, z-buffered against the 1/z the world's spans z-filled
+ * (larger 1/z is nearer), and write only r->frame, r->zbuf and r->stats.
+ *
+ * The alias model pipeline (Black Book chapter 69): every vertex of the
+ * frame is transformed, projected and snapped to integer screen
+ * coordinates; one cross product of the snapped coordinates rejects back
+ * faces and degenerate triangles together; the rest are drawn either with
+ * affine texture mapping and Gouraud shading (light from a fixed
+ * direction), or, for small models, with John Carmack's recursive
+ * subdivision rasterizer.
+ */
+#ifndef EW_ALIAS_H
+#define EW_ALIAS_H
+
+#include "ew_render.h"
+#include "asset/mdl.h"
+#include "asset/spr.h"
+
+/* Where and how an entity is drawn. */
+typedef struct ew_model_pose {
+    float  origin[3], angles[3];  /* Quake entity angles: pitch yaw roll (alias models
+                                     negate the pitch, as the game did) */
+    int    frame, skin;           /* clamped to the model's; groups animate by time */
+    double time;
+    int    ambient, shade;        /* light: 0..255 ambient level, directional shade amount */
+} ew_model_pose;
+
+/* Return 1 if anything of the model was in view (drawn), 0 if culled. */
+int  ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p);
+int  ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p);
+
+typedef struct ew_particle {
+    float   org[3];
+    uint8_t color;   /* palette index */
+} ew_particle;
+void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n);
+/* Fills out[0..n) with a deterministic cloud in a ball of `radius` around
+ * center (same seed, same cloud); returns n (0 if n < 0 or out is NULL). */
+int  ew_particle_field(ew_particle *out, int n, const float center[3], float radius, uint32_t seed);
+
+/* Light level 0..255 of the world's floor under p: traces straight down up
+ * to 2048 units through model 0 to the first face hit and samples its light
+ * map there (styles scaled by r->lightstyle[], no dynamic lights).  0 when
+ * nothing is hit or the face has no light map; 255 if the map is unlit. */
+int  ew_light_point(const ew_renderer *r, const float p[3]);
+
+/* ---- rasterizer internals (exposed for the tests) ------------------------ */
+
+/* The colormap row of a light level: 128 -> row 32 (the texture's own
+ * colours), 255 -> row 0 (brightest), 0 -> row 63 (black), in 8.8. */
+static inline int32_t ew_alias_light_row(int light) {
+    if (light < 0) light = 0;
+    if (light > 255) light = 255;
+    int32_t row = (256 - light) * 64;
+    return row > (63 << 8) + 255 ? (63 << 8) + 255 : row;
+}
+
+/* A projected vertex: integer pixel (pixel centres are integers), texel
+ * coordinates in 16.16, light as a colormap row in 8.8, and 1/z. */
+typedef struct ew_avert {
+    int32_t x, y;
+    int32_t s, t;
+    int32_t l;
+    float   zi;
+} ew_avert;
+
+/* What a triangle is drawn into and with. */
+typedef struct ew_araster {
+    uint8_t       *frame;
+    float         *zbuf;
+    int            pitch;               /* pixels per row of frame and zbuf */
+    int            x0, y0, x1, y1;      /* clip rectangle [x0, x1) x [y0, y1) */
+    const uint8_t *skin;                /* skinw * skinh palette indices */
+    int            skinw, skinh;
+    const uint8_t *colormap;            /* 64 rows of 256 */
+    long           pixels;              /* pixels that passed the z test */
+    /* Subdivision only: when tile_z is set, pixels go to the model's tile
+     * over [tx0, tx0 + tw) x [ty0, ty0 + th) (1/z, colour, written flag)
+     * and reach the frame once, in ew_alias_tile_end. */
+    float            *tile_z;
+    uint8_t          *tile_c, *tile_f;
+    int               tx0, ty0, tw, th;
+} ew_araster;
+
+/* Twice the signed area of the snapped triangle, y down.  Positive for a
+ * front-facing triangle (the models wind front faces this way on screen);
+ * zero for a degenerate one, so this one product culls both. */
+static inline int64_t ew_alias_cross(const ew_avert *a, const ew_avert *b, const ew_avert *c) {
+    return (int64_t)(b->x - a->x) * (c->y - a->y) - (int64_t)(b->y - a->y) * (c->x - a->x);
+}
+static inline int ew_alias_tri_visible(const ew_avert *a, const ew_avert *b, const ew_avert *c) {
+    return ew_alias_cross(a, b, c) > 0;
+}
+
+/* Affine texture mapping with Gouraud shading and the top-left fill rule on
+ * pixel centres: a pixel is drawn if its centre is inside the triangle, or
+ * on a top or left edge.  Clipped to the rectangle; culls by the cross. */
+void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c);
+
+/* Recursive subdivision: the longest edge is split at its (rounded)
+ * midpoint while it is longer than one pixel in x or y; the split vertex
+ * takes the average of the endpoints' texel, light and 1/z.  Shared edges
+ * split the same way from either side (a midpoint depends only on the two
+ * endpoints).  At the bottom every triangle is a lattice triangle with no
+ * pixel centres but its corners, and each corner is drawn by the one
+ * triangle around it whose two edges there are top or left edges, so
+ * triangles that tile the plane neither both draw a pixel nor leave one
+ * out.  Every vertex must lie inside the clip rectangle (and the tile). */
+void ew_alias_subdiv_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c);
+
+/* The model's tile for the subdivision rasterizer: ew_alias_tile_bytes(w, h)
+ * of memory at mem; begin loads the z-buffer under it, end writes back the
+ * pixels the model won (each once) and counts them in ra->pixels. */
+size_t ew_alias_tile_bytes(int w, int h);
+void   ew_alias_tile_begin(ew_araster *ra, int x0, int y0, int w, int h, void *mem);
+void   ew_alias_tile_end(ew_araster *ra);
+
+#endif

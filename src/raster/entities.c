@@ -1,0 +1,126 @@
+/* The scene's z-buffered moving things, drawn after the world's spans have
+ * z-filled the frame: alias models, sprites, item boxes, then particles.
+ * Brush model entities are not here: they went into the edge list. */
+#include "ew_render.h"
+#include "raster/alias.h"
+#include "scene/scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* Light on a model: the floor under it, plus dynamic lights in reach, held
+ * to a floor of 24 and a ceiling so shading keeps some contrast. */
+static void model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade) {
+    const struct ew_scene *sc = r->scene;
+    int l = ew_light_point(r, origin);
+    for (int i = 0; i < sc->ndlights; i++) {
+        const ew_dlight *d = &sc->dlights[i];
+        float dx = origin[0] - d->origin[0], dy = origin[1] - d->origin[1], dz = origin[2] - d->origin[2];
+        float add = d->radius - sqrtf(dx * dx + dy * dy + dz * dz);
+        if (add > 0) l += (int)add;
+    }
+    int a = l < 24 ? 24 : l > 128 ? 128 : l, s = l < 24 ? 24 : l;
+    if (a + s > 192) s = 192 - a;
+    *ambient = a, *shade = s;
+}
+
+/* An item box: faces of a small world of its own, z-buffered. */
+static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e) {
+    const ew_model *m = &bw->models[0];
+    float ax[3][3];
+    ew_entity_axes(e->angles, ax);
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++) lo[k] = 1e30f, hi[k] = -1e30f;
+    for (int c = 0; c < 8; c++) {
+        float p[3] = {c & 1 ? m->maxs[0] : m->mins[0], c & 2 ? m->maxs[1] : m->mins[1], c & 4 ? m->maxs[2] : m->mins[2]};
+        for (int k = 0; k < 3; k++) {
+            float q = e->origin[k] + ax[k][0] * p[0] + ax[k][1] * p[1] + ax[k][2] * p[2];
+            lo[k] = q < lo[k] ? q : lo[k];
+            hi[k] = q > hi[k] ? q : hi[k];
+        }
+    }
+    if (ew_cull_box(&r->view, lo, hi, 15) < 0) return 0;
+    ew_view mv = r->view;  /* the camera in the box's space */
+    const float *src[4] = {r->view.origin, r->view.forward, r->view.right, r->view.up};
+    float *dst[4] = {mv.origin, mv.forward, mv.right, mv.up};
+    for (int q = 0; q < 4; q++) {
+        float d[3] = {src[q][0], src[q][1], src[q][2]};
+        if (q == 0)
+            for (int k = 0; k < 3; k++) d[k] -= e->origin[k];
+        for (int k = 0; k < 3; k++) dst[q][k] = ax[0][k] * d[0] + ax[1][k] * d[1] + ax[2][k] * d[2];
+    }
+    long won = 0;
+    for (int i = 0; i < m->numfaces; i++) {
+        const ew_face *f = &bw->faces[m->firstface + i];
+        const ew_plane *pl = &bw->planes[f->plane];
+        float dist = mv.origin[0] * pl->normal[0] + mv.origin[1] * pl->normal[1] + mv.origin[2] * pl->normal[2] - pl->dist;
+        int back = (f->flags & EW_SURF_PLANEBACK) != 0;
+        if ((back && dist >= 0) || (!back && dist <= 0) || f->numedges > EW_MAX_POLY - 8) continue;
+        float p[EW_MAX_POLY][3];
+        for (int v = 0; v < f->numedges; v++) {
+            const float *q = bw->verts[ew_face_vertex(bw, f, v)];
+            for (int k = 0; k < 3; k++) p[v][k] = e->origin[k] + ax[k][0] * q[0] + ax[k][1] * q[1] + ax[k][2] * q[2];
+        }
+        ew_zpoly zp;
+        if (!ew_zpoly_project(r, p, f->numedges, &zp)) continue;
+        ew_zpoly_look look = {bw, f, &mv, ew_face_texture(bw, f, r->view.time), NULL, 0, 0};
+        uint8_t *surf = NULL;
+        int *scratch = NULL;
+        if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
+            /* Boxes are tiny: their surfaces are built afresh, not cached. */
+            look.mip = ew_face_mip(&r->view, bw, f, zp.nearzi);
+            int w = f->extents[0] >> look.mip, h = f->extents[1] >> look.mip;
+            int samples = ((f->extents[0] >> 4) + 1) * ((f->extents[1] >> 4) + 1);
+            surf = malloc((size_t)w * h);
+            scratch = malloc(sizeof(int) * (size_t)samples);
+            if (!surf || !scratch) {
+                free(surf), free(scratch);
+                r->stats.dropped++;
+                continue;
+            }
+            int light[4];
+            for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->lightstyle[f->styles[k] & 63];
+            ew_build_surface(r, bw, f, look.tex, look.mip, light, 0, surf, scratch);
+            look.surf = surf, look.surf_width = w;
+        }
+        won += ew_zpoly_fill(r, &zp, &look, NULL, 0);
+        free(surf), free(scratch);
+    }
+    r->stats.alias_pixels += won;
+    return won > 0;
+}
+
+void ew_draw_entities(ew_renderer *r) {
+    const struct ew_scene *sc = r->scene;
+    if (!sc) return;
+    for (int i = 0; i < sc->nents; i++) {
+        const ew_scene_entity *e = &sc->ents[i];
+        if (e->model < 0) continue;  /* brush entities are in the edge list */
+        const ew_scene_model *m = &sc->models[e->model];
+        ew_model_pose pose = {{e->origin[0], e->origin[1], e->origin[2]},
+                              {e->angles[0], e->angles[1], e->angles[2]},
+                              e->frame, e->skin, r->view.time, 0, 0};
+        /* Potentially visible at all?  A box around the model against the PVS. */
+        float reach = m->kind == EW_MODEL_ALIAS  ? ((const ew_mdl *)m->data)->radius
+                      : m->kind == EW_MODEL_BOX ? 64.0f
+                                                 : ((const ew_spr *)m->data)->radius;
+        float lo[3], hi[3];
+        for (int k = 0; k < 3; k++) lo[k] = e->origin[k] - reach, hi[k] = e->origin[k] + reach;
+        if (!ew_box_in_pvs(r, lo, hi)) {
+            r->stats.entities_culled++;
+            continue;
+        }
+        int drawn = 0;
+        if (m->kind == EW_MODEL_ALIAS) {
+            model_light(r, e->origin, &pose.ambient, &pose.shade);
+            drawn = ew_draw_alias(r, m->data, &pose);
+        } else if (m->kind == EW_MODEL_SPRITE) {
+            drawn = ew_draw_sprite(r, m->data, &pose);
+        } else if (m->kind == EW_MODEL_BOX) {
+            drawn = draw_box(r, m->data, e);
+        }
+        if (drawn) r->stats.entities_drawn++;
+        else r->stats.entities_culled++;
+    }
+    if (sc->nparticles) ew_draw_particles(r, sc->particles, sc->nparticles);
+}

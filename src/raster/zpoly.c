@@ -1,0 +1,92 @@
+/* The z-buffered polygon fill: a world-space polygon of any world's face is
+ * clipped, projected and filled pixel by pixel (pixel centres inside it),
+ * with 1/z from the face's plane tested against the z-buffer and a true
+ * divide per pixel for the texture.  Slow and simple: the reference path
+ * draws every face with it, and item boxes (faces of other, tiny worlds)
+ * are drawn with it over the z-filled world. */
+#include "span_step.h"
+
+#include <math.h>
+
+int ew_zpoly_project(const ew_renderer *r, float (*in)[3], int n, ew_zpoly *p) {
+    const ew_view *v = &r->view;
+    float out[EW_MAX_POLY][3];
+    int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
+    if (n > EW_MAX_POLY - 8) return 0;
+    for (int i = 0; i < n; i++) tin[i] = -1;
+    int m = ew_clip_poly(v, 15, in, n, out, tin, tout);
+    if (m < 3) return 0;
+    float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
+    p->nearzi = 0;
+    for (int i = 0; i < m; i++) {
+        float t[3];
+        ew_view_transform(v, out[i], t);
+        float zi = 1.0f / (t[2] < 0.01f ? 0.01f : t[2]);
+        p->u[i] = v->xcenter + v->xscale * t[0] * zi;
+        p->v[i] = v->ycenter - v->yscale * t[1] * zi;
+        if (zi > p->nearzi) p->nearzi = zi;
+        if (p->u[i] < umin) umin = p->u[i];
+        if (p->u[i] > umax) umax = p->u[i];
+        if (p->v[i] < vmin) vmin = p->v[i];
+        if (p->v[i] > vmax) vmax = p->v[i];
+    }
+    /* Orientation of the projected polygon, so "inside" has one sign. */
+    double area = 0;
+    for (int i = 0; i < m; i++) {
+        int j = i + 1 == m ? 0 : i + 1;
+        area += (double)p->u[i] * p->v[j] - (double)p->u[j] * p->v[i];
+    }
+    if (area == 0) return 0;
+    p->sign = area > 0 ? 1 : -1;
+    p->n = m;
+    p->x0 = (int)ceilf(umin), p->x1 = (int)ceilf(umax) - 1;
+    p->y0 = (int)ceilf(vmin), p->y1 = (int)ceilf(vmax) - 1;
+    if (p->x0 < 0) p->x0 = 0;
+    if (p->y0 < 0) p->y0 = 0;
+    if (p->x1 > r->width - 1) p->x1 = r->width - 1;
+    if (p->y1 > r->height - 1) p->y1 = r->height - 1;
+    return 1;
+}
+
+long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id) {
+    const ew_face *f = look->face;
+    ew_gradients g;
+    ew_face_gradients(look->world, look->view, f, look->mip, &g);
+    long won = 0;
+    int m = p->n;
+    for (int y = p->y0; y <= p->y1; y++) {
+        for (int x = p->x0; x <= p->x1; x++) {
+            int inside = 1;
+            for (int i = 0; i < m && inside; i++) {
+                int j = i + 1 == m ? 0 : i + 1;
+                double e = ((double)p->u[j] - p->u[i]) * ((double)y - p->v[i]) -
+                           ((double)p->v[j] - p->v[i]) * ((double)x - p->u[i]);
+                /* A hair of tolerance so pixel centres exactly on a shared
+                 * edge are covered by both sides (the z test picks one). */
+                if (e * p->sign < -1e-6 * (fabs(p->u[j] - p->u[i]) + fabs(p->v[j] - p->v[i]))) inside = 0;
+            }
+            if (!inside) continue;
+            size_t o = (size_t)y * r->width + x;
+            float zi = g.zi_u * (float)x + (g.zi_v * (float)y + g.zi_0);
+            if (zi <= r->zbuf[o]) continue;
+            r->zbuf[o] = zi;
+            won++;
+            if (ids) ids[o] = id;
+            uint8_t px;
+            if (f->flags & EW_SURF_SKY) {
+                px = ew_sky_pixel(&r->view, look->tex, (float)x, (float)y);
+            } else {
+                float z = 65536.0f / zi;
+                float fx = (float)x, fy = (float)y;
+                int32_t s = ew_tex_fix((g.s_u * fx + (g.s_v * fy + g.s_0)) * z, g.s_adjust, 0, g.s_max);
+                int32_t t = ew_tex_fix((g.t_u * fx + (g.t_v * fy + g.t_0)) * z, g.t_adjust, 0, g.t_max);
+                if (f->flags & EW_SURF_TURB)
+                    px = ew_turb_texel(r->turb, look->tex, s, t);
+                else
+                    px = look->surf ? look->surf[(t >> 16) * look->surf_width + (s >> 16)] : 0;
+            }
+            r->frame[o] = px;
+        }
+    }
+    return won;
+}
