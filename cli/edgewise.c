@@ -11,6 +11,7 @@
  * "edgewise: <message>"; usage errors exit 2, everything else that fails 1.
  */
 #include "edgewise.h"
+#include "cli.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -43,6 +44,8 @@ static const char usage_text[] =
     "  demo [options]         render the built-in scene (needs no game data)\n"
     "  views MAP [--data DIR] list the view set: INDEX X Y Z PITCH YAW ROLL\n"
     "  info MAP [--data DIR]  BSP version, lumps and counts\n"
+    "  bench MAP... [options] time the view set (see edgewise bench --help)\n"
+    "  soak MAP --frames N    render N frames and check every frame's counters\n"
     "  help, --help           this text\n"
     "  --version              the version\n"
     "\n"
@@ -59,8 +62,15 @@ static const char usage_text[] =
     "  --time T             seconds, for animated textures, sky and liquids (default 0)\n"
     "  --out FILE.png       output (default MAPNAME_vN.png, MAPNAME_free.png with --pos)\n"
     "  --stats              print the frame's counters and times as one JSON object\n"
+    "  --no-entities        the world only: no doors, monsters, items, flames\n"
+    "  --dlight X,Y,Z,R     a dynamic light of radius R (repeatable, up to 32)\n"
+    "  --particles N        a deterministic cloud of N particles in front of the camera\n"
+    "  --alias-raster MODE  triangle models: auto (default), affine or subdiv\n"
+    "  --subdiv-threshold PX  auto: subdivide models shorter than PX on screen (default 40)\n"
+    "  --threads N          render bands of the frame on N threads (0 = all cores; default 1)\n"
     "\n"
-    "demo options: --size, --view, --fov, --time, --out (default demo.png), --stats\n"
+    "demo options: --size, --view, --fov, --time, --out (default demo.png), --stats,\n"
+    "  and the entity, light, particle, rasterizer and thread options of render\n"
     "\n"
     "examples:\n"
     "  edgewise demo\n"
@@ -70,7 +80,7 @@ static const char usage_text[] =
 
 /* Prints one error line; control characters (from file names or arguments)
  * are replaced so the message stays one line. */
-static void error_line(const char *fmt, ...) {
+void error_line(const char *fmt, ...) {
     char buf[1024];
     va_list ap;
     va_start(ap, fmt);
@@ -86,8 +96,13 @@ static void error_line(const char *fmt, ...) {
 
 enum {
     O_DATA = 1 << 0, O_SIZE = 1 << 1, O_VIEW = 1 << 2, O_POS = 1 << 3, O_ANGLES = 1 << 4,
-    O_FOV = 1 << 5, O_TIME = 1 << 6, O_OUT = 1 << 7, O_STATS = 1 << 8, O_HELP = 1 << 9
+    O_FOV = 1 << 5, O_TIME = 1 << 6, O_OUT = 1 << 7, O_STATS = 1 << 8, O_HELP = 1 << 9,
+    O_NOENT = 1 << 10, O_DLIGHT = 1 << 11, O_ARASTER = 1 << 12, O_SUBTHRESH = 1 << 13,
+    O_PARTICLES = 1 << 14, O_THREADS = 1 << 15
 };
+/* The options of the moving things and of threading, shared by render and demo. */
+#define O_SCENE (O_NOENT | O_DLIGHT | O_ARASTER | O_SUBTHRESH | O_PARTICLES | O_THREADS)
+#define MAX_CLI_DLIGHTS 32
 
 static const struct option_def {
     const char *name;
@@ -98,6 +113,9 @@ static const struct option_def {
     { "--pos", O_POS, 1 },     { "--angles", O_ANGLES, 1 }, { "--fov", O_FOV, 1 },
     { "--time", O_TIME, 1 },   { "--out", O_OUT, 1 },   { "--stats", O_STATS, 0 },
     { "--help", O_HELP, 0 },   { "-h", O_HELP, 0 },
+    { "--no-entities", O_NOENT, 0 }, { "--dlight", O_DLIGHT, 1 },
+    { "--alias-raster", O_ARASTER, 1 }, { "--subdiv-threshold", O_SUBTHRESH, 1 },
+    { "--particles", O_PARTICLES, 1 }, { "--threads", O_THREADS, 1 },
 };
 
 typedef struct options {
@@ -106,6 +124,10 @@ typedef struct options {
     int         width, height, view;
     float       pos[3], angles[3];
     double      fov, time;
+    float       dlights[MAX_CLI_DLIGHTS][4];  /* x, y, z, radius */
+    int         ndlights;
+    int         alias_raster, particles, threads;
+    double      subdiv_threshold;
 } options;
 
 /* strtol/strtod accept leading blanks; a command-line number should not. */
@@ -113,7 +135,7 @@ static int starts_number(const char *s) {
     return *s && !isspace((unsigned char)*s);
 }
 
-static int parse_long(const char *s, long *out) {
+int parse_long(const char *s, long *out) {
     if (!starts_number(s))
         return -1;
     char *end;
@@ -162,7 +184,7 @@ bad:
     return -1;
 }
 
-static int parse_size(const char *s, int *w, int *h) {
+int parse_size(const char *s, int *w, int *h) {
     long lw, lh;
     const char *x = strpbrk(s, "xX");
     char buf[64];
@@ -243,6 +265,54 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
             return -1;
         }
         o->time = d;
+        return 0;
+    case O_DLIGHT: {
+        if (o->ndlights >= MAX_CLI_DLIGHTS) {
+            error_line("--dlight: at most %d lights", MAX_CLI_DLIGHTS);
+            return -1;
+        }
+        float *dl = o->dlights[o->ndlights];
+        char buf[256];
+        snprintf(buf, sizeof buf, "%s", v);
+        char *comma = strrchr(buf, ',');
+        if (!comma || parse_vec3(name, (*comma = 0, buf), dl) < 0 || parse_double(comma + 1, &d) < 0 ||
+            !(d > 0 && d <= 100000)) {
+            error_line("--dlight %s: expected X,Y,Z,RADIUS with a radius from 0 to 100000", v);
+            return -1;
+        }
+        dl[3] = (float)d;
+        o->ndlights++;
+        return 0;
+    }
+    case O_ARASTER:
+        if (strcmp(v, "auto") == 0) o->alias_raster = EW_ALIAS_AUTO;
+        else if (strcmp(v, "affine") == 0) o->alias_raster = EW_ALIAS_AFFINE;
+        else if (strcmp(v, "subdiv") == 0) o->alias_raster = EW_ALIAS_SUBDIV;
+        else {
+            error_line("--alias-raster %s: expected auto, affine or subdiv", v);
+            return -1;
+        }
+        return 0;
+    case O_SUBTHRESH:
+        if (parse_double(v, &d) < 0 || !(d > 0 && d <= 10000)) {
+            error_line("--subdiv-threshold %s: expected pixels, from 0 to 10000", v);
+            return -1;
+        }
+        o->subdiv_threshold = d;
+        return 0;
+    case O_PARTICLES:
+        if (parse_long(v, &l) < 0 || l < 0 || l > 1000000) {
+            error_line("--particles %s: expected a count from 0 to 1000000", v);
+            return -1;
+        }
+        o->particles = (int)l;
+        return 0;
+    case O_THREADS:
+        if (parse_long(v, &l) < 0 || l < 0 || l > 64) {
+            error_line("--threads %s: expected 0 (all cores) to 64", v);
+            return -1;
+        }
+        o->threads = (int)l;
         return 0;
     }
     return 0;
@@ -327,10 +397,10 @@ static int parse_args(int argc, char **argv, int first, const char *cmd, int all
 
 /* ---- shared steps ---------------------------------------------------------- */
 
-static int is_builtin(const char *map) { return strcmp(map, "builtin") == 0; }
+int is_builtin(const char *map) { return strcmp(map, "builtin") == 0; }
 
 /* "maps/e1m1.bsp" -> "e1m1", for default file names and the stats. */
-static void map_basename(const char *map, char *out, size_t size) {
+void map_basename(const char *map, char *out, size_t size) {
     const char *b = strrchr(map, '/');
     b = b ? b + 1 : map;
     size_t n = strlen(b);
@@ -356,7 +426,7 @@ static int load(const options *o, ew_assets *a) {
 }
 
 /* Writes s as a JSON string. */
-static void json_string(FILE *f, const char *s) {
+void json_string(FILE *f, const char *s) {
     fputc('"', f);
     for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
         if (*p == '"' || *p == '\\')
@@ -370,7 +440,7 @@ static void json_string(FILE *f, const char *s) {
 }
 
 /* JSON has no inf/nan. */
-static void json_number(FILE *f, double v) {
+void json_number(FILE *f, double v) {
     if (isfinite(v))
         fprintf(f, "%.6g", v);
     else
@@ -411,9 +481,16 @@ static void print_stats(const char *name, const options *o, int view, const ew_c
             "\"surfaces_built\":%d,\"surfaces_cached\":%d,\"visible_leaves\":%d,\"dropped\":%d",
             s->edges, s->edges_cached, s->surfaces, s->spans, s->surfaces_built,
             s->surfaces_cached, s->visible_leaves, s->dropped);
-    const char *ms_names[4] = { "ms_front", "ms_scan", "ms_draw", "ms_total" };
-    const double ms[4] = { s->ms_front, s->ms_scan, s->ms_draw, s->ms_total };
-    for (int i = 0; i < 4; i++) {
+    fprintf(f,
+            ",\"entities_drawn\":%d,\"entities_culled\":%d,\"entities_unknown\":%d,"
+            "\"models_missing\":%d,\"alias_tris\":%d,\"alias_tris_subdiv\":%d,\"alias_pixels\":%ld,"
+            "\"particles\":%d,\"surfaces_rebuilt_by_dlights\":%d",
+            s->entities_drawn, s->entities_culled, s->entities_unknown, s->models_missing,
+            s->alias_tris, s->alias_tris_subdiv, s->alias_pixels, s->particles,
+            s->surfaces_rebuilt_by_dlights);
+    const char *ms_names[5] = { "ms_front", "ms_scan", "ms_draw", "ms_models", "ms_total" };
+    const double ms[5] = { s->ms_front, s->ms_scan, s->ms_draw, s->ms_models, s->ms_total };
+    for (int i = 0; i < 5; i++) {
         fprintf(f, ",\"%s\":", ms_names[i]);
         json_number(f, ms[i]);
     }
@@ -431,6 +508,7 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
     map_basename(o->map, name, sizeof name);
     int rc = 1, view = -1;
     ew_renderer *r = NULL;
+    ew_scene *scene = NULL;
     ew_error err = { "" };
     ew_camera cam;
     memset(&cam, 0, sizeof cam);
@@ -475,6 +553,35 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
         error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
         goto done;
     }
+    if ((o->given & O_THREADS) && ew_set_threads(r, o->threads) < 0) {
+        error_line("--threads %d: out of memory", o->threads);
+        goto done;
+    }
+    if (o->given & (O_ARASTER | O_SUBTHRESH))
+        ew_set_alias_raster(r, (ew_alias_raster)o->alias_raster, (float)o->subdiv_threshold);
+    /* The moving things: the map's entities (or the built-in scene's),
+     * plus lights and particles asked for on the command line. */
+    if (!(o->given & O_NOENT) || o->ndlights || o->particles) {
+        scene = (o->given & O_NOENT) ? ew_scene_create(a.world, &err)
+                : is_builtin(o->map)  ? ew_scene_builtin(a.world, &err)
+                                      : ew_scene_from_map(a.world, o->map, o->data, &err);
+        if (!scene) {
+            error_line("%s", err.msg[0] ? err.msg : "cannot make the scene");
+            goto done;
+        }
+        for (int i = 0; i < o->ndlights; i++) ew_scene_add_dlight(scene, o->dlights[i], o->dlights[i][3]);
+        if (o->particles) {
+            /* A cloud in front of the camera, the same every run. */
+            ew_camera probe = cam;
+            float d2r = 3.14159265f / 180, fwd[3], c[3];
+            fwd[0] = cosf(probe.angles[0] * d2r) * cosf(probe.angles[1] * d2r);
+            fwd[1] = cosf(probe.angles[0] * d2r) * sinf(probe.angles[1] * d2r);
+            fwd[2] = -sinf(probe.angles[0] * d2r);
+            for (int k = 0; k < 3; k++) c[k] = cam.origin[k] + fwd[k] * 160;
+            ew_scene_add_particles(scene, o->particles, c, 64, 1996);
+        }
+        ew_set_scene(r, scene);
+    }
     ew_stats st;
     memset(&st, 0, sizeof st);
     const uint8_t *pixels;
@@ -495,6 +602,7 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
     rc = 0;
 done:
     ew_renderer_free(r);
+    ew_scene_free(scene);
     ew_assets_free(&a);
     if (fflush(stdout) != 0 && rc == 0) {
         error_line("stdout: %s", strerror(errno));
@@ -576,13 +684,13 @@ int main(int argc, char **argv) {
     if (strcmp(cmd, "render") == 0) {
         pr = parse_args(argc, argv, 2, cmd,
                         O_DATA | O_SIZE | O_VIEW | O_POS | O_ANGLES | O_FOV | O_TIME | O_OUT |
-                            O_STATS | O_HELP,
+                            O_STATS | O_HELP | O_SCENE,
                         1, &o);
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_render(&o, 0, NULL);
     }
     if (strcmp(cmd, "demo") == 0) {
         pr = parse_args(argc, argv, 2, cmd, O_SIZE | O_VIEW | O_FOV | O_TIME | O_OUT | O_STATS |
-                                                O_HELP, 0, &o);
+                                                O_HELP | O_SCENE, 0, &o);
         o.map = "builtin";
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_render(&o, EW_DEMO_VIEW, "demo.png");
     }
@@ -594,6 +702,10 @@ int main(int argc, char **argv) {
         pr = parse_args(argc, argv, 2, cmd, O_DATA | O_HELP, 1, &o);
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_info(&o);
     }
-    error_line("unknown command '%s' (commands: render, demo, views, info, help)", cmd);
+    if (strcmp(cmd, "bench") == 0)
+        return cmd_bench(argc, argv);
+    if (strcmp(cmd, "soak") == 0)
+        return cmd_soak(argc, argv);
+    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, help)", cmd);
     return EXIT_USAGE;
 }

@@ -215,6 +215,9 @@ ew_scene *ew_scene_create(const ew_world *w, ew_error *err);
  * are counted (ew_scene_counts), not errors. */
 ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data_dir,
                             ew_error *err);
+/* The built-in scene's own moving things (made in memory like its world):
+ * its door, a triangle model, particles and a dynamic light. */
+ew_scene *ew_scene_builtin(const ew_world *w, ew_error *err);
 void ew_scene_free(ew_scene *s);
 /* Adds world submodel N (1..) at an offset and rotation; entity index or -1. */
 int  ew_scene_add_brush(ew_scene *s, int submodel, const float origin[3], const float angles[3]);

@@ -66,7 +66,7 @@ typedef struct ew_face {
     uint8_t styles[4];            /* 255 = unused */
     int     lightofs;             /* byte offset into lighting, -1 none */
     int     texturemins[2];       /* multiples of 16 */
-    int     extents[2];           /* texels, multiples of 16 */
+    int     extents[2];           /* texels, multiples of 16, 16..2048 */
 } ew_face;
 
 /* children[i] >= 0: node index; < 0: leaf index -1 - children[i]. */

@@ -361,6 +361,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double t3 = ew_now_ms();
     ew_draw_entities(r);
     double t4 = ew_now_ms();
+    if (r->scene) ew_scene_counts(r->scene, NULL, &r->stats.entities_unknown, &r->stats.models_missing);
 
     ew_stats *st = &r->stats;
     st->pixels = (long)r->width * r->height;

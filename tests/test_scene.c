@@ -33,29 +33,44 @@ static void agreement(const char *map, double limit) {
     ew_camera views[EW_MAX_VIEWS];
     int nv = ew_view_set(a.world, views), sub_pixels = 0;
     int *ids = malloc(sizeof(int) * W * H), *ref = malloc(sizeof(int) * W * H);
-    double worst = 1, sum = 0;
+    uint8_t *px = malloc(W * H), *ref_px = malloc(W * H);
+    double worst = 1, sum = 0, worst_col = 1;
+    int drawn = 0, tris = 0;
+    int nents, unknown, missing;
+    ew_scene_counts(sc, &nents, &unknown, &missing);
+    CHECK(nents > 10 && missing == 0, "%s: %d entities, %d unknown, %d missing", map, nents, unknown, missing);
+    /* Exact texturing in both paths, so colours compare pixel for pixel,
+     * models included (they meet each path's own z-buffer). */
+    ew_set_subdivision(r, 1);
     for (int v = 0; v < nv; v++) {
         ew_stats st;
         CHECK(ew_render(r, &views[v], &st) == 0, "%s view %d", map, v);
+        memcpy(px, ew_frame_pixels(r), W * H);
+        drawn += st.entities_drawn, tris += st.alias_tris;
         CHECK(st.overdraw == 1.0 && st.pixels_covered == st.pixels && st.dropped == 0,
               "%s view %d with entities: overdraw %g, covered %ld of %ld, dropped %d", map, v,
               st.overdraw, st.pixels_covered, st.pixels, st.dropped);
         memcpy(ids, ew_frame_face_ids(r), sizeof(int) * W * H);
-        CHECK(ew_render_reference(r, &views[v], NULL, ref, &err) == 0, "%s", err.msg);
-        long same = 0;
+        CHECK(ew_render_reference(r, &views[v], ref_px, ref, &err) == 0, "%s", err.msg);
+        long same = 0, same_col = 0;
         for (int i = 0; i < W * H; i++) {
             same += ids[i] == ref[i];
+            same_col += px[i] == ref_px[i];
             sub_pixels += is_submodel_face(a.world, ids[i]);
         }
-        double ag = (double)same / (W * H);
+        double ag = (double)same / (W * H), agc = (double)same_col / (W * H);
         CHECK(ag >= limit, "%s view %d with entities: %.2f%% agree with the reference", map, v, 100 * ag);
+        CHECK(agc >= limit, "%s view %d with entities: colours %.2f%% agree with the reference", map, v, 100 * agc);
+        if (agc < worst_col) worst_col = agc;
         sum += ag;
         if (ag < worst) worst = ag;
     }
     CHECK(sub_pixels > 0, "%s: no brush model pixel in any view", map);
-    printf("entities agreement %-6s views %2d  mean %.3f%%  worst %.3f%%  brush-model pixels %d\n", map,
-           nv, 100 * sum / nv, 100 * worst, sub_pixels);
-    free(ids), free(ref);
+    CHECK(drawn > nv && tris > 0, "%s: %d entities drawn, %d alias triangles over the views", map, drawn, tris);
+    printf("entities agreement %-6s views %2d  surfaces: mean %.3f%% worst %.3f%%  colours worst %.3f%%  "
+           "brush-model pixels %d, entities drawn %d, alias triangles %d\n",
+           map, nv, 100 * sum / nv, 100 * worst, 100 * worst_col, sub_pixels, drawn, tris);
+    free(ids), free(ref), free(px), free(ref_px);
     ew_renderer_free(r);
     ew_scene_free(sc);
     ew_assets_free(&a);
@@ -98,6 +113,38 @@ int main(void) {
     CHECK(door > W * H / 10 && nearer == door, "door covers %ld px, %ld of them in front of the world", door, nearer);
     CHECK(st.overdraw == 1.0 && st.pixels_covered == st.pixels, "door view overdraw %g", st.overdraw);
     CHECK(st.entities_drawn >= 1, "entities drawn %d", st.entities_drawn);
+
+    /* A soldier in front of the door is drawn; the same soldier behind the
+     * closed door (in the room beyond) passes the frustum but no z test. */
+    uint8_t *mdl_data;
+    size_t mdl_size;
+    CHECK(ew_read_file(ew_t_shared("data/librequake/progs/soldier.mdl"), &mdl_data, &mdl_size, &err) == 0, "%s", err.msg);
+    int soldier = ew_scene_load_model(sc, "progs/soldier.mdl", mdl_data, mdl_size, &err);
+    CHECK(soldier >= 0, "%s", err.msg);
+    free(mdl_data);
+    const float *eye = views[0].origin;  /* looking along +x at the door */
+    float front[3] = {eye[0] + 100, eye[1], eye[2] - 20}, behind[3] = {eye[0] + 420, eye[1], eye[2] - 20};
+    int ent = ew_scene_add_entity(sc, soldier, front, NULL, 0, 0);
+    CHECK(ent >= 0, "add entity");
+    ew_stats sm;
+    ew_render(r, &views[0], &sm);
+    long in_front = sm.alias_pixels;
+    CHECK(in_front > 500 && sm.alias_tris > 0, "soldier in front: %ld pixels, %d triangles", in_front, sm.alias_tris);
+    /* Move it behind the door: same frustum, hidden by the door's z. */
+    ew_scene *hidden = ew_scene_from_map(a.world, path, NULL, &err);
+    CHECK(ew_read_file(ew_t_shared("data/librequake/progs/soldier.mdl"), &mdl_data, &mdl_size, &err) == 0, "%s", err.msg);
+    int s2 = ew_scene_load_model(hidden, "progs/soldier.mdl", mdl_data, mdl_size, &err);
+    free(mdl_data);
+    ew_scene_add_entity(hidden, s2, behind, NULL, 0, 0);
+    ew_set_scene(r, hidden);
+    ew_render(r, &views[0], &sm);
+    CHECK(sm.alias_pixels == 0 && sm.alias_tris > 0,
+          "soldier behind the closed door: %ld pixels from %d triangles", sm.alias_pixels, sm.alias_tris);
+    printf("soldier: %ld pixels in front of the door; behind it %ld pixels, %d triangles tested "
+           "(entities drawn %d, culled %d)\n", in_front, sm.alias_pixels, sm.alias_tris,
+           sm.entities_drawn, sm.entities_culled);
+    ew_scene_free(hidden);
+    ew_set_scene(r, sc);
 
     /* A door pushed into a wall is cut by the world BSP: still one write per pixel. */
     ew_scene *moved = ew_scene_create(a.world, &err);

@@ -184,6 +184,7 @@ static int invisible_class(const char *c) {
 static ew_fs *open_game_dir(const char *map, const char *data_dir) {
     ew_error err;
     if (data_dir) return ew_fs_open(data_dir, &err);
+    if (!map) return NULL;  /* a world made in memory has no game directory */
     char dir[1024];
     snprintf(dir, sizeof dir, "%s", map ? map : "");
     char *slash = strrchr(dir, '/');
