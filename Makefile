@@ -3,7 +3,7 @@ BUILD      ?= build
 ASAN_BUILD ?= build-asan
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all build demo test test-release test-asan clean
+.PHONY: all build demo test test-release test-asan bench fuzz clean
 
 all: build
 
@@ -14,6 +14,25 @@ build:
 # Renders the built-in scene (no files from outside the repository) to demo.png.
 demo: build
 	./$(BUILD)/edgewise demo --out demo.png --stats
+
+# The standard benchmark (bench/README.md): the maps of BENCHMARK.md at three
+# sizes, one thread and all cores.  Written to a temporary file first so an
+# interrupted run leaves the previous LATEST.jsonl intact.
+EW_DATA     ?= ../shared/data/librequake
+BENCH_MAPS  ?= e1m1 lqdm7 e4m1 start
+BENCH_SIZES ?= 640x480 1920x1080 3840x2160
+bench: build
+	@mkdir -p bench/results
+	./$(BUILD)/edgewise bench $(BENCH_MAPS) --data $(EW_DATA) $(addprefix --size ,$(BENCH_SIZES)) \
+		--threads 1 --threads 0 --table --out bench/results/LATEST.jsonl.tmp
+	@mv bench/results/LATEST.jsonl.tmp bench/results/LATEST.jsonl
+	@echo "wrote bench/results/LATEST.jsonl"
+
+# Fuzzing (clang + libFuzzer, fuzz/run.sh): builds build-fuzz/ and runs every
+# target FUZZ_SECONDS seconds, then one summary line per target.
+FUZZ_SECONDS ?= 60
+fuzz:
+	FUZZ_SECONDS=$(FUZZ_SECONDS) ./fuzz/run.sh
 
 # Every test, in the release build and again under ASan + UBSan.
 test: test-release test-asan

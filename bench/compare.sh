@@ -1,0 +1,151 @@
+#!/bin/sh
+# bench/compare.sh OLDREV NEWREV [bench args...]
+#
+# Builds two revisions of edgewise (any git revision, or WORKTREE for the
+# working tree as it is now), runs `edgewise bench` with the same arguments
+# alternately (old new old new ...) so both see the same machine load, and
+# prints new/old of median_ms per row (map, size, threads).
+#
+#   bench/compare.sh HEAD~1 WORKTREE
+#   ROUNDS=5 bench/compare.sh v1 v2 e1m1 --data ../shared/data/librequake --size 3840x2160
+#
+# Default bench args: the four maps of BENCHMARK.md at 1920x1080, one thread.
+# Sources and builds are kept in bench/.cache (ignored by git) and reused.
+# A revision from before `edgewise bench` existed is measured with the
+# current tree's CLI (cli/*.c) linked against that revision's library.
+set -eu
+
+usage() {
+    echo "usage: bench/compare.sh OLDREV NEWREV [bench args...]  (ROUNDS=N, default 3)" >&2
+    exit 2
+}
+[ $# -ge 2 ] || usage
+OLD=$1
+NEW=$2
+shift 2
+ROUNDS=${ROUNDS:-3}
+case $ROUNDS in '' | *[!0-9]* | 0) echo "compare: ROUNDS must be a positive number" >&2; exit 2 ;; esac
+
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+CACHE=$ROOT/bench/.cache
+JOBS=$(nproc 2>/dev/null || echo 2)
+mkdir -p "$CACHE"
+
+if [ $# -eq 0 ]; then
+    set -- e1m1 lqdm7 e4m1 start --data "$ROOT/../shared/data/librequake" --size 1920x1080
+fi
+for a in "$@"; do
+    case $a in --out | --out=* | --table)
+        echo "compare: $a is set by compare.sh itself" >&2; exit 2 ;;
+    esac
+done
+
+# build REV: prints the path of an edgewise binary that has `bench`.
+build() {
+    rev=$1
+    if [ "$rev" = WORKTREE ]; then
+        src=$ROOT
+        key=worktree
+    else
+        sha=$(git -C "$ROOT" rev-parse --verify --quiet "$rev^{commit}") || {
+            echo "compare: $rev: not a revision of $ROOT" >&2; return 1; }
+        key=$(printf %.12s "$sha")
+        src=$CACHE/src-$key
+        if [ ! -d "$src" ]; then
+            # A plain export, not a worktree: nothing to register or prune in .git.
+            rm -rf "$src.tmp" && mkdir -p "$src.tmp"
+            git -C "$ROOT" archive "$sha" | tar -x -C "$src.tmp"
+            mv "$src.tmp" "$src"
+        fi
+    fi
+    dir=$CACHE/build-$key
+    log=$CACHE/build-$key.log
+    echo "compare: building $rev in $dir" >&2
+    if ! { cmake -S "$src" -B "$dir" -DCMAKE_BUILD_TYPE=Release &&
+           cmake --build "$dir" -j "$JOBS" --target edgewise_cli; } >"$log" 2>&1; then
+        tail -n 20 "$log" >&2
+        echo "compare: $rev does not build (log: $log)" >&2
+        return 1
+    fi
+    if "$dir/edgewise" bench --help >/dev/null 2>&1; then
+        echo "$dir/edgewise"
+        return 0
+    fi
+    # No bench command in that revision: the current CLI, that revision's library.
+    png=$(pkg-config --cflags --libs libpng 2>/dev/null || echo -lpng)
+    # Revisions from before ew_set_threads run every row on one thread; from
+    # before the scene API, world only.
+    defs=
+    grep -q ew_set_threads "$src/include/edgewise.h" || defs=-DEW_BENCH_NO_THREADS
+    grep -q ew_set_scene "$src/include/edgewise.h" || defs="$defs -DEW_BENCH_NO_SCENE"
+    # shellcheck disable=SC2086
+    if ! ${CC:-cc} -std=c11 -O3 -DNDEBUG $defs -I"$src/include" -I"$src/src" "$ROOT"/cli/*.c \
+            "$dir/libedgewise.a" $png -lm -pthread -o "$dir/edgewise-harness" >>"$log" 2>&1; then
+        tail -n 20 "$log" >&2
+        echo "compare: $rev has no 'bench' and the current CLI does not build against it" >&2
+        return 1
+    fi
+    echo "compare: $rev has no 'bench': using the current CLI on its library" >&2
+    echo "$dir/edgewise-harness"
+}
+
+A=$(build "$OLD")
+B=$(build "$NEW")
+
+RUN=$CACHE/compare-last
+rm -rf "$RUN" && mkdir -p "$RUN"
+i=1
+while [ "$i" -le "$ROUNDS" ]; do
+    echo "compare: round $i/$ROUNDS: $OLD" >&2
+    "$A" bench "$@" --out "$RUN/old.$i.jsonl" >/dev/null
+    echo "compare: round $i/$ROUNDS: $NEW" >&2
+    "$B" bench "$@" --out "$RUN/new.$i.jsonl" >/dev/null
+    i=$((i + 1))
+done
+
+# Per row: the median over rounds of each side's median_ms, then new/old;
+# the spread of the per-round ratios shows how much to trust it.
+awk -v old="$OLD" -v new="$NEW" -v rounds="$ROUNDS" '
+function str(line, key) {
+    if (!match(line, "\"" key "\":\"[^\"]*\"")) return ""
+    return substr(line, RSTART + length(key) + 4, RLENGTH - length(key) - 5)
+}
+function num(line, key) {
+    if (!match(line, "\"" key "\":[-+0-9.eE]+")) return ""
+    return substr(line, RSTART + length(key) + 3, RLENGTH - length(key) - 3) + 0
+}
+function median(list,   n, v, i, j, t) {
+    n = split(list, v, " ")
+    for (i = 2; i <= n; i++)
+        for (j = i; j > 1 && v[j - 1] + 0 > v[j] + 0; j--) { t = v[j]; v[j] = v[j - 1]; v[j - 1] = t }
+    return n % 2 ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2
+}
+FNR == 1 { side = FILENAME; sub(/.*\//, "", side); split(side, parts, "."); side = parts[1]; round = parts[2] }
+/"floor":true/ { next }
+{
+    # Rows match on the thread count asked for (0 = all cores), which both sides share.
+    thr = num($0, "threads_requested"); if (thr == "") thr = num($0, "threads")
+    key = sprintf("%-10s %9s %3s", str($0, "map"), num($0, "width") "x" num($0, "height"), thr == 0 ? "all" : thr)
+    if (!(key in seen)) { seen[key] = 1; order[++nkeys] = key }
+    ms[side, key] = ms[side, key] " " num($0, "median_ms")
+    at[side, key, round] = num($0, "median_ms")
+}
+END {
+    printf "%-10s %9s %3s %9s %9s %8s  %s\n", "map", "size", "thr", "old_ms", "new_ms", "new/old", "per-round range"
+    logsum = 0; nlog = 0
+    for (k = 1; k <= nkeys; k++) {
+        key = order[k]
+        o = median(ms["old", key]); n = median(ms["new", key])
+        lo = ""; hi = ""
+        for (r = 1; r <= rounds; r++) {
+            if (!(("old", key, r) in at) || !(("new", key, r) in at) || at["old", key, r] <= 0) continue
+            q = at["new", key, r] / at["old", key, r]
+            if (lo == "" || q < lo) lo = q
+            if (hi == "" || q > hi) hi = q
+        }
+        ratio = o > 0 ? n / o : 0
+        if (ratio > 0) { logsum += log(ratio); nlog++ }
+        printf "%s %9.3f %9.3f %8.3f  %.3f-%.3f\n", key, o, n, ratio, lo, hi
+    }
+    if (nlog) printf "geometric mean new/old over %d rows: %.3f  (%s -> %s, %d rounds)\n", nlog, exp(logsum / nlog), old, new, rounds
+}' "$RUN"/old.*.jsonl "$RUN"/new.*.jsonl

@@ -1,0 +1,664 @@
+/*
+ * edgewise bench: the benchmark protocol of ../shared/BENCHMARK.md.
+ *
+ *   edgewise bench MAP... [--data DIR] [--size WxH]... [--threads N]...
+ *                  [--passes P] [--no-entities] [--table] [--out FILE.jsonl]
+ *   edgewise bench --floor [--size WxH]... [--table] [--out FILE.jsonl]
+ *
+ * Per map, size and thread count: load the map, render the whole view set
+ * once (warm-up), then P more times, timing each ew_render call with the
+ * monotonic clock.  One JSON object per row (bench/README.md lists every
+ * field).  Each row also carries this machine's "fill floor" for its size:
+ * the time to texture every pixel once with the cheapest loop there is, so
+ * a figure can be read as "N times the cost of touching every pixel".
+ *
+ * A benchmark is read, never asserted on: nothing here fails on a time.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+#include "edgewise.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+enum {
+    BENCH_EXIT_USAGE = 2,
+    MAX_SIZES = 16,
+    MAX_THREAD_COUNTS = 8,
+    MAX_MAPS = 64,
+    MAX_PASSES = 1000,
+    MAX_THREADS = 1024,
+    DEFAULT_PASSES = 5,
+};
+
+static const char bench_usage[] =
+    "usage: edgewise bench MAP... [options]\n"
+    "       edgewise bench --floor [--size WxH]... [--table] [--out FILE]\n"
+    "\n"
+    "Runs the benchmark protocol of BENCHMARK.md: per map, size and thread\n"
+    "count, one warm-up pass over the view set, then P timed passes.  Prints\n"
+    "one JSON object per row (fields: bench/README.md).\n"
+    "\n"
+    "options:\n"
+    "  --data DIR        game directory (maps/, gfx/)\n"
+    "  --size WxH        frame size; repeat for several (default 640x480)\n"
+    "  --threads N       render threads, 0 = all cores; repeat for several (default 1)\n"
+    "  --passes P        timed passes over the view set, 1 to 1000 (default 5)\n"
+    "  --no-entities     world only, no moving things\n"
+    "  --table           a human-readable table on stdout (JSON then only to --out)\n"
+    "  --out FILE.jsonl  write the JSON lines to FILE instead of stdout\n"
+    "  --floor           only measure the fill floor for each --size\n"
+    "\n"
+    "MAP is a .bsp path, a map name in --data, or 'builtin'.\n"
+    "example:\n"
+    "  edgewise bench e1m1 start --data ../shared/data/librequake --size 1920x1080 --table\n";
+
+typedef struct bench_opts {
+    const char *maps[MAX_MAPS];
+    int         nmaps;
+    const char *data, *out;
+    int         sizes[MAX_SIZES][2];
+    int         nsizes;
+    int         threads[MAX_THREAD_COUNTS];
+    int         nthreads;
+    int         passes;
+    int         no_entities, table, floor_only;
+} bench_opts;
+
+/* ---- arguments ------------------------------------------------------------- */
+
+/* Returns 0, 1 for --help (usage printed), -1 (error printed). */
+static int bench_parse(int argc, char **argv, bench_opts *o) {
+    int only_positional = 0, passes_given = 0;
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        if (!only_positional && strcmp(a, "--") == 0) {
+            only_positional = 1;
+            continue;
+        }
+        if (only_positional || a[0] != '-' || !a[1]) {
+            if (!*a) {
+                error_line("bench: empty map name");
+                return -1;
+            }
+            if (o->nmaps == MAX_MAPS) {
+                error_line("bench: more than %d maps", MAX_MAPS);
+                return -1;
+            }
+            o->maps[o->nmaps++] = a;
+            continue;
+        }
+        const char *eq = strchr(a, '=');
+        size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
+        char name[32];
+        snprintf(name, sizeof name, "%.*s", (int)(nlen < sizeof name ? nlen : sizeof name - 1),
+                 a);
+        int is_flag = strcmp(name, "--no-entities") == 0 || strcmp(name, "--table") == 0 ||
+                      strcmp(name, "--floor") == 0 || strcmp(name, "--help") == 0 ||
+                      strcmp(name, "-h") == 0;
+        int has_value = strcmp(name, "--data") == 0 || strcmp(name, "--size") == 0 ||
+                        strcmp(name, "--threads") == 0 || strcmp(name, "--passes") == 0 ||
+                        strcmp(name, "--out") == 0;
+        if (!is_flag && !has_value) {
+            error_line("bench: unknown option '%.*s' (see edgewise bench --help)", (int)nlen, a);
+            return -1;
+        }
+        if (is_flag) {
+            if (eq) {
+                error_line("bench: option '%s' takes no value", name);
+                return -1;
+            }
+            if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
+                fputs(bench_usage, stdout);
+                return 1;
+            }
+            if (strcmp(name, "--no-entities") == 0)
+                o->no_entities = 1;
+            else if (strcmp(name, "--table") == 0)
+                o->table = 1;
+            else
+                o->floor_only = 1;
+            continue;
+        }
+        const char *v;
+        if (eq)
+            v = eq + 1;
+        else if (i + 1 < argc)
+            v = argv[++i];
+        else {
+            error_line("bench: option '%s' needs a value", name);
+            return -1;
+        }
+        long l;
+        if (strcmp(name, "--data") == 0 || strcmp(name, "--out") == 0) {
+            const char **slot = name[2] == 'd' ? &o->data : &o->out;
+            if (!*v) {
+                error_line("bench: %s: empty name", name);
+                return -1;
+            }
+            if (*slot) {
+                error_line("bench: %s given twice", name);
+                return -1;
+            }
+            *slot = v;
+        } else if (strcmp(name, "--size") == 0) {
+            if (o->nsizes == MAX_SIZES) {
+                error_line("bench: more than %d sizes", MAX_SIZES);
+                return -1;
+            }
+            if (parse_size(v, &o->sizes[o->nsizes][0], &o->sizes[o->nsizes][1]) < 0)
+                return -1;
+            o->nsizes++;
+        } else if (strcmp(name, "--threads") == 0) {
+            if (parse_long(v, &l) < 0 || l < 0 || l > MAX_THREADS) {
+                error_line("bench: --threads %s: expected 0 (all cores) to %d", v, MAX_THREADS);
+                return -1;
+            }
+            if (o->nthreads == MAX_THREAD_COUNTS) {
+                error_line("bench: more than %d --threads values", MAX_THREAD_COUNTS);
+                return -1;
+            }
+            o->threads[o->nthreads++] = (int)l;
+        } else { /* --passes */
+            if (parse_long(v, &l) < 0 || l < 1 || l > MAX_PASSES) {
+                error_line("bench: --passes %s: expected 1 to %d", v, MAX_PASSES);
+                return -1;
+            }
+            if (passes_given++) {
+                error_line("bench: --passes given twice");
+                return -1;
+            }
+            o->passes = (int)l;
+        }
+    }
+    if (o->floor_only && o->nmaps) {
+        error_line("bench: --floor takes no MAP (it measures the machine, not a map)");
+        return -1;
+    }
+    if (!o->floor_only && !o->nmaps) {
+        error_line("bench: missing MAP (a .bsp path, a map name with --data, or 'builtin')");
+        return -1;
+    }
+    if (o->floor_only && (o->data || o->nthreads || passes_given || o->no_entities)) {
+        error_line("bench: --floor takes only --size, --table and --out");
+        return -1;
+    }
+    if (!o->nsizes) {
+        o->sizes[0][0] = 640;
+        o->sizes[0][1] = 480;
+        o->nsizes = 1;
+    }
+    if (!o->nthreads)
+        o->threads[o->nthreads++] = 1;
+    if (!passes_given)
+        o->passes = DEFAULT_PASSES;
+    return 0;
+}
+
+/* ---- timing and statistics ------------------------------------------------- */
+
+static double now_ms(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Sorts v in place. */
+static double median_of(double *v, int n) {
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Nearest rank on a sorted array: the smallest value >= 99% of them. */
+static double p99_of_sorted(const double *v, int n) {
+    int k = (int)ceil(0.99 * n);
+    return v[k < 1 ? 0 : k - 1];
+}
+
+static int online_cores(void) {
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > MAX_THREADS ? MAX_THREADS : (int)n;
+}
+
+/* ---- the fill floor -------------------------------------------------------- */
+
+/* The cheapest textured frame: every pixel written once from a 64x64 texture
+ * with affine 16.16 u,v steps; no perspective, no lighting, no z.  seed moves
+ * the texture per repetition so no pass can be skipped as a repeat. */
+static void floor_fill(uint8_t *dst, int w, int h, const uint8_t tex[64 * 64], uint32_t seed) {
+    for (int y = 0; y < h; y++) {
+        uint32_t u = seed + (uint32_t)y * 0x5A3u, v = seed + (uint32_t)y * 0x4000u;
+        uint8_t *row = dst + (size_t)y * (size_t)w;
+        for (int x = 0; x < w; x++) {
+            row[x] = tex[((v >> 10) & (63u << 6)) | ((u >> 16) & 63u)];
+            u += 0xC000u;
+            v += 0x1800u;
+        }
+    }
+}
+
+/* Median ms of many floor fills of a w x h frame (-1 if out of memory).
+ * Runs for about a quarter second so small sizes get many samples. */
+static double measure_floor(int w, int h, int *reps_out) {
+    enum { MIN_REPS = 15, MAX_REPS = 1000 };
+    const double budget_ms = 250;
+    uint8_t tex[64 * 64];
+    for (int i = 0; i < 64 * 64; i++)
+        tex[i] = (uint8_t)((i * 37) ^ (i >> 6) * 11);
+    uint8_t *frame = malloc((size_t)w * (size_t)h);
+    double *t = malloc(MAX_REPS * sizeof *t);
+    if (!frame || !t) {
+        free(frame);
+        free(t);
+        return -1;
+    }
+    static volatile uint8_t sink;   /* keeps every frame observable */
+    floor_fill(frame, w, h, tex, 0);   /* warm-up: page in the frame */
+    sink = frame[(size_t)w * (size_t)h / 2];
+    int n = 0;
+    double start = now_ms();
+    while (n < MAX_REPS && (n < MIN_REPS || now_ms() - start < budget_ms)) {
+        double t0 = now_ms();
+        floor_fill(frame, w, h, tex, (uint32_t)n * 0x9E3779B9u);
+        t[n++] = now_ms() - t0;
+        sink = (uint8_t)(sink + frame[(size_t)(n * 7919) % ((size_t)w * (size_t)h)]);
+    }
+    double m = median_of(t, n);
+    free(frame);
+    free(t);
+    if (reps_out)
+        *reps_out = n;
+    return m;
+}
+
+typedef struct floor_cache {
+    int    w[MAX_SIZES], h[MAX_SIZES], reps[MAX_SIZES];
+    double ms[MAX_SIZES];
+    int    n;
+} floor_cache;
+
+static double floor_for(floor_cache *c, int w, int h) {
+    for (int i = 0; i < c->n; i++)
+        if (c->w[i] == w && c->h[i] == h)
+            return c->ms[i];
+    if (c->n == MAX_SIZES)
+        return measure_floor(w, h, NULL);
+    c->w[c->n] = w;
+    c->h[c->n] = h;
+    c->ms[c->n] = measure_floor(w, h, &c->reps[c->n]);
+    return c->ms[c->n++];
+}
+
+/* ---- one row --------------------------------------------------------------- */
+
+/* The integer counters of ew_stats reported per row, as a mean per frame. */
+#define COUNTER(f) { #f, offsetof(ew_stats, f), _Generic(((ew_stats *)0)->f, long: 1, default: 0) }
+static const struct counter_def {
+    const char *name;
+    size_t      offset;
+    int         is_long;
+} counter_defs[] = {
+    COUNTER(pixels_written), COUNTER(pixels_covered), COUNTER(edges),
+    COUNTER(edges_cached), COUNTER(surfaces), COUNTER(spans),
+    COUNTER(surfaces_built), COUNTER(surfaces_cached), COUNTER(visible_leaves),
+    COUNTER(dropped), COUNTER(entities_drawn), COUNTER(entities_culled),
+    COUNTER(entities_unknown), COUNTER(models_missing), COUNTER(alias_tris),
+    COUNTER(alias_tris_subdiv), COUNTER(alias_pixels), COUNTER(particles),
+    COUNTER(surfaces_rebuilt_by_dlights),
+};
+#undef COUNTER
+enum { NCOUNTERS = sizeof counter_defs / sizeof counter_defs[0] };
+
+static double counter_value(const ew_stats *s, const struct counter_def *d) {
+    const char *p = (const char *)s + d->offset;
+    return d->is_long ? (double)*(const long *)(const void *)p
+                      : (double)*(const int *)(const void *)p;
+}
+
+enum { ST_FRONT, ST_SCAN, ST_DRAW, ST_MODELS, ST_TOTAL, NSTAGES };
+static const char *const stage_names[NSTAGES] = { "front", "scan", "draw", "models", "total" };
+
+typedef struct row {
+    char   map[256];
+    int    w, h, threads, threads_requested, threads_applied, views, passes, entities, max_view;
+    double median, mean, p99, max, level, ns_per_pixel, floor_ms, floor_ratio;
+    double stages[NSTAGES];        /* median per frame */
+    double counters[NCOUNTERS];    /* mean per frame */
+} row;
+
+/* Fills r from frames[views * passes] and their stats. */
+static void summarize(row *r, double *frames, const ew_stats *stats, double *scratch) {
+    int n = r->views * r->passes;
+    double sum = 0;
+    r->max = -1;
+    for (int i = 0; i < n; i++) {
+        sum += frames[i];
+        if (frames[i] > r->max) {
+            r->max = frames[i];
+            r->max_view = i % r->views;
+        }
+    }
+    r->mean = sum / n;
+    r->median = median_of(frames, n);   /* sorts frames: max_view is found first */
+    r->p99 = p99_of_sorted(frames, n);
+    r->level = r->median > 0 ? r->max / r->median : NAN;
+    r->ns_per_pixel = r->median * 1e6 / ((double)r->w * r->h);
+    r->floor_ratio = r->floor_ms > 0 ? r->median / r->floor_ms : NAN;
+    for (int s = 0; s < NSTAGES; s++) {
+        for (int i = 0; i < n; i++) {
+            const ew_stats *st = &stats[i];
+            scratch[i] = s == ST_FRONT ? st->ms_front : s == ST_SCAN ? st->ms_scan
+                       : s == ST_DRAW ? st->ms_draw : s == ST_MODELS ? st->ms_models
+                                                                     : st->ms_total;
+        }
+        r->stages[s] = median_of(scratch, n);
+    }
+    for (int c = 0; c < NCOUNTERS; c++) {
+        double total = 0;
+        for (int i = 0; i < n; i++)
+            total += counter_value(&stats[i], &counter_defs[c]);
+        r->counters[c] = total / n;
+    }
+}
+
+/* Like json_number, but keeps up to 10 digits so large counts stay exact. */
+static void json_count(FILE *f, double v) {
+    if (isfinite(v))
+        fprintf(f, "%.10g", v);
+    else
+        fputs("null", f);
+}
+
+static void print_row_json(FILE *f, const row *r) {
+    fputs("{\"map\":", f);
+    json_string(f, r->map);
+    fprintf(f, ",\"width\":%d,\"height\":%d,\"threads\":%d,\"threads_requested\":%d,"
+               "\"threads_applied\":%s,\"entities\":%s,\"views\":%d,\"passes\":%d",
+            r->w, r->h, r->threads, r->threads_requested, r->threads_applied ? "true" : "false",
+            r->entities ? "true" : "false", r->views, r->passes);
+    const char *names[] = { "median_ms", "mean_ms", "p99_ms", "max_ms" };
+    const double vals[] = { r->median, r->mean, r->p99, r->max };
+    for (int i = 0; i < 4; i++) {
+        fprintf(f, ",\"%s\":", names[i]);
+        json_number(f, vals[i]);
+    }
+    fprintf(f, ",\"max_view\":%d,\"level\":", r->max_view);
+    json_number(f, r->level);
+    fputs(",\"ns_per_pixel\":", f);
+    json_number(f, r->ns_per_pixel);
+    fputs(",\"floor_ms\":", f);
+    json_number(f, r->floor_ms);
+    fputs(",\"floor_ratio\":", f);
+    json_number(f, r->floor_ratio);
+    fputs(",\"stages\":{", f);
+    for (int s = 0; s < NSTAGES; s++) {
+        fprintf(f, "%s\"%s\":", s ? "," : "", stage_names[s]);
+        json_number(f, r->stages[s]);
+    }
+    fprintf(f, "},\"counters\":{\"pixels\":%ld", (long)r->w * r->h);
+    for (int c = 0; c < NCOUNTERS; c++) {
+        fprintf(f, ",\"%s\":", counter_defs[c].name);
+        json_count(f, r->counters[c]);
+    }
+    fputs("}}\n", f);
+}
+
+static void print_table_header(void) {
+    printf("%-10s %9s %3s %5s %8s %8s %8s %8s %4s %5s %6s %7s %6s %7s %7s %7s %7s\n", "map",
+           "size", "thr", "views", "median", "mean", "p99", "max", "@", "level", "ns/px",
+           "floor", "xfloor", "front", "scan", "draw", "models");
+}
+
+static void print_table_row(const row *r) {
+    char size[24];
+    snprintf(size, sizeof size, "%dx%d", r->w, r->h);
+    printf("%-10.10s %9s %3d %5d %8.3f %8.3f %8.3f %8.3f %4d %5.2f %6.2f %7.3f %6.2f %7.3f "
+           "%7.3f %7.3f %7.3f\n",
+           r->map, size, r->threads, r->views, r->median, r->mean, r->p99, r->max, r->max_view,
+           r->level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->stages[ST_FRONT],
+           r->stages[ST_SCAN], r->stages[ST_DRAW], r->stages[ST_MODELS]);
+}
+
+/* A progress line on stderr, only for a person watching a terminal. */
+static int     progress_on;
+static double  progress_last;
+static void progress(const char *map, int w, int h, int threads, int pass, int passes, int view,
+                     int views) {
+    if (!progress_on)
+        return;
+    double t = now_ms();
+    if (t - progress_last < 100 && view != 0)
+        return;
+    progress_last = t;
+    char line[160];
+    snprintf(line, sizeof line, "bench: %.40s %dx%d threads %d %s %d/%d view %d/%d", map, w, h,
+             threads, pass ? "pass" : "warm-up", pass, passes, view + 1, views);
+    fprintf(stderr, "\r%-78.78s", line);
+    fflush(stderr);
+}
+static void progress_clear(void) {
+    if (progress_on)
+        fprintf(stderr, "\r%78s\r", "");
+}
+
+/* ---- the command ----------------------------------------------------------- */
+
+static int bench_floor(const bench_opts *o, FILE *json) {
+    if (o->table)
+        printf("%9s %9s %6s %6s\n", "size", "floor_ms", "ns/px", "reps");
+    for (int i = 0; i < o->nsizes; i++) {
+        int w = o->sizes[i][0], h = o->sizes[i][1], reps = 0;
+        double ms = measure_floor(w, h, &reps);
+        if (ms < 0) {
+            error_line("bench: out of memory for a %dx%d frame", w, h);
+            return 1;
+        }
+        double nspp = ms * 1e6 / ((double)w * h);
+        if (json) {
+            fprintf(json, "{\"floor\":true,\"width\":%d,\"height\":%d,\"floor_ms\":", w, h);
+            json_number(json, ms);
+            fputs(",\"ns_per_pixel\":", json);
+            json_number(json, nspp);
+            fprintf(json, ",\"reps\":%d}\n", reps);
+            fflush(json);
+        }
+        if (o->table) {
+            char size[24];
+            snprintf(size, sizeof size, "%dx%d", w, h);
+            printf("%9s %9.4f %6.3f %6d\n", size, ms, nspp, reps);
+            fflush(stdout);
+        }
+    }
+    return 0;
+}
+
+/* Loads one map: 0, or -1 with the error printed. */
+static int bench_load(const bench_opts *o, const char *map, ew_assets *a) {
+    ew_error err = { "" };
+    memset(a, 0, sizeof *a);
+    int rc = is_builtin(map) ? ew_assets_builtin(a, &err) : ew_assets_load(map, o->data, a, &err);
+    if (rc < 0 || !a->world) {
+        error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
+        ew_assets_free(a);
+        return -1;
+    }
+    return 0;
+}
+
+/* One map at one size and thread count; returns 0 or 1 (error printed).
+ * scene is an ew_scene or NULL (world only), untyped so the file still builds
+ * against revisions from before the scene API (EW_BENCH_NO_SCENE). */
+static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
+                     const void *scene, const ew_camera *views, int nviews, int w, int h,
+                     int threads, floor_cache *fc, row *r) {
+    memset(r, 0, sizeof *r);
+    map_basename(map, r->map, sizeof r->map);
+    r->w = w;
+    r->h = h;
+    r->threads_requested = threads;
+    r->threads = threads ? threads : online_cores();
+    r->entities = scene != NULL;
+    r->views = nviews;
+    r->passes = o->passes;
+    r->floor_ms = floor_for(fc, w, h);
+
+    ew_error err = { "" };
+    ew_renderer *rd = ew_renderer_create(a->world, a->palette, a->colormap, w, h, &err);
+    if (!rd) {
+        error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
+        return 1;
+    }
+#ifndef EW_BENCH_NO_THREADS
+    /* The renderer may use fewer threads than asked (bands of >= 8 rows, a
+     * cap): rows report the count in use. */
+    int used = ew_set_threads(rd, threads);
+    if (used < 0) {
+        error_line("bench: out of memory for %d threads at %dx%d", r->threads, w, h);
+        ew_renderer_free(rd);
+        return 1;
+    }
+    r->threads = used;
+    r->threads_applied = 1;
+#endif
+#ifndef EW_BENCH_NO_SCENE
+    ew_set_scene(rd, scene);
+#endif
+    size_t n = (size_t)nviews * (size_t)o->passes;
+    double *frames = malloc(n * sizeof *frames), *scratch = malloc(n * sizeof *scratch);
+    ew_stats *stats = calloc(n, sizeof *stats);
+    int rc = 1;
+    if (!frames || !scratch || !stats) {
+        error_line("bench: out of memory");
+        goto done;
+    }
+    for (int pass = 0; pass <= o->passes; pass++) {
+        for (int v = 0; v < nviews; v++) {
+            progress(r->map, w, h, r->threads, pass, o->passes, v, nviews);
+            ew_stats st;
+            /* Pass 0 is the warm-up: page in the frame and fill the surface cache. */
+            ew_stats *sp = pass ? &stats[(size_t)(pass - 1) * nviews + v] : &st;
+            double t0 = now_ms();
+            int ok = ew_render(rd, &views[v], sp);
+            double t1 = now_ms();
+            if (ok < 0) {
+                progress_clear();
+                error_line("%s: view %d: cannot render this camera", r->map, v);
+                goto done;
+            }
+            if (pass)
+                frames[(size_t)(pass - 1) * nviews + v] = t1 - t0;
+        }
+    }
+    summarize(r, frames, stats, scratch);
+    rc = 0;
+done:
+    free(frames);
+    free(scratch);
+    free(stats);
+    ew_renderer_free(rd);
+    return rc;
+}
+
+int cmd_bench(int argc, char **argv) {
+    bench_opts o;
+    memset(&o, 0, sizeof o);
+    int pr = bench_parse(argc, argv, &o);
+    if (pr)
+        return pr < 0 ? BENCH_EXIT_USAGE : 0;
+
+    FILE *json = NULL;
+    if (o.out) {
+        json = fopen(o.out, "w");
+        if (!json) {
+            error_line("%s: %s", o.out, strerror(errno));
+            return 1;
+        }
+    } else if (!o.table) {
+        json = stdout;
+    }
+    progress_on = isatty(STDERR_FILENO);
+
+    int rc = 0;
+    if (o.floor_only) {
+        rc = bench_floor(&o, json);
+    } else {
+        floor_cache fc;
+        memset(&fc, 0, sizeof fc);
+        if (o.table)
+            print_table_header();
+        for (int m = 0; m < o.nmaps && !rc; m++) {
+            ew_assets a;
+            if (bench_load(&o, o.maps[m], &a) < 0) {
+                rc = 1;
+                break;
+            }
+            ew_camera views[EW_MAX_VIEWS];
+            int nviews = ew_view_set(a.world, views);
+            const void *scene = NULL;
+#ifndef EW_BENCH_NO_SCENE
+            /* The map's entities, as the game shows it; the built-in scene has
+             * none that draw, and no game directory to find models in. */
+            ew_scene *sc = NULL;
+            if (!o.no_entities && nviews > 0) {
+                ew_error err = { "" };
+                sc = is_builtin(o.maps[m]) ? ew_scene_create(a.world, &err)
+                                           : ew_scene_from_map(a.world, o.maps[m], o.data, &err);
+                if (!sc) {
+                    error_line("%s", err.msg[0] ? err.msg : "cannot load the map's entities");
+                    rc = 1;
+                }
+            }
+            scene = sc;
+#endif
+            if (nviews == 0) {
+                error_line("%s: no views (no info_player* or info_intermission entity)",
+                           o.maps[m]);
+                rc = 1;
+            }
+            for (int s = 0; s < o.nsizes && !rc; s++)
+                for (int t = 0; t < o.nthreads && !rc; t++) {
+                    row r;
+                    rc = bench_row(&o, o.maps[m], &a, scene, views, nviews, o.sizes[s][0],
+                                   o.sizes[s][1], o.threads[t], &fc, &r);
+                    if (rc)
+                        break;
+                    progress_clear();
+                    if (json) {
+                        print_row_json(json, &r);
+                        fflush(json);
+                    }
+                    if (o.table) {
+                        print_table_row(&r);
+                        fflush(stdout);
+                    }
+                }
+#ifndef EW_BENCH_NO_SCENE
+            ew_scene_free(sc);
+#endif
+            ew_assets_free(&a);
+        }
+    }
+    progress_clear();
+    if (json && json != stdout && fclose(json) != 0 && rc == 0) {
+        error_line("%s: %s", o.out, strerror(errno));
+        rc = 1;
+    }
+    if (fflush(stdout) != 0 && rc == 0) {
+        error_line("stdout: %s", strerror(errno));
+        rc = 1;
+    }
+    return rc;
+}

@@ -1,0 +1,374 @@
+/*
+ * edgewise soak MAP [--data DIR] --frames N [--size WxH] [--seed S] [--threads N]
+ *
+ * Renders N frames, alternating between the view set and deterministic
+ * random cameras (a random open leaf of the world, the camera at the
+ * centre of its bounds nudged clear of every plane, random yaw and
+ * pitch), and checks every frame's
+ * counters against what the renderer promises:
+ *   - overdraw exactly 1 (no pixel written twice);
+ *   - every pixel written, unless the camera is in solid (or sky) or a
+ *     budget dropped something;
+ *   - nothing dropped unless a budget (surfaces, edges, spans) is full:
+ *     drops with a full budget are reported separately, not as anomalies.
+ * Prints one JSON line at the end: frames per second, anomalies (frame,
+ * camera, what), budget drops and peak memory (ru_maxrss).  Exit 1 if any
+ * anomaly, 2 for bad arguments.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+#include "edgewise.h"
+#include "ew_render.h"  /* the world's leaves and the renderer's budgets */
+#include "ew_util.h"    /* ew_now_ms */
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+
+#define MAX_FRAMES 1000000000L
+#define MAX_LISTED 20  /* anomalies and drops listed in full in the JSON */
+
+static const char soak_usage[] =
+    "usage: edgewise soak MAP [--data DIR] --frames N [--size WxH] [--seed S] [--threads N]\n"
+    "\n"
+    "Renders N frames cycling through the view set and random cameras in open\n"
+    "leaves of the map, checks each frame's counters (overdraw exactly 1, every\n"
+    "pixel written unless the camera is in solid, nothing dropped unless a\n"
+    "budget is full) and prints one JSON line: frames/s, anomalies, budget\n"
+    "drops, peak memory.  Exit status 1 if any frame broke a promise.\n"
+    "\n"
+    "  --data DIR      game directory (maps/, gfx/)\n"
+    "  --frames N      frames to render (required)\n"
+    "  --size WxH      frame size (default 320x200)\n"
+    "  --seed S        random cameras' seed (default 1)\n"
+    "  --threads N     render threads, 0 = one per core (default 1)\n";
+
+typedef struct soak_opts {
+    const char *map, *data;
+    long        frames;
+    int         width, height, threads;
+    uint64_t    seed;
+} soak_opts;
+
+/* Returns 0, 1 after --help, or -1 (error printed). */
+static int parse(int argc, char **argv, soak_opts *o) {
+    int have_frames = 0;
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(soak_usage, stdout);
+            return 1;
+        }
+        if (a[0] != '-' || !a[1]) {
+            if (o->map) {
+                error_line("soak: unexpected argument '%s'", a);
+                return -1;
+            }
+            if (!*a) {
+                error_line("soak: empty map name");
+                return -1;
+            }
+            o->map = a;
+            continue;
+        }
+        const char *names[] = {"--data", "--frames", "--size", "--seed", "--threads"};
+        int which = -1;
+        size_t nlen = strcspn(a, "=");
+        for (int k = 0; k < 5; k++)
+            if (strlen(names[k]) == nlen && !strncmp(a, names[k], nlen)) which = k;
+        if (which < 0) {
+            error_line("soak: unknown option '%.*s' (see edgewise soak --help)", (int)nlen, a);
+            return -1;
+        }
+        const char *v = a[nlen] == '=' ? a + nlen + 1 : i + 1 < argc ? argv[++i] : NULL;
+        if (!v) {
+            error_line("soak: option '%s' needs a value", names[which]);
+            return -1;
+        }
+        long l;
+        switch (which) {
+        case 0:
+            if (!*v) {
+                error_line("--data: empty directory name");
+                return -1;
+            }
+            o->data = v;
+            break;
+        case 1:
+            if (parse_long(v, &l) < 0 || l < 1 || l > MAX_FRAMES) {
+                error_line("--frames %s: expected a whole number from 1 to %ld", v, MAX_FRAMES);
+                return -1;
+            }
+            o->frames = l;
+            have_frames = 1;
+            break;
+        case 2:
+            if (parse_size(v, &o->width, &o->height) < 0) return -1;
+            break;
+        case 3: {
+            char *end;
+            errno = 0;
+            unsigned long long s = strtoull(v, &end, 10);
+            if (!*v || *v == '-' || *v == '+' || *end || errno == ERANGE) {
+                error_line("--seed %s: expected a whole number from 0 to %llu", v, ULLONG_MAX);
+                return -1;
+            }
+            o->seed = (uint64_t)s;
+            break;
+        }
+        case 4:
+            if (parse_long(v, &l) < 0 || l < 0 || l > EW_MAX_THREADS) {
+                error_line("--threads %s: expected 0 (one per core) to %d", v, EW_MAX_THREADS);
+                return -1;
+            }
+            o->threads = (int)l;
+            break;
+        }
+    }
+    if (!o->map) {
+        error_line("soak: missing MAP (a .bsp path, a map name with --data, or 'builtin')");
+        return -1;
+    }
+    if (!have_frames) {
+        error_line("soak: missing --frames N");
+        return -1;
+    }
+    return 0;
+}
+
+/* splitmix64: small, and the same sequence on every platform. */
+static uint64_t next_u64(uint64_t *s) {
+    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+static double next_unit(uint64_t *s) { return (double)(next_u64(s) >> 11) / 9007199254740992.0; }
+
+/* A camera there sees the inside of the world: open contents (sky
+ * volumes are closed to the player as solid is). */
+static int open_contents(int c) { return c != EW_CONTENTS_SOLID && c != EW_CONTENTS_SKY; }
+
+/* Open leaves of the world tree (model 0), not of brush models. */
+static int *world_open_leaves(const ew_world *w, int *n) {
+    *n = 0;
+    int *list = malloc(sizeof(int) * (size_t)(w->numleaves > 0 ? w->numleaves : 1));
+    if (!list) return NULL;
+    int head = w->models[0].headnode;
+    for (int i = 1; i < w->numleaves; i++) {
+        if (!open_contents(w->leaves[i].contents)) continue;
+        int node = w->leaves[i].parent, top = -1;
+        for (int steps = 0; node >= 0 && steps <= w->numnodes; steps++) top = node, node = w->nodes[node].parent;
+        if (top == head) list[(*n)++] = i;
+    }
+    return list;
+}
+
+/* How far the eye stays from every plane of the world.  Leaf bounds sit
+ * on the map grid, so their centres often lie exactly in some face's
+ * plane; an eye there sees that face edge-on, and two things follow that
+ * are geometry, not renderer faults: rays along a wall's plane start in
+ * the solid behind it, and the faces either side of an edge-on face meet
+ * on one screen line computed from two different edges, which float
+ * rounding can leave a pixel apart.  So the centre is nudged by up to
+ * JITTER units until the eye is clear of every plane. */
+#define EYE_CLEARANCE 0.125f
+#define JITTER 0.5
+#define PLACE_TRIES 16
+
+static int clear_of_planes(const ew_world *w, const float p[3]) {
+    for (int i = 0; i < w->numplanes; i++) {
+        const ew_plane *pl = &w->planes[i];
+        float d = p[0] * pl->normal[0] + p[1] * pl->normal[1] + p[2] * pl->normal[2] - pl->dist;
+        if (fabsf(d) < EYE_CLEARANCE) return 0;
+    }
+    return 1;
+}
+
+/* An eye near the centre of a random open leaf, in that leaf and clear of
+ * every plane; 0, or -1 if PLACE_TRIES leaves all failed. */
+static int random_eye(const ew_world *w, const int *open_leaves, int nopen, uint64_t *rng,
+                      float eye[3]) {
+    for (int t = 0; t < PLACE_TRIES; t++) {
+        int li = open_leaves[next_u64(rng) % (uint64_t)nopen];
+        const ew_leaf *l = &w->leaves[li];
+        for (int k = 0; k < 3; k++)
+            eye[k] = (l->mins[k] + l->maxs[k]) * 0.5f + (float)((next_unit(rng) * 2 - 1) * JITTER);
+        if (ew_point_leaf(w, w->models[0].headnode, eye) == li && clear_of_planes(w, eye)) return 0;
+    }
+    return -1;
+}
+
+typedef struct finding {
+    long      frame;
+    ew_camera cam;
+    char      what[160];
+} finding;
+
+typedef struct findings {
+    finding list[MAX_LISTED];
+    long    count;
+} findings;
+
+static void add_finding(findings *f, long frame, const ew_camera *cam, const char *fmt, ...)
+    EW_CLI_PRINTF(4, 5);
+static void add_finding(findings *f, long frame, const ew_camera *cam, const char *fmt, ...) {
+    if (f->count < MAX_LISTED) {
+        finding *x = &f->list[f->count];
+        x->frame = frame;
+        x->cam = *cam;
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(x->what, sizeof x->what, fmt, ap);
+        va_end(ap);
+    }
+    f->count++;
+}
+
+/* Cameras in full float precision, so a reported frame can be rendered
+ * again exactly (edgewise render --pos/--angles/--time). */
+static void print_camera(FILE *out, const ew_camera *c) {
+    fputs("{\"origin\":[", out);
+    for (int k = 0; k < 3; k++) fprintf(out, "%.9g%s", c->origin[k], k < 2 ? "," : "],\"angles\":[");
+    for (int k = 0; k < 3; k++) fprintf(out, "%.9g%s", c->angles[k], k < 2 ? "," : "],\"time\":");
+    fprintf(out, "%.17g}", c->time);
+}
+
+static void print_findings(FILE *out, const char *key, const findings *f) {
+    fprintf(out, ",\"%s\":%ld,\"%s_list\":[", key, f->count, key);
+    long shown = f->count < MAX_LISTED ? f->count : MAX_LISTED;
+    for (long i = 0; i < shown; i++) {
+        fprintf(out, "%s{\"frame\":%ld,\"camera\":", i ? "," : "", f->list[i].frame);
+        print_camera(out, &f->list[i].cam);
+        fputs(",\"what\":", out);
+        json_string(out, f->list[i].what);
+        fputc('}', out);
+    }
+    fputc(']', out);
+}
+
+/* A budget that refuses work when full: surfaces, edges (a face needs up
+ * to EW_MAX_POLY of them) or a band's spans. */
+static int budget_full(const ew_renderer *r) {
+    if (r->nsurfs >= r->max_surfs || r->nedges + EW_MAX_POLY + 4 > r->max_edges) return 1;
+    for (int i = 0; i < r->nbands; i++)
+        if (r->bands[i].nspans >= r->bands[i].max_spans || r->bands[i].naet >= r->bands[i].max_aet)
+            return 1;
+    return 0;
+}
+
+int cmd_soak(int argc, char **argv) {
+    soak_opts o = {.width = 320, .height = 200, .threads = 1, .seed = 1};
+    int pr = parse(argc, argv, &o);
+    if (pr != 0) return pr > 0 ? 0 : 2;
+
+    ew_assets a;
+    ew_error err = {""};
+    memset(&a, 0, sizeof a);
+    int rc = is_builtin(o.map) ? ew_assets_builtin(&a, &err) : ew_assets_load(o.map, o.data, &a, &err);
+    if (rc < 0 || !a.world) {
+        error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
+        return 1;
+    }
+    const ew_world *w = a.world;
+    ew_renderer *r = ew_renderer_create(w, a.palette, a.colormap, o.width, o.height, &err);
+    int nopen = 0, *open_leaves = world_open_leaves(w, &nopen);
+    if (!r || !open_leaves || ew_set_threads(r, o.threads) < 0) {
+        error_line("%s", r ? "soak: out of memory" : err.msg);
+        ew_renderer_free(r);
+        free(open_leaves);
+        ew_assets_free(&a);
+        return 1;
+    }
+    ew_camera views[EW_MAX_VIEWS];
+    int nviews = ew_view_set(w, views);
+
+    findings anomalies = {.count = 0}, drops = {.count = 0};
+    long in_solid = 0, random_frames = 0, view_frames = 0;
+    uint64_t rng = o.seed;
+    double total_ms = 0, t_start = ew_now_ms();
+    for (long i = 0; i < o.frames; i++) {
+        ew_camera cam;
+        memset(&cam, 0, sizeof cam);
+        /* Even frames walk the view set, odd ones (all, without views) are random. */
+        if (nviews > 0 && (i % 2 == 0 || nopen == 0)) {
+            cam = views[(i / 2) % nviews];
+            view_frames++;
+        } else if (nopen > 0 && random_eye(w, open_leaves, nopen, &rng, cam.origin) == 0) {
+            cam.angles[0] = (float)(next_unit(&rng) * 170.0 - 85.0);
+            cam.angles[1] = (float)(next_unit(&rng) * 360.0);
+            cam.fov = 90;
+            random_frames++;
+        } else {
+            error_line("%s: no views, and no open leaf to place a camera in", o.map);
+            rc = 1;
+            break;
+        }
+        cam.time = i / 30.0;  /* animations, sky and liquids keep moving */
+
+        ew_stats st;
+        if (ew_render(r, &cam, &st) != 0) {
+            add_finding(&anomalies, i, &cam, "ew_render refused the camera");
+            continue;
+        }
+        total_ms += st.ms_total;
+        int leaf = ew_point_leaf(w, w->models[0].headnode, cam.origin);
+        int solid = leaf == 0 || !open_contents(w->leaves[leaf].contents);
+        in_solid += solid;
+        if (st.pixels != (long)o.width * o.height)
+            add_finding(&anomalies, i, &cam, "pixels %ld, frame has %ld", st.pixels, (long)o.width * o.height);
+        if (st.pixels_written != st.pixels_covered)
+            add_finding(&anomalies, i, &cam, "overdraw %.9g (%ld written, %ld covered)", st.overdraw,
+                        st.pixels_written, st.pixels_covered);
+        if (st.dropped > 0) {
+            if (budget_full(r))
+                add_finding(&drops, i, &cam, "dropped %d with a full budget (%d surfaces, %d edges)",
+                            st.dropped, st.surfaces, st.edges);
+            else
+                add_finding(&anomalies, i, &cam, "dropped %d with no budget full (%d surfaces, %d edges)",
+                            st.dropped, st.surfaces, st.edges);
+        } else if (!solid && st.pixels_covered != st.pixels) {
+            add_finding(&anomalies, i, &cam, "%ld of %ld pixels written (leaf %d, contents %d)",
+                        st.pixels_covered, st.pixels, leaf, w->leaves[leaf].contents);
+        }
+    }
+    double wall_ms = ew_now_ms() - t_start;
+    struct rusage ru;
+    memset(&ru, 0, sizeof ru);
+    getrusage(RUSAGE_SELF, &ru);
+
+    char name[256];
+    map_basename(o.map, name, sizeof name);
+    FILE *out = stdout;
+    fputs("{\"map\":", out);
+    json_string(out, name);
+    fprintf(out, ",\"width\":%d,\"height\":%d,\"threads\":%d,\"seed\":%llu,\"frames\":%ld",
+            o.width, o.height, ew_get_threads(r), (unsigned long long)o.seed, o.frames);
+    fprintf(out, ",\"view_frames\":%ld,\"random_frames\":%ld,\"in_solid\":%ld,\"open_leaves\":%d",
+            view_frames, random_frames, in_solid, nopen);
+    fputs(",\"seconds\":", out);
+    json_number(out, wall_ms / 1000);
+    fputs(",\"fps\":", out);
+    json_number(out, wall_ms > 0 ? o.frames * 1000.0 / wall_ms : 0);
+    fputs(",\"ms_per_frame\":", out);
+    json_number(out, total_ms / o.frames);
+    print_findings(out, "anomalies", &anomalies);
+    print_findings(out, "budget_drops", &drops);
+    fprintf(out, ",\"peak_rss_kb\":%ld}\n", (long)ru.ru_maxrss);
+
+    for (long i = 0; i < anomalies.count && i < MAX_LISTED; i++)
+        error_line("soak: frame %ld: %s", anomalies.list[i].frame, anomalies.list[i].what);
+    ew_renderer_free(r);
+    free(open_leaves);
+    ew_assets_free(&a);
+    if (fflush(stdout) != 0) {
+        error_line("stdout: %s", strerror(errno));
+        return 1;
+    }
+    return rc || anomalies.count ? 1 : 0;
+}

@@ -1,0 +1,260 @@
+/* The per-format fuzz bodies (see fuzz_targets.h).  Besides surviving,
+ * they check a few promises the rest of the code relies on and abort if
+ * one is broken, so the fuzzer reports it like a crash:
+ *   - a loaded world only holds indices the renderer can use unchecked;
+ *   - a frame writes every pixel exactly once (overdraw 1) unless a budget
+ *     dropped something. */
+#include "fuzz_targets.h"
+
+#include "edgewise.h"
+#include "ew_world.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Defined by fuzz/loaders.cmake once the loaders' sources exist. */
+#ifdef EW_FUZZ_HAVE_MDL
+#include "asset/mdl.h"
+#endif
+#ifdef EW_FUZZ_HAVE_SPR
+#include "asset/spr.h"
+#endif
+
+#ifdef EW_FUZZ_HAVE_MDL
+const int ew_fuzz_have_mdl = 1;
+#else
+const int ew_fuzz_have_mdl = 0;
+#endif
+#ifdef EW_FUZZ_HAVE_SPR
+const int ew_fuzz_have_spr = 1;
+#else
+const int ew_fuzz_have_spr = 0;
+#endif
+
+/* Reads stored here cannot be optimised away. */
+unsigned ew_fuzz_sink;
+
+static void broken(const char *what, int index) {
+    fprintf(stderr, "fuzz: loader accepted a world that breaks its promise: %s (%d)\n", what, index);
+    abort();
+}
+
+/* Every error path must leave a message. */
+static int rejected(const ew_error *err) {
+    if (!err->msg[0]) {
+        fprintf(stderr, "fuzz: failure without an error message\n");
+        abort();
+    }
+    return 1;
+}
+
+/* What ew_world.h says the loader has validated, checked independently. */
+static void check_world(const ew_world *w) {
+    for (int i = 0; i < w->numfaces; i++) {
+        const ew_face *f = &w->faces[i];
+        if (f->plane < 0 || f->plane >= w->numplanes) broken("face plane", i);
+        if (f->texinfo < 0 || f->texinfo >= w->numtexinfo) broken("face texinfo", i);
+        if (f->numedges < 3 || f->firstedge < 0 || f->firstedge + f->numedges > w->numsurfedges)
+            broken("face edges", i);
+        for (int e = 0; e < f->numedges; e++) {
+            if (ew_face_edge(w, f, e) >= w->numedges) broken("face edge index", i);
+            if (ew_face_vertex(w, f, e) < 0 || ew_face_vertex(w, f, e) >= w->numverts)
+                broken("face vertex index", i);
+        }
+        if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB)))
+            for (int j = 0; j < 2; j++)
+                if (f->extents[j] < 16 || f->extents[j] > 2048 || f->extents[j] % 16) broken("face extents", i);
+        if (f->lightofs >= 0) {
+            int ns = 0;
+            while (ns < 4 && f->styles[ns] != 255) ns++;
+            long size = (long)((f->extents[0] >> 4) + 1) * ((f->extents[1] >> 4) + 1) * ns;
+            if (f->extents[0] < 0 || f->extents[1] < 0 || f->lightofs + size > w->lightsize)
+                broken("face light map", i);
+        }
+    }
+    for (int i = 0; i < w->numtexinfo; i++)
+        if (w->texinfo[i].texture < 0 || w->texinfo[i].texture >= w->numtextures)
+            broken("texinfo texture", i);
+    for (int i = 0; i < w->numtextures; i++) {
+        const ew_texture *t = &w->textures[i];
+        if (t->width < 1 || t->height < 1 || !t->mip[0]) broken("texture size", i);
+        if (t->anim_next >= w->numtextures || t->alternate_anims >= w->numtextures)
+            broken("texture animation", i);
+    }
+    for (int i = 0; i < w->nummarksurfaces; i++)
+        if (w->marksurfaces[i] < 0 || w->marksurfaces[i] >= w->numfaces) broken("marksurface", i);
+    for (int i = 0; i < w->numleaves; i++) {
+        const ew_leaf *l = &w->leaves[i];
+        if (l->firstmark < 0 || l->nummarks < 0 || l->firstmark + l->nummarks > w->nummarksurfaces)
+            broken("leaf marksurfaces", i);
+        if (l->visofs != -1 && (l->visofs < 0 || l->visofs >= w->vissize)) broken("leaf visofs", i);
+    }
+    for (int i = 0; i < w->numnodes; i++) {
+        const ew_node *n = &w->nodes[i];
+        if (n->plane < 0 || n->plane >= w->numplanes) broken("node plane", i);
+        for (int k = 0; k < 2; k++)
+            if (n->children[k] >= w->numnodes || -1 - n->children[k] >= w->numleaves)
+                broken("node child", i);
+        if (n->firstface < 0 || n->numfaces < 0 || n->firstface + n->numfaces > w->numfaces)
+            broken("node faces", i);
+    }
+    if (w->nummodels < 1) broken("no models", 0);
+    for (int i = 0; i < w->nummodels; i++) {
+        const ew_model *m = &w->models[i];
+        if (m->headnode < 0 || m->headnode >= w->numnodes) broken("model head node", i);
+        if (m->visleafs < 0 || m->visleafs >= w->numleaves) broken("model visleafs", i);
+        if (m->firstface < 0 || m->numfaces < 0 || m->firstface + m->numfaces > w->numfaces)
+            broken("model faces", i);
+    }
+}
+
+/* The fuzzer's buffer is exactly `size` bytes, so ASan sees any read past
+ * it; a patched copy must keep that property. */
+static uint8_t *copy_with_magic(const uint8_t *data, size_t size, const uint8_t magic[4]) {
+    uint8_t *d = malloc(size ? size : 1);
+    if (!d) return NULL;
+    memcpy(d, data, size);
+    for (size_t i = 0; i < 4 && i < size; i++) d[i] = magic[i];
+    return d;
+}
+
+static int load_world(const uint8_t *data, size_t size) {
+    ew_error err = {""};
+    ew_world *w = ew_world_load(data, size, "fuzz.bsp", &err);
+    if (!w) return rejected(&err);
+    check_world(w);
+    ew_world_info info;
+    ew_world_get_info(w, &info);
+    ew_camera views[EW_MAX_VIEWS];
+    int n = ew_view_set(w, views);
+    if (n < 0 || n > EW_MAX_VIEWS) broken("view count", n);
+    (void)strlen(ew_world_entities(w));
+    ew_world_free(w);
+    return 0;
+}
+
+int ew_fuzz_bsp29(const uint8_t *data, size_t size) {
+    static const uint8_t v29[4] = {29, 0, 0, 0};
+    uint8_t *d = copy_with_magic(data, size, v29);
+    if (!d) return 1;
+    int rc = load_world(d, size);
+    free(d);
+    return rc;
+}
+
+/* The BSP2 target keeps a 2PSB magic and makes everything else BSP2, so
+ * the fuzzer spends its time on the 32-bit layouts. */
+int ew_fuzz_bsp2(const uint8_t *data, size_t size) {
+    const uint8_t *magic = (const uint8_t *)"BSP2";
+    if (size >= 4 && memcmp(data, "2PSB", 4) == 0) magic = (const uint8_t *)"2PSB";
+    uint8_t *d = copy_with_magic(data, size, magic);
+    if (!d) return 1;
+    int rc = load_world(d, size);
+    free(d);
+    return rc;
+}
+
+int ew_fuzz_pak(const uint8_t *data, size_t size) {
+    ew_error err = {""};
+    ew_pak_entry *e;
+    int n;
+    if (ew_pak_parse(data, size, "fuzz.pak", &e, &n, &err) != 0) return rejected(&err);
+    /* Touch each entry's first and last byte: ASan flags any outside the file. */
+    for (int i = 0; i < n; i++) {
+        if (strlen(e[i].name) >= sizeof e[i].name) broken("pak name", i);
+        if (e[i].size) ew_fuzz_sink += data[e[i].offset] + data[e[i].offset + e[i].size - 1];
+    }
+    free(e);
+    return 0;
+}
+
+int ew_fuzz_lmp(const uint8_t *data, size_t size) {
+    ew_error err = {""};
+    static uint8_t palette[768], colormap[EW_COLORMAP_SIZE];
+    int bad = 0;
+    if (ew_palette_parse(data, size, "fuzz.lmp", palette, &err) != 0) bad = rejected(&err);
+    err.msg[0] = '\0';
+    if (ew_colormap_parse(data, size, "fuzz.lmp", colormap, &err) != 0) bad = rejected(&err);
+    return bad;
+}
+
+/* A palette and colormap of our own: rendering needs them, their values
+ * do not matter. */
+static void make_tables(uint8_t palette[768], uint8_t colormap[EW_COLORMAP_SIZE]) {
+    for (int i = 0; i < 768; i++) palette[i] = (uint8_t)(i / 3);
+    for (int row = 0; row < 64; row++)
+        for (int c = 0; c < 256; c++) colormap[row * 256 + c] = (uint8_t)(c * (63 - row) / 63);
+}
+
+int ew_fuzz_render(const uint8_t *data, size_t size) {
+    static uint8_t palette[768], colormap[EW_COLORMAP_SIZE];
+    static int have_tables;
+    if (!have_tables) make_tables(palette, colormap), have_tables = 1;
+
+    ew_error err = {""};
+    ew_world *w = ew_world_load(data, size, "fuzz.bsp", &err);
+    if (!w) return rejected(&err);
+    ew_renderer *r = ew_renderer_create(w, palette, colormap, 320, 200, &err);
+    if (!r) {
+        ew_world_free(w);
+        return rejected(&err);
+    }
+    ew_camera views[EW_MAX_VIEWS], cam;
+    memset(&cam, 0, sizeof cam);
+    if (ew_view_set(w, views) > 0) {
+        cam = views[0];
+    } else {
+        const ew_model *m = &w->models[0];
+        for (int k = 0; k < 3; k++) cam.origin[k] = (m->mins[k] + m->maxs[k]) * 0.5f;
+        cam.fov = 90;
+    }
+    cam.time = 1.25;  /* past 0, so animations and the sky move */
+    ew_stats st;
+    int rc = ew_render(r, &cam, &st);
+    if (rc == 0 && st.dropped == 0 && st.pixels_written != st.pixels_covered) {
+        fprintf(stderr, "fuzz: overdraw %ld written / %ld covered without drops\n",
+                st.pixels_written, st.pixels_covered);
+        abort();
+    }
+    ew_renderer_free(r);
+    ew_world_free(w);
+    return rc == 0 ? 0 : 1;
+}
+
+int ew_fuzz_mdl(const uint8_t *data, size_t size) {
+#ifdef EW_FUZZ_HAVE_MDL
+    ew_error err = {""};
+    ew_mdl *m = ew_mdl_load(data, size, "fuzz.mdl", &err);
+    if (!m) return rejected(&err);
+    ew_mdl_free(m);
+    return 0;
+#else
+    (void)data, (void)size;
+    return 1;
+#endif
+}
+
+int ew_fuzz_spr(const uint8_t *data, size_t size) {
+#ifdef EW_FUZZ_HAVE_SPR
+    ew_error err = {""};
+    ew_spr *s = ew_spr_load(data, size, "fuzz.spr", &err);
+    if (!s) return rejected(&err);
+    ew_spr_free(s);
+    return 0;
+#else
+    (void)data, (void)size;
+    return 1;
+#endif
+}
+
+ew_fuzz_fn ew_fuzz_target(const char *name) {
+    static const struct { const char *name; ew_fuzz_fn fn; } targets[] = {
+        {"pak", ew_fuzz_pak},     {"bsp29", ew_fuzz_bsp29}, {"bsp2", ew_fuzz_bsp2},
+        {"lmp", ew_fuzz_lmp},     {"render", ew_fuzz_render}, {"mdl", ew_fuzz_mdl},
+        {"spr", ew_fuzz_spr},
+    };
+    for (size_t i = 0; i < sizeof targets / sizeof targets[0]; i++)
+        if (strcmp(targets[i].name, name) == 0) return targets[i].fn;
+    return NULL;
+}

@@ -1,0 +1,32 @@
+/*
+ * One function per fuzzed input format (internal).  Each runs one input
+ * through the same code path a real file takes and must return for any
+ * bytes: 0 if the input was accepted, 1 if it was rejected with an error
+ * message.  The libFuzzer targets (fuzz/fuzz_*.c) and the regression test
+ * (tests/test_regressions.c) share these, so a kept crash input replays
+ * exactly what the fuzzer ran.
+ */
+#ifndef EW_FUZZ_TARGETS_H
+#define EW_FUZZ_TARGETS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef int (*ew_fuzz_fn)(const uint8_t *data, size_t size);
+
+int ew_fuzz_pak(const uint8_t *data, size_t size);
+int ew_fuzz_bsp29(const uint8_t *data, size_t size);
+int ew_fuzz_bsp2(const uint8_t *data, size_t size);
+int ew_fuzz_lmp(const uint8_t *data, size_t size);
+int ew_fuzz_render(const uint8_t *data, size_t size);
+int ew_fuzz_mdl(const uint8_t *data, size_t size);
+int ew_fuzz_spr(const uint8_t *data, size_t size);
+
+/* 1 if the MDL/SPR loaders are part of this build (they are written
+ * separately; until they exist those two targets reject everything). */
+extern const int ew_fuzz_have_mdl, ew_fuzz_have_spr;
+
+/* Target by name ("pak", "bsp29", ...), NULL if unknown. */
+ew_fuzz_fn ew_fuzz_target(const char *name);
+
+#endif

@@ -1,0 +1,259 @@
+/*
+ * `edgewise bench` (path in EW_CLI, set by CMake): every field of the JSON
+ * line is there and consistent, and bad arguments fail with one line.
+ * Times are checked only for order and sign, never for size: the machines
+ * running the tests are shared and noisy.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "util.h"
+
+#include <fcntl.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static const char *cli;
+static char tmpdir[256];
+
+typedef struct run_result {
+    int  status;      /* exit code, or -1 if it did not exit normally */
+    int  signal;      /* the signal that killed it, 0 if none */
+    char out[65536];  /* stdout */
+    char err[8192];   /* stderr */
+} run_result;
+
+static char *tmp_path(char out[512], const char *name) {
+    snprintf(out, 512, "%s/%s", tmpdir, name);
+    return out;
+}
+
+static void slurp(const char *path, char *buf, size_t size) {
+    buf[0] = '\0';
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return;
+    size_t n = fread(buf, 1, size - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+}
+
+/* Runs EW_CLI with args (NULL-terminated), no shell, in tmpdir; stderr goes
+ * to a file, so the progress line (terminals only) stays off. */
+static void run(run_result *r, const char *const *args) {
+    const char *argv[64];
+    int n = 0;
+    argv[n++] = cli;
+    for (; *args && n < 63; args++)
+        argv[n++] = *args;
+    argv[n] = NULL;
+
+    char out[512], err[512];
+    tmp_path(out, "stdout.txt");
+    tmp_path(err, "stderr.txt");
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        int fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fo < 0 || fe < 0 || chdir(tmpdir) != 0)
+            _exit(127);
+        dup2(fo, 1);
+        dup2(fe, 2);
+        execv(cli, (char *const *)argv);
+        _exit(127);
+    }
+    int st = 0;
+    r->status = -1;
+    r->signal = 0;
+    if (pid > 0 && waitpid(pid, &st, 0) == pid) {
+        if (WIFEXITED(st))
+            r->status = WEXITSTATUS(st);
+        else if (WIFSIGNALED(st))
+            r->signal = WTERMSIG(st);
+    }
+    slurp(out, r->out, sizeof r->out);
+    slurp(err, r->err, sizeof r->err);
+}
+
+static int count_lines(const char *s) {
+    int n = 0;
+    for (; *s; s++)
+        n += *s == '\n';
+    return n;
+}
+
+#define ARGS(...) ((const char *const[]){ __VA_ARGS__, NULL })
+
+/* The number after "key": in the JSON line (keys are unique in a row, the
+ * nested stage and counter names included); NAN if absent. */
+static double field(const char *json, const char *key) {
+    char k[64];
+    snprintf(k, sizeof k, "\"%s\":", key);
+    const char *p = strstr(json, k);
+    if (!p)
+        return NAN;
+    p += strlen(k);
+    if (strncmp(p, "true", 4) == 0)
+        return 1;
+    if (strncmp(p, "false", 5) == 0)
+        return 0;
+    char *end;
+    double v = strtod(p, &end);
+    return end == p ? NAN : v;
+}
+
+static void expect_ok(run_result *r, const char *what, const char *const *args) {
+    run(r, args);
+    CHECK(r->signal == 0 && r->status == 0 && !r->err[0], "%s: exit %d signal %d, stderr: %s",
+          what, r->status, r->signal, r->err);
+}
+
+/* One row of the protocol: every field present, and the order statistics
+ * consistent with each other. */
+static void check_row(const char *what, const char *line, int w, int h, int views, int passes) {
+    static const char *const keys[] = {
+        "width", "height", "threads", "threads_applied", "entities", "views", "passes",
+        "median_ms", "mean_ms", "p99_ms", "max_ms", "max_view", "level", "ns_per_pixel",
+        "floor_ms", "floor_ratio", "front", "scan", "draw", "models", "total", "pixels",
+        "pixels_written", "pixels_covered", "edges", "edges_cached", "surfaces", "spans",
+        "surfaces_built", "surfaces_cached", "visible_leaves", "dropped", "entities_drawn",
+        "alias_tris", "particles",
+    };
+    CHECK(line[0] == '{' && strstr(line, "\"map\":\"") && strstr(line, "\"stages\":{") &&
+              strstr(line, "\"counters\":{"), "%s: %s", what, line);
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
+        double v = field(line, keys[i]);
+        CHECK(isfinite(v) && v >= 0, "%s: %s = %g in %s", what, keys[i], v, line);
+    }
+    CHECK(field(line, "width") == w && field(line, "height") == h, "%s: size in %s", what, line);
+    CHECK(field(line, "pixels") == (double)w * h, "%s: pixels in %s", what, line);
+    if (views > 0)
+        CHECK(field(line, "views") == views, "%s: views in %s", what, line);
+    CHECK(field(line, "passes") == passes && field(line, "threads") >= 1, "%s: %s", what, line);
+    double med = field(line, "median_ms"), p99 = field(line, "p99_ms"),
+           max = field(line, "max_ms"), mean = field(line, "mean_ms");
+    CHECK(med <= p99 && p99 <= max && mean <= max, "%s: median %g p99 %g max %g mean %g", what,
+          med, p99, max, mean);
+    CHECK(field(line, "level") >= 1, "%s: level in %s", what, line);
+    CHECK(field(line, "max_view") < field(line, "views"), "%s: max_view in %s", what, line);
+    CHECK(field(line, "pixels_written") > 0 && field(line, "spans") > 0, "%s: counters: %s",
+          what, line);
+}
+
+static void test_start(void) {
+    const char *rel = "data/librequake/maps/start.bsp";
+    if (!ew_t_have_shared(rel)) {
+        printf("skip start: %s not found\n", ew_t_shared(rel));
+        return;
+    }
+    /* The CLI runs in tmpdir: make the data path absolute. */
+    char data[2048], cwd[512] = "";
+    const char *shared = ew_t_shared("data/librequake");
+    if (shared[0] != '/' && !getcwd(cwd, sizeof cwd))
+        cwd[0] = '\0';
+    snprintf(data, sizeof data, "%s%s%s", cwd, cwd[0] ? "/" : "", shared);
+
+    run_result *r = malloc(sizeof *r);
+    expect_ok(r, "start", ARGS("bench", "start", "--data", data, "--size", "320x200",
+                               "--passes", "1"));
+    CHECK(count_lines(r->out) == 1, "start: want one line: %s", r->out);
+    CHECK(strstr(r->out, "\"map\":\"start\""), "start: %s", r->out);
+    check_row("start", r->out, 320, 200, 20, 1);
+    CHECK(field(r->out, "entities") == 1, "start: entities: %s", r->out);
+
+    /* World only: no entity drawn, and the row says so. */
+    expect_ok(r, "start --no-entities", ARGS("bench", "start", "--data", data, "--size",
+                                             "320x200", "--passes", "1", "--no-entities"));
+    check_row("start --no-entities", r->out, 320, 200, 20, 1);
+    CHECK(field(r->out, "entities") == 0 && field(r->out, "entities_drawn") == 0 &&
+              field(r->out, "alias_tris") == 0, "--no-entities: %s", r->out);
+    free(r);
+}
+
+/* The built-in scene needs no files: several sizes, --table with --out. */
+static void test_builtin(void) {
+    run_result *r = malloc(sizeof *r);
+    char out[512], json[65536];
+    tmp_path(out, "bench.jsonl");
+    expect_ok(r, "builtin", ARGS("bench", "builtin", "--size", "320x200", "--size=400x300",
+                                 "--passes=2", "--table", "--out", out));
+    slurp(out, json, sizeof json);
+    CHECK(count_lines(json) == 2, "builtin: want two JSON lines: %s", json);
+    char *second = strchr(json, '\n');
+    if (second) {
+        *second++ = '\0';
+        check_row("builtin 320x200", json, 320, 200, 0, 2);
+        check_row("builtin 400x300", second, 400, 300, 0, 2);
+    }
+    /* The table: a header and one row per size, no JSON. */
+    CHECK(count_lines(r->out) == 3 && strncmp(r->out, "map", 3) == 0 && !strchr(r->out, '{'),
+          "table: %s", r->out);
+    remove(out);
+
+    expect_ok(r, "floor", ARGS("bench", "--floor", "--size", "320x200"));
+    CHECK(count_lines(r->out) == 1 && strstr(r->out, "\"floor\":true"), "floor: %s", r->out);
+    CHECK(field(r->out, "width") == 320 && field(r->out, "floor_ms") >= 0 &&
+              field(r->out, "reps") >= 1, "floor: %s", r->out);
+
+    run(r, ARGS("bench", "--help"));
+    CHECK(r->status == 0 && strstr(r->out, "--passes"), "bench --help: %d", r->status);
+    run(r, ARGS("--help"));
+    CHECK(r->status == 0 && strstr(r->out, "bench MAP"), "--help lists bench: %s", r->out);
+    free(r);
+}
+
+/* A normal non-zero exit and exactly one "edgewise: ..." line on stderr. */
+static void expect_fail(const char *const *args, const char *needle) {
+    run_result *r = malloc(sizeof *r);
+    run(r, args);
+    CHECK(r->signal == 0 && r->status > 0 && r->status < 126, "%s: exit %d signal %d", needle,
+          r->status, r->signal);
+    CHECK(count_lines(r->err) == 1 && strncmp(r->err, "edgewise: ", 10) == 0,
+          "%s: want one error line, got: %s", needle, r->err);
+    CHECK(strstr(r->err, needle) != NULL, "'%s' not in: %s", needle, r->err);
+    CHECK(!r->out[0], "%s: stdout: %s", needle, r->out);
+    free(r);
+}
+
+static void test_bad_args(void) {
+    char path[512];
+    expect_fail(ARGS("bench"), "missing MAP");
+    expect_fail(ARGS("bench", "builtin", "--passes", "0"), "--passes");
+    expect_fail(ARGS("bench", "builtin", "--passes", "x"), "--passes");
+    expect_fail(ARGS("bench", "builtin", "--passes", "1", "--passes", "2"), "twice");
+    expect_fail(ARGS("bench", "builtin", "--passes"), "needs a value");
+    expect_fail(ARGS("bench", "builtin", "--threads", "-1"), "--threads");
+    expect_fail(ARGS("bench", "builtin", "--size", "10x10"), "10x10");
+    expect_fail(ARGS("bench", "builtin", "--size", "abc"), "abc");
+    expect_fail(ARGS("bench", "builtin", "--wibble"), "--wibble");
+    expect_fail(ARGS("bench", "builtin", "--table=yes"), "--table");
+    expect_fail(ARGS("bench", "builtin", "--floor"), "--floor");
+    expect_fail(ARGS("bench", "--floor", "--passes", "2"), "--floor");
+    expect_fail(ARGS("bench", "nosuchmap", "--data", tmpdir), "nosuchmap");
+    expect_fail(ARGS("bench", tmp_path(path, "no-such.bsp")), "no-such.bsp");
+    expect_fail(ARGS("bench", "builtin", "--out", tmp_path(path, "nodir/x.jsonl")), "nodir");
+}
+
+int main(void) {
+    cli = getenv("EW_CLI");
+    if (!cli || !*cli || access(cli, X_OK) != 0) {
+        fprintf(stderr, "EW_CLI is not set to the edgewise binary (run through ctest)\n");
+        return 1;
+    }
+    const char *t = getenv("TMPDIR");
+    snprintf(tmpdir, sizeof tmpdir, "%s/ew_bench_XXXXXX", t && *t ? t : "/tmp");
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    test_start();
+    test_builtin();
+    test_bad_args();
+    char path[512];
+    remove(tmp_path(path, "stdout.txt"));
+    remove(tmp_path(path, "stderr.txt"));
+    rmdir(tmpdir);
+    return ew_t_finish();
+}

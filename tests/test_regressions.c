@@ -1,0 +1,93 @@
+/*
+ * Every input the fuzzers ever crashed on (tests/regress/TARGET/NAME), run
+ * again through the same code as its fuzz target (fuzz/fuzz_targets.c):
+ * the loader, or load + render one frame.  Each must come back cleanly,
+ * accepted or rejected with a message; under `make test-asan` ASan and
+ * UBSan catch anything subtler.  New findings go in as small files
+ * (libFuzzer's -minimize_crash=1) named after what they broke.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "util.h"
+#include "fuzz_targets.h"
+
+#include <dirent.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int by_name(const void *a, const void *b) {
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* Sorted names of the entries of dir (without . and ..); count in *n. */
+static char **list_dir(const char *dir, int *n) {
+    *n = 0;
+    DIR *d = opendir(dir);
+    if (!d) return NULL;
+    char **names = NULL;
+    int cap = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (e->d_name[0] == '.') continue;
+        if (*n == cap) {
+            cap = cap ? cap * 2 : 16;
+            char **nn = realloc(names, sizeof *names * (size_t)cap);
+            if (!nn) break;
+            names = nn;
+        }
+        names[(*n)++] = strdup(e->d_name);
+    }
+    closedir(d);
+    if (names) qsort(names, (size_t)*n, sizeof *names, by_name);
+    return names;
+}
+
+static void free_list(char **names, int n) {
+    for (int i = 0; i < n; i++) free(names[i]);
+    free(names);
+}
+
+int main(void) {
+    const char *src = getenv("EW_SOURCE");
+    char root[1024];
+    snprintf(root, sizeof root, "%s/tests/regress", src && *src ? src : ".");
+    int ntargets, total = 0;
+    char **targets = list_dir(root, &ntargets);
+    CHECK(targets != NULL || ntargets == 0, "cannot read %s", root);
+
+    for (int t = 0; t < ntargets; t++) {
+        ew_fuzz_fn fn = ew_fuzz_target(targets[t]);
+        CHECK(fn != NULL, "%s/%s: no fuzz target of that name", root, targets[t]);
+        if (!fn) continue;
+        if ((!strcmp(targets[t], "mdl") && !ew_fuzz_have_mdl) ||
+            (!strcmp(targets[t], "spr") && !ew_fuzz_have_spr)) {
+            printf("%-8s skipped: loader not in this build\n", targets[t]);
+            continue;
+        }
+        char dir[1300];
+        snprintf(dir, sizeof dir, "%s/%s", root, targets[t]);
+        int n, accepted = 0;
+        char **files = list_dir(dir, &n);
+        for (int i = 0; i < n; i++) {
+            char path[2600];
+            snprintf(path, sizeof path, "%s/%s", dir, files[i]);
+            uint8_t *data;
+            size_t size;
+            ew_error err = {""};
+            if (ew_read_file(path, &data, &size, &err) != 0) {
+                CHECK(0, "%s", err.msg);
+                continue;
+            }
+            int rc = fn(data, size);
+            CHECK(rc == 0 || rc == 1, "%s: returned %d", path, rc);
+            accepted += rc == 0;
+            free(data);
+        }
+        printf("%-8s %3d inputs replayed cleanly (%d accepted, %d rejected)\n", targets[t], n,
+               accepted, n - accepted);
+        total += n;
+        free_list(files, n);
+    }
+    free_list(targets, ntargets);
+    printf("%d regression inputs\n", total);
+    return ew_t_finish();
+}
