@@ -21,10 +21,25 @@ typedef struct ew_stepper {
 
 /* (s/z) * z plus the eye's coordinate, clamped to the surface. */
 static inline int32_t ew_tex_fix(float x, int32_t adjust, int32_t lo, int32_t hi) {
-    if (!(x > -1e9f)) x = -1e9f;  /* also catches NaN */
-    if (x > 1e9f) x = 1e9f;
+    /* Written as selects so they compile to min/max and cmov, no branches. */
+    x = x > -1e9f ? x : -1e9f;  /* also turns NaN into -1e9 */
+    x = x < 1e9f ? x : 1e9f;
     int64_t s = (int64_t)x + adjust;
-    return s < lo ? lo : s > hi ? hi : (int32_t)s;
+    s = s < lo ? lo : s;
+    s = s > hi ? hi : s;
+    return (int32_t)s;
+}
+
+/* 65536 / n for the last, shorter segment of a span: a multiply instead of
+ * two integer divides.  Rounds the step towards zero, so the pixels stay
+ * between the two true end points. */
+static inline int32_t ew_step_div(int32_t diff, int n) {
+    static const int32_t recip[33] = {
+        0, 65536, 32768, 21845, 16384, 13107, 10922, 9362, 8192, 7281, 6553, 5957,
+        5461, 5041, 4681, 4369, 4096, 3855, 3640, 3449, 3276, 3120, 2978, 2849,
+        2730, 2621, 2520, 2427, 2340, 2259, 2184, 2114, 2048};
+    int64_t q = (int64_t)diff * recip[n];
+    return (int32_t)(q >= 0 ? q >> 16 : -((-q) >> 16));
 }
 
 static inline void ew_step_begin(ew_stepper *st, const ew_gradients *g, int shift, int u, int v,
@@ -74,8 +89,8 @@ static inline int ew_step_next(ew_stepper *st, int32_t *s, int32_t *t, int32_t *
         *ds = (sn - *s) >> st->shift;
         *dt = (tn - *t) >> st->shift;
     } else {
-        *ds = (sn - *s) / adv;
-        *dt = (tn - *t) / adv;
+        *ds = ew_step_div(sn - *s, adv);
+        *dt = ew_step_div(tn - *t, adv);
     }
     st->s = sn, st->t = tn;
     return n;
