@@ -33,6 +33,12 @@ typedef struct ew_view {
 } ew_view;
 
 void ew_view_setup(ew_view *v, const ew_camera *cam, int width, int height);
+/* Moved models (ax: the model's axes as columns, from ew_entity_axes):
+ * the world box around its moved bounds, and the camera in its own space
+ * (p_model = ax^T (p_world - origin)). */
+void ew_moved_box(const float ax[3][3], const float origin[3], const float mins[3],
+                  const float maxs[3], float lo[3], float hi[3]);
+void ew_view_to_model(const ew_view *v, const float ax[3][3], const float origin[3], ew_view *out);
 /* World point -> view space (x right, y up, z forward). */
 static inline void ew_view_transform(const ew_view *v, const float p[3], float out[3]) {
     float d0 = p[0] - v->origin[0], d1 = p[1] - v->origin[1], d2 = p[2] - v->origin[2];

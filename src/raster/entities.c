@@ -30,25 +30,10 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e
     float ax[3][3];
     ew_entity_axes(e->angles, ax);
     float lo[3], hi[3];
-    for (int k = 0; k < 3; k++) lo[k] = 1e30f, hi[k] = -1e30f;
-    for (int c = 0; c < 8; c++) {
-        float p[3] = {c & 1 ? m->maxs[0] : m->mins[0], c & 2 ? m->maxs[1] : m->mins[1], c & 4 ? m->maxs[2] : m->mins[2]};
-        for (int k = 0; k < 3; k++) {
-            float q = e->origin[k] + ax[k][0] * p[0] + ax[k][1] * p[1] + ax[k][2] * p[2];
-            lo[k] = q < lo[k] ? q : lo[k];
-            hi[k] = q > hi[k] ? q : hi[k];
-        }
-    }
+    ew_moved_box(ax, e->origin, m->mins, m->maxs, lo, hi);
     if (ew_cull_box(&r->view, lo, hi, 15) < 0) return 0;
-    ew_view mv = r->view;  /* the camera in the box's space */
-    const float *src[4] = {r->view.origin, r->view.forward, r->view.right, r->view.up};
-    float *dst[4] = {mv.origin, mv.forward, mv.right, mv.up};
-    for (int q = 0; q < 4; q++) {
-        float d[3] = {src[q][0], src[q][1], src[q][2]};
-        if (q == 0)
-            for (int k = 0; k < 3; k++) d[k] -= e->origin[k];
-        for (int k = 0; k < 3; k++) dst[q][k] = ax[0][k] * d[0] + ax[1][k] * d[1] + ax[2][k] * d[2];
-    }
+    ew_view mv;  /* the camera in the box's space */
+    ew_view_to_model(&r->view, ax, e->origin, &mv);
     long won = 0;
     for (int i = 0; i < m->numfaces; i++) {
         const ew_face *f = &bw->faces[m->firstface + i];

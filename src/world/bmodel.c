@@ -89,32 +89,14 @@ void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx) {
         float ax[3][3];
         ew_entity_axes(e->angles, ax);
 
-        /* World box of the moved model, for frustum culling. */
-        float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
-        for (int c = 0; c < 8; c++) {
-            float p[3] = {c & 1 ? m->maxs[0] : m->mins[0], c & 2 ? m->maxs[1] : m->mins[1],
-                          c & 4 ? m->maxs[2] : m->mins[2]};
-            for (int k = 0; k < 3; k++) {
-                float q = e->origin[k] + ax[k][0] * p[0] + ax[k][1] * p[1] + ax[k][2] * p[2];
-                if (q < lo[k]) lo[k] = q;
-                if (q > hi[k]) hi[k] = q;
-            }
-        }
+        float lo[3], hi[3];
+        ew_moved_box(ax, e->origin, m->mins, m->maxs, lo, hi);
         if (ew_cull_box(&r->view, lo, hi, 15) < 0) {
             r->stats.entities_culled++;
             continue;
         }
-        /* The camera in model space: p_model = A^T (p_world - origin). */
         ew_view *mv = &r->ent_views[used++];
-        *mv = r->view;
-        const float *src[4] = {r->view.origin, r->view.forward, r->view.right, r->view.up};
-        float *dst[4] = {mv->origin, mv->forward, mv->right, mv->up};
-        for (int q = 0; q < 4; q++) {
-            float d[3] = {src[q][0], src[q][1], src[q][2]};
-            if (q == 0)
-                for (int k = 0; k < 3; k++) d[k] -= e->origin[k];
-            for (int k = 0; k < 3; k++) dst[q][k] = ax[0][k] * d[0] + ax[1][k] * d[1] + ax[2][k] * d[2];
-        }
+        ew_view_to_model(&r->view, ax, e->origin, mv);
         int drawn = 0;
         for (int i = 0; i < m->numfaces; i++) {
             int fi = m->firstface + i;

@@ -47,3 +47,28 @@ void ew_view_setup(ew_view *v, const ew_camera *cam, int width, int height) {
     set_plane(&v->frustum[2], v, 0, -1, ty);  /* top:    y/z <=  ty */
     set_plane(&v->frustum[3], v, 0, 1, ty);   /* bottom: y/z >= -ty */
 }
+
+void ew_moved_box(const float ax[3][3], const float origin[3], const float mins[3],
+                  const float maxs[3], float lo[3], float hi[3]) {
+    for (int k = 0; k < 3; k++) lo[k] = 1e30f, hi[k] = -1e30f;
+    for (int c = 0; c < 8; c++) {
+        float p[3] = {c & 1 ? maxs[0] : mins[0], c & 2 ? maxs[1] : mins[1], c & 4 ? maxs[2] : mins[2]};
+        for (int k = 0; k < 3; k++) {
+            float q = origin[k] + ax[k][0] * p[0] + ax[k][1] * p[1] + ax[k][2] * p[2];
+            lo[k] = q < lo[k] ? q : lo[k];
+            hi[k] = q > hi[k] ? q : hi[k];
+        }
+    }
+}
+
+void ew_view_to_model(const ew_view *v, const float ax[3][3], const float origin[3], ew_view *out) {
+    *out = *v;
+    const float *src[4] = {v->origin, v->forward, v->right, v->up};
+    float *dst[4] = {out->origin, out->forward, out->right, out->up};
+    for (int q = 0; q < 4; q++) {
+        float d[3] = {src[q][0], src[q][1], src[q][2]};
+        if (q == 0)  /* a point moves with the model; directions only turn */
+            for (int k = 0; k < 3; k++) d[k] -= origin[k];
+        for (int k = 0; k < 3; k++) dst[q][k] = ax[0][k] * d[0] + ax[1][k] * d[1] + ax[2][k] * d[2];
+    }
+}
