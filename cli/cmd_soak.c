@@ -176,8 +176,9 @@ static int *world_open_leaves(const ew_world *w, int *n) {
  * the solid behind it, and the faces either side of an edge-on face meet
  * on one screen line computed from two different edges, which float
  * rounding can leave a pixel apart.  So the centre is nudged by up to
- * JITTER units until the eye is clear of every plane. */
-#define EYE_CLEARANCE 0.125f
+ * JITTER units until the eye is clear of every plane (by far more than
+ * float error, far less than anything visible). */
+#define EYE_CLEARANCE (1.0f / 256)
 #define JITTER 0.5
 #define PLACE_TRIES 16
 

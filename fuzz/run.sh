@@ -23,7 +23,7 @@ NICE=${FUZZ_NICE:-0}
 SHARED=${EW_SHARED:-../shared}
 DATA=$SHARED/data/librequake
 # Bigger files slow every execution down for little new structure.
-EXTRA_MAX_BYTES=${FUZZ_EXTRA_MAX_BYTES:-524288}
+EXTRA_MAX_BYTES=${FUZZ_EXTRA_MAX_BYTES:-131072}
 
 if ! command -v clang >/dev/null 2>&1; then
     echo "fuzz: clang not found (apt-get install clang libclang-rt-14-dev)" >&2

@@ -72,9 +72,11 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
         !r->new_edges || !r->surfs || !r->surf_cache || !r->to_build || !r->row_cost)
         goto oom;
     if (ew_set_threads(r, 1) < 0) goto oom;
-    /* The cache holds several frames' worth of surfaces at this size. */
-    size_t budget = (size_t)px * 6;
+    /* The cache holds many frames' worth of surfaces at this size, so a
+     * walk through a level rebuilds little (16 bytes a pixel, 16..512 MiB). */
+    size_t budget = (size_t)px * 16;
     if (budget < ((size_t)16 << 20)) budget = (size_t)16 << 20;
+    if (budget > ((size_t)512 << 20)) budget = (size_t)512 << 20;
     if (ew_cache_init(&r->cache, w->numfaces, budget) < 0) goto oom;
     return r;
 oom:

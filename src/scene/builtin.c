@@ -10,8 +10,12 @@
  *     a second button on its far wall;
  *   - a wooden staircase north from the hall up into a tall stone room with
  *     a window looking back into the courtyard.
+ *   - a plank door (submodel *1, a func_door) standing half open in the
+ *     corridor's mouth, slid aside into the wall.
  * The grid is turned into a real BSP29 image (builtin_bsp.c) and loaded
- * through ew_world_load like any map.
+ * through ew_world_load like any map.  The moving things drawn over it
+ * (the door's entity, a triangle model, particles, a dynamic light) are
+ * ew_scene_builtin's (builtin_scene.c).
  */
 #include "scene/builtin.h"
 #include "ew_util.h"
@@ -128,8 +132,14 @@ static const bi_light scene_lights[] = {
 static const int start_origin[3] = {230, 290, 88}, start_angle = 335;
 static const int intermission_origin[3] = {56, 56, 200}, intermission_mangle[3] = {18, 40, 0};
 
+/* The door: 64 x 96 x 8 units just behind the corridor's metal frame,
+ * slid half its width along +y (its "angle" 90) into the wall, which
+ * hides that half. */
+static const bi_box door = {{452, 160, 64}, {460, 224, 160}, BI_T_DOOR};
+static const int door_angle = 270;
+
 static char *make_entities(void) {
-    size_t cap = 4096;
+    size_t cap = 8192;
     char *e = malloc(cap);
     if (!e) return NULL;
     int n = snprintf(e, cap,
@@ -141,6 +151,9 @@ static char *make_entities(void) {
                      start_origin[0], start_origin[1], start_origin[2], start_angle,
                      intermission_origin[0], intermission_origin[1], intermission_origin[2],
                      intermission_mangle[0], intermission_mangle[1], intermission_mangle[2]);
+    n += snprintf(e + n, cap - (size_t)n,
+                  "{\n\"classname\" \"func_door\"\n\"model\" \"*1\"\n\"angle\" \"%d\"\n}\n",
+                  door_angle);
     for (size_t i = 0; i < sizeof scene_lights / sizeof scene_lights[0]; i++) {
         const bi_light *l = &scene_lights[i];
         n += snprintf(e + n, cap - (size_t)n,
@@ -180,6 +193,8 @@ int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
     sc.sun_intensity = 150;
     sc.ambient = 22;
     sc.entities = ents;
+    sc.submodels[0] = door;
+    sc.nsubmodels = 1;
 
     bi_make_palette(palette);
     bi_make_colormap(palette, colormap);

@@ -31,7 +31,13 @@ enum { BI_M_BRICK, BI_M_STONE, BI_M_METAL, BI_M_WOOD, BI_M_PLATFORM,
 
 /* Textures, in the order of the textures lump. */
 enum { BI_T_BRICK, BI_T_METAL, BI_T_FLOOR, BI_T_STONE, BI_T_WOOD, BI_T_WATER,
-       BI_T_SKY, BI_T_BUTTON0, BI_T_BUTTON1, BI_NUM_TEXTURES };
+       BI_T_SKY, BI_T_BUTTON0, BI_T_BUTTON1, BI_T_DOOR, BI_NUM_TEXTURES };
+
+/* Colour ramps of the palette: index ramp * 16 + shade (0 dark .. 15
+ * bright); 224..255 are fullbrights (BI_FB_*) that light leaves alone. */
+enum { BI_R_GREY, BI_R_BROWN, BI_R_TAN, BI_R_RED, BI_R_RUST, BI_R_OLIVE, BI_R_GREEN,
+       BI_R_TEAL, BI_R_BLUE, BI_R_STEEL, BI_R_PURPLE, BI_R_GOLD, BI_R_FLESH, BI_R_STONE };
+enum { BI_FB_YELLOW = 224, BI_FB_RED = 232, BI_FB_GREEN = 240, BI_FB_BLUE = 248, BI_FB_WHITE = 254 };
 
 typedef struct bi_grid {
     int      n[3];     /* cells along x, y, z */
@@ -55,6 +61,15 @@ typedef struct bi_light {
 } bi_light;
 
 #define BI_MAX_LIGHTS 8
+
+/* A brush model (a door): an axis-aligned box in world units with one
+ * texture, written as submodel *1, *2, ... with a small BSP of its own. */
+typedef struct bi_box {
+    int mins[3], maxs[3];
+    int tex;
+} bi_box;
+
+#define BI_MAX_SUBMODELS 4
 typedef struct bi_scene {
     bi_grid  grid;
     bi_light lights[BI_MAX_LIGHTS];
@@ -63,6 +78,8 @@ typedef struct bi_scene {
     float    sun_intensity;  /* added where a face sees the sky along -sun_dir */
     float    ambient;
     const char *entities;    /* NUL-terminated entity lump text */
+    bi_box   submodels[BI_MAX_SUBMODELS];  /* submodel *i+1 */
+    int      nsubmodels;
 } bi_scene;
 
 /* Texture of the face visible from a cell of kind self_kind against the
@@ -89,6 +106,14 @@ void bi_make_palette(uint8_t palette[768]);
 void bi_make_colormap(const uint8_t palette[768], uint8_t colormap[EW_COLORMAP_SIZE]);
 int  bi_write_textures(const uint8_t palette[768], bi_buf *lump);
 int  bi_texture_is_special(int tex);  /* sky and liquids: no light map */
+void bi_texture_size(int tex, int *w, int *h);
+/* Deterministic noise for procedural images: value noise summed over
+ * octaves on a lattice of period cells, tiling (u, v) in [0,1); and a hash
+ * of a lattice point to [0,1). */
+double bi_fbm(double u, double v, int period, int octaves, uint32_t seed);
+double bi_rnd01(uint32_t x, uint32_t y, uint32_t seed);
+/* Palette index of a ramp and a shade (clamped to 0..15). */
+uint8_t bi_px(int ramp, double shade);
 
 /* builtin_light.c: light and visibility.
  * Line of sight through the grid: walks the cells the segment a->b passes
@@ -107,5 +132,18 @@ int bi_compute_pvs(int nleaves, const int (*lo)[3], const int (*hi)[3], const ui
 
 /* builtin_bsp.c: builds the BSP image of a scene into out. */
 int bi_build_bsp(const bi_scene *s, const uint8_t palette[768], bi_buf *out, ew_error *err);
+
+/* builtin_model.c: the scene's triangle model, a hooded lantern bearer
+ * floating over the floor, as an MDL version 6 image (malloc'd, caller
+ * frees; deterministic).  One 128x64 skin, one frame: a group of
+ * BI_MODEL_POSES poses, BI_MODEL_INTERVAL seconds each, so it animates by
+ * time.  Model space: x forward, y left, z up, the origin under its feet;
+ * the lantern it holds is at BI_MODEL_LANTERN (pose 0). */
+#define BI_MODEL_POSES 8
+#define BI_MODEL_INTERVAL 0.15f
+#define BI_MODEL_SKIN_W 128
+#define BI_MODEL_SKIN_H 64
+extern const float BI_MODEL_LANTERN[3];
+int bi_model_generate(uint8_t **mdl, size_t *size, ew_error *err);
 
 #endif

@@ -14,7 +14,13 @@
  * 3. T-junctions: every face corner lying inside another face's edge is
  *    inserted into that edge, so neighbouring faces share vertices and edge
  *    records exactly (one uses +e, the other -e).
- * 4. Light maps, PVS, and the lumps in file order.
+ * 4. Submodels (doors): each box of the scene becomes model *1, *2, ...
+ *    with faces of its own and a small BSP of its own: a chain of six
+ *    nodes on the box's planes, each holding the face on its plane, with
+ *    an empty leaf outside every side and the solid leaf inside.  Their
+ *    edges are shared only among the box's faces (the renderer clips them
+ *    into the world's leaves; they never join the world's polygons).
+ * 5. Light maps, PVS, and the lumps in file order.
  */
 #include "scene/builtin.h"
 #include "ew_util.h"
@@ -50,6 +56,20 @@ typedef struct texinfo_def {
     int tex, axis, soff, toff;
 } texinfo_def;
 
+/* A face rectangle in world units: on the plane coordinate[axis] = pos,
+ * spanning [u0,u1] x [v0,v1] along (axis+1)%3 and (axis+2)%3; facing as
+ * in bface. */
+typedef struct frect {
+    int axis, pos, facing, u0, u1, v0, v1;
+} frect;
+
+/* A face of a submodel: the box side on node 6 * box + side. */
+typedef struct sface {
+    frect r;
+    int   tex, texinfo, plane;
+    int   firstedge;  /* into surfedges; always 4 edges */
+} sface;
+
 /* Open-addressing map from a 64-bit key to an int (values >= 0). */
 typedef struct imap {
     uint64_t *keys;
@@ -76,6 +96,9 @@ typedef struct ctx {
     int    planes[3][MAX_GRID + 1];             /* plane number of (axis, pos), -1 */
     int    nplanes;
     texinfo_def *texinfo; int ntexinfo, captexinfo;
+    sface  sfaces[BI_MAX_SUBMODELS * 6]; int nsfaces;
+    int    extra_planes[BI_MAX_SUBMODELS * 6][2];  /* planes off the grid: axis, dist */
+    int    nextra_planes;
 } ctx;
 
 /* Grows *p (element size sz) to hold at least n elements. */
@@ -292,8 +315,13 @@ static int make_faces(ctx *c, ew_error *err) {
     return 0;
 }
 
-/* Corners of a face in world units, clockwise seen from where it looks. */
-static void face_corners(const bface *f, int out[4][3]) {
+static frect face_rect(const bface *f) {
+    return (frect){f->axis, f->pos * BI_CELL, f->facing, f->u0 * BI_CELL, f->u1 * BI_CELL,
+                   f->v0 * BI_CELL, f->v1 * BI_CELL};
+}
+
+/* Corners of a rectangle, clockwise seen from where it looks. */
+static void rect_corners(const frect *f, int out[4][3]) {
     int a = f->axis, u = (a + 1) % 3, v = (a + 2) % 3;
     int uu[4], vv[4];
     if (f->facing & 1) {  /* looks along -axis */
@@ -304,10 +332,14 @@ static void face_corners(const bface *f, int out[4][3]) {
         uu[2] = f->u1, vv[2] = f->v1, uu[3] = f->u1, vv[3] = f->v0;
     }
     for (int i = 0; i < 4; i++) {
-        out[i][a] = f->pos * BI_CELL;
-        out[i][u] = uu[i] * BI_CELL;
-        out[i][v] = vv[i] * BI_CELL;
+        out[i][a] = f->pos;
+        out[i][u] = uu[i];
+        out[i][v] = vv[i];
     }
+}
+static void face_corners(const bface *f, int out[4][3]) {
+    frect r = face_rect(f);
+    rect_corners(&r, out);
 }
 
 /* A point on an axis-parallel line: the line's axis, its two fixed
@@ -441,12 +473,79 @@ static void tex_axes(int axis, int *sa, int *ssign, int *ta, int *tsign) {
     else *sa = 0, *ssign = 1, *ta = 2, *tsign = -1;
 }
 
-/* Range of sign * coordinate along one axis over the face rectangle. */
-static void face_range(const bface *f, int ax, int sign, int *mn, int *mx) {
+/* Range of sign * coordinate along one axis (not the plane's) over a rectangle. */
+static void rect_range(const frect *f, int ax, int sign, int *mn, int *mx) {
     int u = (f->axis + 1) % 3;
-    int lo = (ax == u ? f->u0 : f->v0) * BI_CELL, hi = (ax == u ? f->u1 : f->v1) * BI_CELL;
+    int lo = ax == u ? f->u0 : f->v0, hi = ax == u ? f->u1 : f->v1;
     *mn = sign > 0 ? lo : -hi;
     *mx = sign > 0 ? hi : -lo;
+}
+
+/* The texinfo whose texture starts at the rectangle's corner (so a button
+ * or a door shows whole); offsets are taken modulo tw, th. */
+static texinfo_def corner_texinfo(const frect *f, int tex, int tw, int th) {
+    int sa, ss, ta, ts, smin, smax, tmin, tmax;
+    tex_axes(f->axis, &sa, &ss, &ta, &ts);
+    rect_range(f, sa, ss, &smin, &smax);
+    rect_range(f, ta, ts, &tmin, &tmax);
+    return (texinfo_def){tex, f->axis, ((-smin) % tw + tw) % tw, ((-tmin) % th + th) % th};
+}
+
+/* Index of a texinfo, added if new; -1 when out of memory. */
+static int texinfo_index(ctx *c, const texinfo_def *want) {
+    int ti = 0;
+    while (ti < c->ntexinfo && memcmp(&c->texinfo[ti], want, sizeof *want)) ti++;
+    if (ti == c->ntexinfo) {
+        if (GROW(c, c->texinfo, c->ntexinfo, c->captexinfo, 1)) return -1;
+        c->texinfo[c->ntexinfo++] = *want;
+    }
+    return ti;
+}
+
+/* ---- submodels ----------------------------------------------------------------- */
+
+/* Side k of a box (node k of its chain): k even the low side, looking
+ * along -axis; k odd the high side, looking along +axis. */
+static frect box_side(const bi_box *b, int k) {
+    int a = k / 2, u = (a + 1) % 3, v = (a + 2) % 3;
+    return (frect){a, k & 1 ? b->maxs[a] : b->mins[a], k & 1 ? 2 * a : 2 * a + 1,
+                   b->mins[u], b->maxs[u], b->mins[v], b->maxs[v]};
+}
+
+static int make_submodels(ctx *c) {
+    for (int m = 0; m < c->s->nsubmodels; m++) {
+        const bi_box *b = &c->s->submodels[m];
+        int first_edge = c->nedges;
+        for (int k = 0; k < 6; k++) {
+            sface *sf = &c->sfaces[c->nsfaces++];
+            sf->r = box_side(b, k);
+            sf->tex = b->tex;
+            int tw, th;
+            bi_texture_size(b->tex, &tw, &th);
+            texinfo_def want = corner_texinfo(&sf->r, b->tex, tw, th);
+            if ((sf->texinfo = texinfo_index(c, &want)) < 0) return -1;
+            int cr[4][3];
+            rect_corners(&sf->r, cr);
+            sf->firstedge = c->nsurfedges;
+            for (int i = 0; i < 4; i++) {
+                int va = vertex_index(c, cr[i]), vb = vertex_index(c, cr[(i + 1) & 3]);
+                if (va < 0 || vb < 0) return -1;
+                /* the box's neighbouring face has made this edge the other way */
+                int se = 0;
+                for (int e = first_edge; e < c->nedges && !se; e++)
+                    if (c->edges[e][0] == vb && c->edges[e][1] == va && !c->edges[e][2])
+                        se = -e, c->edges[e][2] = 1;
+                if (!se) {
+                    if (GROW(c, c->edges, c->nedges, c->capedges, 1)) return -1;
+                    c->edges[c->nedges][0] = va, c->edges[c->nedges][1] = vb, c->edges[c->nedges][2] = 0;
+                    se = c->nedges++;
+                }
+                if (GROW(c, c->surfedges, c->nsurfedges, c->capsurfedges, 1)) return -1;
+                c->surfedges[c->nsurfedges++] = se;
+            }
+        }
+    }
+    return 0;
 }
 
 static int floor16(int v) { return v >= 0 ? v / 16 * 16 : -((-v + 15) / 16 * 16); }
@@ -497,9 +596,71 @@ static int contents_of(int kind) {
     return map[kind];
 }
 
+static void put_bounds_units(bi_buf *b, const int lo[3], const int hi[3]) {
+    for (int k = 0; k < 3; k++) bi_put_i16(b, (int16_t)lo[k]);
+    for (int k = 0; k < 3; k++) bi_put_i16(b, (int16_t)hi[k]);
+}
 static void put_bounds(bi_buf *b, const int lo[3], const int hi[3]) {
-    for (int k = 0; k < 3; k++) bi_put_i16(b, (int16_t)(lo[k] * BI_CELL));
-    for (int k = 0; k < 3; k++) bi_put_i16(b, (int16_t)(hi[k] * BI_CELL));
+    int l[3], h[3];
+    for (int k = 0; k < 3; k++) l[k] = lo[k] * BI_CELL, h[k] = hi[k] * BI_CELL;
+    put_bounds_units(b, l, h);
+}
+
+/* The light map of a rectangle: one sample per 16 texels, on the grid of
+ * its texinfo, lit from just in front of the face. */
+static void put_lightmap(const bi_scene *s, const frect *f, const texinfo_def *ti, bi_buf *lt) {
+    int sa, ss, ta, ts, smin, smax, tmin, tmax;
+    tex_axes(f->axis, &sa, &ss, &ta, &ts);
+    rect_range(f, sa, ss, &smin, &smax);
+    rect_range(f, ta, ts, &tmin, &tmax);
+    smin += ti->soff, smax += ti->soff, tmin += ti->toff, tmax += ti->toff;
+    int mins_s = floor16(smin), mins_t = floor16(tmin);
+    int ns = (ceil16(smax) - mins_s) / 16 + 1, nt = (ceil16(tmax) - mins_t) / 16 + 1;
+    float n[3] = {0, 0, 0};
+    n[f->axis] = f->facing & 1 ? -1.0f : 1.0f;
+    for (int k = 0; k < nt; k++)
+        for (int j = 0; j < ns; j++) {
+            float p[3];
+            int st[2] = {mins_s + 16 * j, mins_t + 16 * k};
+            int ax[2] = {sa, ta}, sg[2] = {ss, ts}, lo[2] = {smin, tmin}, hi[2] = {smax, tmax};
+            int off[2] = {ti->soff, ti->toff};
+            for (int q = 0; q < 2; q++) {
+                /* keep samples just inside the face so corners are not self-shadowed */
+                double v = st[q];
+                if (v < lo[q] + 1) v = lo[q] + 1;
+                if (v > hi[q] - 1) v = hi[q] - 1;
+                p[ax[q]] = (float)((v - off[q]) * sg[q]);
+            }
+            p[f->axis] = (float)f->pos + n[f->axis];
+            bi_put_u8(lt, (uint8_t)bi_light_point(s, p, n));
+        }
+}
+
+static void put_face(bi_buf *b, int plane, int side, int firstedge, int numedges, int texinfo,
+                     int special, int32_t lightofs) {
+    bi_put_i16(b, (int16_t)plane);
+    bi_put_i16(b, (int16_t)side);
+    bi_put_i32(b, firstedge);
+    bi_put_i16(b, (int16_t)numedges);
+    bi_put_i16(b, (int16_t)texinfo);
+    const uint8_t lit[4] = {0, 255, 255, 255}, unlit[4] = {255, 255, 255, 255};
+    bi_put(b, special ? unlit : lit, 4);
+    bi_put_i32(b, lightofs);
+}
+
+/* Plane number of (axis, dist in units): a node plane of the grid, or
+ * one added after them. */
+static int plane_of(ctx *c, bi_buf *planes, int axis, int dist) {
+    if (dist % BI_CELL == 0 && dist >= 0 && dist / BI_CELL <= MAX_GRID && c->planes[axis][dist / BI_CELL] >= 0)
+        return c->planes[axis][dist / BI_CELL];
+    for (int i = 0; i < c->nextra_planes; i++)
+        if (c->extra_planes[i][0] == axis && c->extra_planes[i][1] == dist) return c->nplanes - c->nextra_planes + i;
+    c->extra_planes[c->nextra_planes][0] = axis, c->extra_planes[c->nextra_planes][1] = dist;
+    c->nextra_planes++;
+    for (int k = 0; k < 3; k++) bi_put_f32(planes, k == axis ? 1.0f : 0.0f);
+    bi_put_f32(planes, (float)dist);
+    bi_put_i32(planes, axis);
+    return c->nplanes++;
 }
 
 static int child_ref(const ctx *c, int n) {
@@ -578,6 +739,8 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
         bi_put_f32(b, (float)(nd->pos * BI_CELL));
         bi_put_i32(b, nd->axis);
     }
+    for (int i = 0; i < c->nsfaces; i++)
+        c->sfaces[i].plane = plane_of(c, &L->l[EW_LUMP_PLANES], c->sfaces[i].r.axis, c->sfaces[i].r.pos);
     if (bi_write_textures(palette, &L->l[EW_LUMP_TEXTURES])) return -1;
     for (int i = 0; i < c->nverts; i++)
         for (int k = 0; k < 3; k++) bi_put_f32(&L->l[EW_LUMP_VERTEXES], (float)c->verts[i][k]);
@@ -608,6 +771,27 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
             bi_put_i16(cb, (int16_t)(ch->leaf ? contents_of(ch->kind) : ch->out));
         }
     }
+    /* submodel chains: node 6m+k holds side k; outside it an empty leaf of
+     * its own, inside the next node (the solid leaf after the last) */
+    for (int i = 0; i < c->nsfaces; i++) {
+        const sface *sf = &c->sfaces[i];
+        const bi_box *box = &s->submodels[i / 6];
+        int k = i % 6, node = c->numnodes_out + i;
+        int inside = k < 5 ? node + 1 : -1, outside = -1 - (c->numleaves_out + i);
+        int high = k & 1;  /* the high side's front is the outside */
+        bi_buf *b = &L->l[EW_LUMP_NODES];
+        bi_put_i32(b, sf->plane);
+        bi_put_i16(b, (int16_t)(high ? outside : inside));
+        bi_put_i16(b, (int16_t)(high ? inside : outside));
+        put_bounds_units(b, box->mins, box->maxs);
+        bi_put_u16(b, (uint16_t)(c->nfaces + i));
+        bi_put_u16(b, 1);
+        bi_buf *cb = &L->l[EW_LUMP_CLIPNODES];
+        int cin = k < 5 ? node + 1 : EW_CONTENTS_SOLID;
+        bi_put_i32(cb, sf->plane);
+        bi_put_i16(cb, (int16_t)(high ? EW_CONTENTS_EMPTY : cin));
+        bi_put_i16(cb, (int16_t)(high ? cin : EW_CONTENTS_EMPTY));
+    }
     for (int i = 0; i < c->ntexinfo; i++) {
         bi_buf *b = &L->l[EW_LUMP_TEXINFO];
         int sa, ss, ta, ts;
@@ -628,42 +812,21 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
         int special = bi_texture_is_special(f->tex);
         int32_t lightofs = -1;
         if (!special) {
-            int sa, ss, ta, ts, smin, smax, tmin, tmax;
-            const texinfo_def *ti = &c->texinfo[f->texinfo];
-            tex_axes(f->axis, &sa, &ss, &ta, &ts);
-            face_range(f, sa, ss, &smin, &smax);
-            face_range(f, ta, ts, &tmin, &tmax);
-            smin += ti->soff, smax += ti->soff, tmin += ti->toff, tmax += ti->toff;
-            int mins_s = floor16(smin), mins_t = floor16(tmin);
-            int ns = (ceil16(smax) - mins_s) / 16 + 1, nt = (ceil16(tmax) - mins_t) / 16 + 1;
-            float n[3] = {0, 0, 0};
-            n[f->axis] = f->facing & 1 ? -1.0f : 1.0f;
+            frect r = face_rect(f);
             lightofs = (int32_t)lt->len;
-            for (int k = 0; k < nt; k++)
-                for (int j = 0; j < ns; j++) {
-                    float p[3];
-                    int st[2] = {mins_s + 16 * j, mins_t + 16 * k};
-                    int ax[2] = {sa, ta}, sg[2] = {ss, ts}, lo[2] = {smin, tmin}, hi[2] = {smax, tmax};
-                    int off[2] = {ti->soff, ti->toff};
-                    for (int q = 0; q < 2; q++) {
-                        /* keep samples just inside the face so corners are not self-shadowed */
-                        double v = st[q];
-                        if (v < lo[q] + 1) v = lo[q] + 1;
-                        if (v > hi[q] - 1) v = hi[q] - 1;
-                        p[ax[q]] = (float)((v - off[q]) * sg[q]);
-                    }
-                    p[f->axis] = (float)(f->pos * BI_CELL) + n[f->axis];
-                    bi_put_u8(lt, (uint8_t)bi_light_point(s, p, n));
-                }
+            put_lightmap(s, &r, &c->texinfo[f->texinfo], lt);
         }
-        bi_put_i16(b, (int16_t)c->planes[f->axis][f->pos]);
-        bi_put_i16(b, (int16_t)(f->facing & 1));
-        bi_put_i32(b, f->firstvert);
-        bi_put_i16(b, (int16_t)f->numverts);
-        bi_put_i16(b, (int16_t)f->texinfo);
-        const uint8_t lit[4] = {0, 255, 255, 255}, unlit[4] = {255, 255, 255, 255};
-        bi_put(b, special ? unlit : lit, 4);
-        bi_put_i32(b, lightofs);
+        put_face(b, c->planes[f->axis][f->pos], f->facing & 1, f->firstvert, f->numverts, f->texinfo,
+                 special, lightofs);
+    }
+    for (int i = 0; i < c->nsfaces; i++) {
+        const sface *sf = &c->sfaces[i];
+        bi_buf *lt = &L->l[EW_LUMP_LIGHTING];
+        int special = bi_texture_is_special(sf->tex);
+        int32_t lightofs = special ? -1 : (int32_t)lt->len;
+        if (!special) put_lightmap(s, &sf->r, &c->texinfo[sf->texinfo], lt);
+        put_face(&L->l[EW_LUMP_FACES], sf->plane, sf->r.facing & 1, sf->firstedge, 4, sf->texinfo,
+                 special, lightofs);
     }
 
     /* leaves and marksurfaces: each open leaf lists the faces looking into it */
@@ -692,6 +855,22 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
         for (int i = 0; i < c->nfaces; i++)
             if (c->faces[i].leaf == c->leaf_of_out[l]) bi_put_u16(&L->l[EW_LUMP_MARKSURFACES], (uint16_t)i);
     }
+    /* submodel leaves: the empty one outside each side lists that side's
+     * face; its box is the face itself.  No PVS rows (past visleafs). */
+    for (int i = 0; i < c->nsfaces; i++) {
+        const frect *r = &c->sfaces[i].r;
+        int lo[3], hi[3], u = (r->axis + 1) % 3, v = (r->axis + 2) % 3;
+        lo[r->axis] = hi[r->axis] = r->pos;
+        lo[u] = r->u0, hi[u] = r->u1, lo[v] = r->v0, hi[v] = r->v1;
+        bi_buf *b = &L->l[EW_LUMP_LEAFS];
+        bi_put_i32(b, EW_CONTENTS_EMPTY);
+        bi_put_i32(b, -1);
+        put_bounds_units(b, lo, hi);
+        bi_put_u16(b, (uint16_t)(c->nfaces + i));
+        bi_put_u16(b, 1);
+        bi_put_zeros(b, 4);
+        bi_put_u16(&L->l[EW_LUMP_MARKSURFACES], (uint16_t)(c->nfaces + i));
+    }
     free(markcount), free(firstface), free(visofs);
 
     for (int i = 0; i < c->nedges; i++) {
@@ -709,6 +888,16 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
     bi_put_i32(m, c->numleaves_out - 1);
     bi_put_i32(m, 0);
     bi_put_i32(m, c->nfaces);
+    for (int i = 0; i < s->nsubmodels; i++) {
+        const bi_box *box = &s->submodels[i];
+        for (int k = 0; k < 3; k++) bi_put_f32(m, (float)box->mins[k]);
+        for (int k = 0; k < 3; k++) bi_put_f32(m, (float)box->maxs[k]);
+        for (int k = 0; k < 3; k++) bi_put_f32(m, 0.0f);
+        for (int k = 0; k < 4; k++) bi_put_i32(m, c->numnodes_out + 6 * i);  /* hull 0 and clip hulls */
+        bi_put_i32(m, 0);  /* no PVS of its own */
+        bi_put_i32(m, c->nfaces + 6 * i);
+        bi_put_i32(m, 6);
+    }
     return 0;
 }
 
@@ -755,27 +944,34 @@ int bi_build_bsp(const bi_scene *s, const uint8_t palette[768], bi_buf *out, ew_
         texinfo_def want = {f->tex, f->axis, 0, 0};
         if (f->tex == BI_T_BUTTON0 || f->tex == BI_T_BUTTON1) {
             /* a button shows whole: its texture starts at the face's corner */
-            int sa, ss, ta, ts, smin, smax, tmin, tmax;
-            tex_axes(f->axis, &sa, &ss, &ta, &ts);
-            face_range(f, sa, ss, &smin, &smax);
-            face_range(f, ta, ts, &tmin, &tmax);
-            want.soff = ((-smin) % 64 + 64) % 64;
-            want.toff = ((-tmin) % 64 + 64) % 64;
+            frect r = face_rect(f);
+            want = corner_texinfo(&r, f->tex, 64, 64);
         }
-        int ti = 0;
-        while (ti < c->ntexinfo && memcmp(&c->texinfo[ti], &want, sizeof want)) ti++;
-        if (ti == c->ntexinfo) {
-            if (GROW(c, c->texinfo, c->ntexinfo, c->captexinfo, 1)) goto oom;
-            c->texinfo[c->ntexinfo++] = want;
-        }
-        f->texinfo = ti;
+        if ((f->texinfo = texinfo_index(c, &want)) < 0) goto oom;
     }
-    if (c->nfaces > 65535 || c->numnodes_out > 32767 || c->numleaves_out > 32767) {
+    if (s->nsubmodels < 0 || s->nsubmodels > BI_MAX_SUBMODELS) {
+        ew_fail(err, "builtin: %d submodels (at most %d)", s->nsubmodels, BI_MAX_SUBMODELS);
+        goto done;
+    }
+    for (int i = 0; i < s->nsubmodels; i++) {
+        const bi_box *b = &s->submodels[i];
+        for (int k = 0; k < 3; k++)
+            if (b->mins[k] >= b->maxs[k] || b->mins[k] < -32768 || b->maxs[k] > 32767) {
+                ew_fail(err, "builtin: submodel %d is an empty or oversized box", i + 1);
+                goto done;
+            }
+        if (b->tex < 0 || b->tex >= BI_NUM_TEXTURES) {
+            ew_fail(err, "builtin: submodel %d has texture %d", i + 1, b->tex);
+            goto done;
+        }
+    }
+    if (c->nfaces + 6 * s->nsubmodels > 65535 || c->numnodes_out + 6 * s->nsubmodels > 32767 ||
+        c->numleaves_out + 6 * s->nsubmodels > 32767) {
         ew_fail(err, "builtin: scene too big for BSP29 (%d faces, %d nodes, %d leaves)", c->nfaces,
                 c->numnodes_out, c->numleaves_out);
         goto done;
     }
-    if (make_polygons(c) || make_edges(c)) goto oom;
+    if (make_polygons(c) || make_edges(c) || make_submodels(c)) goto oom;
     if (c->nverts > 65535 || c->nedges > 65535) {
         ew_fail(err, "builtin: too many vertices or edges (%d, %d)", c->nverts, c->nedges);
         goto done;

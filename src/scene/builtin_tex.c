@@ -33,8 +33,6 @@ static const uint8_t ramp_top[14][3] = {
     {235, 175, 150}, /* 12 flesh */
     {175, 180, 160}, /* 13 stone */
 };
-enum { R_GREY, R_BROWN, R_TAN, R_RED, R_RUST, R_OLIVE, R_GREEN, R_TEAL, R_BLUE,
-       R_STEEL, R_PURPLE, R_GOLD, R_FLESH, R_STONE };
 
 static void lerp3(uint8_t *out, const int a[3], const int b[3], int i, int n) {
     for (int c = 0; c < 3; c++)
@@ -45,7 +43,7 @@ void bi_make_palette(uint8_t pal[768]) {
     for (int r = 0; r < 14; r++)
         for (int i = 0; i < 16; i++) {
             /* grey starts at true black (index 0 is the sky's "clear") */
-            double t = r == R_GREY ? i / 15.0 : 0.06 + 0.94 * i / 15.0;
+            double t = r == BI_R_GREY ? i / 15.0 : 0.06 + 0.94 * i / 15.0;
             for (int c = 0; c < 3; c++)
                 pal[(r * 16 + i) * 3 + c] = (uint8_t)lrint(ramp_top[r][c] * t);
         }
@@ -135,6 +133,12 @@ static uint8_t px(int ramp, double shade) {
     return (uint8_t)(ramp * 16 + s);
 }
 
+double bi_fbm(double u, double v, int period, int octaves, uint32_t seed) {
+    return fbm(u, v, period, octaves, seed);
+}
+double bi_rnd01(uint32_t x, uint32_t y, uint32_t seed) { return rnd01(x, y, seed); }
+uint8_t bi_px(int ramp, double shade) { return px(ramp, shade); }
+
 /* ---- the textures ----------------------------------------------------------- */
 
 static void tex_brick(uint8_t *p, int w, int h) {
@@ -144,14 +148,14 @@ static void tex_brick(uint8_t *p, int w, int h) {
             int xs = (x + (row & 1) * 16) % w, col = xs / 32, xx = xs % 32;
             double n = fbm((double)x / w, (double)y / h, 8, 3, 11);
             if (yy < 2 || xx < 2) {  /* mortar */
-                p[y * w + x] = px(R_GREY, 5 + 3 * n);
+                p[y * w + x] = px(BI_R_GREY, 5 + 3 * n);
                 continue;
             }
             double base = 6.5 + 3.0 * rnd01((uint32_t)col, (uint32_t)row, 7);
             double s = base + 3.0 * (n - 0.5);
             if (yy == 2 || xx == 2) s += 1.5;      /* lit top-left edge */
             if (yy == 15 || xx == 31) s -= 2.0;    /* shadowed bottom-right */
-            p[y * w + x] = px(R_RED, s);
+            p[y * w + x] = px(BI_R_RED, s);
         }
 }
 
@@ -172,7 +176,7 @@ static void tex_metal(uint8_t *p, int w, int h) {
                 int dx = xx - cx, dy = yy - cy;
                 if (abs(dx) <= 1 && abs(dy) <= 1) s = dx + dy < 0 ? 13 : dx + dy > 0 ? 4 : 10;
             }
-            p[y * w + x] = px(R_STEEL, s);
+            p[y * w + x] = px(BI_R_STEEL, s);
         }
 }
 
@@ -181,11 +185,11 @@ static void tex_floor(uint8_t *p, int w, int h) {
         for (int x = 0; x < w; x++) {
             int xx = x % 32, yy = y % 32, checker = (x / 32 + y / 32) & 1;
             double n = fbm((double)x / w, (double)y / h, 8, 3, 37);
-            if (xx < 2 || yy < 2) { p[y * w + x] = px(R_BROWN, 3 + 2 * n); continue; }
+            if (xx < 2 || yy < 2) { p[y * w + x] = px(BI_R_BROWN, 3 + 2 * n); continue; }
             double s = (checker ? 9.0 : 6.5) + 3.0 * (n - 0.5);
             if (xx == 2 || yy == 2) s += 1;
             if (xx == 31 || yy == 31) s -= 1.5;
-            p[y * w + x] = px(checker ? R_TAN : R_BROWN, s);
+            p[y * w + x] = px(checker ? BI_R_TAN : BI_R_BROWN, s);
         }
 }
 
@@ -203,13 +207,13 @@ static void tex_stone(uint8_t *p, int w, int h) {
             double n = fbm(u, v, 8, 4, 41);
             double c = fbm(u, v, 4, 3, 43);
             if (yy < 2 || xx < 2) {
-                p[y * w + x] = px(R_GREY, 2.5 + 2 * n);
+                p[y * w + x] = px(BI_R_GREY, 2.5 + 2 * n);
                 continue;
             }
             double s = 6.0 + 3.0 * rnd01((uint32_t)row, (uint32_t)col, 139) + 4.0 * (n - 0.5);
             if (yy == 2 || xx == 2) s += 1.5;
             if (fabs(c - 0.5) < 0.012) s -= 3;
-            p[y * w + x] = px(R_STONE, s);
+            p[y * w + x] = px(BI_R_STONE, s);
         }
 }
 
@@ -224,7 +228,7 @@ static void tex_wood(uint8_t *p, int w, int h) {
             if (xx == 0) s = 2;
             else if (xx == 15) s -= 2;
             else if (xx == 1) s += 1.5;
-            p[y * w + x] = px(R_BROWN, s);
+            p[y * w + x] = px(BI_R_BROWN, s);
         }
 }
 
@@ -234,7 +238,7 @@ static void tex_water(uint8_t *p, int w, int h) {
             double u = (double)x / w, v = (double)y / h;
             double n = fbm(u, v, 4, 4, 71);
             double ripple = sin((u + v + 0.3 * n) * 6.2831853 * 2);
-            p[y * w + x] = px(n > 0.62 ? R_TEAL : R_BLUE, 4.5 + 6 * (n - 0.5) + 1.5 * ripple);
+            p[y * w + x] = px(n > 0.62 ? BI_R_TEAL : BI_R_BLUE, 4.5 + 6 * (n - 0.5) + 1.5 * ripple);
         }
 }
 
@@ -245,9 +249,9 @@ static void tex_sky(uint8_t *p, int w, int h) {
         for (int x = 0; x < half; x++) {
             double u = (double)x / half, v = (double)y / h;
             double n = fbm(u, v, 4, 5, 83);
-            p[y * w + x] = n > 0.56 ? px(R_GREY, 7 + (n - 0.56) * 40) : 0;
+            p[y * w + x] = n > 0.56 ? px(BI_R_GREY, 7 + (n - 0.56) * 40) : 0;
             double b = fbm(u, v, 4, 4, 89);
-            p[y * w + half + x] = px(b > 0.6 ? R_PURPLE : R_BLUE, 3 + 7 * b);
+            p[y * w + half + x] = px(b > 0.6 ? BI_R_PURPLE : BI_R_BLUE, 3 + 7 * b);
         }
 }
 
@@ -256,12 +260,59 @@ static void tex_button(uint8_t *p, int w, int h, int on) {
         for (int x = 0; x < w; x++) {
             double dx = x - (w - 1) / 2.0, dy = y - (h - 1) / 2.0, r = sqrt(dx * dx + dy * dy);
             uint8_t c;
-            if (x == 0 || y == 0) c = px(R_STEEL, 12);
-            else if (x == w - 1 || y == h - 1) c = px(R_STEEL, 2);
-            else if (r < 7) c = on ? (uint8_t)(232 + (int)(r * 0.9)) : px(R_RED, 3 + r * 0.5);
-            else if (r < 9) c = px(R_STEEL, dx + dy < 0 ? 3 : 11);  /* recessed rim */
-            else c = px(R_STEEL, 7 + 2 * fbm((double)x / w, (double)y / h, 4, 2, 97));
+            if (x == 0 || y == 0) c = px(BI_R_STEEL, 12);
+            else if (x == w - 1 || y == h - 1) c = px(BI_R_STEEL, 2);
+            else if (r < 7) c = on ? (uint8_t)(232 + (int)(r * 0.9)) : px(BI_R_RED, 3 + r * 0.5);
+            else if (r < 9) c = px(BI_R_STEEL, dx + dy < 0 ? 3 : 11);  /* recessed rim */
+            else c = px(BI_R_STEEL, 7 + 2 * fbm((double)x / w, (double)y / h, 4, 2, 97));
             p[y * w + x] = c;
+        }
+}
+
+/* A plank door: four vertical planks held by two iron bands and a
+ * diagonal brace, with a ring handle; 64x96, one door face. */
+static void tex_door(uint8_t *p, int w, int h) {
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            double u = (double)x / w, v = (double)y / h;
+            int plank = x / 16, xx = x % 16;
+            double n = fbm(u, v, 4, 3, 151);
+            double off = rnd01((uint32_t)plank, 5, 157) * 6.28;
+            /* grain runs down the planks */
+            double grain = sin(u * 6.2831853 * 10 + off + 7 * fbm(u, v, 2, 2, 163));
+            double s = 6.0 + 1.4 * grain + 1.5 * rnd01((uint32_t)plank, 7, 167) + 2.0 * (n - 0.5);
+            int ramp = BI_R_BROWN;
+            if (xx == 0) s = 1.5;
+            else if (xx == 1) s += 1.5;
+            else if (xx == 15) s -= 1.5;
+            /* the brace: a plank from the lower band at the left up to the
+             * upper band at the right */
+            double along = (x - 2) / 60.0, centre = 74 - along * 52;
+            double dy = y - centre;
+            if (along >= -0.02 && along <= 1.02 && fabs(dy) < 6.5 && y > 20 && y < 76) {
+                double g = sin((x + 0.87 * y) * 0.35 + 5 * n);
+                s = 7.5 + 1.2 * g + 2.0 * (n - 0.5);
+                if (dy < -5.5) s = 10.5;       /* lit upper edge */
+                else if (dy > 5.5) s = 1.5;    /* shadowed lower edge */
+            }
+            /* iron bands with a rivet on each plank */
+            for (int b = 0; b < 2; b++) {
+                int y0 = b ? 76 : 12, yy = y - y0;
+                if (yy < 0 || yy >= 8) continue;
+                ramp = BI_R_STEEL;
+                s = 5.0 + 3.0 * (fbm(u, v, 8, 2, 173) - 0.5);
+                if (yy == 0) s = 11;
+                else if (yy == 7) s = 1.5;
+                int dx = xx - 8, dr = yy - 4;
+                if (abs(dx) <= 1 && abs(dr) <= 1) s = dx + dr < 0 ? 13 : dx + dr > 0 ? 3 : 10;
+            }
+            /* a ring handle on a back plate */
+            double hx = x - 52.5, hy = y - 50.5, r = sqrt(hx * hx + hy * hy);
+            if (fabs(hx) <= 4.5 && hy >= -8.5 && hy <= -3.5) ramp = BI_R_STEEL, s = 4 + (hy < -7 ? 3 : 0);
+            if (r >= 3.0 && r <= 5.0 && hy > -4) ramp = BI_R_STEEL, s = hx + hy < 0 ? 12 : 5;
+            /* a darker frame round the whole door */
+            if (x < 1 || x >= w - 1 || y < 1 || y >= h - 1) ramp = BI_R_BROWN, s = 1;
+            p[y * w + x] = px(ramp, s);
         }
 }
 
@@ -274,10 +325,15 @@ static const texdef texdefs[BI_NUM_TEXTURES] = {
     [BI_T_FLOOR] = {"floor", 64, 64},     [BI_T_STONE] = {"stone", 128, 128},
     [BI_T_WOOD] = {"wood", 64, 64},       [BI_T_WATER] = {"*water", 64, 64},
     [BI_T_SKY] = {"sky1", 256, 128},      [BI_T_BUTTON0] = {"+0button", 32, 32},
-    [BI_T_BUTTON1] = {"+1button", 32, 32},
+    [BI_T_BUTTON1] = {"+1button", 32, 32},  [BI_T_DOOR] = {"door", 64, 96},
 };
 
 int bi_texture_is_special(int tex) { return tex == BI_T_WATER || tex == BI_T_SKY; }
+
+void bi_texture_size(int tex, int *w, int *h) {
+    *w = texdefs[tex].w;
+    *h = texdefs[tex].h;
+}
 
 static void draw(int t, uint8_t *p, int w, int h) {
     switch (t) {
@@ -289,6 +345,7 @@ static void draw(int t, uint8_t *p, int w, int h) {
     case BI_T_WATER: tex_water(p, w, h); break;
     case BI_T_SKY: tex_sky(p, w, h); break;
     case BI_T_BUTTON0: tex_button(p, w, h, 1); break;
+    case BI_T_DOOR: tex_door(p, w, h); break;
     default: tex_button(p, w, h, 0); break;
     }
 }
