@@ -46,6 +46,12 @@ uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y) {
 
 void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_texture *t) {
     const ew_view *v = &r->view;
+    int half = t->width / 2, rows = t->height;
+    /* Power-of-two layers (Quake's are 128x128) wrap with a mask; others
+     * take the exact path per pixel. */
+    int pow2 = half > 0 && (half & (half - 1)) == 0 && rows > 0 && (rows & (rows - 1)) == 0;
+    float scroll = (float)fmod(v->time * 8.0, 4096.0);
+    const uint8_t *px = t->mip[0];
     for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
         const ew_span *sp = &b->spans[si];
         uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
@@ -55,8 +61,24 @@ void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_text
         for (int i = 0; i < sp->count; i += step) {
             int n = sp->count - i < step ? sp->count - i : step;
             sky_st(v, t, (float)(sp->u + i + step), (float)sp->v, &s1, &t1);
-            float ds = (s1 - s0) / step, dt = (t1 - t0) / step;
-            for (int k = 0; k < n; k++) dst[i + k] = sky_texel(v, t, s0 + ds * k, t0 + dt * k);
+            if (!pow2) {
+                float ds = (s1 - s0) / step, dt = (t1 - t0) / step;
+                for (int k = 0; k < n; k++) dst[i + k] = sky_texel(v, t, s0 + ds * k, t0 + dt * k);
+            } else {
+                /* 16.16 fixed point from the same floored start, two layers. */
+                int32_t fs = (int32_t)floorf((s0 + 2 * scroll) * 65536.0f), ft = (int32_t)floorf((t0 + 2 * scroll) * 65536.0f);
+                int32_t bs = (int32_t)floorf((s0 + scroll) * 65536.0f), bt = (int32_t)floorf((t0 + scroll) * 65536.0f);
+                int32_t ds = (int32_t)((s1 - s0) * 65536.0f / step), dt = (int32_t)((t1 - t0) * 65536.0f / step);
+                unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
+                for (int k = 0; k < n; k++) {
+                    uint8_t c = px[(((unsigned)ft >> 16) & rm) * (unsigned)t->width + (((unsigned)fs >> 16) & hm)];
+                    if (!c)
+                        c = px[(((unsigned)bt >> 16) & rm) * (unsigned)t->width + (unsigned)half +
+                               (((unsigned)bs >> 16) & hm)];
+                    dst[i + k] = c;
+                    fs += ds, ft += dt, bs += ds, bt += dt;
+                }
+            }
             s0 = s1, t0 = t1;
         }
     }
