@@ -63,11 +63,15 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
  * With SSE2, four at a time: the integer parts of s and t are paired as
  * 16-bit halves and one multiply-add gives s + t * pitch for four pixels;
  * surfaces are far smaller than 32768 texels a side, as that needs. */
-static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s,
-                             int32_t t, int32_t ds, int32_t dt, int n) {
+/* The world's 1/z goes into the z-buffer in the same pass (z-fill):
+ * zi0 + i * dz for pixel i, each from the start, so exact. */
+static inline void texel_run(uint8_t *dst, float *z, float zi0, float dz, const uint8_t *pixels,
+                             uint32_t pitch, int32_t s, int32_t t, int32_t ds, int32_t dt, int n) {
     int i = 0;
 #if defined(__SSE2__)
     if (n >= 4) {
+        __m128 vz = _mm_add_ps(_mm_set1_ps(zi0), _mm_mul_ps(_mm_set1_ps(dz), _mm_setr_ps(0, 1, 2, 3)));
+        const __m128 step_z = _mm_set1_ps(4 * dz);
         __m128i vs = _mm_setr_epi32(s, s + ds, s + 2 * ds, s + 3 * ds);
         __m128i vt = _mm_setr_epi32(t, t + dt, t + 2 * dt, t + 3 * dt);
         const __m128i step_s = _mm_set1_epi32(4 * ds), step_t = _mm_set1_epi32(4 * dt);
@@ -83,8 +87,10 @@ static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch
             uint32_t four = (uint32_t)pixels[k0] | (uint32_t)pixels[k1] << 8 |
                             (uint32_t)pixels[k2] << 16 | (uint32_t)pixels[k3] << 24;
             memcpy(dst + i, &four, 4);  /* little-endian: pixel i first */
+            _mm_storeu_ps(z + i, vz);
             vs = _mm_add_epi32(vs, step_s);
             vt = _mm_add_epi32(vt, step_t);
+            vz = _mm_add_ps(vz, step_z);
         }
         s += i * ds;
         t += i * dt;
@@ -92,6 +98,7 @@ static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch
 #endif
     for (; i < n; i++) {
         dst[i] = pixels[((uint32_t)t >> 16) * pitch + ((uint32_t)s >> 16)];
+        z[i] = zi0 + (float)i * dz;
         s += ds;
         t += dt;
     }
@@ -102,14 +109,18 @@ void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradient
     int w = r->width;
     for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
         const ew_span *sp = &b->spans[si];
-        uint8_t *dst = r->frame + (size_t)sp->v * w + sp->u;
+        size_t o = (size_t)sp->v * w + sp->u;
+        uint8_t *dst = r->frame + o;
+        float *z = r->zbuf + o;
+        float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, dz = g->zi_u;
         ew_stepper st;
         int32_t s, t, ds, dt;
-        int n;
+        int n, done = 0;
         ew_step_begin(&st, g, r->subdiv_shift, sp->u, sp->v, sp->count);
         while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
-            texel_run(dst, pixels, (uint32_t)pitch, s, t, ds, dt, n);
-            dst += n;
+            texel_run(dst + done, z + done, zi + (float)done * dz, dz, pixels, (uint32_t)pitch, s, t,
+                      ds, dt, n);
+            done += n;
         }
     }
 }
