@@ -4,7 +4,11 @@
  * nodes' planes, wound clockwise, watertight (every edge shared by exactly
  * two faces), leaves listing the faces that bound them, light maps that
  * vary, a PVS that culls something but never hides a leaf a straight line
- * can reach, and a view set inside open space.
+ * can reach, and a view set inside open space.  The door is submodel *1:
+ * a box of six faces on a chain of six nodes of its own, in open space,
+ * spawned by the entity lump's func_door.  The triangle model
+ * (bi_model_generate) is a valid, deterministic MDL: it loads, animates,
+ * and every part of it is a closed surface wound outwards.
  *
  * Debug aid: EW_BUILTIN_DUMP=file.bsp writes the image out, so it can be
  * inspected with `edgewise info file.bsp` or a map viewer.
@@ -13,10 +17,16 @@
 #include "ew_util.h"
 #include "ew_world.h"
 #include "scene/builtin.h"
+#include "asset/mdl.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+
+/* Generation time is printed for the record; speed is the benchmark's
+ * business, never a test's (a loaded machine must not fail it). */
+static double cpu_ms(void) { return 1000.0 * (double)clock() / CLOCKS_PER_SEC; }
 
 static uint8_t pal[768], cmap[EW_COLORMAP_SIZE];
 
@@ -30,11 +40,12 @@ static void vert(const ew_world *w, int v, double p[3]) {
     for (int k = 0; k < 3; k++) p[k] = w->verts[v][k];
 }
 
-static int point_leaf(const ew_world *w, const double p[3]) {
-    int n = w->models[0].headnode;
+static int point_leaf_in(const ew_world *w, int model, const double p[3]) {
+    int n = w->models[model].headnode;
     while (n >= 0) n = w->nodes[n].children[plane_dist(w, w->nodes[n].plane, p) >= 0 ? 0 : 1];
     return -1 - n;
 }
+static int point_leaf(const ew_world *w, const double p[3]) { return point_leaf_in(w, 0, p); }
 static int leaf_open(const ew_world *w, int leaf) {
     int c = w->leaves[leaf].contents;
     return c == EW_CONTENTS_EMPTY || c == EW_CONTENTS_WATER;
@@ -54,11 +65,11 @@ static int segment_clear(const ew_world *w, int n, const double a[3], const doub
            segment_clear(w, w->nodes[n].children[!s], m, b);
 }
 
-/* Decompresses leaf's PVS row into row[numleaves] (row[0] unused); -1 on
+/* Decompresses leaf's PVS row into row[0..visleafs] (row[0] unused); -1 on
  * malformed data. */
 static int pvs_row(const ew_world *w, int leaf, uint8_t *row) {
-    int vl = w->numleaves - 1;
-    memset(row, 0, (size_t)w->numleaves);
+    int vl = w->models[0].visleafs;
+    memset(row, 0, (size_t)vl + 1);
     if (w->leaves[leaf].visofs < 0) return 1;
     int pos = w->leaves[leaf].visofs, j = 0;
     while (j < vl) {
@@ -211,7 +222,9 @@ static void check_faces(const ew_world *w) {
 static void check_leaves(const ew_world *w) {
     int kinds[4] = {0, 0, 0, 0}, bad_mark = -1, bad_box = -1;
     CHECK(w->leaves[0].contents == EW_CONTENTS_SOLID, "leaf 0 contents %d", w->leaves[0].contents);
-    CHECK(w->models[0].visleafs == w->numleaves - 1, "visleafs %d of %d", w->models[0].visleafs, w->numleaves);
+    /* the world's leaves first (all with PVS rows), then six per submodel */
+    CHECK(w->models[0].visleafs == w->numleaves - 1 - 6 * (w->nummodels - 1), "visleafs %d of %d (%d models)",
+          w->models[0].visleafs, w->numleaves, w->nummodels);
     for (int l = 1; l < w->numleaves; l++) {
         const ew_leaf *lf = &w->leaves[l];
         kinds[0] += lf->contents == EW_CONTENTS_EMPTY;
@@ -275,7 +288,7 @@ static void check_lighting(const ew_world *w) {
 }
 
 static void check_pvs(const ew_world *w) {
-    int n = w->numleaves, bad = -1, hidden = 0, pairs = 0;
+    int n = w->models[0].visleafs + 1, bad = -1, hidden = 0, pairs = 0;
     uint8_t *vis = calloc((size_t)n * n, 1);
     for (int a = 1; a < n; a++) {
         if (pvs_row(w, a, vis + (size_t)a * n) < 0) bad = a;
@@ -358,17 +371,256 @@ static void check_views(const ew_world *w) {
     CHECK(lights >= 3 && bad == 0, "%d lights, %d not in open space", lights, bad);
 }
 
+/* The door: submodel *1, a box of six faces with a tree of its own. */
+static void check_submodels(const ew_world *w) {
+    CHECK(w->nummodels == 2, "%d models (the world and the door)", w->nummodels);
+    if (w->nummodels < 2) return;
+    const ew_model *m0 = &w->models[0], *d = &w->models[1];
+    CHECK(m0->firstface == 0 && d->firstface == m0->numfaces && d->numfaces == 6 &&
+              d->firstface + d->numfaces == w->numfaces,
+          "faces: world %d+%d, door %d+%d of %d", m0->firstface, m0->numfaces, d->firstface, d->numfaces,
+          w->numfaces);
+    CHECK(d->visleafs == 0 && d->origin[0] == 0 && d->origin[1] == 0 && d->origin[2] == 0,
+          "door: visleafs %d, origin %g %g %g", d->visleafs, d->origin[0], d->origin[1], d->origin[2]);
+    double size[3];
+    for (int k = 0; k < 3; k++) size[k] = d->maxs[k] - d->mins[k];
+    CHECK(size[0] >= 4 && size[1] >= 32 && size[2] >= 64, "door box %g x %g x %g", size[0], size[1], size[2]);
+
+    /* the tree: a chain of six nodes, each holding one face on its plane,
+     * with the solid leaf inside and an empty leaf outside listing that face */
+    int stack[16], sp = 0, nodes = 0, bad = -1, used[6] = {0, 0, 0, 0, 0, 0};
+    stack[sp++] = d->headnode;
+    while (sp > 0 && nodes < 16) {
+        int n = stack[--sp];
+        const ew_node *nd = &w->nodes[n];
+        nodes++;
+        if (nd->numfaces != 1 || nd->firstface < d->firstface || nd->firstface >= d->firstface + 6) {
+            bad = n;
+            continue;
+        }
+        int f = nd->firstface;
+        used[f - d->firstface]++;
+        for (int k = 0; k < 3; k++)
+            if (nd->mins[k] > d->mins[k] || nd->maxs[k] < d->maxs[k]) bad = n;
+        int solid = 0, empty = 0;
+        for (int c = 0; c < 2; c++) {
+            int ch = nd->children[c];
+            if (ch >= 0) {
+                if (sp < 16) stack[sp++] = ch;
+                continue;
+            }
+            const ew_leaf *lf = &w->leaves[-1 - ch];
+            if (-1 - ch == 0) { solid++; continue; }
+            if (-1 - ch <= m0->visleafs || lf->contents != EW_CONTENTS_EMPTY || lf->visofs != -1 ||
+                lf->nummarks != 1 || w->marksurfaces[lf->firstmark] != f)
+                bad = n;
+            /* the empty child is the side the face looks into */
+            int back = (w->faces[f].flags & EW_SURF_PLANEBACK) != 0;
+            if (c != back) bad = n;
+            empty++;
+        }
+        if (empty != 1) bad = n;
+        (void)solid;
+    }
+    CHECK(nodes == 6 && bad < 0, "door tree: %d nodes, node %d malformed", nodes, bad);
+    for (int i = 0; i < 6; i++) CHECK(used[i] == 1, "door face %d is on %d nodes", i, used[i]);
+
+    /* inside is solid; just outside each face is an empty leaf listing it */
+    double centre[3];
+    for (int k = 0; k < 3; k++) centre[k] = (d->mins[k] + d->maxs[k]) / 2;
+    CHECK(point_leaf_in(w, 1, centre) == 0, "the door's inside is not solid");
+    for (int i = 0; i < 6; i++) {
+        const ew_face *f = &w->faces[d->firstface + i];
+        const ew_plane *pl = &w->planes[f->plane];
+        double sign = (f->flags & EW_SURF_PLANEBACK) ? -1 : 1, p[3] = {0, 0, 0};
+        for (int k = 0; k < f->numedges; k++) {
+            double q[3];
+            vert(w, ew_face_vertex(w, f, k), q);
+            for (int j = 0; j < 3; j++) p[j] += q[j] / f->numedges;
+        }
+        for (int j = 0; j < 3; j++) p[j] += sign * pl->normal[j];
+        int l = point_leaf_in(w, 1, p);
+        CHECK(l > m0->visleafs && w->leaves[l].contents == EW_CONTENTS_EMPTY && w->leaves[l].nummarks == 1 &&
+                  w->marksurfaces[w->leaves[l].firstmark] == d->firstface + i,
+              "outside door face %d: leaf %d", i, l);
+        /* its own texture, light-mapped */
+        const ew_texture *t = &w->textures[w->texinfo[f->texinfo].texture];
+        CHECK(!strcmp(t->name, "door") && f->lightofs >= 0 && !(f->flags & (EW_SURF_SKY | EW_SURF_TURB)),
+              "door face %d: texture %s, light %d", i, t->name, f->lightofs);
+        CHECK(f->numedges == 4, "door face %d has %d edges", i, f->numedges);
+    }
+
+    /* its edges are its own: no world face uses them */
+    uint8_t *world_edge = calloc((size_t)w->numedges, 1);
+    for (int i = m0->firstface; i < m0->firstface + m0->numfaces; i++)
+        for (int k = 0; k < w->faces[i].numedges; k++) {
+            int se = w->surfedges[w->faces[i].firstedge + k];
+            world_edge[se < 0 ? -se : se] = 1;
+        }
+    int shared = 0;
+    for (int i = d->firstface; i < d->firstface + d->numfaces; i++)
+        for (int k = 0; k < w->faces[i].numedges; k++) {
+            int se = w->surfedges[w->faces[i].firstedge + k];
+            shared += world_edge[se < 0 ? -se : se];
+        }
+    CHECK(shared == 0, "%d door edges are shared with the world", shared);
+    free(world_edge);
+
+    /* it stands in open space (in part: it has slid half into the wall),
+     * never in water or sky */
+    int open = 0, solid = 0, other = 0;
+    for (int i = 0; i < 5; i++)
+        for (int j = 0; j < 9; j++)
+            for (int k = 0; k < 13; k++) {
+                double p[3] = {d->mins[0] + (i + 0.5) * size[0] / 5, d->mins[1] + (j + 0.5) * size[1] / 9,
+                               d->mins[2] + (k + 0.5) * size[2] / 13};
+                int c = w->leaves[point_leaf(w, p)].contents;
+                open += c == EW_CONTENTS_EMPTY, solid += c == EW_CONTENTS_SOLID;
+                other += c != EW_CONTENTS_EMPTY && c != EW_CONTENTS_SOLID;
+            }
+    CHECK(open >= (open + solid) * 2 / 5 && other == 0, "door: %d samples in open space, %d solid, %d other",
+          open, solid, other);
+
+    /* the entity lump spawns it */
+    const char *e = strstr(w->entities, "\"classname\" \"func_door\"");
+    const char *end = e ? strchr(e, '}') : NULL, *model = e ? strstr(e, "\"model\" \"*1\"") : NULL;
+    CHECK(e && end && model && model < end, "no func_door with model *1 in the entity lump");
+}
+
+/* Union-find over the model's vertices, for its parts. */
+static int find_root(int *parent, int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+}
+
+static int cmp_u64(const void *a, const void *b) {
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The triangle model: deterministic, loads, animates, closed and wound outwards. */
+static void check_model(void) {
+    uint8_t *a = NULL, *b = NULL;
+    size_t na = 0, nb = 0;
+    ew_error err = {{0}};
+    double t0 = cpu_ms();
+    int rc = bi_model_generate(&a, &na, &err);
+    double t1 = cpu_ms();
+    CHECK(rc == 0, "model: %s", err.msg);
+    if (rc) return;
+    printf("model: %zu bytes in %.1f ms of CPU\n", na, t1 - t0);
+    CHECK(bi_model_generate(&b, &nb, &err) == 0 && nb == na && !memcmp(a, b, na), "two model generations differ");
+    free(b);
+    ew_mdl *m = ew_mdl_load(a, na, "builtin/bearer.mdl", &err);
+    CHECK(m != NULL, "ew_mdl_load: %s", err.msg);
+    free(a);
+    if (!m) return;
+    printf("model: %d vertices, %d triangles, %d poses, skin %dx%d\n", m->numverts, m->numtris, m->numposes,
+           m->skinwidth, m->skinheight);
+    CHECK(m->numskins == 1 && m->numskinimages == 1 && m->skinwidth == BI_MODEL_SKIN_W &&
+              m->skinheight == BI_MODEL_SKIN_H,
+          "skins: %d (%d images) of %dx%d", m->numskins, m->numskinimages, m->skinwidth, m->skinheight);
+    CHECK(m->numverts >= 100 && m->numverts <= 400 && m->numtris >= 300 && m->numtris <= 800,
+          "%d vertices, %d triangles", m->numverts, m->numtris);
+    CHECK(m->numframes == 1 && m->numposes == BI_MODEL_POSES && m->frames[0].count == BI_MODEL_POSES &&
+              m->frames[0].times != NULL,
+          "frames %d, poses %d", m->numframes, m->numposes);
+    if (m->frames[0].times)
+        for (int i = 0; i < m->frames[0].count; i++)
+            CHECK(fabsf(m->frames[0].times[i] - BI_MODEL_INTERVAL * (float)(i + 1)) < 1e-5f, "pose %d ends at %g", i,
+                  (double)m->frames[0].times[i]);
+    /* time picks each pose in turn, and the cycle repeats */
+    for (int i = 0; i < BI_MODEL_POSES; i++)
+        CHECK(ew_mdl_anim_pick(&m->frames[0], (i + 0.5) * BI_MODEL_INTERVAL) == i &&
+                  ew_mdl_anim_pick(&m->frames[0], (i + 0.5 + BI_MODEL_POSES) * BI_MODEL_INTERVAL) == i,
+              "time does not pick pose %d", i);
+
+    /* closed and consistently wound: every directed edge once, its reverse once */
+    int nt = m->numtris, nv = m->numverts;
+    uint64_t *e = malloc(sizeof *e * (size_t)nt * 3);
+    for (int t = 0; t < nt; t++)
+        for (int k = 0; k < 3; k++)
+            e[t * 3 + k] = (uint64_t)m->tris[t].v[k] << 32 | (uint32_t)m->tris[t].v[(k + 1) % 3];
+    qsort(e, (size_t)nt * 3, sizeof *e, cmp_u64);
+    int dup = 0, open = 0;
+    for (int i = 0; i < nt * 3; i++) {
+        if (i > 0 && e[i] == e[i - 1]) dup++;
+        uint64_t rev = (e[i] & 0xffffffffu) << 32 | e[i] >> 32;
+        if (!bsearch(&rev, e, (size_t)nt * 3, sizeof *e, cmp_u64)) open++;
+    }
+    CHECK(dup == 0 && open == 0, "%d edges used twice one way, %d without a neighbour", dup, open);
+    free(e);
+
+    /* every part encloses a positive volume in every pose (outward winding:
+     * the outward normal of a, b, c is (c - a) x (b - a)) */
+    int *parent = malloc(sizeof *parent * (size_t)nv);
+    for (int i = 0; i < nv; i++) parent[i] = i;
+    for (int t = 0; t < nt; t++)
+        for (int k = 1; k < 3; k++) {
+            int x = find_root(parent, m->tris[t].v[0]), y = find_root(parent, m->tris[t].v[k]);
+            if (x != y) parent[x] = y;
+        }
+    int parts = 0;
+    for (int i = 0; i < nv; i++) parts += find_root(parent, i) == i;
+    CHECK(parts == 4, "%d parts (body, two arms, lantern)", parts);
+    double *vol = malloc(sizeof *vol * (size_t)nv);
+    int inverted = 0, moved = 0;
+    for (int p = 0; p < m->numposes; p++) {
+        const ew_mdl_pose *pose = &m->poses[p];
+        for (int i = 0; i < nv; i++) vol[i] = 0;
+        for (int t = 0; t < nt; t++) {
+            double q[3][3];
+            for (int k = 0; k < 3; k++)
+                for (int j = 0; j < 3; j++) q[k][j] = pose->verts[m->tris[t].v[k]].v[j] * m->scale[j] + m->translate[j];
+            double e1[3], e2[3];
+            for (int j = 0; j < 3; j++) e1[j] = q[1][j] - q[0][j], e2[j] = q[2][j] - q[0][j];
+            double n[3] = {e2[1] * e1[2] - e2[2] * e1[1], e2[2] * e1[0] - e2[0] * e1[2], e2[0] * e1[1] - e2[1] * e1[0]};
+            vol[find_root(parent, m->tris[t].v[0])] += (q[0][0] * n[0] + q[0][1] * n[1] + q[0][2] * n[2]) / 6;
+        }
+        for (int i = 0; i < nv; i++)
+            if (find_root(parent, i) == i && !(vol[i] > 1)) inverted++;
+        /* it floats: its lowest point is above its origin */
+        CHECK(pose->mins[2] > 0 && pose->maxs[2] > 55 && pose->maxs[2] < 90, "pose %d spans z %g..%g", p,
+              (double)pose->mins[2], (double)pose->maxs[2]);
+        if (p > 0)
+            for (int i = 0; i < nv; i++) moved += memcmp(pose->verts[i].v, m->poses[0].verts[i].v, 3) != 0;
+    }
+    CHECK(inverted == 0, "%d parts enclose no positive volume (wound inwards)", inverted);
+    CHECK(moved > nv, "the poses hardly differ (%d vertex moves)", moved);
+    free(vol), free(parent);
+
+    /* the skin's two halves: back triangles use the back half or the seam */
+    int fronts = 0, backs = 0, onseam = 0, misuse = 0;
+    for (int i = 0; i < nv; i++) onseam += m->st[i].onseam != 0;
+    for (int t = 0; t < nt; t++) {
+        if (m->tris[t].facesfront) { fronts++; continue; }
+        backs++;
+        for (int k = 0; k < 3; k++) {
+            const ew_mdl_st *st = &m->st[m->tris[t].v[k]];
+            misuse += !st->onseam && st->s < m->skinwidth / 2;
+        }
+    }
+    CHECK(fronts > 0 && backs > 0 && onseam > 0 && misuse == 0,
+          "%d front, %d back triangles, %d onseam vertices, %d back uses of the front half", fronts, backs, onseam,
+          misuse);
+    int hist[256] = {0}, distinct = 0, fullbright = 0;
+    for (int i = 0; i < m->skinwidth * m->skinheight; i++) hist[m->skinpixels[i]]++;
+    for (int c = 0; c < 256; c++) distinct += hist[c] > 0, fullbright += c >= 224 ? hist[c] : 0;
+    CHECK(distinct >= 24 && fullbright > 0, "skin: %d colours, %d fullbright texels", distinct, fullbright);
+    ew_mdl_free(m);
+}
+
 int main(void) {
     uint8_t *a = NULL, *b = NULL;
     size_t na = 0, nb = 0;
     static uint8_t pal2[768], cmap2[EW_COLORMAP_SIZE];
     ew_error err = {{0}};
-    double t0 = ew_now_ms();
+    double t0 = cpu_ms();
     int rc = ew_builtin_generate(&a, &na, pal, cmap, &err);
-    double t1 = ew_now_ms();
+    double t1 = cpu_ms();
     CHECK(rc == 0, "generate: %s", err.msg);
     if (rc) return ew_t_finish();
-    printf("generated %zu bytes in %.1f ms\n", na, t1 - t0);
+    printf("generated %zu bytes in %.1f ms of CPU\n", na, t1 - t0);
     CHECK(ew_builtin_generate(&b, &nb, pal2, cmap2, &err) == 0, "second generate: %s", err.msg);
     CHECK(b && na == nb && !memcmp(a, b, na), "two generations differ");
     CHECK(!memcmp(pal, pal2, sizeof pal) && !memcmp(cmap, cmap2, sizeof cmap), "palette/colormap differ");
@@ -397,8 +649,11 @@ int main(void) {
         check_lighting(w);
         check_pvs(w);
         check_views(w);
+        check_submodels(w);
         ew_world_free(w);
     }
+
+    check_model();
 
     ew_assets as;
     CHECK(ew_assets_builtin(&as, &err) == 0 && as.world, "ew_assets_builtin: %s", err.msg);

@@ -138,12 +138,12 @@ int bi_build_bsp(const bi_scene *s, const uint8_t palette[768], bi_buf *out, ew_
  * frees; deterministic).  One 128x64 skin, one frame: a group of
  * BI_MODEL_POSES poses, BI_MODEL_INTERVAL seconds each, so it animates by
  * time.  Model space: x forward, y left, z up, the origin under its feet;
- * the lantern it holds is at BI_MODEL_LANTERN (pose 0). */
+ * the lantern it holds is at bi_model_lantern (pose 0, before bobbing). */
 #define BI_MODEL_POSES 8
 #define BI_MODEL_INTERVAL 0.15f
 #define BI_MODEL_SKIN_W 128
 #define BI_MODEL_SKIN_H 64
-extern const float BI_MODEL_LANTERN[3];
+extern const float bi_model_lantern[3];
 int bi_model_generate(uint8_t **mdl, size_t *size, ew_error *err);
 
 #endif

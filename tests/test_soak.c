@@ -1,0 +1,129 @@
+/*
+ * `edgewise soak` (path in EW_CLI): a short soak of the built-in scene and
+ * of start and e1m1 (when ../shared is there) must find no anomaly and
+ * report what it rendered in its JSON line; bad arguments exit 2 with one
+ * error line.  Under `make test-asan` this is also the sanitizers' soak.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "util.h"
+
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define FRAMES 200
+
+typedef struct run_result {
+    int  status;   /* exit code, -1 if killed */
+    char out[65536];
+    char err[8192];
+} run_result;
+
+static void slurp(const char *path, char *buf, size_t size) {
+    buf[0] = '\0';
+    FILE *f = fopen(path, "rb");
+    if (!f) return;
+    size_t n = fread(buf, 1, size - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+}
+
+/* Runs EW_CLI with args (NULL-terminated), no shell; output via temp files. */
+static void run(run_result *r, const char *const *args) {
+    const char *cli = getenv("EW_CLI");
+    const char *argv[32];
+    int n = 0;
+    argv[n++] = cli;
+    for (; *args && n < 31; args++) argv[n++] = *args;
+    argv[n] = NULL;
+    char out[64], err[64];
+    snprintf(out, sizeof out, "/tmp/ew_soak_out_%d", (int)getpid());
+    snprintf(err, sizeof err, "/tmp/ew_soak_err_%d", (int)getpid());
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        int fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fo < 0 || fe < 0) _exit(127);
+        dup2(fo, 1);
+        dup2(fe, 2);
+        execv(cli, (char *const *)argv);
+        _exit(127);
+    }
+    int st = 0;
+    r->status = -1;
+    if (pid > 0 && waitpid(pid, &st, 0) == pid && WIFEXITED(st)) r->status = WEXITSTATUS(st);
+    slurp(out, r->out, sizeof r->out);
+    slurp(err, r->err, sizeof r->err);
+    unlink(out);
+    unlink(err);
+}
+
+/* The number after "key": in the JSON line, or -1e300 if absent. */
+static double json_num(const char *json, const char *key) {
+    char pat[64];
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    const char *p = strstr(json, pat);
+    return p ? strtod(p + strlen(pat), NULL) : -1e300;
+}
+
+static void soak_ok(const char *map, const char *data) {
+    char frames[16];
+    snprintf(frames, sizeof frames, "%d", FRAMES);
+    run_result *r = malloc(sizeof *r);
+    const char *const with_data[] = {"soak", map, "--data", data, "--frames", frames, "--size", "320x200", NULL};
+    const char *const without[] = {"soak", map, "--frames", frames, "--seed", "7", NULL};
+    run(r, data ? with_data : without);
+    CHECK(r->status == 0, "soak %s: exit %d, stderr: %s, stdout: %s", map, r->status, r->err, r->out);
+    CHECK(r->out[0] == '{' && strchr(r->out, '\n') == strrchr(r->out, '\n') &&
+              r->out[strlen(r->out) - 1] == '\n',
+          "soak %s: want one JSON line, got: %s", map, r->out);
+    double n = json_num(r->out, "frames"), views = json_num(r->out, "view_frames"),
+           rnd = json_num(r->out, "random_frames");
+    CHECK(n == FRAMES, "soak %s: frames %g", map, n);
+    CHECK(views + rnd == FRAMES && rnd >= FRAMES / 2, "soak %s: %g view + %g random frames", map, views, rnd);
+    CHECK(json_num(r->out, "anomalies") == 0, "soak %s: anomalies in %s", map, r->out);
+    CHECK(json_num(r->out, "in_solid") >= 0, "soak %s: no in_solid count", map);
+    CHECK(json_num(r->out, "fps") > 0, "soak %s: fps %g", map, json_num(r->out, "fps"));
+    CHECK(json_num(r->out, "peak_rss_kb") > 0, "soak %s: no peak memory", map);
+    CHECK(json_num(r->out, "width") == 320 && json_num(r->out, "height") == 200, "soak %s: size", map);
+    printf("%s\n", r->out);
+    free(r);
+}
+
+static void soak_fails(const char *const *args, int status, const char *needle) {
+    run_result *r = malloc(sizeof *r);
+    run(r, args);
+    CHECK(r->status == status, "soak %s: exit %d (want %d), stderr: %s", args[1], r->status, status, r->err);
+    CHECK(strncmp(r->err, "edgewise: ", 10) == 0 && strchr(r->err, '\n') == strrchr(r->err, '\n'),
+          "want one error line, got: %s", r->err);
+    CHECK(strstr(r->err, needle) != NULL, "'%s' not in: %s", needle, r->err);
+    CHECK(r->out[0] == '\0', "stdout should be empty: %s", r->out);
+    free(r);
+}
+
+int main(void) {
+    if (!getenv("EW_CLI")) {
+        fprintf(stderr, "EW_CLI not set\n");
+        return 1;
+    }
+    soak_ok("builtin", NULL);
+    const char *data = ew_t_shared("data/librequake");
+    if (ew_t_have_shared("data/librequake/maps/start.bsp")) {
+        soak_ok("start", data);
+        soak_ok("e1m1", data);
+    } else {
+        printf("skipped start and e1m1: %s not found\n", data);
+    }
+
+    soak_fails((const char *const[]){"soak", "builtin", NULL}, 2, "--frames");
+    soak_fails((const char *const[]){"soak", "builtin", "--frames", "0", NULL}, 2, "--frames");
+    soak_fails((const char *const[]){"soak", "builtin", "--frames", "10", "--size", "10x10", NULL}, 2, "--size");
+    soak_fails((const char *const[]){"soak", "builtin", "--frames", "10", "--seed", "-1", NULL}, 2, "--seed");
+    soak_fails((const char *const[]){"soak", "builtin", "--frames", "10", "--bogus", NULL}, 2, "--bogus");
+    soak_fails((const char *const[]){"soak", "--frames", "10", NULL}, 2, "MAP");
+    soak_fails((const char *const[]){"soak", "/nonexistent/x.bsp", "--frames", "10", NULL}, 1, "x.bsp");
+    return ew_t_finish();
+}
