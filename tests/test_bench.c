@@ -17,92 +17,24 @@
 static const char *cli;
 static char tmpdir[256];
 
-typedef struct run_result {
-    int  status;      /* exit code, or -1 if it did not exit normally */
-    int  signal;      /* the signal that killed it, 0 if none */
-    char out[65536];  /* stdout */
-    char err[8192];   /* stderr */
-} run_result;
+typedef ew_t_run run_result;
 
 static char *tmp_path(char out[512], const char *name) {
     snprintf(out, 512, "%s/%s", tmpdir, name);
     return out;
 }
 
-static void slurp(const char *path, char *buf, size_t size) {
-    buf[0] = '\0';
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return;
-    size_t n = fread(buf, 1, size - 1, f);
-    buf[n] = '\0';
-    fclose(f);
-}
-
 /* Runs EW_CLI with args (NULL-terminated), no shell, in tmpdir; stderr goes
  * to a file, so the progress line (terminals only) stays off. */
-static void run(run_result *r, const char *const *args) {
-    const char *argv[64];
-    int n = 0;
-    argv[n++] = cli;
-    for (; *args && n < 63; args++)
-        argv[n++] = *args;
-    argv[n] = NULL;
+static void run(run_result *r, const char *const *args) { ew_t_run_cli(r, tmpdir, args); }
 
-    char out[512], err[512];
-    tmp_path(out, "stdout.txt");
-    tmp_path(err, "stderr.txt");
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid == 0) {
-        int fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        int fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fo < 0 || fe < 0 || chdir(tmpdir) != 0)
-            _exit(127);
-        dup2(fo, 1);
-        dup2(fe, 2);
-        execv(cli, (char *const *)argv);
-        _exit(127);
-    }
-    int st = 0;
-    r->status = -1;
-    r->signal = 0;
-    if (pid > 0 && waitpid(pid, &st, 0) == pid) {
-        if (WIFEXITED(st))
-            r->status = WEXITSTATUS(st);
-        else if (WIFSIGNALED(st))
-            r->signal = WTERMSIG(st);
-    }
-    slurp(out, r->out, sizeof r->out);
-    slurp(err, r->err, sizeof r->err);
-}
-
-static int count_lines(const char *s) {
-    int n = 0;
-    for (; *s; s++)
-        n += *s == '\n';
-    return n;
-}
+static int count_lines(const char *s) { return ew_t_count_lines(s); }
 
 #define ARGS(...) ((const char *const[]){ __VA_ARGS__, NULL })
 
 /* The number after "key": in the JSON line (keys are unique in a row, the
  * nested stage and counter names included); NAN if absent. */
-static double field(const char *json, const char *key) {
-    char k[64];
-    snprintf(k, sizeof k, "\"%s\":", key);
-    const char *p = strstr(json, k);
-    if (!p)
-        return NAN;
-    p += strlen(k);
-    if (strncmp(p, "true", 4) == 0)
-        return 1;
-    if (strncmp(p, "false", 5) == 0)
-        return 0;
-    char *end;
-    double v = strtod(p, &end);
-    return end == p ? NAN : v;
-}
+static double field(const char *json, const char *key) { return ew_t_json_num(json, key); }
 
 static void expect_ok(run_result *r, const char *what, const char *const *args) {
     run(r, args);
@@ -179,7 +111,7 @@ static void test_builtin(void) {
     tmp_path(out, "bench.jsonl");
     expect_ok(r, "builtin", ARGS("bench", "builtin", "--size", "320x200", "--size=400x300",
                                  "--passes=2", "--table", "--out", out));
-    slurp(out, json, sizeof json);
+    ew_t_slurp(out, json, sizeof json);
     CHECK(count_lines(json) == 2, "builtin: want two JSON lines: %s", json);
     char *second = strchr(json, '\n');
     if (second) {

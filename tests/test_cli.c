@@ -15,12 +15,7 @@
 static const char *cli;
 static char tmpdir[256];
 
-typedef struct run_result {
-    int  status;      /* exit code, or -1 if it did not exit normally */
-    int  signal;      /* the signal that killed it, 0 if none */
-    char out[65536];  /* stdout */
-    char err[8192];   /* stderr */
-} run_result;
+typedef ew_t_run run_result;
 
 /* Path of name in tmpdir, in the caller's buffer (512 bytes). */
 static char *tmp_path(char out[512], const char *name) {
@@ -28,59 +23,10 @@ static char *tmp_path(char out[512], const char *name) {
     return out;
 }
 
-static void slurp(const char *path, char *buf, size_t size) {
-    buf[0] = '\0';
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return;
-    size_t n = fread(buf, 1, size - 1, f);
-    buf[n] = '\0';
-    fclose(f);
-}
-
 /* Runs EW_CLI with args (NULL-terminated), no shell, in tmpdir. */
-static void run(run_result *r, const char *const *args) {
-    const char *argv[64];
-    int n = 0;
-    argv[n++] = cli;
-    for (; *args && n < 63; args++)
-        argv[n++] = *args;
-    argv[n] = NULL;
+static void run(run_result *r, const char *const *args) { ew_t_run_cli(r, tmpdir, args); }
 
-    char out[512], err[512];
-    tmp_path(out, "stdout.txt");
-    tmp_path(err, "stderr.txt");
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid == 0) {
-        int fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        int fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fo < 0 || fe < 0 || chdir(tmpdir) != 0)
-            _exit(127);
-        dup2(fo, 1);
-        dup2(fe, 2);
-        execv(cli, (char *const *)argv);
-        _exit(127);
-    }
-    int st = 0;
-    r->status = -1;
-    r->signal = 0;
-    if (pid > 0 && waitpid(pid, &st, 0) == pid) {
-        if (WIFEXITED(st))
-            r->status = WEXITSTATUS(st);
-        else if (WIFSIGNALED(st))
-            r->signal = WTERMSIG(st);
-    }
-    slurp(out, r->out, sizeof r->out);
-    slurp(err, r->err, sizeof r->err);
-}
-
-static int count_lines(const char *s) {
-    int n = 0;
-    for (; *s; s++)
-        n += *s == '\n';
-    return n;
-}
+static int count_lines(const char *s) { return ew_t_count_lines(s); }
 
 static void describe(char *buf, size_t size, const char *const *args) {
     size_t used = 0;

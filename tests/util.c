@@ -1,6 +1,11 @@
+#define _POSIX_C_SOURCE 200809L
 #include "util.h"
 
+#include <fcntl.h>
+#include <math.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 int ew_t_passed, ew_t_failed;
@@ -19,4 +24,64 @@ int ew_t_have_shared(const char *rel) { return access(ew_t_shared(rel), R_OK) ==
 int ew_t_finish(void) {
     printf("%d passed, %d failed\n", ew_t_passed, ew_t_failed);
     return ew_t_failed ? 1 : 0;
+}
+
+void ew_t_slurp(const char *path, char *buf, size_t size) {
+    buf[0] = '\0';
+    FILE *f = fopen(path, "rb");
+    if (!f) return;
+    size_t n = fread(buf, 1, size - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+}
+
+void ew_t_run_cli(ew_t_run *r, const char *dir, const char *const *args) {
+    const char *cli = getenv("EW_CLI");
+    const char *argv[64];
+    int n = 0;
+    argv[n++] = cli ? cli : "edgewise";
+    for (; *args && n < 63; args++) argv[n++] = *args;
+    argv[n] = NULL;
+    char out[1024], err[1024];
+    snprintf(out, sizeof out, "%s/stdout.txt", dir);
+    snprintf(err, sizeof err, "%s/stderr.txt", dir);
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid == 0) {
+        int fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fo < 0 || fe < 0 || chdir(dir) != 0) _exit(127);
+        dup2(fo, 1);
+        dup2(fe, 2);
+        execv(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    int st = 0;
+    r->status = -1;
+    r->signal = 0;
+    if (pid > 0 && waitpid(pid, &st, 0) == pid) {
+        if (WIFEXITED(st)) r->status = WEXITSTATUS(st);
+        else if (WIFSIGNALED(st)) r->signal = WTERMSIG(st);
+    }
+    ew_t_slurp(out, r->out, sizeof r->out);
+    ew_t_slurp(err, r->err, sizeof r->err);
+}
+
+int ew_t_count_lines(const char *s) {
+    int n = 0;
+    for (; *s; s++) n += *s == '\n';
+    return n;
+}
+
+double ew_t_json_num(const char *json, const char *key) {
+    char k[128];
+    snprintf(k, sizeof k, "\"%s\":", key);
+    const char *p = strstr(json, k);
+    if (!p) return NAN;
+    p += strlen(k);
+    if (strncmp(p, "true", 4) == 0) return 1;
+    if (strncmp(p, "false", 5) == 0) return 0;
+    char *end;
+    double v = strtod(p, &end);
+    return end == p ? NAN : v;
 }

@@ -27,4 +27,23 @@ int ew_t_have_shared(const char *rel);
 /* Prints "N passed, N failed" and returns the process exit code. */
 int ew_t_finish(void);
 
+/* ---- running the edgewise command (EW_CLI, set by CMake) ---------------- */
+
+typedef struct ew_t_run {
+    int  status;      /* exit code, or -1 if it did not exit normally */
+    int  signal;      /* the signal that killed it, 0 if none */
+    char out[65536];  /* stdout */
+    char err[8192];   /* stderr */
+} ew_t_run;
+
+/* Runs EW_CLI with args (NULL-terminated), no shell, in directory dir;
+ * stdout and stderr go through files in dir (so a terminal-only progress
+ * line stays off). */
+void ew_t_run_cli(ew_t_run *r, const char *dir, const char *const *args);
+int  ew_t_count_lines(const char *s);
+/* Reads a text file into buf (at most size - 1 bytes, NUL-terminated; empty if unreadable). */
+void ew_t_slurp(const char *path, char *buf, size_t size);
+/* The number after "key": in a JSON text (true/false read as 1/0); NAN if absent. */
+double ew_t_json_num(const char *json, const char *key);
+
 #endif
