@@ -97,6 +97,11 @@ void ew_draw_entities(ew_renderer *r) {
         }
         int drawn = 0;
         if (m->kind == EW_MODEL_ALIAS) {
+            /* Time walks a model through its frames at the game's 10 a
+             * second (frame groups animate by their own intervals too). */
+            const ew_mdl *mdl = m->data;
+            if (r->view.time > 0 && mdl->numframes > 1)
+                pose.frame = (int)(((long long)(r->view.time * 10) + e->frame) % mdl->numframes);
             model_light(r, e->origin, &pose.ambient, &pose.shade);
             drawn = ew_draw_alias(r, m->data, &pose);
         } else if (m->kind == EW_MODEL_SPRITE) {

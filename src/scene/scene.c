@@ -166,6 +166,8 @@ static const class_model class_models[] = {
     {"light_flame_small_yellow", "progs/flame2.mdl", 0, 0, 0},
     {"light_flame_small_white", "progs/flame2.mdl", 0, 0, 0},
     {"light_torch_small_walltorch", "progs/flame.mdl", 0, 0, 0},
+    {"light_globe", "progs/s_light.spr", 0, 0, 0},
+    {"misc_teleporttrain", "progs/teleport.mdl", 0, 0, 0},
     {"misc_explobox", "maps/b_explob.bsp", 0, 0, 0},
     {"misc_explobox2", "maps/b_exbox2.bsp", 0, 0, 0},
 };
@@ -173,7 +175,7 @@ static const class_model class_models[] = {
 /* Classnames that are known to draw nothing (triggers, lights, markers). */
 static int invisible_class(const char *c) {
     static const char *prefixes[] = {"info_", "light", "trigger_", "path_", "ambient_", "func_",
-                                     "target_", "worldspawn", "air_bubbles", "event_", "misc_noisemaker",
+                                     "target_", "trap_", "worldspawn", "air_bubbles", "event_", "misc_noisemaker",
                                      "misc_fireball", "viewthing", "noclass"};
     for (size_t i = 0; i < sizeof prefixes / sizeof *prefixes; i++)
         if (strncmp(c, prefixes[i], strlen(prefixes[i])) == 0) return 1;
