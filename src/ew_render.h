@@ -89,6 +89,8 @@ typedef struct ew_band {
     ew_span *spans;  int nspans, max_spans;
     ew_active *aet;  int naet, max_aet;
     int dropped;
+    ew_stats model_stats;           /* this band's share of the moving things' counters */
+    double model_ms;                /* time it spent on them */
 } ew_band;
 
 /* ---- surface cache ---- */
@@ -247,6 +249,14 @@ uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y);
 void    ew_turb_table(int32_t table[128], double time);
 uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, int32_t tt);
 
+/* Rows of the frame a drawing call may touch, and where its counters go:
+ * moving things are drawn band by band, each band only in its own rows. */
+typedef struct ew_rows {
+    int       y0, y1;      /* [y0, y1) */
+    ew_stats *stats;
+    int       first;       /* the band that counts per-model figures (triangles, entities) */
+} ew_rows;
+
 /* raster/zpoly.c: the z-buffered polygon fill (reference path, item boxes) */
 typedef struct ew_zpoly {
     int    n;
@@ -267,11 +277,12 @@ typedef struct ew_zpoly_look {
 int  ew_zpoly_project(const ew_renderer *r, float (*in)[3], int n, ew_zpoly *p);
 /* Fills it into r->frame and r->zbuf where nearer; ids[pixel] = id where it
  * wins (ids may be NULL).  Returns the pixels won. */
-long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id);
+long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,
+                  int y0, int y1);
 
 /* raster/entities.c: alias models, sprites, item boxes and particles of the
  * scene, z-buffered over the frame. */
-void ew_draw_entities(ew_renderer *r);
+void ew_draw_entities(ew_renderer *r, const ew_rows *rows);
 
 /* light */
 int  ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi);

@@ -15,7 +15,10 @@
 enum { FMT_29, FMT_BSP2, FMT_2PSB };
 
 #define HEADER_SIZE (4 + EW_NUM_LUMPS * 8)
-#define MAX_FACE_EDGES 1024
+/* The renderer clips polygons in buffers of 256 vertices (EW_MAX_POLY in
+ * ew_render.h; clipping adds up to 4), so every face it is given fits;
+ * Quake's own tools stop far below. */
+#define MAX_FACE_EDGES 248
 #define MAX_TEX_SIZE 4096
 /* Light maps and surface caches are sized from the extents; Quake allows
  * 256 texels, modern compilers more, this bound keeps sizes sane. */
@@ -359,6 +362,14 @@ static int load_textures(ctx *c, ew_world *w) {
         t->width = (int)tw;
         t->height = (int)th;
         ofs[i] = o;
+    }
+    /* Every texture's pixels lie inside the lump, so more pixels than the
+     * lump holds means textures share bytes: a small file must not become
+     * a huge copy (memory stays bounded by the lump's size). */
+    if (total - PLACEHOLDER_BYTES > (size_t)len) {
+        free(ofs);
+        return lump_fail(c, EW_LUMP_TEXTURES, "textures hold %zu pixel bytes, more than the lump's %d: they overlap",
+                         total - PLACEHOLDER_BYTES, (int)len);
     }
 
     if (!(w->texpixels = malloc(total))) {

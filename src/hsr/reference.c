@@ -23,7 +23,7 @@ static int ref_poly(ew_renderer *r, int *ids, int fi, const ew_view *v, float (*
         if (e && build) ew_cache_build(r, e, r->blocklights);
         if (e) look.surf = e->pixels, look.surf_width = e->width;
     }
-    return ew_zpoly_fill(r, &p, &look, ids, fi) > 0;
+    return ew_zpoly_fill(r, &p, &look, ids, fi, 0, r->height) > 0;
 }
 
 typedef struct ref_ctx { int *ids; } ref_ctx;
@@ -65,7 +65,8 @@ int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, i
     r->face_hook = NULL;
     r->face_hook_ctx = NULL;
     ew_for_brush_faces(r, ref_brush_face, &c);
-    ew_draw_entities(r);
+    ew_rows all = {0, r->height, &r->stats, 1};
+    ew_draw_entities(r, &all);
     if (pixels) memcpy(pixels, r->frame, px);
     return 0;
 }

@@ -2,7 +2,8 @@
  * mip level, keyed by the texture frame and the light style values they
  * were built with, so a change of either rebuilds them.  Least recently
  * used surfaces are evicted once the byte budget is exceeded; a surface
- * used in the current frame is never evicted. */
+ * used in the current frame is never evicted, and the cache never holds
+ * more than twice its budget. */
 #include "ew_render.h"
 
 #include <stdlib.h>
@@ -73,6 +74,19 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
         lru_unlink(c, e);
         c->bytes -= (size_t)e->width * e->height;
         if (e->width * e->height != width * height) free(e->pixels), e->pixels = NULL;
+    }
+    /* Surfaces of this frame are never evicted, so a frame needing more
+     * than the budget grows the cache; past twice the budget the surface
+     * is refused (drawn flat, counted in dropped), so no map can make the
+     * cache grow without bound. */
+    size_t need = (size_t)width * height;
+    while (c->bytes + need > c->budget && c->lru_tail && c->lru_tail->last_frame != r->framecount)
+        evict(c, c->lru_tail);
+    if (c->bytes + need > 2 * c->budget) {
+        c->slot[face * 4 + mip] = NULL;
+        free(e->pixels);
+        free(e);
+        return NULL;
     }
     if (!e->pixels) e->pixels = malloc((size_t)width * height);
     if (!e->pixels) {

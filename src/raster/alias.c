@@ -288,7 +288,7 @@ static int clip_poly(const clip_planes *cp, int mask, cvert *in, int n, cvert *s
     return n;
 }
 
-int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
+int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, const ew_rows *rows) {
     if (!r || !m || !p) return 0;
     for (int k = 0; k < 3; k++)
         if (!isfinite(p->origin[k]) || !isfinite(p->angles[k]) || fabsf(p->origin[k]) > 1e6f) return 0;
@@ -335,6 +335,12 @@ int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
     }
     if (and_flags) return 0;
     int accept = or_flags == 0;
+    /* Wholly in view but not in this band's rows: nothing to do here.  The
+     * band holding the model's top row counts its triangles (any band
+     * would count the same); a model crossing the frustum, band 0. */
+    if (accept && (vmax < rows->y0 - 1 || vmin > rows->y1 + 1)) return 1;
+    int top = vmin < 0 ? 0 : vmin >= r->height ? r->height - 1 : (int)vmin;
+    int counts = accept ? (top >= rows->y0 && top < rows->y1) : rows->first;
     int subdiv = accept && (r->alias_raster == EW_ALIAS_SUBDIV ||
                             (r->alias_raster == EW_ALIAS_AUTO && vmax - vmin < r->alias_threshold));
 
@@ -385,7 +391,7 @@ int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
     ew_araster ra;
     memset(&ra, 0, sizeof ra);
     ra.frame = r->frame, ra.zbuf = r->zbuf, ra.pitch = r->width;
-    ra.x0 = 0, ra.y0 = 0, ra.x1 = r->width, ra.y1 = r->height;
+    ra.x0 = 0, ra.y0 = rows->y0, ra.x1 = r->width, ra.y1 = rows->y1;
     ra.skin = m->skinpixels + (size_t)image * m->skinwidth * m->skinheight;
     ra.skinw = m->skinwidth, ra.skinh = m->skinheight;
     ra.colormap = r->colormap;
@@ -450,8 +456,15 @@ int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
     ew_alias_tile_end(&ra);
     if (tile && tile != stack_tile) free(tile);
     if (xv != stack_verts) free(xv);
-    r->stats.alias_tris += drawn;
-    r->stats.alias_tris_subdiv += drawn_subdiv;
-    r->stats.alias_pixels += ra.pixels;
+    if (counts) {
+        rows->stats->alias_tris += drawn;
+        rows->stats->alias_tris_subdiv += drawn_subdiv;
+    }
+    rows->stats->alias_pixels += ra.pixels;
     return 1;
+}
+
+int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
+    ew_rows all = {0, r->height, &r->stats, 1};
+    return ew_draw_alias_rows(r, m, p, &all);
 }

@@ -28,7 +28,13 @@ typedef struct ew_model_pose {
     int    ambient, shade;        /* light: 0..255 ambient level, directional shade amount */
 } ew_model_pose;
 
-/* Return 1 if anything of the model was in view (drawn), 0 if culled. */
+/* Return 1 if anything of the model was in view (drawn), 0 if culled.
+ * The _rows forms draw only into rows [rows->y0, rows->y1) and count into
+ * rows->stats (triangles only when rows->first): every band of a frame
+ * draws the same model the same way, each its own rows.  The plain forms
+ * draw the whole frame. */
+int  ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, const ew_rows *rows);
+int  ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p, const ew_rows *rows);
 int  ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p);
 int  ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p);
 
@@ -36,6 +42,7 @@ typedef struct ew_particle {
     float   org[3];
     uint8_t color;   /* palette index */
 } ew_particle;
+void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const ew_rows *rows);
 void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n);
 /* Fills out[0..n) with a deterministic cloud in a ball of `radius` around
  * center (same seed, same cloud); returns n (0 if n < 0 or out is NULL). */
@@ -115,6 +122,8 @@ void ew_alias_subdiv_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, c
  * of memory at mem; begin loads the z-buffer under it, end writes back the
  * pixels the model won (each once) and counts them in ra->pixels. */
 size_t ew_alias_tile_bytes(int w, int h);
+/* Rows of the tile outside [ra->y0, ra->y1) start nearer than anything, so
+ * nothing is drawn or written back there (another band owns them). */
 void   ew_alias_tile_begin(ew_araster *ra, int x0, int y0, int w, int h, void *mem);
 void   ew_alias_tile_end(ew_araster *ra);
 

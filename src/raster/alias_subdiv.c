@@ -18,6 +18,7 @@
  * z-buffer pixel is written at most once per model. */
 #include "raster/alias.h"
 
+#include <float.h>
 #include <string.h>
 
 /* 1 if the edge p -> q is a top or left edge of a triangle with positive
@@ -96,8 +97,13 @@ void ew_alias_tile_begin(ew_araster *ra, int x0, int y0, int w, int h, void *mem
     ra->tile_c = p + sizeof(float) * (size_t)w * h;
     ra->tile_f = ra->tile_c + (size_t)w * h;
     ra->tx0 = x0, ra->ty0 = y0, ra->tw = w, ra->th = h;
-    for (int y = 0; y < h; y++)
-        memcpy(ra->tile_z + (size_t)y * w, ra->zbuf + (size_t)(y0 + y) * ra->pitch + x0, sizeof(float) * (size_t)w);
+    for (int y = 0; y < h; y++) {
+        float *tz = ra->tile_z + (size_t)y * w;
+        if (y0 + y >= ra->y0 && y0 + y < ra->y1)
+            memcpy(tz, ra->zbuf + (size_t)(y0 + y) * ra->pitch + x0, sizeof(float) * (size_t)w);
+        else
+            for (int x = 0; x < w; x++) tz[x] = FLT_MAX;
+    }
     memset(ra->tile_f, 0, (size_t)w * h);
 }
 

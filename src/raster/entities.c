@@ -25,7 +25,7 @@ static void model_light(const ew_renderer *r, const float origin[3], int *ambien
 }
 
 /* An item box: faces of a small world of its own, z-buffered. */
-static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e) {
+static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e, const ew_rows *rows) {
     const ew_model *m = &bw->models[0];
     float ax[3][3];
     ew_entity_axes(e->angles, ax);
@@ -35,6 +35,7 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e
     ew_view mv;  /* the camera in the box's space */
     ew_view_to_model(&r->view, ax, e->origin, &mv);
     long won = 0;
+    int in_view = 0;
     for (int i = 0; i < m->numfaces; i++) {
         const ew_face *f = &bw->faces[m->firstface + i];
         const ew_plane *pl = &bw->planes[f->plane];
@@ -48,6 +49,8 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e
         }
         ew_zpoly zp;
         if (!ew_zpoly_project(r, p, f->numedges, &zp)) continue;
+        in_view = 1;
+        if (zp.y1 < rows->y0 || zp.y0 >= rows->y1) continue;  /* another band's rows */
         ew_zpoly_look look = {bw, f, &mv, ew_face_texture(bw, f, r->view.time), NULL, 0, 0};
         uint8_t *surf = NULL;
         int *scratch = NULL;
@@ -60,7 +63,7 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e
             scratch = malloc(sizeof(int) * (size_t)samples);
             if (!surf || !scratch) {
                 free(surf), free(scratch);
-                r->stats.dropped++;
+                rows->stats->dropped++;
                 continue;
             }
             int light[4];
@@ -68,14 +71,14 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e
             ew_build_surface(r, bw, f, look.tex, look.mip, light, 0, surf, scratch);
             look.surf = surf, look.surf_width = w;
         }
-        won += ew_zpoly_fill(r, &zp, &look, NULL, 0);
+        won += ew_zpoly_fill(r, &zp, &look, NULL, 0, rows->y0, rows->y1);
         free(surf), free(scratch);
     }
-    r->stats.alias_pixels += won;
-    return won > 0;
+    rows->stats->alias_pixels += won;
+    return in_view;
 }
 
-void ew_draw_entities(ew_renderer *r) {
+void ew_draw_entities(ew_renderer *r, const ew_rows *rows) {
     const struct ew_scene *sc = r->scene;
     if (!sc) return;
     for (int i = 0; i < sc->nents; i++) {
@@ -92,7 +95,7 @@ void ew_draw_entities(ew_renderer *r) {
         float lo[3], hi[3];
         for (int k = 0; k < 3; k++) lo[k] = e->origin[k] - reach, hi[k] = e->origin[k] + reach;
         if (!ew_box_in_pvs(r, lo, hi)) {
-            r->stats.entities_culled++;
+            if (rows->first) rows->stats->entities_culled++;
             continue;
         }
         int drawn = 0;
@@ -103,14 +106,16 @@ void ew_draw_entities(ew_renderer *r) {
             if (r->view.time > 0 && mdl->numframes > 1)
                 pose.frame = (int)(((long long)(r->view.time * 10) + e->frame) % mdl->numframes);
             model_light(r, e->origin, &pose.ambient, &pose.shade);
-            drawn = ew_draw_alias(r, m->data, &pose);
+            drawn = ew_draw_alias_rows(r, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_SPRITE) {
-            drawn = ew_draw_sprite(r, m->data, &pose);
+            drawn = ew_draw_sprite_rows(r, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_BOX) {
-            drawn = draw_box(r, m->data, e);
+            drawn = draw_box(r, m->data, e, rows);
         }
-        if (drawn) r->stats.entities_drawn++;
-        else r->stats.entities_culled++;
+        if (rows->first) {
+            if (drawn) rows->stats->entities_drawn++;
+            else rows->stats->entities_culled++;
+        }
     }
-    if (sc->nparticles) ew_draw_particles(r, sc->particles, sc->nparticles);
+    if (sc->nparticles) ew_draw_particles_rows(r, sc->particles, sc->nparticles, rows);
 }

@@ -7,7 +7,7 @@
 
 #define PARTICLE_NEAR 4.0f
 
-void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
+void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const ew_rows *rows) {
     if (!r || !p || n <= 0) return;
     const ew_view *v = &r->view;
     float k = v->xscale * 0.625f;          /* size in pixels = k / z */
@@ -29,11 +29,12 @@ void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
         int x0 = (int)floorf(u + 0.5f) - (size - 1) / 2, y0 = (int)floorf(vv + 0.5f) - (size - 1) / 2;
         int x1 = x0 + size, y1 = y0 + size;
         if (x0 < 0) x0 = 0;
-        if (y0 < 0) y0 = 0;
         if (x1 > v->width) x1 = v->width;
-        if (y1 > v->height) y1 = v->height;
-        if (x0 >= x1 || y0 >= y1) continue;
-        drawn++;
+        if (x0 >= x1 || y1 <= 0 || y0 >= v->height) continue;
+        drawn++;  /* on screen, whichever rows this call owns */
+        if (y0 < rows->y0) y0 = rows->y0;
+        if (y1 > rows->y1) y1 = rows->y1;
+        if (y0 >= y1) continue;
         uint8_t color = p[i].color;
         for (int y = y0; y < y1; y++) {
             float *zr = r->zbuf + (size_t)y * r->width;
@@ -47,8 +48,8 @@ void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
             }
         }
     }
-    r->stats.particles += drawn;
-    r->stats.alias_pixels += pixels;
+    if (rows->first) rows->stats->particles += drawn;
+    rows->stats->alias_pixels += pixels;
 }
 
 int ew_particle_field(ew_particle *out, int n, const float center[3], float radius, uint32_t seed) {
@@ -70,4 +71,9 @@ int ew_particle_field(ew_particle *out, int n, const float center[3], float radi
         out[i].color = (uint8_t)(0x60 + ((s >> 24) & 15));  /* one 16-colour ramp */
     }
     return n;
+}
+
+void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
+    ew_rows all = {0, r->height, &r->stats, 1};
+    ew_draw_particles_rows(r, p, n, &all);
 }

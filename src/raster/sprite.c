@@ -66,7 +66,7 @@ static inline float dot3(const float a[3], const float b[3]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
+int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p, const ew_rows *rows) {
     if (!r || !s || !p) return 0;
     for (int k = 0; k < 3; k++)
         if (!isfinite(p->origin[k]) || !isfinite(p->angles[k]) || fabsf(p->origin[k]) > 1e6f) return 0;
@@ -135,10 +135,11 @@ int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
     int x0 = (int)floorf(umin), x1 = (int)ceilf(umax) + 1;
     int y0 = (int)floorf(vmin), y1 = (int)ceilf(vmax) + 1;
     if (x0 < 0) x0 = 0;
-    if (y0 < 0) y0 = 0;
+    if (y0 < rows->y0) y0 = rows->y0;
     if (x1 > v->width) x1 = v->width;
-    if (y1 > v->height) y1 = v->height;
-    if (x0 >= x1 || y0 >= y1) return 0;
+    if (y1 > rows->y1) y1 = rows->y1;
+    if (x0 >= x1) return 0;
+    if (y0 >= y1) return 1;  /* in view, but not in these rows */
 
     /* Per pixel: d = ((u - xc) / xs, -(v - yc) / ys, 1);  1/z = N.d / N.O;
      * a = (R.d) z - R.O, b = (U.d) z - U.O. */
@@ -170,6 +171,11 @@ int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
             count++;
         }
     }
-    r->stats.alias_pixels += count;
+    rows->stats->alias_pixels += count;
     return 1;
+}
+
+int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
+    ew_rows all = {0, r->height, &r->stats, 1};
+    return ew_draw_sprite_rows(r, s, p, &all);
 }

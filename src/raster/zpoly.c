@@ -48,13 +48,15 @@ int ew_zpoly_project(const ew_renderer *r, float (*in)[3], int n, ew_zpoly *p) {
     return 1;
 }
 
-long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id) {
+long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,
+                  int y0, int y1) {
     const ew_face *f = look->face;
     ew_gradients g;
     ew_face_gradients(look->world, look->view, f, look->mip, &g);
     long won = 0;
     int m = p->n;
-    for (int y = p->y0; y <= p->y1; y++) {
+    int ya = p->y0 > y0 ? p->y0 : y0, yb = p->y1 < y1 - 1 ? p->y1 : y1 - 1;
+    for (int y = ya; y <= yb; y++) {
         for (int x = p->x0; x <= p->x1; x++) {
             int inside = 1;
             for (int i = 0; i < m && inside; i++) {

@@ -11,7 +11,10 @@
 #include <stdlib.h>
 
 #define ON_EPSILON 0.01f
-#define MAX_SPLIT_DEPTH 4096
+/* Each level of split() holds two polygons on the stack (about 7 KB), so
+ * its depth is capped well inside a thread's stack; real trees are under
+ * 200 deep.  A fragment deeper than this is dropped (and counted). */
+#define MAX_SPLIT_DEPTH 512
 
 typedef struct split_ctx {
     ew_renderer   *r;
@@ -23,7 +26,10 @@ typedef struct split_ctx {
 static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
     ew_renderer *r = c->r;
     const ew_world *w = r->world;
-    if (depth > MAX_SPLIT_DEPTH) return;
+    if (depth > MAX_SPLIT_DEPTH) {
+        r->stats.dropped++;
+        return;
+    }
     if (node < 0) {
         int li = -1 - node;
         if (r->leaf_keyframe[li] == r->framecount && w->leaves[li].contents != EW_CONTENTS_SOLID)
