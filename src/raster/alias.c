@@ -211,10 +211,10 @@ static inline int clip_flags(const clip_planes *cp, const float p[3]) {
 }
 
 static inline int32_t snap(float f, int32_t lo, int32_t hi) {
-    float r = floorf(f + 0.5f);
-    if (!(r >= (float)lo)) return lo;  /* also catches NaN */
-    if (r > (float)hi) return hi;
-    return (int32_t)r;
+    /* Clamped first (lo >= 0), so truncating f + 0.5 rounds; no floorf call. */
+    float x = f > (float)lo ? f : (float)lo;  /* also turns NaN into lo */
+    x = x < (float)hi ? x : (float)hi;
+    return (int32_t)(x + 0.5f);
 }
 
 static void project(const ew_view *v, const float p[3], ew_avert *out) {
