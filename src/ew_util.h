@@ -31,4 +31,12 @@ static inline float ew_f32(const uint8_t *p) {
 
 double ew_now_ms(void);  /* monotonic clock */
 
+/* Names in maps and paks compare without regard to ASCII case, as the game did. */
+static inline int ew_lower(int c) { return c >= 'A' && c <= 'Z' ? c + 32 : c; }
+static inline int ew_same_name(const char *a, const char *b) {
+    for (; *a && *b; a++, b++)
+        if (ew_lower((unsigned char)*a) != ew_lower((unsigned char)*b)) return 0;
+    return *a == *b;
+}
+
 #endif

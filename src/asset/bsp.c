@@ -69,14 +69,6 @@ static void *alloc_array(ctx *c, int lump, int n, size_t elem) {
     return p;
 }
 
-static int lower(int c) { return c >= 'A' && c <= 'Z' ? c + 32 : c; }
-
-static int same_name(const char *a, const char *b) {
-    for (; *a && *b; a++, b++)
-        if (lower((unsigned char)*a) != lower((unsigned char)*b)) return 0;
-    return *a == *b;
-}
-
 static int finite3(const float v[3]) {
     return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
 }
@@ -220,8 +212,8 @@ static int load_entities(ctx *c, ew_world *w) {
 #define PLACEHOLDER_BYTES (16 * 16 + 8 * 8 + 4 * 4 + 2 * 2)
 
 static int texture_flags(const char *name) {
-    if (lower((unsigned char)name[0]) == 's' && lower((unsigned char)name[1]) == 'k' &&
-        lower((unsigned char)name[2]) == 'y')
+    if (ew_lower((unsigned char)name[0]) == 's' && ew_lower((unsigned char)name[1]) == 'k' &&
+        ew_lower((unsigned char)name[2]) == 'y')
         return EW_SURF_SKY;
     if (name[0] == '*') return EW_SURF_TURB;
     if (name[0] == '{') return EW_SURF_FENCE;
@@ -232,7 +224,7 @@ static int texture_flags(const char *name) {
  * (+a..+j), -1 if the name does not animate. */
 static int anim_frame(const char *name) {
     if (name[0] != '+') return -1;
-    int ch = lower((unsigned char)name[1]);
+    int ch = ew_lower((unsigned char)name[1]);
     if (ch >= '0' && ch <= '9') return ch - '0';
     if (ch >= 'a' && ch <= 'j') return 10 + ch - 'a';
     return -1;
@@ -254,7 +246,7 @@ static int link_animations(ctx *c, ew_world *w, int n) {
         for (int j = i; j < n; j++) {
             const ew_texture *u = &w->textures[j];
             int f = anim_frame(u->name);
-            if (f < 0 || done[j] || !same_name(u->name + 2, base)) continue;
+            if (f < 0 || done[j] || !ew_same_name(u->name + 2, base)) continue;
             if (frames[f] < 0) {
                 frames[f] = j;
                 done[j] = 1;
@@ -291,7 +283,7 @@ static int link_animations(ctx *c, ew_world *w, int n) {
         for (int j = i + 1; j < n; j++) {
             ew_texture *u = &w->textures[j];
             int f = anim_frame(u->name);
-            if (f < 0 || done[j] || !same_name(u->name + 2, base)) continue;
+            if (f < 0 || done[j] || !ew_same_name(u->name + 2, base)) continue;
             const ew_texture *orig = &w->textures[frames[f]];
             u->anim_total = orig->anim_total;
             u->anim_min = orig->anim_min;

@@ -44,15 +44,6 @@ static char *join(const char *dir, const char *name) {
     return p;
 }
 
-static int lower(int c) { return c >= 'A' && c <= 'Z' ? c + 32 : c; }
-
-/* Pak names are lowercase by convention; compare without case to be lenient. */
-static int same_name(const char *a, const char *b) {
-    for (; *a && *b; a++, b++)
-        if (lower((unsigned char)*a) != lower((unsigned char)*b)) return 0;
-    return *a == *b;
-}
-
 void ew_fs_close(ew_fs *fs) {
     if (!fs) return;
     for (int i = 0; i < fs->npaks; i++) {
@@ -129,7 +120,7 @@ int ew_fs_load(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
     for (int i = fs->npaks - 1; i >= 0; i--) {
         const fs_pak *p = &fs->paks[i];
         for (int j = 0; j < p->count; j++) {
-            if (!same_name(p->entries[j].name, name)) continue;
+            if (!ew_same_name(p->entries[j].name, name)) continue;
             /* ew_pak_parse checked the entry lies inside the pak. */
             size_t n = p->entries[j].size;
             uint8_t *buf = malloc(n ? n : 1);

@@ -178,16 +178,10 @@ typedef struct xvert {
     ew_avert sv;      /* projected (valid when clip == 0) */
 } xvert;
 
-/* The five clip planes in view space: a.p + d >= 0 inside.  The side
- * planes put projected centres within [-0.5, size - 0.5]. */
-typedef struct clip_planes {
-    float n[5][3], d[5];
-} clip_planes;
-
-static void make_planes(const ew_view *v, clip_planes *cp) {
+void ew_view_planes(const ew_view *v, float near_z, ew_view_planes_t *cp) {
     float w = (float)v->width, h = (float)v->height;
     float pl[5][4] = {
-        {0, 0, 1, -NEAR_Z},
+        {0, 0, 1, -near_z},
         {v->xscale, 0, v->xcenter + 0.5f, 0},
         {-v->xscale, 0, w - 0.5f - v->xcenter, 0},
         {0, -v->yscale, v->ycenter + 0.5f, 0},
@@ -198,6 +192,8 @@ static void make_planes(const ew_view *v, clip_planes *cp) {
         cp->d[k] = pl[k][3];
     }
 }
+
+typedef ew_view_planes_t clip_planes;
 
 static inline float plane_dist(const clip_planes *cp, int k, const float p[3]) {
     return cp->n[k][0] * p[0] + cp->n[k][1] * p[1] + cp->n[k][2] * p[2] + cp->d[k];
@@ -317,7 +313,7 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
 
     /* Trivial accept / reject by the frame's bounds. */
     clip_planes cp;
-    make_planes(v, &cp);
+    ew_view_planes(v, NEAR_Z, &cp);
     int and_flags = 0x1F, or_flags = 0;
     float vmin = 1e30f, vmax = -1e30f;
     for (int c = 0; c < 8; c++) {

@@ -54,6 +54,14 @@ int  ew_particle_field(ew_particle *out, int n, const float center[3], float rad
  * nothing is hit or the face has no light map; 255 if the map is unlit. */
 int  ew_light_point(const ew_renderer *r, const float p[3]);
 
+/* The five clip planes in view space (near z = near_z, then the four
+ * screen sides, which put projected centres within [-0.5, size - 0.5]):
+ * n.p + d >= 0 inside.  Shared by models and sprites. */
+typedef struct ew_view_planes_t {
+    float n[5][3], d[5];
+} ew_view_planes_t;
+void ew_view_planes(const ew_view *v, float near_z, ew_view_planes_t *cp);
+
 /* ---- rasterizer internals (exposed for the tests) ------------------------ */
 
 /* The colormap row of a light level: 128 -> row 32 (the texture's own

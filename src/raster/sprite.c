@@ -94,21 +94,15 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     int n = 4;
     for (int c = 0; c < 4; c++)
         for (int i = 0; i < 3; i++) poly[0][c][i] = O[i] + R[i] * quad[c][0] + U[i] * quad[c][1];
-    float w = (float)v->width, h = (float)v->height;
-    float pl[5][4] = {
-        {0, 0, 1, -SPRITE_NEAR},
-        {v->xscale, 0, v->xcenter + 0.5f, 0},
-        {-v->xscale, 0, w - 0.5f - v->xcenter, 0},
-        {0, -v->yscale, v->ycenter + 0.5f, 0},
-        {0, v->yscale, h - 0.5f - v->ycenter, 0},
-    };
+    ew_view_planes_t pl;
+    ew_view_planes(v, SPRITE_NEAR, &pl);
     int cur = 0;
     for (int k = 0; k < 5 && n > 0; k++) {
         int m = 0;
         float(*src)[3] = poly[cur], (*dst)[3] = poly[cur ^ 1];
         for (int i = 0; i < n && m < 15; i++) {
             const float *a = src[i], *b = src[(i + 1) % n];
-            float da = dot3(pl[k], a) + pl[k][3], db = dot3(pl[k], b) + pl[k][3];
+            float da = dot3(pl.n[k], a) + pl.d[k], db = dot3(pl.n[k], b) + pl.d[k];
             if (da >= 0) {
                 for (int j = 0; j < 3; j++) dst[m][j] = a[j];
                 m++;
