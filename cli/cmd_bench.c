@@ -53,6 +53,7 @@ static const char bench_usage[] =
     "  --threads N       render threads, 0 = all cores; repeat for several (default 1)\n"
     "  --passes P        timed passes over the view set, 1 to 1000 (default 5)\n"
     "  --no-entities     world only, no moving things\n"
+    "  --alias-raster M  triangle models: auto (default), affine or subdiv\n"
     "  --table           a human-readable table on stdout (JSON then only to --out)\n"
     "  --out FILE.jsonl  write the JSON lines to FILE instead of stdout\n"
     "  --floor           only measure the fill floor for each --size\n"
@@ -71,6 +72,7 @@ typedef struct bench_opts {
     int         nthreads;
     int         passes;
     int         no_entities, table, floor_only;
+    int         alias_raster;   /* -1: the renderer's default (auto) */
 } bench_opts;
 
 /* ---- arguments ------------------------------------------------------------- */
@@ -106,7 +108,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
                       strcmp(name, "-h") == 0;
         int has_value = strcmp(name, "--data") == 0 || strcmp(name, "--size") == 0 ||
                         strcmp(name, "--threads") == 0 || strcmp(name, "--passes") == 0 ||
-                        strcmp(name, "--out") == 0;
+                        strcmp(name, "--out") == 0 || strcmp(name, "--alias-raster") == 0;
         if (!is_flag && !has_value) {
             error_line("bench: unknown option '%.*s' (see edgewise bench --help)", (int)nlen, a);
             return -1;
@@ -138,7 +140,15 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             return -1;
         }
         long l;
-        if (strcmp(name, "--data") == 0 || strcmp(name, "--out") == 0) {
+        if (strcmp(name, "--alias-raster") == 0) {
+            if (strcmp(v, "auto") == 0) o->alias_raster = EW_ALIAS_AUTO;
+            else if (strcmp(v, "affine") == 0) o->alias_raster = EW_ALIAS_AFFINE;
+            else if (strcmp(v, "subdiv") == 0) o->alias_raster = EW_ALIAS_SUBDIV;
+            else {
+                error_line("bench: --alias-raster %s: expected auto, affine or subdiv", v);
+                return -1;
+            }
+        } else if (strcmp(name, "--data") == 0 || strcmp(name, "--out") == 0) {
             const char **slot = name[2] == 'd' ? &o->data : &o->out;
             if (!*v) {
                 error_line("bench: %s: empty name", name);
@@ -334,6 +344,7 @@ static const char *const stage_names[NSTAGES] = { "front", "scan", "draw", "mode
 typedef struct row {
     char   map[256];
     int    w, h, threads, threads_requested, threads_applied, views, passes, entities, max_view;
+    int    alias_raster;  /* -1 default (auto) */
     double median, mean, p99, max, level, ns_per_pixel, floor_ms, floor_ratio;
     double stages[NSTAGES];        /* median per frame */
     double counters[NCOUNTERS];    /* mean per frame */
@@ -389,6 +400,8 @@ static void print_row_json(FILE *f, const row *r) {
                "\"threads_applied\":%s,\"entities\":%s,\"views\":%d,\"passes\":%d",
             r->w, r->h, r->threads, r->threads_requested, r->threads_applied ? "true" : "false",
             r->entities ? "true" : "false", r->views, r->passes);
+    static const char *modes[] = { "auto", "affine", "subdiv" };
+    fprintf(f, ",\"alias_raster\":\"%s\"", modes[r->alias_raster < 0 ? 0 : r->alias_raster]);
     const char *names[] = { "median_ms", "mean_ms", "p99_ms", "max_ms" };
     const double vals[] = { r->median, r->mean, r->p99, r->max };
     for (int i = 0; i < 4; i++) {
@@ -533,6 +546,8 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->threads = used;
     r->threads_applied = 1;
 #endif
+    r->alias_raster = o->alias_raster;
+    if (o->alias_raster >= 0) ew_set_alias_raster(rd, (ew_alias_raster)o->alias_raster, 0);
 #ifndef EW_BENCH_NO_SCENE
     ew_set_scene(rd, scene);
 #endif
@@ -575,6 +590,7 @@ done:
 int cmd_bench(int argc, char **argv) {
     bench_opts o;
     memset(&o, 0, sizeof o);
+    o.alias_raster = -1;
     int pr = bench_parse(argc, argv, &o);
     if (pr)
         return pr < 0 ? BENCH_EXIT_USAGE : 0;
@@ -609,12 +625,12 @@ int cmd_bench(int argc, char **argv) {
             int nviews = ew_view_set(a.world, views);
             const void *scene = NULL;
 #ifndef EW_BENCH_NO_SCENE
-            /* The map's entities, as the game shows it; the built-in scene has
-             * none that draw, and no game directory to find models in. */
+            /* The map's entities, as the game shows it; the built-in scene's
+             * own moving things for `builtin`. */
             ew_scene *sc = NULL;
             if (!o.no_entities && nviews > 0) {
                 ew_error err = { "" };
-                sc = is_builtin(o.maps[m]) ? ew_scene_create(a.world, &err)
+                sc = is_builtin(o.maps[m]) ? ew_scene_builtin(a.world, &err)
                                            : ew_scene_from_map(a.world, o.maps[m], o.data, &err);
                 if (!sc) {
                     error_line("%s", err.msg[0] ? err.msg : "cannot load the map's entities");
