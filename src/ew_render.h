@@ -86,8 +86,8 @@ typedef struct ew_band {
     /* surface stack, indexed by surface number; 0 is the background */
     int32_t *st_next, *st_prev, *st_state, *st_lastu;
     int32_t *span_head;             /* per surface */
-    ew_span *spans;  int nspans, max_spans;
-    ew_active *aet;  int naet, max_aet;
+    ew_span *spans;  int nspans, cap_spans, max_spans;
+    ew_active *aet;  int naet, cap_aet, max_aet;
     int dropped;
     ew_stats model_stats;           /* this band's share of the moving things' counters */
     double model_ms;                /* time it spent on them */
@@ -112,6 +112,8 @@ typedef struct ew_surf_cache {
 
 /* ---- worker pool (pool.c) ---- */
 #define EW_MAX_THREADS 16
+#define EW_BANDS_PER_THREAD 4
+#define EW_MAX_BANDS (EW_MAX_THREADS * EW_BANDS_PER_THREAD)
 typedef struct ew_pool ew_pool;
 ew_pool *ew_pool_create(int threads);
 void     ew_pool_free(ew_pool *p);
@@ -150,11 +152,14 @@ struct ew_renderer {
     int32_t *new_edges;                       /* per scanline: first edge, -1 */
     ew_surf *surfs;   int nsurfs, max_surfs;
 
-    /* bands of the frame, one per thread, with adaptive boundaries */
+    /* bands of the frame: several per thread, taken in turn by whichever
+     * thread is free, with boundaries that follow the last frame's cost */
     ew_pool *pool;
+    int      nthreads;
     int      nbands;
     ew_band *bands;
-    double   band_ms[EW_MAX_THREADS];             /* last frame's cost per band */
+    double   band_ms[EW_MAX_BANDS];               /* last frame's cost per band */
+    _Atomic int next_band, next_build;            /* work handed out in a phase */
     float   *row_cost;                            /* per scanline, from band_ms */
     int      bands_sized_for;                     /* row_cost valid for this many bands */
 

@@ -4,6 +4,7 @@
 #include "ew_util.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -92,6 +93,7 @@ static void free_bands(ew_renderer *r) {
     free(r->bands);
     r->bands = NULL;
     r->nbands = 0;
+    r->nthreads = 0;
     free(r->blocklights);
     r->blocklights = NULL;
 }
@@ -102,22 +104,26 @@ int ew_set_threads(ew_renderer *r, int n) {
         n = cores > 0 ? (int)cores : 1;
     }
     if (n > EW_MAX_THREADS) n = EW_MAX_THREADS;
-    if (n > r->height / 8) n = r->height / 8;  /* bands of at least 8 rows */
     free_bands(r);
     r->pool = n > 1 ? ew_pool_create(n) : NULL;
     if (n > 1 && r->pool) n = ew_pool_threads(r->pool);
     if (n > 1 && !r->pool) n = 1;
-    r->bands = calloc((size_t)n, sizeof(ew_band));
+    /* One band alone; with threads, several each (at least 8 rows a band),
+     * so a thread that finishes early takes the next band instead of idling. */
+    int nb = n == 1 ? 1 : n * EW_BANDS_PER_THREAD;
+    if (nb > r->height / 8) nb = r->height / 8;
+    r->bands = calloc((size_t)nb, sizeof(ew_band));
     r->blocklights = malloc(sizeof(int) * (size_t)r->maxlm * n);
     if (!r->bands || !r->blocklights) return -1;
-    r->nbands = n;
-    for (int i = 0; i < n; i++)
+    r->nthreads = n;
+    r->nbands = nb;
+    for (int i = 0; i < nb; i++)
         if (ew_band_init(&r->bands[i], r->max_surfs, r->max_spans, r->max_edges) < 0) return -1;
-    r->bands_sized_for = 0;  /* no cost history for this many bands yet */
+    r->bands_sized_for = 0;  /* no cost history for these bands yet */
     return n;
 }
 
-int ew_get_threads(const ew_renderer *r) { return r->nbands; }
+int ew_get_threads(const ew_renderer *r) { return r->nthreads; }
 
 void ew_renderer_free(ew_renderer *r) {
     if (!r) return;
@@ -302,34 +308,43 @@ static void place_bands(ew_renderer *r) {
     }
 }
 
-static void job_scan(void *ctx, int i) {
+/* Each phase hands out its work with an atomic counter: a thread takes the
+ * next band (or surface) until none is left. */
+static void job_scan(void *ctx, int thread) {
+    (void)thread;
     ew_renderer *r = ctx;
-    double t0 = ew_now_ms();
-    ew_band *b = &r->bands[i];
-    b->dropped = 0;
-    ew_scan_band(r, b);
-    r->band_ms[i] = ew_now_ms() - t0;
+    for (int i; (i = atomic_fetch_add(&r->next_band, 1)) < r->nbands;) {
+        double t0 = ew_now_ms();
+        ew_band *b = &r->bands[i];
+        b->dropped = 0;
+        ew_scan_band(r, b);
+        r->band_ms[i] = ew_now_ms() - t0;
+    }
 }
 
-static void job_build(void *ctx, int i) {
+static void job_build(void *ctx, int thread) {
     ew_renderer *r = ctx;
-    int *scratch = r->blocklights + (size_t)r->maxlm * i;
-    for (int k = i; k < r->nbuild; k += r->nbands) ew_cache_build(r, r->to_build[k], scratch);
+    int *scratch = r->blocklights + (size_t)r->maxlm * thread;
+    for (int k; (k = atomic_fetch_add(&r->next_build, 1)) < r->nbuild;)
+        ew_cache_build(r, r->to_build[k], scratch);
 }
 
 /* A band's world, then the moving things in its rows: its z-fill is done
  * by then, and no other band touches those rows. */
-static void job_draw(void *ctx, int i) {
+static void job_draw(void *ctx, int thread) {
+    (void)thread;
     ew_renderer *r = ctx;
-    double t0 = ew_now_ms();
-    ew_band *b = &r->bands[i];
-    ew_draw_band(r, b);
-    double t1 = ew_now_ms();
-    memset(&b->model_stats, 0, sizeof b->model_stats);
-    ew_rows rows = {b->y0, b->y1, &b->model_stats, i == 0};
-    ew_draw_entities(r, &rows);
-    b->model_ms = ew_now_ms() - t1;
-    r->band_ms[i] += ew_now_ms() - t0;
+    for (int i; (i = atomic_fetch_add(&r->next_band, 1)) < r->nbands;) {
+        double t0 = ew_now_ms();
+        ew_band *b = &r->bands[i];
+        ew_draw_band(r, b);
+        double t1 = ew_now_ms();
+        memset(&b->model_stats, 0, sizeof b->model_stats);
+        ew_rows rows = {b->y0, b->y1, &b->model_stats, i == 0};
+        ew_draw_entities(r, &rows);
+        b->model_ms = ew_now_ms() - t1;
+        r->band_ms[i] += ew_now_ms() - t0;
+    }
 }
 
 /* Serial step between scan and draw: every surface that won a span gets its
@@ -363,10 +378,13 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double t1 = ew_now_ms();
 
     place_bands(r);
+    atomic_store(&r->next_band, 0);
     ew_pool_run(r->pool, job_scan, r);
     double t2 = ew_now_ms();
     prepare_surfaces(r);
+    atomic_store(&r->next_build, 0);
     ew_pool_run(r->pool, job_build, r);
+    atomic_store(&r->next_band, 0);
     ew_pool_run(r->pool, job_draw, r);
     r->bands_sized_for = r->nbands;
     double t3 = ew_now_ms();
@@ -385,13 +403,14 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         st->entities_drawn += m->entities_drawn, st->entities_culled += m->entities_culled;
         st->alias_tris += m->alias_tris, st->alias_tris_subdiv += m->alias_tris_subdiv;
         st->alias_pixels += m->alias_pixels, st->particles += m->particles;
-        if (b->model_ms > models_ms) models_ms = b->model_ms;
+        models_ms += b->model_ms;
         account_spans(r, b);
         if (r->face_ids_on) record_face_ids(r, b);
     }
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
-    /* Models are drawn inside the bands' draw step; ms_models is the
-     * slowest band's share of it. */
+    /* Models are drawn inside the bands' draw step; ms_models is their
+     * time summed over bands, per thread (the wall time they took). */
+    models_ms /= r->nthreads;
     st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2 - models_ms;
     st->ms_models = models_ms, st->ms_total = t3 - t0;
     if (stats) *stats = *st;

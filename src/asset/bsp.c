@@ -23,6 +23,10 @@ enum { FMT_29, FMT_BSP2, FMT_2PSB };
 /* Light maps and surface caches are sized from the extents; Quake allows
  * 256 texels, modern compilers more, this bound keeps sizes sane. */
 #define MAX_EXTENT 2048
+/* Vertices: far beyond any map (Quake's own stay within +-32768), close
+ * enough that no product of two coordinates or of a coordinate and a unit
+ * vector can overflow a float in the renderer's transforms. */
+#define MAX_COORD 1.0e7f
 /* Texture-space coordinates are converted to int; beyond this the map is
  * nonsense anyway (and the conversion would overflow). */
 #define MAX_TEXCOORD 1.0e8f
@@ -150,6 +154,10 @@ static int load_vertexes(ctx *c, ew_world *w) {
         for (int k = 0; k < 3; k++) w->verts[i][k] = ew_f32(p + 4 * k);
         if (!finite3(w->verts[i]))
             return lump_fail(c, EW_LUMP_VERTEXES, "vertex %d is not finite", i);
+        for (int k = 0; k < 3; k++)
+            if (fabsf(w->verts[i][k]) > MAX_COORD)
+                return lump_fail(c, EW_LUMP_VERTEXES, "vertex %d: coordinate %g beyond +-%g", i,
+                                 w->verts[i][k], MAX_COORD);
     }
     return 0;
 }
@@ -514,13 +522,14 @@ static int load_faces(ctx *c, ew_world *w) {
             for (int j = 0; j < 2; j++) {
                 float val = v[0] * ti->vecs[j][0] + v[1] * ti->vecs[j][1] +
                             v[2] * ti->vecs[j][2] + ti->vecs[j][3];
+                /* huge vertices times big vectors overflow to inf or NaN */
+                if (!(val > -MAX_TEXCOORD && val < MAX_TEXCOORD))
+                    return lump_fail(c, EW_LUMP_FACES, "face %d: texture coordinates out of range", i);
                 if (val < mins[j]) mins[j] = val;
                 if (val > maxs[j]) maxs[j] = val;
             }
         }
         for (int j = 0; j < 2; j++) {
-            if (!(mins[j] > -MAX_TEXCOORD && maxs[j] < MAX_TEXCOORD))
-                return lump_fail(c, EW_LUMP_FACES, "face %d: texture coordinates out of range", i);
             int bmin = (int)floorf(mins[j] / 16), bmax = (int)ceilf(maxs[j] / 16);
             f->texturemins[j] = bmin * 16;
             f->extents[j] = (bmax - bmin) * 16;

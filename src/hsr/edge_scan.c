@@ -10,17 +10,34 @@
 #include <limits.h>
 #include <stdlib.h>
 
+/* Spans and active edges start small and grow on demand up to the budget,
+ * so many bands cost little memory. */
+#define FIRST_SPANS 4096
+#define FIRST_AET 1024
+
 int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
     b->st_next = malloc(sizeof(int32_t) * max_surfs);
     b->st_prev = malloc(sizeof(int32_t) * max_surfs);
     b->st_state = calloc(max_surfs, sizeof(int32_t));
     b->st_lastu = malloc(sizeof(int32_t) * max_surfs);
     b->span_head = malloc(sizeof(int32_t) * max_surfs);
-    b->spans = malloc(sizeof(ew_span) * max_spans);
-    b->aet = malloc(sizeof(ew_active) * max_aet);
+    b->cap_spans = max_spans < FIRST_SPANS ? max_spans : FIRST_SPANS;
+    b->cap_aet = max_aet < FIRST_AET ? max_aet : FIRST_AET;
+    b->spans = malloc(sizeof(ew_span) * b->cap_spans);
+    b->aet = malloc(sizeof(ew_active) * b->cap_aet);
     b->max_spans = max_spans;
     b->max_aet = max_aet;
     return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->span_head && b->spans && b->aet ? 0 : -1;
+}
+
+/* Doubles an array of *cap elements, at most to max; 0 if it could. */
+static int grow(void **arr, int *cap, int max, size_t elem) {
+    if (*cap >= max) return -1;
+    int n = *cap * 2 > max ? max : *cap * 2;
+    void *p = realloc(*arr, elem * (size_t)n);
+    if (!p) return -1;
+    *arr = p, *cap = n;
+    return 0;
 }
 
 void ew_band_free(ew_band *b) {
@@ -42,7 +59,7 @@ static inline int nearer(const ew_surf *a, const ew_surf *b, int u, int v) {
 
 static void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
     if (u1 <= u0) return;
-    if (b->nspans >= b->max_spans) {
+    if (b->nspans >= b->cap_spans && grow((void **)&b->spans, &b->cap_spans, b->max_spans, sizeof(ew_span)) < 0) {
         b->dropped++;
         return;
     }
@@ -53,7 +70,7 @@ static void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
 }
 
 static void add_active(ew_band *b, const ew_edge *e, int v) {
-    if (b->naet >= b->max_aet) {
+    if (b->naet >= b->cap_aet && grow((void **)&b->aet, &b->cap_aet, b->max_aet, sizeof(ew_active)) < 0) {
         b->dropped++;
         return;
     }

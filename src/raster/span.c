@@ -43,11 +43,17 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
         *out[a][0] = sr / xs;
         *out[a][1] = -su / ys;
         *out[a][2] = sf - xc * sr / xs + yc * su / ys;
+        /* Clamped (NaN too) before any conversion, summed in 64 bits:
+         * a file's huge vectors or offsets only misplace the texture,
+         * whose coordinates are clamped to the surface anyway. */
         double c = (double)so * scale * 65536.0 + 0.5;
+        if (!(c > -1e9)) c = -1e9;
         if (c > 1e9) c = 1e9;
-        if (c < -1e9) c = -1e9;
-        *adj[a] = (int32_t)c - (int32_t)(((int64_t)mins[a] * 65536) >> mip) +
-                  (int32_t)(vec[3] * 65536.0f * scale);
+        double ofs = (double)vec[3] * 65536.0 * scale;
+        if (!(ofs > -1e9)) ofs = -1e9;
+        if (ofs > 1e9) ofs = 1e9;
+        int64_t sum = (int64_t)(int32_t)c - (((int64_t)mins[a] * 65536) >> mip) + (int32_t)ofs;
+        *adj[a] = (int32_t)(sum < INT32_MIN ? INT32_MIN : sum > INT32_MAX ? INT32_MAX : sum);
     }
     g->s_max = (int32_t)(((int64_t)(f->extents[0] >> mip) << 16) - 1);
     g->t_max = (int32_t)(((int64_t)(f->extents[1] >> mip) << 16) - 1);
