@@ -34,7 +34,8 @@ FUZZ_SECONDS ?= 60
 fuzz:
 	FUZZ_SECONDS=$(FUZZ_SECONDS) ./fuzz/run.sh
 
-# Every test, in the release build and again under ASan + UBSan.
+# Every test, in the release build and again under ASan + UBSan + LeakSanitizer
+# (a leak, an invalid access or any undefined behaviour fails the test).
 test: test-release test-asan
 
 test-release: build
@@ -43,7 +44,8 @@ test-release: build
 test-asan:
 	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DEW_SANITIZE=ON >/dev/null
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)
-	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
+	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 \
+		UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) demo.png
+	rm -rf $(BUILD) $(ASAN_BUILD) build-fuzz demo.png

@@ -3,8 +3,11 @@
  * one is broken, so the fuzzer reports it like a crash:
  *   - a loaded world only holds indices the renderer can use unchecked;
  *   - a frame writes every pixel exactly once (overdraw 1) unless a budget
- *     dropped something. */
+ *     dropped something.
+ * The render target draws the map with its brush models and a dynamic
+ * light; the MDL and SPR targets also draw what their loader accepted. */
 #include "fuzz_targets.h"
+#include "seed_files.h"
 
 #include "edgewise.h"
 #include "ew_world.h"
@@ -55,7 +58,9 @@ static void check_world(const ew_world *w) {
         const ew_face *f = &w->faces[i];
         if (f->plane < 0 || f->plane >= w->numplanes) broken("face plane", i);
         if (f->texinfo < 0 || f->texinfo >= w->numtexinfo) broken("face texinfo", i);
-        if (f->numedges < 3 || f->firstedge < 0 || f->firstedge + f->numedges > w->numsurfedges)
+        /* 248: what the renderer's clip buffers hold (EW_MAX_POLY - 8) */
+        if (f->numedges < 3 || f->numedges > 248 || f->firstedge < 0 ||
+            f->firstedge + f->numedges > w->numsurfedges)
             broken("face edges", i);
         for (int e = 0; e < f->numedges; e++) {
             if (ew_face_edge(w, f, e) >= w->numedges) broken("face edge index", i);
@@ -210,6 +215,14 @@ int ew_fuzz_render(const uint8_t *data, size_t size) {
         cam.fov = 90;
     }
     cam.time = 1.25;  /* past 0, so animations and the sky move */
+    /* The map's brush models (some turned) and a dynamic light at the eye. */
+    ew_scene *sc = ew_scene_create(w, &err);
+    if (sc) {
+        const float turned[3] = {0, 30, 0};
+        for (int i = 1; i < w->nummodels && i <= 64; i++) ew_scene_add_brush(sc, i, NULL, i % 2 ? NULL : turned);
+        ew_scene_add_dlight(sc, cam.origin, 300);
+        ew_set_scene(r, sc);
+    }
     ew_stats st;
     int rc = ew_render(r, &cam, &st);
     if (rc == 0 && st.dropped == 0 && st.pixels_written != st.pixels_covered) {
@@ -218,8 +231,45 @@ int ew_fuzz_render(const uint8_t *data, size_t size) {
         abort();
     }
     ew_renderer_free(r);
+    ew_scene_free(sc);
     ew_world_free(w);
     return rc == 0 ? 0 : 1;
+}
+
+/* Draws a model the loader accepted in the seed room, twice in view (near
+ * and far, so both alias rasterizers run), with frame and skin 0 and 1 and
+ * a time inside any group: the rasterizers meet whatever the loader let
+ * through. */
+static void render_model(const uint8_t *data, size_t size, const char *name) {
+    static uint8_t palette[768], colormap[EW_COLORMAP_SIZE];
+    static ew_world *room;
+    ew_error err = {""};
+    if (!room) {
+        ew_seed_buf b = {0};
+        ew_seed_room(&b);
+        room = ew_world_load(b.d, b.len, "room.bsp", &err);
+        free(b.d);
+        make_tables(palette, colormap);
+        if (!room) broken("the seed room does not load", 0);
+    }
+    ew_scene *s = ew_scene_create(room, &err);
+    ew_renderer *r = ew_renderer_create(room, palette, colormap, 320, 200, &err);
+    int m = s ? ew_scene_load_model(s, name, data, size, &err) : -1;
+    if (r && m >= 0) {
+        /* the seed room's player start: (0, 0, 22) looking along yaw 30 */
+        const float near_pt[3] = {26, 15, 10}, far_pt[3] = {52, 30, 30}, angles[3] = {0, 200, 0};
+        ew_scene_add_entity(s, m, near_pt, angles, 0, 0);
+        ew_scene_add_entity(s, m, far_pt, NULL, 1, 1);
+        ew_set_scene(r, s);
+        ew_camera cam = {{0, 0, 22}, {0, 30, 0}, 90, 1.25};
+        ew_stats st;
+        ew_render(r, &cam, &st);
+        ew_set_alias_raster(r, EW_ALIAS_SUBDIV, 0);
+        cam.time = 7.5;
+        ew_render(r, &cam, &st);
+    }
+    ew_renderer_free(r);
+    ew_scene_free(s);
 }
 
 int ew_fuzz_mdl(const uint8_t *data, size_t size) {
@@ -228,6 +278,7 @@ int ew_fuzz_mdl(const uint8_t *data, size_t size) {
     ew_mdl *m = ew_mdl_load(data, size, "fuzz.mdl", &err);
     if (!m) return rejected(&err);
     ew_mdl_free(m);
+    render_model(data, size, "fuzz.mdl");
     return 0;
 #else
     (void)data, (void)size;
@@ -241,6 +292,7 @@ int ew_fuzz_spr(const uint8_t *data, size_t size) {
     ew_spr *s = ew_spr_load(data, size, "fuzz.spr", &err);
     if (!s) return rejected(&err);
     ew_spr_free(s);
+    render_model(data, size, "fuzz.spr");
     return 0;
 #else
     (void)data, (void)size;
