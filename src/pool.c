@@ -1,25 +1,36 @@
 /* A small persistent worker pool: ew_pool_run(pool, job, ctx) runs
  * job(ctx, i) for i = 0..threads-1, index 0 on the calling thread, and
- * returns when all are done.  Threads are created once per renderer, so a
- * frame pays two condition-variable handoffs per phase, not thread starts. */
+ * returns when all are done.  Threads are created once per renderer.  A
+ * frame has a few short phases, so both sides spin briefly before they
+ * sleep on a condition variable: a wake-up through the kernel costs more
+ * than a phase at small frame sizes. */
 #include "ew_render.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
+
+#define SPIN_ROUNDS 20000  /* about 50-100 microseconds of polling */
 
 struct ew_pool {
     int              threads;     /* including the caller */
     pthread_t       *tid;
     pthread_mutex_t  mu;
     pthread_cond_t   start, done;
-    unsigned         generation;
-    int              pending;
-    int              quit;
+    atomic_uint      generation;  /* bumped to start a job */
+    atomic_int       pending;     /* workers still running it */
+    atomic_int       quit;
     void           (*job)(void *ctx, int index);
     void            *ctx;
 };
 
 typedef struct worker_arg { ew_pool *p; int index; } worker_arg;
+
+static inline void relax(void) {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+}
 
 static void *worker(void *vp) {
     worker_arg *wa = vp;
@@ -27,19 +38,27 @@ static void *worker(void *vp) {
     int index = wa->index;
     free(wa);
     unsigned seen = 0;
-    pthread_mutex_lock(&p->mu);
     for (;;) {
-        while (p->generation == seen && !p->quit) pthread_cond_wait(&p->start, &p->mu);
-        if (p->quit) break;
-        seen = p->generation;
-        void (*job)(void *, int) = p->job;
-        void *ctx = p->ctx;
-        pthread_mutex_unlock(&p->mu);
-        job(ctx, index);
-        pthread_mutex_lock(&p->mu);
-        if (--p->pending == 0) pthread_cond_signal(&p->done);
+        unsigned g = atomic_load(&p->generation);
+        for (int k = 0; k < SPIN_ROUNDS && g == seen && !atomic_load(&p->quit); k++) {
+            relax();
+            g = atomic_load(&p->generation);
+        }
+        if (g == seen && !atomic_load(&p->quit)) {
+            pthread_mutex_lock(&p->mu);
+            while ((g = atomic_load(&p->generation)) == seen && !atomic_load(&p->quit))
+                pthread_cond_wait(&p->start, &p->mu);
+            pthread_mutex_unlock(&p->mu);
+        }
+        if (atomic_load(&p->quit)) break;
+        seen = g;
+        p->job(p->ctx, index);  /* job and ctx were set before the bump */
+        if (atomic_fetch_sub(&p->pending, 1) == 1) {
+            pthread_mutex_lock(&p->mu);
+            pthread_cond_signal(&p->done);
+            pthread_mutex_unlock(&p->mu);
+        }
     }
-    pthread_mutex_unlock(&p->mu);
     return NULL;
 }
 
@@ -75,22 +94,25 @@ void ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
         job(ctx, 0);
         return;
     }
-    pthread_mutex_lock(&p->mu);
     p->job = job, p->ctx = ctx;
-    p->pending = p->threads - 1;
-    p->generation++;
+    atomic_store(&p->pending, p->threads - 1);
+    pthread_mutex_lock(&p->mu);
+    atomic_fetch_add(&p->generation, 1);  /* publishes job and ctx */
     pthread_cond_broadcast(&p->start);
     pthread_mutex_unlock(&p->mu);
     job(ctx, 0);
-    pthread_mutex_lock(&p->mu);
-    while (p->pending > 0) pthread_cond_wait(&p->done, &p->mu);
-    pthread_mutex_unlock(&p->mu);
+    for (int k = 0; k < SPIN_ROUNDS && atomic_load(&p->pending) > 0; k++) relax();
+    if (atomic_load(&p->pending) > 0) {
+        pthread_mutex_lock(&p->mu);
+        while (atomic_load(&p->pending) > 0) pthread_cond_wait(&p->done, &p->mu);
+        pthread_mutex_unlock(&p->mu);
+    }
 }
 
 void ew_pool_free(ew_pool *p) {
     if (!p) return;
     pthread_mutex_lock(&p->mu);
-    p->quit = 1;
+    atomic_store(&p->quit, 1);
     pthread_cond_broadcast(&p->start);
     pthread_mutex_unlock(&p->mu);
     for (int i = 1; i < p->threads; i++) pthread_join(p->tid[i], NULL);
