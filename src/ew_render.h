@@ -240,8 +240,8 @@ typedef struct ew_gradients {
  * face's own space) at a mip level. */
 void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
                        ew_gradients *g);
-/* Textured spans of a lit surface, z-filling as they go; the others
- * (sky, liquids) z-fill with ew_zfill_spans. */
+/* Textured spans of a lit surface; every surface's spans are then
+ * z-filled by ew_zfill_spans (a separate loop the compiler vectorizes). */
 void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
                    const uint8_t *pixels, int pitch);
 void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_texture *t);

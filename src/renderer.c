@@ -232,8 +232,7 @@ void ew_draw_band(ew_renderer *r, ew_band *b) {
             ew_draw_turb_spans(r, b, s, &g, ew_face_texture(w, f, r->view.time));
         } else if (cs) {
             ew_face_gradients(w, sf->view, f, cs->mip, &g);
-            ew_draw_spans(r, b, s, &g, cs->pixels, cs->width);  /* z-fills as it goes */
-            continue;
+            ew_draw_spans(r, b, s, &g, cs->pixels, cs->width);
         } else {  /* no memory for the surface: flat colour (counted in dropped) */
             ew_face_gradients(w, sf->view, f, 0, &g);
             for (int si = b->span_head[s]; si >= 0; si = b->spans[si].next)

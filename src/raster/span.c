@@ -62,15 +62,13 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
 
 /* n texels along a straight line through the surface: the affine stretch
  * between two perspective-correct points.  s and t stay within the surface
- * all along (the stepper guarantees it), so unsigned maths is exact.  The
- * world's 1/z goes into the z-buffer in the same pass (z-fill): zi0 + i * dz
- * for pixel i, each from the start, so exact.  (A four-at-a-time SSE2
- * version cut instructions by 7% but not time: bench/README.md.) */
-static inline void texel_run(uint8_t *dst, float *z, float zi0, float dz, const uint8_t *pixels,
-                             uint32_t pitch, int32_t s, int32_t t, int32_t ds, int32_t dt, int n) {
+ * all along (the stepper guarantees it), so unsigned maths is exact.  (A
+ * four-at-a-time SSE2 version, and one that z-filled in the same loop,
+ * bought no time: bench/README.md.) */
+static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s,
+                             int32_t t, int32_t ds, int32_t dt, int n) {
     for (int i = 0; i < n; i++) {
         dst[i] = pixels[((uint32_t)t >> 16) * pitch + ((uint32_t)s >> 16)];
-        z[i] = zi0 + (float)i * dz;
         s += ds;
         t += dt;
     }
@@ -81,18 +79,14 @@ void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradient
     int w = r->width;
     for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
         const ew_span *sp = &b->spans[si];
-        size_t o = (size_t)sp->v * w + sp->u;
-        uint8_t *dst = r->frame + o;
-        float *z = r->zbuf + o;
-        float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, dz = g->zi_u;
+        uint8_t *dst = r->frame + (size_t)sp->v * w + sp->u;
         ew_stepper st;
         int32_t s, t, ds, dt;
-        int n, done = 0;
+        int n;
         ew_step_begin(&st, g, r->subdiv_shift, sp->u, sp->v, sp->count);
         while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
-            texel_run(dst + done, z + done, zi + (float)done * dz, dz, pixels, (uint32_t)pitch, s, t,
-                      ds, dt, n);
-            done += n;
+            texel_run(dst, pixels, (uint32_t)pitch, s, t, ds, dt, n);
+            dst += n;
         }
     }
 }
