@@ -33,6 +33,8 @@ typedef struct ew_view {
 } ew_view;
 
 void ew_view_setup(ew_view *v, const ew_camera *cam, int width, int height);
+/* Forward, right and up of Quake angles (pitch yaw roll, degrees). */
+void ew_angle_vectors(const float angles[3], float fwd[3], float right[3], float up[3]);
 /* Moved models (ax: the model's axes as columns, from ew_entity_axes):
  * the world box around its moved bounds, and the camera in its own space
  * (p_model = ax^T (p_world - origin)). */

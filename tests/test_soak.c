@@ -15,59 +15,14 @@
 
 #define FRAMES 200
 
-typedef struct run_result {
-    int  status;   /* exit code, -1 if killed */
-    char out[65536];
-    char err[8192];
-} run_result;
+typedef ew_t_run run_result;
+static char tmpdir[256];
 
-static void slurp(const char *path, char *buf, size_t size) {
-    buf[0] = '\0';
-    FILE *f = fopen(path, "rb");
-    if (!f) return;
-    size_t n = fread(buf, 1, size - 1, f);
-    buf[n] = '\0';
-    fclose(f);
-}
+/* Runs EW_CLI with args (NULL-terminated), no shell, in a scratch folder. */
+static void run(run_result *r, const char *const *args) { ew_t_run_cli(r, tmpdir, args); }
 
-/* Runs EW_CLI with args (NULL-terminated), no shell; output via temp files. */
-static void run(run_result *r, const char *const *args) {
-    const char *cli = getenv("EW_CLI");
-    const char *argv[32];
-    int n = 0;
-    argv[n++] = cli;
-    for (; *args && n < 31; args++) argv[n++] = *args;
-    argv[n] = NULL;
-    char out[64], err[64];
-    snprintf(out, sizeof out, "/tmp/ew_soak_out_%d", (int)getpid());
-    snprintf(err, sizeof err, "/tmp/ew_soak_err_%d", (int)getpid());
-    fflush(NULL);
-    pid_t pid = fork();
-    if (pid == 0) {
-        int fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        int fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-        if (fo < 0 || fe < 0) _exit(127);
-        dup2(fo, 1);
-        dup2(fe, 2);
-        execv(cli, (char *const *)argv);
-        _exit(127);
-    }
-    int st = 0;
-    r->status = -1;
-    if (pid > 0 && waitpid(pid, &st, 0) == pid && WIFEXITED(st)) r->status = WEXITSTATUS(st);
-    slurp(out, r->out, sizeof r->out);
-    slurp(err, r->err, sizeof r->err);
-    unlink(out);
-    unlink(err);
-}
-
-/* The number after "key": in the JSON line, or -1e300 if absent. */
-static double json_num(const char *json, const char *key) {
-    char pat[64];
-    snprintf(pat, sizeof pat, "\"%s\":", key);
-    const char *p = strstr(json, pat);
-    return p ? strtod(p + strlen(pat), NULL) : -1e300;
-}
+/* The number after "key": in the JSON line, NAN if absent. */
+static double json_num(const char *json, const char *key) { return ew_t_json_num(json, key); }
 
 static void soak_ok(const char *map, const char *data) {
     char frames[16];
@@ -109,6 +64,11 @@ int main(void) {
         fprintf(stderr, "EW_CLI not set\n");
         return 1;
     }
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/ew_soak_XXXXXX");
+    if (!mkdtemp(tmpdir)) {
+        fprintf(stderr, "cannot make a scratch folder\n");
+        return 1;
+    }
     soak_ok("builtin", NULL);
     const char *data = ew_t_shared("data/librequake");
     if (ew_t_have_shared("data/librequake/maps/start.bsp")) {
@@ -125,5 +85,9 @@ int main(void) {
     soak_fails((const char *const[]){"soak", "builtin", "--frames", "10", "--bogus", NULL}, 2, "--bogus");
     soak_fails((const char *const[]){"soak", "--frames", "10", NULL}, 2, "MAP");
     soak_fails((const char *const[]){"soak", "/nonexistent/x.bsp", "--frames", "10", NULL}, 1, "x.bsp");
+    char path[300];
+    snprintf(path, sizeof path, "%s/stdout.txt", tmpdir), unlink(path);
+    snprintf(path, sizeof path, "%s/stderr.txt", tmpdir), unlink(path);
+    rmdir(tmpdir);
     return ew_t_finish();
 }

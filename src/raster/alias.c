@@ -227,21 +227,6 @@ static inline int32_t fix16(float f, int32_t max) {
     return (int32_t)x;
 }
 
-/* Quake's angle vectors (x forward, y left, z up; pitch down positive). */
-static void angle_vectors(const float angles[3], float fwd[3], float right[3], float up[3]) {
-    const double d2r = 3.14159265358979323846 / 180.0;
-    double sp = sin(angles[0] * d2r), cp = cos(angles[0] * d2r);
-    double sy = sin(angles[1] * d2r), cy = cos(angles[1] * d2r);
-    double sr = sin(angles[2] * d2r), cr = cos(angles[2] * d2r);
-    fwd[0] = (float)(cp * cy), fwd[1] = (float)(cp * sy), fwd[2] = (float)(-sp);
-    right[0] = (float)(-sr * sp * cy + cr * sy);
-    right[1] = (float)(-sr * sp * sy - cr * cy);
-    right[2] = (float)(-sr * cp);
-    up[0] = (float)(cr * sp * cy + sr * sy);
-    up[1] = (float)(cr * sp * sy - sr * cy);
-    up[2] = (float)(cr * cp);
-}
-
 /* The light comes from this fixed world direction (towards the light),
  * whatever the scene: from the front-above along +x, as the game's fixed
  * light vector did. */
@@ -298,7 +283,7 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
     /* Model axes in the world (the game negated an alias model's pitch). */
     float ang[3] = {-p->angles[0], p->angles[1], p->angles[2]};
     float fwd[3], right[3], up[3];
-    angle_vectors(ang, fwd, right, up);
+    ew_angle_vectors(ang, fwd, right, up);
     float axis[3][3];  /* model x, y, z in world space */
     for (int i = 0; i < 3; i++) axis[0][i] = fwd[i], axis[1][i] = -right[i], axis[2][i] = up[i];
     const float *vrow[3] = {v->right, v->up, v->forward};

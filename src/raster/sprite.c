@@ -38,15 +38,8 @@ static void sprite_axes(const ew_view *v, const ew_spr *s, const ew_model_pose *
         break;
     }
     case EW_SPR_ORIENTED: {
-        double sp = sin(p->angles[0] * d2r), cp = cos(p->angles[0] * d2r);
-        double sy = sin(p->angles[1] * d2r), cy = cos(p->angles[1] * d2r);
-        double sr = sin(p->angles[2] * d2r), cr = cos(p->angles[2] * d2r);
-        right[0] = (float)(-sr * sp * cy + cr * sy);
-        right[1] = (float)(-sr * sp * sy - cr * cy);
-        right[2] = (float)(-sr * cp);
-        up[0] = (float)(cr * sp * cy + sr * sy);
-        up[1] = (float)(cr * sp * sy - sr * cy);
-        up[2] = (float)(cr * cp);
+        float fwd[3];
+        ew_angle_vectors(p->angles, fwd, right, up);
         break;
     }
     case EW_SPR_VP_PARALLEL_ORIENTED: {

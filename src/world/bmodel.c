@@ -76,10 +76,9 @@ static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
 
 /* Entity rotation: columns are the model's x (forward), y (left), z (up). */
 void ew_entity_axes(const float angles[3], float ax[3][3]) {
-    ew_camera c = {{0, 0, 0}, {angles[0], angles[1], angles[2]}, 90, 0};
-    ew_view v;
-    ew_view_setup(&v, &c, 320, 200);
-    for (int k = 0; k < 3; k++) ax[k][0] = v.forward[k], ax[k][1] = -v.right[k], ax[k][2] = v.up[k];
+    float fwd[3], right[3], up[3];
+    ew_angle_vectors(angles, fwd, right, up);
+    for (int k = 0; k < 3; k++) ax[k][0] = fwd[k], ax[k][1] = -right[k], ax[k][2] = up[k];
 }
 
 void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx) {

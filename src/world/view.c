@@ -13,23 +13,25 @@ static void set_plane(ew_plane *p, const ew_view *v, float x, float y, float z) 
     p->type = 3;
 }
 
+void ew_angle_vectors(const float angles[3], float fwd[3], float right[3], float up[3]) {
+    const double d2r = 3.14159265358979323846 / 180.0;
+    double sp = sin(angles[0] * d2r), cp = cos(angles[0] * d2r);
+    double sy = sin(angles[1] * d2r), cy = cos(angles[1] * d2r);
+    double sr = sin(angles[2] * d2r), cr = cos(angles[2] * d2r);
+    /* Quake: positive pitch looks down, yaw turns left, x forward, y left, z up. */
+    fwd[0] = (float)(cp * cy), fwd[1] = (float)(cp * sy), fwd[2] = (float)(-sp);
+    right[0] = (float)(-sr * sp * cy + cr * sy);
+    right[1] = (float)(-sr * sp * sy - cr * cy);
+    right[2] = (float)(-sr * cp);
+    up[0] = (float)(cr * sp * cy + sr * sy);
+    up[1] = (float)(cr * sp * sy - sr * cy);
+    up[2] = (float)(cr * cp);
+}
+
 void ew_view_setup(ew_view *v, const ew_camera *cam, int width, int height) {
     const double d2r = 3.14159265358979323846 / 180.0;
-    double sp = sin(cam->angles[0] * d2r), cp = cos(cam->angles[0] * d2r);
-    double sy = sin(cam->angles[1] * d2r), cy = cos(cam->angles[1] * d2r);
-    double sr = sin(cam->angles[2] * d2r), cr = cos(cam->angles[2] * d2r);
-
     for (int i = 0; i < 3; i++) v->origin[i] = cam->origin[i];
-    /* Quake: positive pitch looks down, yaw turns left, x forward, y left, z up. */
-    v->forward[0] = (float)(cp * cy);
-    v->forward[1] = (float)(cp * sy);
-    v->forward[2] = (float)(-sp);
-    v->right[0] = (float)(-sr * sp * cy + cr * sy);
-    v->right[1] = (float)(-sr * sp * sy - cr * cy);
-    v->right[2] = (float)(-sr * cp);
-    v->up[0] = (float)(cr * sp * cy + sr * sy);
-    v->up[1] = (float)(cr * sp * sy - sr * cy);
-    v->up[2] = (float)(cr * cp);
+    ew_angle_vectors(cam->angles, v->forward, v->right, v->up);
 
     float fov = cam->fov > 0 ? cam->fov : 90.0f;
     v->width = width;
