@@ -126,7 +126,7 @@ static void loader_limits(const ew_seed_buf *room) {
 static void deep_tree(void) {
     const char *src = getenv("EW_SOURCE");
     char path[1024];
-    snprintf(path, sizeof path, "%s/tests/regress/render/deep_chain_brush.bsp", src && *src ? src : ".");
+    snprintf(path, sizeof path, "%s/tests/regress/render/deep_chain_brush.bin", src && *src ? src : ".");
     uint8_t *d;
     size_t n;
     ew_error err = {""};
