@@ -57,17 +57,32 @@ long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look,
     int m = p->n;
     int ya = p->y0 > y0 ? p->y0 : y0, yb = p->y1 < y1 - 1 ? p->y1 : y1 - 1;
     for (int y = ya; y <= yb; y++) {
-        for (int x = p->x0; x <= p->x1; x++) {
-            int inside = 1;
-            for (int i = 0; i < m && inside; i++) {
-                int j = i + 1 == m ? 0 : i + 1;
-                double e = ((double)p->u[j] - p->u[i]) * ((double)y - p->v[i]) -
-                           ((double)p->v[j] - p->v[i]) * ((double)x - p->u[i]);
-                /* A hair of tolerance so pixel centres exactly on a shared
-                 * edge are covered by both sides (the z test picks one). */
-                if (e * p->sign < -1e-6 * (fabs(p->u[j] - p->u[i]) + fabs(p->v[j] - p->v[i]))) inside = 0;
+        /* A pixel centre is inside when it is on the inner side of every
+         * edge, with a hair of tolerance so centres exactly on a shared edge
+         * are covered by both sides (the z test picks one).  Along a row each
+         * edge's test is linear in x, so it bounds x from one side: the row's
+         * pixels are the interval all of them leave. */
+        double xlo = p->x0, xhi = p->x1;
+        for (int i = 0; i < m && xlo <= xhi; i++) {
+            int j = i + 1 == m ? 0 : i + 1;
+            double du = (double)p->u[j] - p->u[i], dv = (double)p->v[j] - p->v[i];
+            double tol = 1e-6 * (fabs(du) + fabs(dv));
+            /* sign * (du * (y - v_i) - dv * (x - u_i)) >= -tol, i.e. a - b x >= -tol */
+            double a = p->sign * (du * ((double)y - p->v[i]) + dv * p->u[i]), b = p->sign * dv;
+            if (b > 0) {
+                double lim = (a + tol) / b;
+                if (lim < xhi) xhi = lim;
+            } else if (b < 0) {
+                double lim = (a + tol) / b;
+                if (lim > xlo) xlo = lim;
+            } else if (a < -tol) {
+                xhi = xlo - 1;  /* parallel to the row and outside */
             }
-            if (!inside) continue;
+        }
+        int xa = (int)ceil(xlo), xb = (int)floor(xhi);
+        if (xa < p->x0) xa = p->x0;
+        if (xb > p->x1) xb = p->x1;
+        for (int x = xa; x <= xb; x++) {
             size_t o = (size_t)y * r->width + x;
             float zi = g.zi_u * (float)x + (g.zi_v * (float)y + g.zi_0);
             if (zi <= r->zbuf[o]) continue;
