@@ -77,7 +77,7 @@ static void check_row(const char *what, const char *line, int w, int h, int view
 static void test_start(void) {
     const char *rel = "data/librequake/maps/start.bsp";
     if (!ew_t_have_shared(rel)) {
-        printf("skip start: %s not found\n", ew_t_shared(rel));
+        CHECK(0, "%s not found (set EW_SHARED)", ew_t_shared(rel));
         return;
     }
     /* The CLI runs in tmpdir: make the data path absolute. */

@@ -787,7 +787,7 @@ static const struct {
 
 static void test_real_maps(void) {
     if (!ew_t_have_shared("data/librequake/maps/e1m1.bsp")) {
-        printf("skip: no ../shared/data/librequake maps\n");
+        CHECK(0, "no ../shared/data/librequake maps (set EW_SHARED)");
         return;
     }
     for (size_t m = 0; m < sizeof real_maps / sizeof real_maps[0]; m++) {

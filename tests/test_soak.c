@@ -75,7 +75,7 @@ int main(void) {
         soak_ok("start", data);
         soak_ok("e1m1", data);
     } else {
-        printf("skipped start and e1m1: %s not found\n", data);
+        CHECK(0, "%s not found (set EW_SHARED)", data);
     }
 
     soak_fails((const char *const[]){"soak", "builtin", NULL}, 2, "--frames");

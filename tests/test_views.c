@@ -251,7 +251,7 @@ static void test_real_maps(void) {
         char rel[128];
         snprintf(rel, sizeof rel, "data/librequake/maps/%s.bsp", maps[i].map);
         if (!ew_t_have_shared(rel)) {
-            printf("skip %s: %s not found\n", maps[i].map, ew_t_shared(rel));
+            CHECK(0, "%s: %s not found (set EW_SHARED)", maps[i].map, ew_t_shared(rel));
             continue;
         }
         int refs = reference_count(maps[i].map);
