@@ -192,11 +192,8 @@ static void test_with_map(void) {
         return;
     }
     /* The CLI runs in tmpdir: make the path absolute. */
-    char map[2048], cwd[512] = "";
-    const char *shared = ew_t_shared(rel);
-    if (shared[0] != '/' && !getcwd(cwd, sizeof cwd))
-        cwd[0] = '\0';
-    snprintf(map, sizeof map, "%s%s%s", cwd, cwd[0] ? "/" : "", shared);
+    char map[2048];
+    snprintf(map, sizeof map, "%s", ew_t_shared_abs(rel));
     run_result *r = malloc(sizeof *r);
     expect_fail_(__LINE__, ARGS("render", map, "--view", "999"), NULL, r);
     CHECK(strstr(r->err, "999") && strstr(r->err, "29 views"), "view 999: %s", r->err);
@@ -239,11 +236,8 @@ static void test_success(void) {
         CHECK(0, "%s not found (set EW_SHARED)", ew_t_shared(rel));
         return;
     }
-    char map[2048], cwd[512] = "";
-    const char *shared = ew_t_shared(rel);
-    if (shared[0] != '/' && !getcwd(cwd, sizeof cwd))
-        cwd[0] = '\0';
-    snprintf(map, sizeof map, "%s%s%s", cwd, cwd[0] ? "/" : "", shared);
+    char map[2048];
+    snprintf(map, sizeof map, "%s", ew_t_shared_abs(rel));
 
     run_result *r = expect_ok(ARGS("views", map));
     CHECK(count_lines(r->out) == 29 && strncmp(r->out, "0 ", 2) == 0, "views: %s", r->out);

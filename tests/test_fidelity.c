@@ -41,12 +41,10 @@ int main(void) {
     uint8_t *rgb = malloc((size_t)W * H * 3);
     double overall_worst = 0;
     for (int mi = 0; mi < 4; mi++) {
-        char path[256];
-        snprintf(path, sizeof path, "data/librequake/maps/%s.bsp", maps[mi]);
         ew_assets a;
-        int rc = ew_assets_load(ew_t_shared(path), NULL, &a, &err);
-        CHECK(rc == 0, "%s", err.msg);
-        if (rc) continue;
+        char path[256];
+        int rc;
+        if (ew_t_load_map(maps[mi], &a) < 0) continue;
         ew_camera views[EW_MAX_VIEWS];
         int nv = ew_view_set(a.world, views);
         ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);

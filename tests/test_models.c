@@ -18,6 +18,31 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Every prefix of a good file (a truncation at every length): how many the
+ * loader refuses with an error line that names the file. */
+typedef void *(*load_fn)(const uint8_t *, size_t, const char *, ew_error *);
+static void *mdl_from(const uint8_t *d, size_t n, const char *name, ew_error *e) { return ew_mdl_load(d, n, name, e); }
+static void *spr_from(const uint8_t *d, size_t n, const char *name, ew_error *e) { return ew_spr_load(d, n, name, e); }
+static void free_mdl(void *m) { ew_mdl_free(m); }
+static void free_spr(void *m) { ew_spr_free(m); }
+
+static int refused_truncations(const uint8_t *good, size_t size, const char *name, load_fn load,
+                               void (*release)(void *)) {
+    char prefix[64];
+    snprintf(prefix, sizeof prefix, "%s: ", name);
+    int refused = 0;
+    for (size_t n = 0; n < size; n++) {
+        uint8_t *d = malloc(n ? n : 1);
+        memcpy(d, good, n);
+        ew_error err = {""};
+        void *t = load(d, n, name, &err);
+        refused += t == NULL && strncmp(err.msg, prefix, strlen(prefix)) == 0;
+        release(t);
+        free(d);
+    }
+    return refused;
+}
+
 static int load_file(const char *path, uint8_t **data, size_t *size) {
     ew_error err;
     int rc = ew_read_file(path, data, size, &err);
@@ -121,16 +146,7 @@ static void test_bad_mdl(void) {
     ew_mdl_free(m);
 
     /* Truncated at every length: an error line, never a crash. */
-    int refused = 0;
-    for (size_t n = 0; n < size; n++) {
-        uint8_t *d = malloc(n ? n : 1);
-        memcpy(d, good, n);
-        err.msg[0] = 0;
-        ew_mdl *t = ew_mdl_load(d, n, "cut.mdl", &err);
-        refused += t == NULL && strncmp(err.msg, "cut.mdl: ", 9) == 0;
-        ew_mdl_free(t);
-        free(d);
-    }
+    int refused = refused_truncations(good, size, "cut.mdl", mdl_from, free_mdl);
     CHECK(refused == (int)size, "%d of %zu truncations refused with a message", refused, size);
 
     /* Layout of the fixture: header 84; skin group type, n, 2 intervals,
@@ -200,16 +216,7 @@ static void test_bad_spr(void) {
               "frame picking");
     }
     ew_spr_free(s);
-    int refused = 0;
-    for (size_t n = 0; n < size; n++) {
-        uint8_t *d = malloc(n ? n : 1);
-        memcpy(d, good, n);
-        err.msg[0] = 0;
-        ew_spr *t = ew_spr_load(d, n, "cut.spr", &err);
-        refused += t == NULL && strncmp(err.msg, "cut.spr: ", 9) == 0;
-        ew_spr_free(t);
-        free(d);
-    }
+    int refused = refused_truncations(good, size, "cut.spr", spr_from, free_spr);
     CHECK(refused == (int)size, "%d of %zu truncations refused with a message", refused, size);
     /* header 36; frame 0: type 4, origin 8, size 8, 48 pixels */
     size_t f0 = 36, f2 = 36 + 2 * (4 + 16 + 48);
@@ -264,27 +271,20 @@ static long changed_pixels(const ew_renderer *r, const snapshot *s, long *farthe
     return n;
 }
 
-static ew_mdl *load_mdl(const char *rel) {
+/* A model file from ../shared through the given loader (CHECKed). */
+static void *load_shared(const char *rel, load_fn load) {
     uint8_t *data;
     size_t size;
     if (load_file(ew_t_shared(rel), &data, &size)) return NULL;
     ew_error err;
-    ew_mdl *m = ew_mdl_load(data, size, rel, &err);
+    void *m = load(data, size, rel, &err);
     CHECK(m != NULL, "%s", err.msg);
     free(data);
     return m;
 }
 
-static ew_spr *load_spr(const char *rel) {
-    uint8_t *data;
-    size_t size;
-    if (load_file(ew_t_shared(rel), &data, &size)) return NULL;
-    ew_error err;
-    ew_spr *s = ew_spr_load(data, size, rel, &err);
-    CHECK(s != NULL, "%s", err.msg);
-    free(data);
-    return s;
-}
+static ew_mdl *load_mdl(const char *rel) { return load_shared(rel, mdl_from); }
+static ew_spr *load_spr(const char *rel) { return load_shared(rel, spr_from); }
 
 static void measure(ew_renderer *r, const ew_camera *cam, const ew_mdl *soldier) {
     /* 200 soldiers 450..900 units ahead (about 40..20 pixels tall at 640x480),

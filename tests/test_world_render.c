@@ -33,12 +33,9 @@ int main(void) {
     uint8_t *ref_px = malloc(W * H), *px16 = malloc(W * H), *px1 = malloc(W * H);
     double worst_all = 1;
     for (int mi = 0; mi < 3; mi++) {
-        char path[256];
-        snprintf(path, sizeof path, "data/librequake/maps/%s.bsp", maps[mi]);
         ew_assets a;
-        int rc = ew_assets_load(ew_t_shared(path), NULL, &a, &err);
-        CHECK(rc == 0, "%s", err.msg);
-        if (rc) continue;
+        int rc;
+        if (ew_t_load_map(maps[mi], &a) < 0) continue;
         ew_camera views[EW_MAX_VIEWS];
         int nv = ew_view_set(a.world, views);
         CHECK(nv > 0, "%s has no views", maps[mi]);

@@ -21,6 +21,24 @@ const char *ew_t_shared(const char *rel) {
 
 int ew_t_have_shared(const char *rel) { return access(ew_t_shared(rel), R_OK) == 0; }
 
+const char *ew_t_shared_abs(const char *rel) {
+    static char out[2048];
+    char cwd[1024] = "";
+    const char *p = ew_t_shared(rel);
+    if (p[0] != '/' && !getcwd(cwd, sizeof cwd)) cwd[0] = '\0';
+    snprintf(out, sizeof out, "%s%s%s", cwd, cwd[0] ? "/" : "", p);
+    return out;
+}
+
+int ew_t_load_map(const char *name, ew_assets *a) {
+    char rel[256];
+    ew_error err;
+    snprintf(rel, sizeof rel, "data/librequake/maps/%s.bsp", name);
+    int rc = ew_assets_load(ew_t_shared(rel), NULL, a, &err);
+    CHECK(rc == 0, "%s", err.msg);
+    return rc;
+}
+
 int ew_t_finish(void) {
     printf("%d passed, %d failed\n", ew_t_passed, ew_t_failed);
     return ew_t_failed ? 1 : 0;

@@ -24,6 +24,11 @@ extern int ew_t_passed, ew_t_failed;
 const char *ew_t_shared(const char *rel);
 /* 1 if ../shared/<rel> exists. */
 int ew_t_have_shared(const char *rel);
+/* ew_t_shared made absolute, for a command run in another folder; static buffer. */
+const char *ew_t_shared_abs(const char *rel);
+/* Loads ../shared/data/librequake/maps/NAME.bsp with its palette and
+ * colormap; 0, or -1 after a failed CHECK naming the problem. */
+int ew_t_load_map(const char *name, ew_assets *a);
 /* Prints "N passed, N failed" and returns the process exit code. */
 int ew_t_finish(void);
 
