@@ -146,7 +146,6 @@ struct ew_renderer {
     int8_t *edge_cache_down;                  /* +1: +sign traversal goes down */
 
     ew_view view;
-    int     viewleaf;
     int     currentkey;
 
     ew_edge *edges;   int nedges, max_edges;

@@ -201,7 +201,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->surfs[0].insubmodel = 0;
     r->currentkey = 0;
     for (int v = 0; v <= r->height; v++) r->new_edges[v] = -1;
-    r->viewleaf = ew_pvs_mark(r);
+    ew_pvs_mark(r);
     return 0;
 }
 
