@@ -74,10 +74,11 @@ build() {
     # No bench command in that revision: the current CLI, that revision's library.
     png=$(pkg-config --cflags --libs libpng 2>/dev/null || echo -lpng)
     # Revisions from before ew_set_threads run every row on one thread; from
-    # before the scene API, world only.
+    # before the scene API, world only; from before deferred z-fill, full.
     defs=
     grep -q ew_set_threads "$src/include/edgewise.h" || defs=-DEW_BENCH_NO_THREADS
     grep -q ew_set_scene "$src/include/edgewise.h" || defs="$defs -DEW_BENCH_NO_SCENE"
+    grep -q ew_set_full_zfill "$src/include/edgewise.h" || defs="$defs -DEW_BENCH_NO_ZFILL"
     # shellcheck disable=SC2086
     if ! ${CC:-cc} -std=c11 -O3 -DNDEBUG $defs -I"$src/include" -I"$src/src" "$ROOT"/cli/*.c \
             "$dir/libedgewise.a" $png -lm -pthread -o "$dir/edgewise-harness" >>"$log" 2>&1; then

@@ -164,7 +164,17 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats);
 int            ew_frame_width(const ew_renderer *r);
 int            ew_frame_height(const ew_renderer *r);
 const uint8_t *ew_frame_pixels(const ew_renderer *r);   /* width*height, row-major */
-const float   *ew_frame_zbuffer(const ew_renderer *r);  /* 1/z per pixel */
+/* The frame's 1/z per pixel (larger is nearer; 0 where nothing was drawn):
+ * the world's, and the moving things' where they won.  Moving things are
+ * the only readers during a frame, so ew_render z-fills the world only
+ * under them (deferred z-fill) and this call fills in the rest, once per
+ * frame, the first time it is asked for. */
+const float   *ew_frame_zbuffer(ew_renderer *r);
+/* Z-fill under every world span as it is drawn (1), as the original
+ * renderer did, or only where moving things need it (0, the default).
+ * The frame and ew_frame_zbuffer are the same either way; 1 is slower
+ * and exists to measure what deferring saves. */
+void           ew_set_full_zfill(ew_renderer *r, int on);
 
 /* Threads that render bands of each frame (0 = one per core, at most 16).
  * Returns the count in use, or -1 when out of memory. */

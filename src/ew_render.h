@@ -130,6 +130,13 @@ struct ew_renderer {
     int width, height;
     uint8_t *frame;
     float   *zbuf;
+    /* Deferred z-fill: the world's 1/z is written only where a moving
+     * thing is about to test it (ew_zfill_rect), or everywhere when
+     * zfill_all is set.  Per row: the band and spans that cover it, and
+     * the interval [zlo, zhi) already filled this frame. */
+    int      zfill_all;
+    int32_t *row_band, *row_span0, *row_nspans, *zlo, *zhi;
+    float  (*surf_zplane)[3];                /* per surface: 1/z = [0]*u + [1]*v + [2] */
     int     *face_ids;
     int      face_ids_on;
     int      subdiv_shift;                   /* perspective divide every 1 << shift px */
@@ -249,6 +256,17 @@ void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_text
 void ew_draw_turb_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
                         const ew_texture *t);
 void ew_zfill_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g);
+/* The 1/z plane of face f seen through v (the zi_* of ew_face_gradients). */
+void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]);
+/* Makes r->zbuf hold the world's 1/z over [x0, x1) x [y0, y1) (clipped to
+ * the frame), filling from this frame's spans only what is not filled yet.
+ * Every moving thing calls it for its screen box before its z test; a
+ * caller drawing in a band passes rows inside that band. */
+void ew_zfill_rect(ew_renderer *r, int x0, int y0, int x1, int y1);
+/* Indexes a scanned band's spans by row and marks its rows unfilled. */
+void ew_zfill_index_band(ew_renderer *r, const ew_band *b, int band);
+/* Declares every row filled (the reference path's own z, a caller's). */
+void ew_zfill_mark_all(ew_renderer *r);
 void ew_draw_band(ew_renderer *r, ew_band *b);
 /* Sky colour of one pixel (shared with the reference path). */
 uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y);

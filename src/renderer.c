@@ -67,10 +67,17 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     r->surf_cache = malloc(sizeof(ew_cached_surf *) * r->max_surfs);
     r->to_build = malloc(sizeof(ew_cached_surf *) * r->max_surfs);
     r->row_cost = malloc(sizeof(float) * (size_t)height);
+    r->row_band = calloc((size_t)height, sizeof(int32_t));
+    r->row_span0 = calloc((size_t)height, sizeof(int32_t));
+    r->row_nspans = calloc((size_t)height, sizeof(int32_t));
+    r->zlo = calloc((size_t)height, sizeof(int32_t));
+    r->zhi = calloc((size_t)height, sizeof(int32_t));
+    r->surf_zplane = calloc((size_t)r->max_surfs, sizeof *r->surf_zplane);
     if (!r->frame || !r->zbuf || !r->leaf_frame || !r->node_frame || !r->face_frame ||
         !r->leaf_key || !r->leaf_keyframe || !r->face_dlframe || !r->face_dlbits ||
         !r->edge_cache_frame || !r->edge_cache_index || !r->edge_cache_down || !r->edges ||
-        !r->new_edges || !r->surfs || !r->surf_cache || !r->to_build || !r->row_cost)
+        !r->new_edges || !r->surfs || !r->surf_cache || !r->to_build || !r->row_cost ||
+        !r->row_band || !r->row_span0 || !r->row_nspans || !r->zlo || !r->zhi || !r->surf_zplane)
         goto oom;
     if (ew_set_threads(r, 1) < 0) goto oom;
     /* The cache holds many frames' worth of surfaces at this size, so a
@@ -120,6 +127,10 @@ int ew_set_threads(ew_renderer *r, int n) {
     for (int i = 0; i < nb; i++)
         if (ew_band_init(&r->bands[i], r->max_surfs, r->max_spans, r->max_edges) < 0) return -1;
     r->bands_sized_for = 0;  /* no cost history for these bands yet */
+    /* The old bands' spans are gone: nothing left to z-fill from. */
+    memset(r->row_nspans, 0, sizeof(int32_t) * (size_t)r->height);
+    memset(r->zlo, 0, sizeof(int32_t) * (size_t)r->height);
+    memset(r->zhi, 0, sizeof(int32_t) * (size_t)r->height);
     return n;
 }
 
@@ -130,6 +141,8 @@ void ew_renderer_free(ew_renderer *r) {
     ew_cache_free(&r->cache);
     free_bands(r);
     free(r->surf_cache), free(r->to_build), free(r->row_cost);
+    free(r->row_band), free(r->row_span0), free(r->row_nspans), free(r->zlo), free(r->zhi);
+    free(r->surf_zplane);
     free(r->frame), free(r->zbuf), free(r->face_ids);
     free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
     free(r->leaf_key), free(r->leaf_keyframe), free(r->ent_views);
@@ -142,7 +155,12 @@ void ew_renderer_free(ew_renderer *r) {
 int ew_frame_width(const ew_renderer *r) { return r->width; }
 int ew_frame_height(const ew_renderer *r) { return r->height; }
 const uint8_t *ew_frame_pixels(const ew_renderer *r) { return r->frame; }
-const float *ew_frame_zbuffer(const ew_renderer *r) { return r->zbuf; }
+const float *ew_frame_zbuffer(ew_renderer *r) {
+    ew_zfill_rect(r, 0, 0, r->width, r->height);  /* the rest of the world's 1/z */
+    return r->zbuf;
+}
+
+void ew_set_full_zfill(ew_renderer *r, int on) { r->zfill_all = on != 0; }
 const int *ew_frame_face_ids(const ew_renderer *r) { return r->face_ids; }
 
 void ew_set_lightstyle(ew_renderer *r, int style, int value) {
@@ -216,7 +234,8 @@ void ew_draw_band(ew_renderer *r, ew_band *b) {
                 const ew_span *sp = &b->spans[si];
                 size_t o = (size_t)sp->v * r->width + sp->u;
                 memset(r->frame + o, 0, (size_t)sp->count);
-                for (int i = 0; i < sp->count; i++) r->zbuf[o + i] = 0;
+                if (r->zfill_all)
+                    for (int i = 0; i < sp->count; i++) r->zbuf[o + i] = 0;
             }
             continue;
         }
@@ -239,7 +258,7 @@ void ew_draw_band(ew_renderer *r, ew_band *b) {
                 memset(r->frame + (size_t)b->spans[si].v * r->width + b->spans[si].u, 0,
                        (size_t)b->spans[si].count);
         }
-        ew_zfill_spans(r, b, s, &g);
+        if (r->zfill_all) ew_zfill_spans(r, b, s, &g);
     }
 }
 
@@ -317,6 +336,7 @@ static void job_scan(void *ctx, int thread) {
         ew_band *b = &r->bands[i];
         b->dropped = 0;
         ew_scan_band(r, b);
+        ew_zfill_index_band(r, b, i);
         r->band_ms[i] = ew_now_ms() - t0;
     }
 }
@@ -352,10 +372,12 @@ static void job_draw(void *ctx, int thread) {
 static void prepare_surfaces(ew_renderer *r) {
     const ew_world *w = r->world;
     r->nbuild = 0;
+    r->surf_zplane[0][0] = r->surf_zplane[0][1] = r->surf_zplane[0][2] = 0;  /* the background: far */
     for (int s = 1; s < r->nsurfs; s++) {
         r->surf_cache[s] = NULL;
         const ew_surf *sf = &r->surfs[s];
         const ew_face *f = &w->faces[sf->face];
+        ew_face_zplane(w, sf->view, f, r->surf_zplane[s]);
         if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) continue;
         int used = 0;
         for (int i = 0; i < r->nbands && !used; i++) used = r->bands[i].span_head[s] >= 0;

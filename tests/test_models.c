@@ -245,10 +245,10 @@ typedef struct snapshot {
     float   *zbuf;
 } snapshot;
 
-static void snap_take(const ew_renderer *r, snapshot *s) {
+static void snap_take(ew_renderer *r, snapshot *s) {
     size_t n = (size_t)r->width * r->height;
     memcpy(s->frame, r->frame, n);
-    memcpy(s->zbuf, r->zbuf, n * sizeof(float));
+    memcpy(s->zbuf, ew_frame_zbuffer(r), n * sizeof(float));  /* the whole frame's 1/z */
 }
 static void snap_restore(ew_renderer *r, const snapshot *s) {
     size_t n = (size_t)r->width * r->height;

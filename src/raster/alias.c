@@ -299,8 +299,8 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
     /* Trivial accept / reject by the frame's bounds. */
     clip_planes cp;
     ew_view_planes(v, NEAR_Z, &cp);
-    int and_flags = 0x1F, or_flags = 0;
-    float vmin = 1e30f, vmax = -1e30f;
+    int and_flags = 0x1F, or_flags = 0, behind = 0;
+    float vmin = 1e30f, vmax = -1e30f, umin = 1e30f, umax = -1e30f;
     for (int c = 0; c < 8; c++) {
         float mp[3] = {c & 1 ? pose->maxs[0] : pose->mins[0], c & 2 ? pose->maxs[1] : pose->mins[1],
                        c & 4 ? pose->maxs[2] : pose->mins[2]};
@@ -309,9 +309,14 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
         int f = clip_flags(&cp, vp);
         and_flags &= f, or_flags |= f;
         if (vp[2] > 0) {
+            float sx = v->xcenter + v->xscale * vp[0] / vp[2];
             float sy = v->ycenter - v->yscale * vp[1] / vp[2];
+            if (sx < umin) umin = sx;
+            if (sx > umax) umax = sx;
             if (sy < vmin) vmin = sy;
             if (sy > vmax) vmax = sy;
+        } else {
+            behind = 1;
         }
     }
     if (and_flags) return 0;
@@ -320,6 +325,17 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
      * band holding the model's top row counts its triangles (any band
      * would count the same); a model crossing the frustum, band 0. */
     if (accept && (vmax < rows->y0 - 1 || vmin > rows->y1 + 1)) return 1;
+    /* The world's 1/z under the model's screen box (a pixel of margin for
+     * snapping), or under all these rows if the box reaches behind the eye. */
+    if (behind || !(umin <= umax && vmin <= vmax)) {
+        ew_zfill_rect(r, 0, rows->y0, r->width, rows->y1);
+    } else {
+        /* Clamped first: a corner just in front of the eye projects far out. */
+        float w = (float)r->width, h = (float)r->height;
+        int zx0 = (int)floorf(fminf(fmaxf(umin, -2), w)) - 1, zx1 = (int)ceilf(fminf(fmaxf(umax, -2), w)) + 2;
+        int zy0 = (int)floorf(fminf(fmaxf(vmin, -2), h)) - 1, zy1 = (int)ceilf(fminf(fmaxf(vmax, -2), h)) + 2;
+        ew_zfill_rect(r, zx0, zy0 > rows->y0 ? zy0 : rows->y0, zx1, zy1 < rows->y1 ? zy1 : rows->y1);
+    }
     int top = vmin < 0 ? 0 : vmin >= r->height ? r->height - 1 : (int)vmin;
     int counts = accept ? (top >= rows->y0 && top < rows->y1) : rows->first;
     int subdiv = accept && (r->alias_raster == EW_ALIAS_SUBDIV ||

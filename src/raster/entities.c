@@ -71,6 +71,8 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e
             ew_build_surface(r, bw, f, look.tex, look.mip, light, 0, surf, scratch);
             look.surf = surf, look.surf_width = w;
         }
+        ew_zfill_rect(r, zp.x0, zp.y0 > rows->y0 ? zp.y0 : rows->y0, zp.x1 + 1,
+                      zp.y1 + 1 < rows->y1 ? zp.y1 + 1 : rows->y1);
         won += ew_zpoly_fill(r, &zp, &look, NULL, 0, rows->y0, rows->y1);
         free(surf), free(scratch);
     }

@@ -36,6 +36,7 @@ void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const e
         if (y1 > rows->y1) y1 = rows->y1;
         if (y0 >= y1) continue;
         uint8_t color = p[i].color;
+        ew_zfill_rect(r, x0, y0, x1, y1);
         for (int y = y0; y < y1; y++) {
             float *zr = r->zbuf + (size_t)y * r->width;
             uint8_t *fr = r->frame + (size_t)y * r->width;

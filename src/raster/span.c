@@ -5,10 +5,8 @@
 #include <math.h>
 #include <string.h>
 
-void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
-                       ew_gradients *g) {
+void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]) {
     const ew_plane *pl = &w->planes[f->plane];
-    const ew_texinfo *ti = &w->texinfo[f->texinfo];
     float nx = 0, ny = 0, nz = 0, od = 0;
     for (int k = 0; k < 3; k++) {
         nx += pl->normal[k] * v->right[k];
@@ -18,10 +16,18 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
     }
     float dist = pl->dist - od;  /* plane in view space: n.p = dist */
     if (fabsf(dist) < 1e-3f) dist = dist < 0 ? -1e-3f : 1e-3f;
+    out[0] = nx / (v->xscale * dist);
+    out[1] = -ny / (v->yscale * dist);
+    out[2] = nz / dist - v->xcenter * out[0] - v->ycenter * out[1];
+}
+
+void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
+                       ew_gradients *g) {
+    const ew_texinfo *ti = &w->texinfo[f->texinfo];
+    float zp[3];
+    ew_face_zplane(w, v, f, zp);
+    g->zi_u = zp[0], g->zi_v = zp[1], g->zi_0 = zp[2];
     float xs = v->xscale, ys = v->yscale, xc = v->xcenter, yc = v->ycenter;
-    g->zi_u = nx / (xs * dist);
-    g->zi_v = -ny / (ys * dist);
-    g->zi_0 = nz / dist - xc * g->zi_u - yc * g->zi_v;
 
     /* s/z and t/z of the direction from the eye; the eye's own texture
      * coordinate is added after the divide, in fixed point, as the
@@ -133,4 +139,61 @@ void ew_zfill_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradien
         float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, dz = g->zi_u;
         for (int i = 0; i < sp->count; i++) z[i] = zi + (float)i * dz;
     }
+}
+
+/* ---- deferred z-fill ----
+ * Only moving things read the z-buffer, and they usually cover a small part
+ * of the frame, so the world's 1/z is written where they are about to be
+ * drawn instead of under every span: the same values (the same formula as
+ * ew_zfill_spans, so bit for bit), a fraction of the memory traffic.  Each
+ * row remembers the interval already filled; requests widen it. */
+
+/* World 1/z over [lo, hi) of row y from the spans that cover it. */
+static void zfill_row(ew_renderer *r, int y, int lo, int hi) {
+    const ew_band *b = &r->bands[r->row_band[y]];
+    const ew_span *sp = b->spans + r->row_span0[y];
+    float *zr = r->zbuf + (size_t)y * r->width;
+    for (int i = 0, n = r->row_nspans[y]; i < n; i++, sp++) {
+        if (sp->u >= hi) break;  /* a row's spans run left to right */
+        int a = sp->u > lo ? sp->u : lo, e = sp->u + sp->count < hi ? sp->u + sp->count : hi;
+        if (a >= e) continue;
+        const float *zp = r->surf_zplane[sp->surf];
+        float zi = zp[0] * sp->u + zp[1] * sp->v + zp[2], dz = zp[0];
+        for (int x = a; x < e; x++) zr[x] = zi + (float)(x - sp->u) * dz;
+    }
+}
+
+void ew_zfill_rect(ew_renderer *r, int x0, int y0, int x1, int y1) {
+    if (r->zfill_all) return;
+    if (x0 < 0) x0 = 0;
+    if (y0 < 0) y0 = 0;
+    if (x1 > r->width) x1 = r->width;
+    if (y1 > r->height) y1 = r->height;
+    if (x0 >= x1) return;
+    for (int y = y0; y < y1; y++) {
+        int lo = r->zlo[y], hi = r->zhi[y];
+        if (lo >= hi) {
+            zfill_row(r, y, x0, x1);
+            r->zlo[y] = x0, r->zhi[y] = x1;
+            continue;
+        }
+        if (x0 < lo) zfill_row(r, y, x0, lo), r->zlo[y] = x0;
+        if (x1 > hi) zfill_row(r, y, hi, x1), r->zhi[y] = x1;
+    }
+}
+
+void ew_zfill_index_band(ew_renderer *r, const ew_band *b, int band) {
+    for (int y = b->y0; y < b->y1; y++) {
+        r->row_band[y] = band, r->row_nspans[y] = 0, r->row_span0[y] = 0;
+        r->zlo[y] = r->zhi[y] = 0;
+    }
+    for (int i = 0; i < b->nspans; i++) {
+        int y = b->spans[i].v;
+        if (y < b->y0 || y >= b->y1) continue;
+        if (r->row_nspans[y]++ == 0) r->row_span0[y] = i;
+    }
+}
+
+void ew_zfill_mark_all(ew_renderer *r) {
+    for (int y = 0; y < r->height; y++) r->zlo[y] = 0, r->zhi[y] = r->width;
 }

@@ -127,6 +127,7 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     if (y1 > rows->y1) y1 = rows->y1;
     if (x0 >= x1) return 0;
     if (y0 >= y1) return 1;  /* in view, but not in these rows */
+    ew_zfill_rect(r, x0, y0, x1, y1);
 
     /* Per pixel: d = ((u - xc) / xs, -(v - yc) / ys, 1);  1/z = N.d / N.O;
      * a = (R.d) z - R.O, b = (U.d) z - U.O. */
