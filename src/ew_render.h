@@ -179,6 +179,8 @@ struct ew_renderer {
 
     const struct ew_scene *scene;             /* entities to draw, or NULL */
     ew_view *ent_views;  int max_ent_views;   /* camera in each brush entity's space */
+    struct ew_ent_frame *ent_frame;           /* per entity, this frame (ew_prepare_entities) */
+    int      nent_frame, max_ent_frame;
 
     ew_stats stats;
     int32_t  turb[128];                      /* liquid warp for this frame's time */
@@ -307,6 +309,14 @@ long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look,
 /* raster/entities.c: alias models, sprites, item boxes and particles of the
  * scene, z-buffered over the frame. */
 void ew_draw_entities(ew_renderer *r, const ew_rows *rows);
+/* Once per frame before the bands draw (serial): which entities the PVS and
+ * the frustum let through, and the light on each, so that the bands do not
+ * each trace it again.  -1 when out of memory (no entities then). */
+typedef struct ew_ent_frame {
+    int visible;
+    int ambient, shade;
+} ew_ent_frame;
+int  ew_prepare_entities(ew_renderer *r);
 
 /* light */
 int  ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi);

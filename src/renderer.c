@@ -145,7 +145,7 @@ void ew_renderer_free(ew_renderer *r) {
     free(r->surf_zplane);
     free(r->frame), free(r->zbuf), free(r->face_ids);
     free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
-    free(r->leaf_key), free(r->leaf_keyframe), free(r->ent_views);
+    free(r->leaf_key), free(r->leaf_keyframe), free(r->ent_views), free(r->ent_frame);
     free(r->face_dlframe), free(r->face_dlbits);
     free(r->edge_cache_frame), free(r->edge_cache_index), free(r->edge_cache_down);
     free(r->edges), free(r->new_edges), free(r->surfs), free(r->blocklights);
@@ -403,6 +403,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     ew_pool_run(r->pool, job_scan, r);
     double t2 = ew_now_ms();
     prepare_surfaces(r);
+    ew_prepare_entities(r);
     atomic_store(&r->next_build, 0);
     ew_pool_run(r->pool, job_build, r);
     atomic_store(&r->next_band, 0);

@@ -241,12 +241,13 @@ ew_mdl *ew_mdl_load(const uint8_t *data, size_t size, const char *name, ew_error
         hdr.translate[k] = ew_f32(data + 20 + 4 * k);
         hdr.eye[k] = ew_f32(data + 36 + 4 * k);
     }
-    hdr.radius = ew_f32(data + 32);
+    (void)ew_f32(data + 32);  /* the file's bounding radius: not trusted, computed below */
     int32_t numskins = ew_i32(data + 48), sw = ew_i32(data + 52), sh = ew_i32(data + 56);
     int32_t numverts = ew_i32(data + 60), numtris = ew_i32(data + 64), numframes = ew_i32(data + 68);
     hdr.synctype = ew_i32(data + 72);
     hdr.flags = ew_i32(data + 76);
     hdr.size = ew_f32(data + 80);
+    float reach2 = 0;
     for (int k = 0; k < 3; k++) {
         if (!isfinite(hdr.scale[k]) || !isfinite(hdr.translate[k]) || fabsf(hdr.scale[k]) > 1e5f ||
             fabsf(hdr.translate[k]) > 1e6f) {
@@ -254,7 +255,11 @@ ew_mdl *ew_mdl_load(const uint8_t *data, size_t size, const char *name, ew_error
                     (double)hdr.scale[k], (double)hdr.translate[k]);
             return NULL;
         }
+        /* A vertex byte is 0..255: the farthest any can be from the origin. */
+        float a = fabsf(hdr.translate[k]), b = fabsf(hdr.translate[k] + 255 * hdr.scale[k]);
+        reach2 += (a > b ? a : b) * (a > b ? a : b);
     }
+    hdr.radius = sqrtf(reach2);
     if (numskins < 1 || numskins > EW_MDL_MAX_SKINS) {
         ew_fail(err, "%s: %d skins (1..%d)", name, numskins, EW_MDL_MAX_SKINS);
         return NULL;

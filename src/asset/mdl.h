@@ -57,7 +57,8 @@ typedef struct ew_mdl_anim {
 
 typedef struct ew_mdl {
     char  name[64];
-    float scale[3], translate[3], radius, eye[3], size;
+    float scale[3], translate[3], eye[3], size;
+    float radius;  /* no vertex is farther from the origin (from scale and translate) */
     int   skinwidth, skinheight, numverts, numtris, synctype, flags;
 
     int          numskins;        /* skins (each maybe a group) */

@@ -130,7 +130,7 @@ ew_spr *ew_spr_load(const uint8_t *data, size_t size, const char *name, ew_error
     if (!s) goto oom;
     snprintf(s->name, sizeof s->name, "%s", name);
     s->type = type, s->maxwidth = maxw, s->maxheight = maxh, s->synctype = sync;
-    s->radius = radius, s->beamlength = beam;
+    s->beamlength = beam;
     s->numframes = numframes;
     s->numpics = L.npics;
     s->frames = calloc((size_t)numframes, sizeof *s->frames);
@@ -143,6 +143,16 @@ ew_spr *ew_spr_load(const uint8_t *data, size_t size, const char *name, ew_error
         ew_spr_free(s);
         return NULL;
     }
+    /* The farthest corner of any picture from the entity: the file's own
+     * bounding radius is not trusted for culling. */
+    float reach = 0;
+    for (int i = 0; i < s->numpics; i++) {
+        const ew_spr_pic *p = &s->pics[i];
+        float x = fmaxf(fabsf((float)p->origin[0]), fabsf((float)p->origin[0] + (float)p->width));
+        float y = fmaxf(fabsf((float)p->origin[1]), fabsf((float)p->origin[1] - (float)p->height));
+        reach = fmaxf(reach, sqrtf(x * x + y * y));
+    }
+    s->radius = reach;
     return s;
 oom:
     ew_spr_free(s);

@@ -38,7 +38,8 @@ typedef struct ew_spr_frame {
 typedef struct ew_spr {
     char  name[64];
     int   type, maxwidth, maxheight, synctype;
-    float radius, beamlength;
+    float radius;            /* no picture corner is farther from the entity (computed) */
+    float beamlength;
     int           numframes;
     ew_spr_frame *frames;
     int           numpics;

@@ -66,6 +66,7 @@ int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, i
     r->face_hook_ctx = NULL;
     ew_for_brush_faces(r, ref_brush_face, &c);
     ew_zfill_mark_all(r);  /* the z-buffer is the reference's own, complete */
+    ew_prepare_entities(r);
     ew_rows all = {0, r->height, &r->stats, 1};
     ew_draw_entities(r, &all);
     if (pixels) memcpy(pixels, r->frame, px);

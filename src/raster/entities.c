@@ -80,26 +80,57 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e
     return in_view;
 }
 
+/* How far a model reaches from its origin, for the PVS and frustum tests. */
+static float model_reach(const ew_scene_model *m) {
+    return m->kind == EW_MODEL_ALIAS  ? ((const ew_mdl *)m->data)->radius
+           : m->kind == EW_MODEL_BOX ? 64.0f
+                                      : ((const ew_spr *)m->data)->radius;
+}
+
+int ew_prepare_entities(ew_renderer *r) {
+    const struct ew_scene *sc = r->scene;
+    r->nent_frame = 0;
+    if (!sc) return 0;
+    if (sc->nents > r->max_ent_frame) {
+        ew_ent_frame *f = realloc(r->ent_frame, sizeof *f * (size_t)sc->nents);
+        if (!f) {
+            r->stats.dropped++;
+            return -1;
+        }
+        r->ent_frame = f, r->max_ent_frame = sc->nents;
+    }
+    for (int i = 0; i < sc->nents; i++) {
+        const ew_scene_entity *e = &sc->ents[i];
+        ew_ent_frame *ef = &r->ent_frame[i];
+        ef->visible = 0;
+        if (e->model < 0) continue;  /* brush entities are in the edge list */
+        const ew_scene_model *m = &sc->models[e->model];
+        /* Potentially visible at all?  A box around the model against the
+         * PVS and the frustum. */
+        float reach = model_reach(m), lo[3], hi[3];
+        for (int k = 0; k < 3; k++) lo[k] = e->origin[k] - reach, hi[k] = e->origin[k] + reach;
+        if (!ew_box_in_pvs(r, lo, hi) || ew_cull_box(&r->view, lo, hi, 15) < 0) {
+            r->stats.entities_culled++;
+            continue;
+        }
+        ef->visible = 1;
+        if (m->kind == EW_MODEL_ALIAS) model_light(r, e->origin, &ef->ambient, &ef->shade);
+    }
+    r->nent_frame = sc->nents;
+    return 0;
+}
+
 void ew_draw_entities(ew_renderer *r, const ew_rows *rows) {
     const struct ew_scene *sc = r->scene;
     if (!sc) return;
-    for (int i = 0; i < sc->nents; i++) {
+    for (int i = 0; i < r->nent_frame && i < sc->nents; i++) {
         const ew_scene_entity *e = &sc->ents[i];
-        if (e->model < 0) continue;  /* brush entities are in the edge list */
+        const ew_ent_frame *ef = &r->ent_frame[i];
+        if (!ef->visible) continue;
         const ew_scene_model *m = &sc->models[e->model];
         ew_model_pose pose = {{e->origin[0], e->origin[1], e->origin[2]},
                               {e->angles[0], e->angles[1], e->angles[2]},
-                              e->frame, e->skin, r->view.time, 0, 0};
-        /* Potentially visible at all?  A box around the model against the PVS. */
-        float reach = m->kind == EW_MODEL_ALIAS  ? ((const ew_mdl *)m->data)->radius
-                      : m->kind == EW_MODEL_BOX ? 64.0f
-                                                 : ((const ew_spr *)m->data)->radius;
-        float lo[3], hi[3];
-        for (int k = 0; k < 3; k++) lo[k] = e->origin[k] - reach, hi[k] = e->origin[k] + reach;
-        if (!ew_box_in_pvs(r, lo, hi)) {
-            if (rows->first) rows->stats->entities_culled++;
-            continue;
-        }
+                              e->frame, e->skin, r->view.time, ef->ambient, ef->shade};
         int drawn = 0;
         if (m->kind == EW_MODEL_ALIAS) {
             /* Time walks a model through its frames at the game's 10 a
@@ -107,7 +138,6 @@ void ew_draw_entities(ew_renderer *r, const ew_rows *rows) {
             const ew_mdl *mdl = m->data;
             if (r->view.time > 0 && mdl->numframes > 1)
                 pose.frame = (int)(((long long)(r->view.time * 10) + e->frame) % mdl->numframes);
-            model_light(r, e->origin, &pose.ambient, &pose.shade);
             drawn = ew_draw_alias_rows(r, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_SPRITE) {
             drawn = ew_draw_sprite_rows(r, m->data, &pose, rows);
