@@ -403,7 +403,9 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     ew_pool_run(r->pool, job_scan, r);
     double t2 = ew_now_ms();
     prepare_surfaces(r);
+    double te = ew_now_ms();
     ew_prepare_entities(r);
+    double prep_ms = ew_now_ms() - te;
     atomic_store(&r->next_build, 0);
     ew_pool_run(r->pool, job_build, r);
     atomic_store(&r->next_band, 0);
@@ -431,8 +433,9 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     }
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
     /* Models are drawn inside the bands' draw step; ms_models is their
-     * time summed over bands, per thread (the wall time they took). */
-    models_ms /= r->nthreads;
+     * time summed over bands, per thread (the wall time they took), plus
+     * the serial per-frame entity pass. */
+    models_ms = models_ms / r->nthreads + prep_ms;
     st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2 - models_ms;
     st->ms_models = models_ms, st->ms_total = t3 - t0;
     if (stats) *stats = *st;

@@ -109,7 +109,7 @@ int ew_prepare_entities(ew_renderer *r) {
          * PVS and the frustum. */
         float reach = model_reach(m), lo[3], hi[3];
         for (int k = 0; k < 3; k++) lo[k] = e->origin[k] - reach, hi[k] = e->origin[k] + reach;
-        if (!ew_box_in_pvs(r, lo, hi) || ew_cull_box(&r->view, lo, hi, 15) < 0) {
+        if (ew_cull_box(&r->view, lo, hi, 15) < 0 || !ew_box_in_pvs(r, lo, hi)) {  /* the cheap test first */
             r->stats.entities_culled++;
             continue;
         }
