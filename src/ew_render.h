@@ -181,6 +181,8 @@ struct ew_renderer {
     ew_view *ent_views;  int max_ent_views;   /* camera in each brush entity's space */
     struct ew_ent_frame *ent_frame;           /* per entity, this frame (ew_prepare_entities) */
     int      nent_frame, max_ent_frame;
+    struct ew_box_surfs **box_surfs;          /* per scene model: item box lit surfaces, or NULL */
+    int      nbox_surfs;
 
     ew_stats stats;
     int32_t  turb[128];                      /* liquid warp for this frame's time */
@@ -317,6 +319,8 @@ typedef struct ew_ent_frame {
     int ambient, shade;
 } ew_ent_frame;
 int  ew_prepare_entities(ew_renderer *r);
+/* Frees the item boxes' lit surfaces (a new scene, the renderer's end). */
+void ew_free_box_surfs(ew_renderer *r);
 
 /* light */
 int  ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi);

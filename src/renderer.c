@@ -146,6 +146,7 @@ void ew_renderer_free(ew_renderer *r) {
     free(r->frame), free(r->zbuf), free(r->face_ids);
     free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
     free(r->leaf_key), free(r->leaf_keyframe), free(r->ent_views), free(r->ent_frame);
+    ew_free_box_surfs(r);
     free(r->face_dlframe), free(r->face_dlbits);
     free(r->edge_cache_frame), free(r->edge_cache_index), free(r->edge_cache_down);
     free(r->edges), free(r->new_edges), free(r->surfs), free(r->blocklights);

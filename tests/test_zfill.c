@@ -4,7 +4,9 @@
  * ew_set_full_zfill) on every view of e1m1, lqdm7 and the built-in scene
  * with their entities plus a particle cloud, on one thread and on two:
  * the frames and the finished z-buffers must be identical bit for bit,
- * and the deferred frame must really have left most of the z-buffer alone. */
+ * and the deferred frame must really have left most of the z-buffer alone.
+ * Also the item boxes' kept surfaces: a light style change must relight
+ * them, and changing it back must give the first picture again. */
 #include "util.h"
 #include "ew_render.h"
 
@@ -95,7 +97,64 @@ static void check_map(const char *name, ew_assets *a, ew_scene *sc) {
     CHECK(t.untouched > t.pixels / 4, "%s: only %ld of %ld z values deferred", name, t.untouched, t.pixels);
 }
 
+/* A health box straight ahead of start's first view, drawn under three
+ * values of light style 0. */
+static void check_box_light(void) {
+    ew_assets a;
+    if (ew_t_load_map("start", &a) < 0) return;
+    ew_error err;
+    uint8_t *data;
+    size_t size;
+    ew_scene *sc = ew_scene_create(a.world, &err);
+    CHECK(sc != NULL, "empty scene: %s", err.msg);
+    CHECK(ew_read_file(ew_t_shared("data/librequake/maps/b_bh25.bsp"), &data, &size, &err) == 0, "%s", err.msg);
+    int box = sc ? ew_scene_load_model(sc, "maps/b_bh25.bsp", data, size, &err) : -1;
+    CHECK(box >= 0, "b_bh25.bsp: %s", err.msg);
+    free(data);
+    ew_camera views[EW_MAX_VIEWS];
+    ew_view_set(a.world, views);
+    ew_view vw;
+    ew_view_setup(&vw, &views[0], W, H);
+    float at[3];
+    for (int k = 0; k < 3; k++) at[k] = vw.origin[k] + vw.forward[k] * 60;
+    at[2] -= 16;
+    if (box >= 0) ew_scene_add_entity(sc, box, at, NULL, 0, 0);
+    ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
+    CHECK(r != NULL, "%s", err.msg);
+    if (r && box >= 0) {
+        uint8_t *lit = malloc(W * H), *dark = malloc(W * H), *plain = malloc(W * H);
+        ew_render(r, &views[0], NULL);
+        memcpy(plain, r->frame, W * H);  /* no scene */
+        ew_set_scene(r, sc);
+        ew_stats st;
+        ew_render(r, &views[0], &st);
+        memcpy(lit, r->frame, W * H);
+        ew_set_lightstyle(r, 0, 0);
+        ew_render(r, &views[0], NULL);
+        memcpy(dark, r->frame, W * H);
+        ew_set_lightstyle(r, 0, 256);
+        ew_render(r, &views[0], NULL);
+        long box_px = 0, relit = 0, again = 0;
+        for (int i = 0; i < W * H; i++) {
+            if (lit[i] == plain[i]) continue;  /* not the box */
+            box_px++;
+            relit += dark[i] != lit[i];
+            again += r->frame[i] != lit[i];
+        }
+        printf("health box: %ld pixels, %ld of them changed with style 0 off, %ld differ after it is back\n",
+               box_px, relit, again);
+        CHECK(st.entities_drawn == 1 && box_px > 500, "box: %d drawn, %ld pixels", st.entities_drawn, box_px);
+        CHECK(relit > box_px / 2, "style 0 off relit only %ld of %ld box pixels", relit, box_px);
+        CHECK(again == 0, "%ld box pixels differ after style 0 came back", again);
+        free(lit), free(dark), free(plain);
+    }
+    ew_renderer_free(r);
+    ew_scene_free(sc);
+    ew_assets_free(&a);
+}
+
 int main(void) {
+    check_box_light();
     ew_error err;
     const char *maps[] = {"e1m1", "lqdm7"};
     for (int m = 0; m < 2; m++) {

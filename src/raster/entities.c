@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Light on a model: the floor under it, plus dynamic lights in reach, held
  * to a floor of 24 and a ceiling so shading keeps some contrast. */
@@ -24,8 +25,89 @@ static void model_light(const ew_renderer *r, const float origin[3], int *ambien
     *ambient = a, *shade = s;
 }
 
+/* An item box's lit surfaces, every face at every mip: boxes are small, so
+ * all four are kept, built in the serial per-frame pass and rebuilt only
+ * when a light style on the face or its texture frame changes; the bands
+ * only read them. */
+typedef struct ew_box_surf {
+    uint8_t *pixels[4];
+    int      width[4];
+    int      light[4];   /* style values they were lit with */
+    const ew_texture *tex;  /* and the texture frame (animated textures) */
+    int      built;
+} ew_box_surf;
+struct ew_box_surfs {
+    int         nfaces;
+    ew_box_surf face[];  /* model 0's faces */
+};
+
+void ew_free_box_surfs(ew_renderer *r) {
+    for (int i = 0; i < r->nbox_surfs; i++) {
+        struct ew_box_surfs *b = r->box_surfs[i];
+        for (int f = 0; b && f < b->nfaces; f++)
+            for (int m = 0; m < 4; m++) free(b->face[f].pixels[m]);
+        free(b);
+    }
+    free(r->box_surfs);
+    r->box_surfs = NULL;
+    r->nbox_surfs = 0;
+}
+
+static void box_light(const ew_renderer *r, const ew_face *f, int light[4]) {
+    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->lightstyle[f->styles[k] & 63];
+}
+
+/* Makes scene model mi's box surfaces current; -1 when out of memory. */
+static int prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
+    if (mi >= r->nbox_surfs) {
+        struct ew_box_surfs **p = realloc(r->box_surfs, sizeof *p * (size_t)(mi + 1));
+        if (!p) return -1;
+        for (int i = r->nbox_surfs; i <= mi; i++) p[i] = NULL;
+        r->box_surfs = p, r->nbox_surfs = mi + 1;
+    }
+    const ew_model *m = &bw->models[0];
+    struct ew_box_surfs *b = r->box_surfs[mi];
+    if (!b) {
+        b = calloc(1, sizeof *b + sizeof(ew_box_surf) * (size_t)m->numfaces);
+        if (!b) return -1;
+        b->nfaces = m->numfaces;
+        r->box_surfs[mi] = b;
+    }
+    int rc = 0;
+    for (int i = 0; i < b->nfaces; i++) {
+        const ew_face *f = &bw->faces[m->firstface + i];
+        ew_box_surf *bs = &b->face[i];
+        if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) continue;
+        int light[4];
+        box_light(r, f, light);
+        const ew_texture *tex = ew_face_texture(bw, f, r->view.time);
+        if (bs->built && bs->tex == tex && memcmp(light, bs->light, sizeof light) == 0) continue;
+        bs->built = 0;
+        int samples = ((f->extents[0] >> 4) + 1) * ((f->extents[1] >> 4) + 1);
+        int *scratch = malloc(sizeof(int) * (size_t)samples);
+        int ok = scratch != NULL;
+        for (int mip = 0; mip < 4 && ok; mip++) {
+            int w = f->extents[0] >> mip, h = f->extents[1] >> mip;
+            if (!bs->pixels[mip]) bs->pixels[mip] = malloc((size_t)w * h);
+            ok = bs->pixels[mip] != NULL;
+            if (ok) ew_build_surface(r, bw, f, tex, mip, light, 0, bs->pixels[mip], scratch);
+            bs->width[mip] = w;
+        }
+        free(scratch);
+        if (!ok) {
+            rc = -1;
+            continue;
+        }
+        memcpy(bs->light, light, sizeof light);
+        bs->tex = tex;
+        bs->built = 1;
+    }
+    return rc;
+}
+
 /* An item box: faces of a small world of its own, z-buffered. */
-static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e, const ew_rows *rows) {
+static int draw_box(ew_renderer *r, const ew_world *bw, const struct ew_box_surfs *surfs,
+                    const ew_scene_entity *e, const ew_rows *rows) {
     const ew_model *m = &bw->models[0];
     float ax[3][3];
     ew_entity_axes(e->angles, ax);
@@ -52,29 +134,18 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_scene_entity *e
         in_view = 1;
         if (zp.y1 < rows->y0 || zp.y0 >= rows->y1) continue;  /* another band's rows */
         ew_zpoly_look look = {bw, f, &mv, ew_face_texture(bw, f, r->view.time), NULL, 0, 0};
-        uint8_t *surf = NULL;
-        int *scratch = NULL;
         if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
-            /* Boxes are tiny: their surfaces are built afresh, not cached. */
-            look.mip = ew_face_mip(&r->view, bw, f, zp.nearzi);
-            int w = f->extents[0] >> look.mip, h = f->extents[1] >> look.mip;
-            int samples = ((f->extents[0] >> 4) + 1) * ((f->extents[1] >> 4) + 1);
-            surf = malloc((size_t)w * h);
-            scratch = malloc(sizeof(int) * (size_t)samples);
-            if (!surf || !scratch) {
-                free(surf), free(scratch);
+            const ew_box_surf *bs = surfs && i < surfs->nfaces ? &surfs->face[i] : NULL;
+            if (!bs || !bs->built) {  /* no memory for it */
                 rows->stats->dropped++;
                 continue;
             }
-            int light[4];
-            for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->lightstyle[f->styles[k] & 63];
-            ew_build_surface(r, bw, f, look.tex, look.mip, light, 0, surf, scratch);
-            look.surf = surf, look.surf_width = w;
+            look.mip = ew_face_mip(&r->view, bw, f, zp.nearzi);
+            look.surf = bs->pixels[look.mip], look.surf_width = bs->width[look.mip];
         }
         ew_zfill_rect(r, zp.x0, zp.y0 > rows->y0 ? zp.y0 : rows->y0, zp.x1 + 1,
                       zp.y1 + 1 < rows->y1 ? zp.y1 + 1 : rows->y1);
         won += ew_zpoly_fill(r, &zp, &look, NULL, 0, rows->y0, rows->y1);
-        free(surf), free(scratch);
     }
     rows->stats->alias_pixels += won;
     return in_view;
@@ -115,6 +186,7 @@ int ew_prepare_entities(ew_renderer *r) {
         }
         ef->visible = 1;
         if (m->kind == EW_MODEL_ALIAS) model_light(r, e->origin, &ef->ambient, &ef->shade);
+        if (m->kind == EW_MODEL_BOX && prepare_box(r, e->model, m->data) < 0) r->stats.dropped++;
     }
     r->nent_frame = sc->nents;
     return 0;
@@ -142,7 +214,7 @@ void ew_draw_entities(ew_renderer *r, const ew_rows *rows) {
         } else if (m->kind == EW_MODEL_SPRITE) {
             drawn = ew_draw_sprite_rows(r, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_BOX) {
-            drawn = draw_box(r, m->data, e, rows);
+            drawn = draw_box(r, m->data, e->model < r->nbox_surfs ? r->box_surfs[e->model] : NULL, e, rows);
         }
         if (rows->first) {
             if (drawn) rows->stats->entities_drawn++;

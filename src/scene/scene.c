@@ -261,6 +261,7 @@ ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data
 }
 
 void ew_set_scene(ew_renderer *r, const ew_scene *s) {
+    ew_free_box_surfs(r);  /* they belong to the old scene's models */
     r->scene = s;
     int need = s ? s->nents : 0;
     if (need > r->max_ent_views) {
