@@ -92,6 +92,7 @@ typedef struct ew_band {
     ew_active *aet;  int naet, cap_aet, max_aet;
     int dropped;
     ew_stats model_stats;           /* this band's share of the moving things' counters */
+    long written, covered;          /* world pixels its spans wrote, and covered at least once */
     double model_ms;                /* time it spent on them */
 } ew_band;
 

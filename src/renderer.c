@@ -266,7 +266,7 @@ void ew_draw_band(ew_renderer *r, ew_band *b) {
 /* Writes and coverage, measured on the scan's output rather than trusted:
  * within a row the scan emits spans left to right, so any span starting
  * before the previous one ended is overdraw. */
-static void account_spans(ew_renderer *r, const ew_band *b) {
+static void account_spans(ew_band *b) {
     long written = 0, covered = 0;
     int row = -1, end = 0;
     for (int i = 0; i < b->nspans; i++) {
@@ -279,8 +279,7 @@ static void account_spans(ew_renderer *r, const ew_band *b) {
         }
         if (stop > end) end = stop;
     }
-    r->stats.pixels_written += written;
-    r->stats.pixels_covered += covered;
+    b->written = written, b->covered = covered;
 }
 
 /* The face that won each pixel, for the tests' comparisons. */
@@ -358,6 +357,7 @@ static void job_draw(void *ctx, int thread) {
         double t0 = ew_now_ms();
         ew_band *b = &r->bands[i];
         ew_draw_band(r, b);
+        account_spans(b);
         double t1 = ew_now_ms();
         memset(&b->model_stats, 0, sizeof b->model_stats);
         ew_rows rows = {b->y0, b->y1, &b->model_stats, i == 0};
@@ -429,7 +429,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         st->alias_tris += m->alias_tris, st->alias_tris_subdiv += m->alias_tris_subdiv;
         st->alias_pixels += m->alias_pixels, st->particles += m->particles;
         models_ms += b->model_ms;
-        account_spans(r, b);
+        st->pixels_written += b->written, st->pixels_covered += b->covered;
         if (r->face_ids_on) record_face_ids(r, b);
     }
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
