@@ -137,7 +137,6 @@ struct ew_renderer {
      * the interval [zlo, zhi) already filled this frame. */
     int      zfill_all;
     int32_t *row_band, *row_span0, *row_nspans, *zlo, *zhi;
-    float  (*surf_zplane)[3];                /* per surface: 1/z = [0]*u + [1]*v + [2] */
     int     *face_ids;
     int      face_ids_on;
     int      subdiv_shift;                   /* perspective divide every 1 << shift px */
@@ -173,9 +172,14 @@ struct ew_renderer {
     int      bands_sized_for;                     /* row_cost valid for this many bands */
 
     ew_surf_cache cache;
-    /* per surface of this frame: its lit surface (normal surfaces only) */
+    /* per surface of this frame: its lit surface (normal surfaces only),
+     * and how its spans are drawn (ew_surf_draw, set before the bands draw) */
     ew_cached_surf **surf_cache;
+    struct ew_surf_draw *surf_draw;
     ew_cached_surf **to_build;  int nbuild;
+    int     *grad_list;  int ngrad;              /* surfaces whose ew_surf_draw needs gradients */
+    _Atomic int next_grad;
+    float    sky_scroll;                         /* sky layers' offset for this frame's time */
     int      maxlm;                               /* largest light map, in samples */
 
     const struct ew_scene *scene;             /* entities to draw, or NULL */
@@ -253,16 +257,23 @@ typedef struct ew_gradients {
  * face's own space) at a mip level. */
 void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
                        ew_gradients *g);
-/* Textured spans of a lit surface; every surface's spans are then
- * z-filled by ew_zfill_spans (a separate loop the compiler vectorizes). */
-void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
-                   const uint8_t *pixels, int pitch);
-void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_texture *t);
-void ew_draw_turb_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
-                        const ew_texture *t);
-void ew_zfill_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g);
-/* The 1/z plane of face f seen through v (the zi_* of ew_face_gradients). */
-void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]);
+/* How one surface's spans are drawn this frame. */
+enum { EW_DRAW_BACKGROUND, EW_DRAW_LIT, EW_DRAW_SKY, EW_DRAW_TURB, EW_DRAW_FLAT };
+typedef struct ew_surf_draw {
+    ew_gradients g;           /* screen gradients (mip of its lit surface; 0 for sky and liquids) */
+    const uint8_t *pixels;    /* EW_DRAW_LIT: the lit surface, pitch bytes a row */
+    int pitch;
+    int kind;                 /* EW_DRAW_*; FLAT: no memory for its lit surface */
+    const ew_texture *tex;    /* sky and liquids */
+} ew_surf_draw;
+/* One span of each kind.  A band draws its spans in the order the scan
+ * made them (row by row), so the frame is written front to back in memory
+ * and the span list is read straight through. */
+void ew_draw_lit_span(ew_renderer *r, const ew_span *sp, const ew_surf_draw *d);
+void ew_draw_sky_span(ew_renderer *r, const ew_span *sp, const ew_texture *t);
+void ew_draw_turb_span(ew_renderer *r, const ew_span *sp, const ew_gradients *g, const ew_texture *t);
+/* The world's 1/z under one span (full z-fill, ew_set_full_zfill). */
+void ew_zfill_span(ew_renderer *r, const ew_span *sp, const ew_gradients *g);
 /* Makes r->zbuf hold the world's 1/z over [x0, x1) x [y0, y1) (clipped to
  * the frame), filling from this frame's spans only what is not filled yet.
  * Every moving thing calls it for its screen box before its z test; a

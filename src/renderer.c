@@ -72,12 +72,14 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
     r->row_nspans = calloc((size_t)height, sizeof(int32_t));
     r->zlo = calloc((size_t)height, sizeof(int32_t));
     r->zhi = calloc((size_t)height, sizeof(int32_t));
-    r->surf_zplane = calloc((size_t)r->max_surfs, sizeof *r->surf_zplane);
+    r->surf_draw = calloc((size_t)r->max_surfs, sizeof *r->surf_draw);
+    r->grad_list = malloc(sizeof(int) * (size_t)r->max_surfs);
     if (!r->frame || !r->zbuf || !r->leaf_frame || !r->node_frame || !r->face_frame ||
         !r->leaf_key || !r->leaf_keyframe || !r->face_dlframe || !r->face_dlbits ||
         !r->edge_cache_frame || !r->edge_cache_index || !r->edge_cache_down || !r->edges ||
         !r->new_edges || !r->surfs || !r->surf_cache || !r->to_build || !r->row_cost ||
-        !r->row_band || !r->row_span0 || !r->row_nspans || !r->zlo || !r->zhi || !r->surf_zplane)
+        !r->row_band || !r->row_span0 || !r->row_nspans || !r->zlo || !r->zhi || !r->surf_draw ||
+        !r->grad_list)
         goto oom;
     if (ew_set_threads(r, 1) < 0) goto oom;
     /* The cache holds many frames' worth of surfaces at this size, so a
@@ -142,7 +144,7 @@ void ew_renderer_free(ew_renderer *r) {
     free_bands(r);
     free(r->surf_cache), free(r->to_build), free(r->row_cost);
     free(r->row_band), free(r->row_span0), free(r->row_nspans), free(r->zlo), free(r->zhi);
-    free(r->surf_zplane);
+    free(r->surf_draw), free(r->grad_list);
     free(r->frame), free(r->zbuf), free(r->face_ids);
     free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
     free(r->leaf_key), free(r->leaf_keyframe), free(r->ent_views), free(r->ent_frame);
@@ -210,6 +212,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     memset(&r->stats, 0, sizeof r->stats);
     ew_view_setup(&r->view, cam, r->width, r->height);
     ew_turb_table(r->turb, cam->time);
+    r->sky_scroll = (float)fmod(r->view.time * 8.0, 4096.0);
     r->nedges = 0;
     r->nsurfs = 1;  /* surface 0: the background, behind everything */
     r->surfs[0].key = INT32_MAX;
@@ -224,42 +227,30 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     return 0;
 }
 
-/* Draws every surface that has spans in the band.  Lit surfaces were
- * looked up and built before the bands started (see ew_render). */
+/* Draws the band's spans in the order the scan made them, row by row: the
+ * frame is written straight through and so is the span list, where a
+ * surface's own spans lie scattered.  Lit surfaces were looked up and
+ * built, and every surface's gradients computed once, before the bands
+ * started (see ew_render). */
 void ew_draw_band(ew_renderer *r, ew_band *b) {
-    const ew_world *w = r->world;
-    for (int s = 0; s < r->nsurfs; s++) {
-        if (b->span_head[s] < 0) continue;
-        if (s == 0) {  /* gaps: nothing covers them; draw black, far away */
-            for (int si = b->span_head[0]; si >= 0; si = b->spans[si].next) {
-                const ew_span *sp = &b->spans[si];
-                size_t o = (size_t)sp->v * r->width + sp->u;
-                memset(r->frame + o, 0, (size_t)sp->count);
-                if (r->zfill_all)
-                    for (int i = 0; i < sp->count; i++) r->zbuf[o + i] = 0;
-            }
-            continue;
+    for (int i = 0; i < b->nspans; i++) {
+        const ew_span *sp = &b->spans[i];
+        const ew_surf_draw *d = &r->surf_draw[sp->surf];
+        switch (d->kind) {
+        case EW_DRAW_LIT:
+            ew_draw_lit_span(r, sp, d);
+            break;
+        case EW_DRAW_SKY:
+            ew_draw_sky_span(r, sp, d->tex);
+            break;
+        case EW_DRAW_TURB:
+            ew_draw_turb_span(r, sp, &d->g, d->tex);
+            break;
+        default:  /* gaps (nothing covers them), or no memory for the surface: black */
+            memset(r->frame + (size_t)sp->v * r->width + sp->u, 0, (size_t)sp->count);
+            break;
         }
-        const ew_surf *sf = &r->surfs[s];
-        const ew_face *f = &w->faces[sf->face];
-        const ew_cached_surf *cs = r->surf_cache[s];
-        ew_gradients g;
-        if (f->flags & EW_SURF_SKY) {
-            ew_face_gradients(w, sf->view, f, 0, &g);
-            ew_draw_sky_spans(r, b, s, ew_face_texture(w, f, r->view.time));
-        } else if (f->flags & EW_SURF_TURB) {
-            ew_face_gradients(w, sf->view, f, 0, &g);
-            ew_draw_turb_spans(r, b, s, &g, ew_face_texture(w, f, r->view.time));
-        } else if (cs) {
-            ew_face_gradients(w, sf->view, f, cs->mip, &g);
-            ew_draw_spans(r, b, s, &g, cs->pixels, cs->width);
-        } else {  /* no memory for the surface: flat colour (counted in dropped) */
-            ew_face_gradients(w, sf->view, f, 0, &g);
-            for (int si = b->span_head[s]; si >= 0; si = b->spans[si].next)
-                memset(r->frame + (size_t)b->spans[si].v * r->width + b->spans[si].u, 0,
-                       (size_t)b->spans[si].count);
-        }
-        if (r->zfill_all) ew_zfill_spans(r, b, s, &g);
+        if (r->zfill_all) ew_zfill_span(r, sp, &d->g);  /* the background's g is 0: far */
     }
 }
 
@@ -341,11 +332,25 @@ static void job_scan(void *ctx, int thread) {
     }
 }
 
+/* Builds the lit surfaces that must be built, then computes the surfaces'
+ * gradients, a few dozen at a time. */
 static void job_build(void *ctx, int thread) {
     ew_renderer *r = ctx;
+    const ew_world *w = r->world;
     int *scratch = r->blocklights + (size_t)r->maxlm * thread;
     for (int k; (k = atomic_fetch_add(&r->next_build, 1)) < r->nbuild;)
         ew_cache_build(r, r->to_build[k], scratch);
+    enum { CHUNK = 32 };
+    for (int k; (k = atomic_fetch_add(&r->next_grad, CHUNK)) < r->ngrad;) {
+        int end = k + CHUNK < r->ngrad ? k + CHUNK : r->ngrad;
+        for (; k < end; k++) {
+            int s = r->grad_list[k];
+            const ew_surf *sf = &r->surfs[s];
+            ew_surf_draw *d = &r->surf_draw[s];
+            ew_face_gradients(w, sf->view, &w->faces[sf->face], d->kind == EW_DRAW_LIT ? r->surf_cache[s]->mip : 0,
+                              &d->g);
+        }
+    }
 }
 
 /* A band's world, then the moving things in its rows: its z-fill is done
@@ -368,25 +373,38 @@ static void job_draw(void *ctx, int thread) {
 }
 
 /* Serial step between scan and draw: every surface that won a span gets its
- * lit surface looked up (allocating and evicting as needed); the ones that
- * must be built are listed for the parallel build. */
+ * lit surface looked up (allocating and evicting as needed) and its way of
+ * drawing set; the surfaces to build and the gradients to compute are
+ * listed for the parallel step that follows. */
 static void prepare_surfaces(ew_renderer *r) {
     const ew_world *w = r->world;
     r->nbuild = 0;
-    r->surf_zplane[0][0] = r->surf_zplane[0][1] = r->surf_zplane[0][2] = 0;  /* the background: far */
+    r->ngrad = 0;
+    memset(&r->surf_draw[0], 0, sizeof r->surf_draw[0]);  /* the background: black and far */
     for (int s = 1; s < r->nsurfs; s++) {
         r->surf_cache[s] = NULL;
         const ew_surf *sf = &r->surfs[s];
         const ew_face *f = &w->faces[sf->face];
-        ew_face_zplane(w, sf->view, f, r->surf_zplane[s]);
-        if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) continue;
         int used = 0;
         for (int i = 0; i < r->nbands && !used; i++) used = r->bands[i].span_head[s] >= 0;
         if (!used) continue;
+        ew_surf_draw *d = &r->surf_draw[s];
+        r->grad_list[r->ngrad++] = s;
+        if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) {
+            d->kind = f->flags & EW_SURF_SKY ? EW_DRAW_SKY : EW_DRAW_TURB;
+            d->tex = ew_face_texture(w, f, r->view.time);
+            continue;
+        }
         int build;
         ew_cached_surf *e = ew_cache_lookup(r, sf->face, ew_face_mip(&r->view, w, f, sf->nearzi), &build);
-        if (!e) r->stats.dropped++;
         r->surf_cache[s] = e;
+        if (!e) {
+            r->stats.dropped++;
+            d->kind = EW_DRAW_FLAT;
+            continue;
+        }
+        d->kind = EW_DRAW_LIT;
+        d->pixels = e->pixels, d->pitch = e->width;
         if (build) r->to_build[r->nbuild++] = e;
     }
 }
@@ -408,6 +426,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     ew_prepare_entities(r);
     double prep_ms = ew_now_ms() - te;
     atomic_store(&r->next_build, 0);
+    atomic_store(&r->next_grad, 0);
     ew_pool_run(r->pool, job_build, r);
     atomic_store(&r->next_band, 0);
     ew_pool_run(r->pool, job_draw, r);

@@ -44,16 +44,15 @@ uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y) {
     return sky_texel(v, t, s, tt);
 }
 
-void ew_draw_sky_spans(ew_renderer *r, const ew_band *b, int surf, const ew_texture *t) {
+void ew_draw_sky_span(ew_renderer *r, const ew_span *sp, const ew_texture *t) {
     const ew_view *v = &r->view;
     int half = t->width / 2, rows = t->height;
     /* Power-of-two layers (Quake's are 128x128) wrap with a mask; others
      * take the exact path per pixel. */
     int pow2 = half > 0 && (half & (half - 1)) == 0 && rows > 0 && (rows & (rows - 1)) == 0;
-    float scroll = (float)fmod(v->time * 8.0, 4096.0);
+    float scroll = r->sky_scroll;
     const uint8_t *px = t->mip[0];
-    for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
-        const ew_span *sp = &b->spans[si];
+    {
         uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
         float s0, t0, s1, t1;
         int step = r->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */

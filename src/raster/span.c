@@ -5,7 +5,8 @@
 #include <math.h>
 #include <string.h>
 
-void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]) {
+/* The 1/z plane of face f seen through v. */
+static void face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]) {
     const ew_plane *pl = &w->planes[f->plane];
     float nx = 0, ny = 0, nz = 0, od = 0;
     for (int k = 0; k < 3; k++) {
@@ -25,7 +26,7 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
                        ew_gradients *g) {
     const ew_texinfo *ti = &w->texinfo[f->texinfo];
     float zp[3];
-    ew_face_zplane(w, v, f, zp);
+    face_zplane(w, v, f, zp);
     g->zi_u = zp[0], g->zi_v = zp[1], g->zi_0 = zp[2];
     float xs = v->xscale, ys = v->yscale, xc = v->xcenter, yc = v->ycenter;
 
@@ -113,39 +114,30 @@ static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch
     }
 }
 
-void ew_draw_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
-                   const uint8_t *pixels, int pitch) {
-    int w = r->width;
-    for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
-        const ew_span *sp = &b->spans[si];
-        uint8_t *dst = r->frame + (size_t)sp->v * w + sp->u;
-        ew_stepper st;
-        int32_t s, t, ds, dt;
-        int n;
-        ew_step_begin(&st, g, r->subdiv_shift, sp->u, sp->v, sp->count);
-        while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
-            texel_run(dst, pixels, (uint32_t)pitch, s, t, ds, dt, n);
-            dst += n;
-        }
+void ew_draw_lit_span(ew_renderer *r, const ew_span *sp, const ew_surf_draw *d) {
+    uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
+    ew_stepper st;
+    int32_t s, t, ds, dt;
+    int n;
+    ew_step_begin(&st, &d->g, r->subdiv_shift, sp->u, sp->v, sp->count);
+    while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
+        texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n);
+        dst += n;
     }
 }
 
-void ew_zfill_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g) {
-    int w = r->width;
-    for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
-        const ew_span *sp = &b->spans[si];
-        float *z = r->zbuf + (size_t)sp->v * w + sp->u;
-        /* Each value from the start, not accumulated: exact and vectorizable. */
-        float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, dz = g->zi_u;
-        for (int i = 0; i < sp->count; i++) z[i] = zi + (float)i * dz;
-    }
+void ew_zfill_span(ew_renderer *r, const ew_span *sp, const ew_gradients *g) {
+    float *z = r->zbuf + (size_t)sp->v * r->width + sp->u;
+    /* Each value from the start, not accumulated: exact and vectorizable. */
+    float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, dz = g->zi_u;
+    for (int i = 0; i < sp->count; i++) z[i] = zi + (float)i * dz;
 }
 
 /* ---- deferred z-fill ----
  * Only moving things read the z-buffer, and they usually cover a small part
  * of the frame, so the world's 1/z is written where they are about to be
  * drawn instead of under every span: the same values (the same formula as
- * ew_zfill_spans, so bit for bit), a fraction of the memory traffic.  Each
+ * ew_zfill_span, so bit for bit), a fraction of the memory traffic.  Each
  * row remembers the interval already filled; requests widen it. */
 
 /* World 1/z over [lo, hi) of row y from the spans that cover it. */
@@ -157,8 +149,8 @@ static void zfill_row(ew_renderer *r, int y, int lo, int hi) {
         if (sp->u >= hi) break;  /* a row's spans run left to right */
         int a = sp->u > lo ? sp->u : lo, e = sp->u + sp->count < hi ? sp->u + sp->count : hi;
         if (a >= e) continue;
-        const float *zp = r->surf_zplane[sp->surf];
-        float zi = zp[0] * sp->u + zp[1] * sp->v + zp[2], dz = zp[0];
+        const ew_gradients *g = &r->surf_draw[sp->surf].g;
+        float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, dz = g->zi_u;
         for (int x = a; x < e; x++) zr[x] = zi + (float)(x - sp->u) * dz;
     }
 }

@@ -16,21 +16,17 @@ uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, 
     return t->mip[0][(y % t->height) * t->width + (x % t->width)];
 }
 
-void ew_draw_turb_spans(ew_renderer *r, const ew_band *b, int surf, const ew_gradients *g,
-                        const ew_texture *t) {
-    for (int si = b->span_head[surf]; si >= 0; si = b->spans[si].next) {
-        const ew_span *sp = &b->spans[si];
-        uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
-        ew_stepper st;
-        int32_t s, tt, ds, dt;
-        int n;
-        ew_step_begin(&st, g, r->subdiv_shift, sp->u, sp->v, sp->count);
-        while ((n = ew_step_next(&st, &s, &tt, &ds, &dt)) > 0) {
-            for (int i = 0; i < n; i++) {
-                *dst++ = ew_turb_texel(r->turb, t, s, tt);
-                s += ds;
-                tt += dt;
-            }
+void ew_draw_turb_span(ew_renderer *r, const ew_span *sp, const ew_gradients *g, const ew_texture *t) {
+    uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
+    ew_stepper st;
+    int32_t s, tt, ds, dt;
+    int n;
+    ew_step_begin(&st, g, r->subdiv_shift, sp->u, sp->v, sp->count);
+    while ((n = ew_step_next(&st, &s, &tt, &ds, &dt)) > 0) {
+        for (int i = 0; i < n; i++) {
+            *dst++ = ew_turb_texel(r->turb, t, s, tt);
+            s += ds;
+            tt += dt;
         }
     }
 }
