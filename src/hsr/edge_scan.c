@@ -91,6 +91,11 @@ static int after(const ew_active *a, const ew_active *b) {
     return a->surfs[0] != 0 && b->surfs[0] == 0;
 }
 
+static int cmp_active(const void *pa, const void *pb) {
+    const ew_active *a = pa, *b = pb;
+    return after(a, b) ? 1 : after(b, a) ? -1 : 0;
+}
+
 /* Insertion sort: the list is nearly sorted every line. */
 static void sort_active(ew_active *a, int n) {
     for (int i = 1; i < n; i++) {
@@ -113,11 +118,14 @@ void ew_scan_band(ew_renderer *r, ew_band *b) {
     b->naet = 0;
     for (int i = 0; i < r->nsurfs; i++) b->span_head[i] = -1, state[i] = 0;
 
-    /* Edges that began above the band and are still alive at its top. */
+    /* Edges that began above the band and are still alive at its top, in
+     * edge order: sorted at once, since the insertion sort of the first
+     * row would take time quadratic in their number. */
     for (int i = 0; i < r->nedges; i++) {
         const ew_edge *e = &r->edges[i];
         if (e->v_first < b->y0 && e->v_last >= b->y0) add_active(b, e, b->y0);
     }
+    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, cmp_active);
 
     for (int v = b->y0; v < b->y1; v++) {
         for (int i = r->new_edges[v]; i >= 0; i = r->edges[i].next_new) add_active(b, &r->edges[i], v);
