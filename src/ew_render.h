@@ -123,6 +123,9 @@ void     ew_pool_free(ew_pool *p);
 int      ew_pool_threads(const ew_pool *p);
 /* Runs job(ctx, i) for every thread index i, 0 on the caller; waits for all. */
 void     ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx);
+/* Gets sleeping workers polling for a while (a frame's serial front end is
+ * starting), so the first parallel phase does not wait on a kernel wake-up. */
+void     ew_pool_wake(ew_pool *p);
 
 /* ---- the renderer ---- */
 struct ew_renderer {

@@ -3,7 +3,8 @@
  * returns when all are done.  Threads are created once per renderer.  A
  * frame has a few short phases, so both sides spin briefly before they
  * sleep on a condition variable: a wake-up through the kernel costs more
- * than a phase at small frame sizes. */
+ * than a phase at small frame sizes.  ew_pool_wake, called as a frame
+ * starts, has sleeping workers poll through the serial front end. */
 #include "ew_render.h"
 
 #include <pthread.h>
@@ -11,6 +12,7 @@
 #include <stdlib.h>
 
 #define SPIN_ROUNDS 20000  /* about 50-100 microseconds of polling */
+#define WAKE_ROUNDS (8 * SPIN_ROUNDS)  /* after ew_pool_wake: long enough for a front end */
 
 struct ew_pool {
     int              threads;     /* including the caller */
@@ -18,6 +20,7 @@ struct ew_pool {
     pthread_mutex_t  mu;
     pthread_cond_t   start, done;
     atomic_uint      generation;  /* bumped to start a job */
+    atomic_uint      wakes;       /* bumped by ew_pool_wake */
     atomic_int       pending;     /* workers still running it */
     atomic_int       quit;
     void           (*job)(void *ctx, int index);
@@ -37,21 +40,30 @@ static void *worker(void *vp) {
     ew_pool *p = wa->p;
     int index = wa->index;
     free(wa);
-    unsigned seen = 0;
+    unsigned seen = 0, woken = 0;
+    int rounds = SPIN_ROUNDS;
     for (;;) {
         unsigned g = atomic_load(&p->generation);
-        for (int k = 0; k < SPIN_ROUNDS && g == seen && !atomic_load(&p->quit); k++) {
+        for (int k = 0; k < rounds && g == seen && !atomic_load(&p->quit); k++) {
             relax();
             g = atomic_load(&p->generation);
         }
+        rounds = SPIN_ROUNDS;
         if (g == seen && !atomic_load(&p->quit)) {
             pthread_mutex_lock(&p->mu);
-            while ((g = atomic_load(&p->generation)) == seen && !atomic_load(&p->quit))
+            while ((g = atomic_load(&p->generation)) == seen && atomic_load(&p->wakes) == woken &&
+                   !atomic_load(&p->quit))
                 pthread_cond_wait(&p->start, &p->mu);
             pthread_mutex_unlock(&p->mu);
+            if (g == seen && atomic_load(&p->wakes) != woken) {  /* a frame is starting */
+                woken = atomic_load(&p->wakes);
+                rounds = WAKE_ROUNDS;
+                continue;
+            }
         }
         if (atomic_load(&p->quit)) break;
         seen = g;
+        woken = atomic_load(&p->wakes);  /* a wake before this job is used up */
         p->job(p->ctx, index);  /* job and ctx were set before the bump */
         if (atomic_fetch_sub(&p->pending, 1) == 1) {
             pthread_mutex_lock(&p->mu);
@@ -88,6 +100,14 @@ ew_pool *ew_pool_create(int threads) {
 }
 
 int ew_pool_threads(const ew_pool *p) { return p ? p->threads : 1; }
+
+void ew_pool_wake(ew_pool *p) {
+    if (!p || p->threads == 1) return;
+    pthread_mutex_lock(&p->mu);
+    atomic_fetch_add(&p->wakes, 1);
+    pthread_cond_broadcast(&p->start);
+    pthread_mutex_unlock(&p->mu);
+}
 
 void ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
     if (!p || p->threads == 1) {

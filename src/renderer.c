@@ -412,6 +412,7 @@ static void prepare_surfaces(ew_renderer *r) {
 int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double t0 = ew_now_ms();
     if (ew_frame_begin(r, cam) < 0) return -1;
+    ew_pool_wake(r->pool);
     ew_walk_world(r);
     ew_emit_brush_models(r);
     ew_mark_dlights(r);
