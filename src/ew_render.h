@@ -315,6 +315,8 @@ typedef struct ew_zpoly_look {
     const ew_texture *tex;          /* sky and liquids */
     const uint8_t    *surf;         /* lit surface (others) */
     int               surf_width, mip;
+    int               stepped;      /* lit surfaces: a divide every 16 pixels as world
+                                       spans (ew_stepper), not at every pixel */
 } ew_zpoly_look;
 /* Clips (whole frustum) and projects a world-space polygon; 0 if nothing is left. */
 int  ew_zpoly_project(const ew_renderer *r, float (*in)[3], int n, ew_zpoly *p);

@@ -15,7 +15,7 @@ static int ref_poly(ew_renderer *r, int *ids, int fi, const ew_view *v, float (*
     const ew_face *f = &w->faces[fi];
     ew_zpoly p;
     if (!ew_zpoly_project(r, in, n, &p)) return 0;
-    ew_zpoly_look look = {w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0};
+    ew_zpoly_look look = {w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0, 0};  /* exact: a divide per pixel */
     if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
         int build;
         look.mip = ew_face_mip(&r->view, w, f, p.nearzi);
