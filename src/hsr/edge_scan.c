@@ -170,12 +170,13 @@ void ew_scan_band(ew_renderer *r, ew_band *b) {
             }
         }
         emit_span(b, top, lastu[top], width, v);
-        /* Counts left unbalanced by inconsistent edges must not leak into the next line. */
-        for (int i = 0; i < b->naet; i++) state[b->aet[i].surfs[0]] = state[b->aet[i].surfs[1]] = 0;
 
+        /* Step the edges that go on to the next line, and clear the counts:
+         * ones left unbalanced by inconsistent edges must not leak into it. */
         int n = 0;
         for (int i = 0; i < b->naet; i++) {
             ew_active a = b->aet[i];
+            state[a.surfs[0]] = state[a.surfs[1]] = 0;
             if (a.v_last <= v) continue;
             a.u += a.u_step;
             b->aet[n++] = a;
