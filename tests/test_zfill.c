@@ -61,6 +61,12 @@ static void compare_views(const char *name, const ew_assets *a, ew_scene *sc, in
         t->pixels += W * H, t->views++;
     }
     CHECK(drawn > 0, "%s: no moving thing drew a pixel", name);
+    /* Changing the thread count between a frame and ew_frame_zbuffer keeps
+     * that frame's z-buffer whole. */
+    ew_render(lazy, &views[0], NULL), ew_render(full, &views[0], NULL);
+    ew_set_threads(lazy, threads == 1 ? 2 : 1);
+    CHECK(memcmp(ew_frame_zbuffer(lazy), ew_frame_zbuffer(full), sizeof(float) * W * H) == 0,
+          "%s: z-buffer after ew_set_threads differs from full z-fill", name);
     ew_renderer_free(lazy), ew_renderer_free(full);
 }
 
