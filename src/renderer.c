@@ -115,6 +115,9 @@ int ew_set_threads(ew_renderer *r, int n) {
     if (n > EW_MAX_THREADS) n = EW_MAX_THREADS;
     if (r->nbands) ew_zfill_rect(r, 0, 0, r->width, r->height);  /* the last frame's, while its spans exist */
     free_bands(r);
+    /* The old bands' spans are gone, and the z-buffer is complete. */
+    memset(r->row_nspans, 0, sizeof(int32_t) * (size_t)r->height);
+    ew_zfill_mark_all(r);
     r->pool = n > 1 ? ew_pool_create(n) : NULL;
     if (n > 1 && r->pool) n = ew_pool_threads(r->pool);
     if (n > 1 && !r->pool) n = 1;
@@ -130,10 +133,6 @@ int ew_set_threads(ew_renderer *r, int n) {
     for (int i = 0; i < nb; i++)
         if (ew_band_init(&r->bands[i], r->max_surfs, r->max_spans, r->max_edges) < 0) return -1;
     r->bands_sized_for = 0;  /* no cost history for these bands yet */
-    /* The old bands' spans are gone, and the z-buffer is complete. */
-    memset(r->row_nspans, 0, sizeof(int32_t) * (size_t)r->height);
-    memset(r->zlo, 0, sizeof(int32_t) * (size_t)r->height);
-    memset(r->zhi, 0, sizeof(int32_t) * (size_t)r->height);
     return n;
 }
 

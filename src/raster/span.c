@@ -142,6 +142,7 @@ void ew_zfill_span(ew_renderer *r, const ew_span *sp, const ew_gradients *g) {
 
 /* World 1/z over [lo, hi) of row y from the spans that cover it. */
 static void zfill_row(ew_renderer *r, int y, int lo, int hi) {
+    if (r->row_nspans[y] == 0) return;  /* no spans (yet, or their bands are gone) */
     const ew_band *b = &r->bands[r->row_band[y]];
     const ew_span *sp = b->spans + r->row_span0[y];
     float *zr = r->zbuf + (size_t)y * r->width;
