@@ -71,9 +71,11 @@ typedef struct ew_surf {
     float zi_u, zi_v, zi_0;  /* 1/z plane (brush model fragments only) */
 } ew_surf;
 
+/* Spans are kept in the order the scan makes them: row by row, left to
+ * right within a row (the drawing, the z-fill index and the accounting all
+ * rely on it). */
 typedef struct ew_span {
     int32_t u, v, count;
-    int32_t next;        /* next span of the same surface, -1 end */
     int32_t surf;        /* the surface it belongs to */
 } ew_span;
 
@@ -87,7 +89,7 @@ typedef struct ew_band {
     int y0, y1;
     /* surface stack, indexed by surface number; 0 is the background */
     int32_t *st_next, *st_prev, *st_state, *st_lastu;
-    int32_t *span_head;             /* per surface */
+    uint8_t *has_spans;             /* per surface: won a span in this band */
     ew_span *spans;  int nspans, cap_spans, max_spans;
     ew_active *aet;  int naet, cap_aet, max_aet;
     int dropped;

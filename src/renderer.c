@@ -386,7 +386,7 @@ static void prepare_surfaces(ew_renderer *r) {
         const ew_surf *sf = &r->surfs[s];
         const ew_face *f = &w->faces[sf->face];
         int used = 0;
-        for (int i = 0; i < r->nbands && !used; i++) used = r->bands[i].span_head[s] >= 0;
+        for (int i = 0; i < r->nbands && !used; i++) used = r->bands[i].has_spans[s];
         if (!used) continue;
         ew_surf_draw *d = &r->surf_draw[s];
         r->grad_list[r->ngrad++] = s;

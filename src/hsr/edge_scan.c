@@ -9,6 +9,7 @@
 
 #include <limits.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Spans and active edges start small and grow on demand up to the budget,
  * so many bands cost little memory. */
@@ -20,14 +21,14 @@ int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
     b->st_prev = malloc(sizeof(int32_t) * max_surfs);
     b->st_state = calloc(max_surfs, sizeof(int32_t));
     b->st_lastu = malloc(sizeof(int32_t) * max_surfs);
-    b->span_head = malloc(sizeof(int32_t) * max_surfs);
+    b->has_spans = malloc((size_t)max_surfs);
     b->cap_spans = max_spans < FIRST_SPANS ? max_spans : FIRST_SPANS;
     b->cap_aet = max_aet < FIRST_AET ? max_aet : FIRST_AET;
     b->spans = malloc(sizeof(ew_span) * b->cap_spans);
     b->aet = malloc(sizeof(ew_active) * b->cap_aet);
     b->max_spans = max_spans;
     b->max_aet = max_aet;
-    return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->span_head && b->spans && b->aet ? 0 : -1;
+    return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->has_spans && b->spans && b->aet ? 0 : -1;
 }
 
 /* Doubles an array of *cap elements, at most to max; 0 if it could. */
@@ -42,7 +43,7 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
 
 void ew_band_free(ew_band *b) {
     free(b->st_next), free(b->st_prev), free(b->st_state), free(b->st_lastu);
-    free(b->span_head), free(b->spans), free(b->aet);
+    free(b->has_spans), free(b->spans), free(b->aet);
 }
 
 /* Is surface a in front of surface b at pixel (u, v)?  BSP order decides,
@@ -65,8 +66,8 @@ static void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
     }
     ew_span *sp = &b->spans[b->nspans];
     sp->u = u0, sp->v = v, sp->count = u1 - u0, sp->surf = surf;
-    sp->next = b->span_head[surf];
-    b->span_head[surf] = b->nspans++;
+    b->has_spans[surf] = 1;
+    b->nspans++;
 }
 
 static void add_active(ew_band *b, const ew_edge *e, int v) {
@@ -116,7 +117,8 @@ void ew_scan_band(ew_renderer *r, ew_band *b) {
 
     b->nspans = 0;
     b->naet = 0;
-    for (int i = 0; i < r->nsurfs; i++) b->span_head[i] = -1, state[i] = 0;
+    memset(b->has_spans, 0, (size_t)r->nsurfs);
+    for (int i = 0; i < r->nsurfs; i++) state[i] = 0;
 
     /* Edges that began above the band and are still alive at its top, in
      * edge order: sorted at once, since the insertion sort of the first
