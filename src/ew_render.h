@@ -291,6 +291,9 @@ void ew_zfill_mark_all(ew_renderer *r);
 void ew_draw_band(ew_renderer *r, ew_band *b);
 /* Sky colour of one pixel (shared with the reference path). */
 uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y);
+/* The sky layers' offset in texels at a time (the back layer's; the front
+ * one moves twice as far). */
+float   ew_sky_scroll(double time);
 void    ew_turb_table(int32_t table[128], double time);
 uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, int32_t tt);
 

@@ -212,7 +212,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     memset(&r->stats, 0, sizeof r->stats);
     ew_view_setup(&r->view, cam, r->width, r->height);
     ew_turb_table(r->turb, cam->time);
-    r->sky_scroll = (float)fmod(r->view.time * 8.0, 4096.0);
+    r->sky_scroll = ew_sky_scroll(r->view.time);
     r->nedges = 0;
     r->nsurfs = 1;  /* surface 0: the background, behind everything */
     r->surfs[0].key = INT32_MAX;

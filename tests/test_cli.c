@@ -183,17 +183,23 @@ static void test_bad_files(void) {
     remove(text);
 }
 
-/* View numbers beyond the map's view set, and outputs that cannot be
- * written, need a loadable map: the shared e1m1 (29 views). */
-static void test_with_map(void) {
+/* The shared e1m1 as an absolute path (the CLI runs in tmpdir); 0, or -1
+ * after a failed CHECK when ../shared lacks it. */
+static int shared_e1m1(char map[2048]) {
     const char *rel = "data/librequake/maps/e1m1.bsp";
     if (!ew_t_have_shared(rel)) {
         CHECK(0, "%s not found (set EW_SHARED)", ew_t_shared(rel));
-        return;
+        return -1;
     }
-    /* The CLI runs in tmpdir: make the path absolute. */
+    snprintf(map, 2048, "%s", ew_t_shared_abs(rel));
+    return 0;
+}
+
+/* View numbers beyond the map's view set, and outputs that cannot be
+ * written, need a loadable map: the shared e1m1 (29 views). */
+static void test_with_map(void) {
     char map[2048];
-    snprintf(map, sizeof map, "%s", ew_t_shared_abs(rel));
+    if (shared_e1m1(map) < 0) return;
     run_result *r = malloc(sizeof *r);
     expect_fail_(__LINE__, ARGS("render", map, "--view", "999"), NULL, r);
     CHECK(strstr(r->err, "999") && strstr(r->err, "29 views"), "view 999: %s", r->err);
@@ -231,13 +237,8 @@ static void check_png(const char *what, const char *path, int w, int h) {
 
 /* Commands that succeed, on the shared e1m1 and the built-in scene. */
 static void test_success(void) {
-    const char *rel = "data/librequake/maps/e1m1.bsp";
-    if (!ew_t_have_shared(rel)) {
-        CHECK(0, "%s not found (set EW_SHARED)", ew_t_shared(rel));
-        return;
-    }
     char map[2048];
-    snprintf(map, sizeof map, "%s", ew_t_shared_abs(rel));
+    if (shared_e1m1(map) < 0) return;
 
     run_result *r = expect_ok(ARGS("views", map));
     CHECK(count_lines(r->out) == 29 && strncmp(r->out, "0 ", 2) == 0, "views: %s", r->out);

@@ -108,9 +108,11 @@ static void putf(uint8_t *p, float f) {
     put32(p, v);
 }
 
-/* Loads a patched copy; expects failure with a message mentioning `want`. */
-static void expect_mdl_error(const uint8_t *good, size_t size, size_t at, int32_t value, int is_float,
-                             float fvalue, const char *want) {
+/* Loads a patched copy of a good file (at `at`, an int or a float) with
+ * `load`, as file `name`; expects a refusal in one line that names the
+ * file and mentions `want`. */
+static void expect_error(load_fn load, void (*release)(void *), const char *name, const uint8_t *good,
+                         size_t size, size_t at, int32_t value, int is_float, float fvalue, const char *want) {
     uint8_t *d = malloc(size);
     memcpy(d, good, size);
     if (is_float)
@@ -118,12 +120,19 @@ static void expect_mdl_error(const uint8_t *good, size_t size, size_t at, int32_
     else
         put32(d + at, value);
     ew_error err = {{0}};
-    ew_mdl *m = ew_mdl_load(d, size, "bad.mdl", &err);
-    CHECK(m == NULL, "patch at %zu accepted (want '%s')", at, want);
-    CHECK(strncmp(err.msg, "bad.mdl: ", 9) == 0 && strstr(err.msg, want) && !strchr(err.msg, '\n'),
-          "patch at %zu: error '%s' (want '%s')", at, err.msg, want);
-    ew_mdl_free(m);
+    void *m = load(d, size, name, &err);
+    size_t nlen = strlen(name);
+    CHECK(m == NULL, "%s: patch at %zu accepted (want '%s')", name, at, want);
+    CHECK(strncmp(err.msg, name, nlen) == 0 && strncmp(err.msg + nlen, ": ", 2) == 0 && strstr(err.msg, want) &&
+              !strchr(err.msg, '\n'),
+          "%s: patch at %zu: error '%s' (want '%s')", name, at, err.msg, want);
+    if (m) release(m);
     free(d);
+}
+
+static void expect_mdl_error(const uint8_t *good, size_t size, size_t at, int32_t value, int is_float,
+                             float fvalue, const char *want) {
+    expect_error(mdl_from, free_mdl, "bad.mdl", good, size, at, value, is_float, fvalue, want);
 }
 
 static void test_bad_mdl(void) {
@@ -188,19 +197,7 @@ static void test_bad_mdl(void) {
 
 static void expect_spr_error(const uint8_t *good, size_t size, size_t at, int32_t value, int is_float,
                              float fvalue, const char *want) {
-    uint8_t *d = malloc(size);
-    memcpy(d, good, size);
-    if (is_float)
-        putf(d + at, fvalue);
-    else
-        put32(d + at, value);
-    ew_error err = {{0}};
-    ew_spr *s = ew_spr_load(d, size, "bad.spr", &err);
-    CHECK(s == NULL, "patch at %zu accepted (want '%s')", at, want);
-    CHECK(strncmp(err.msg, "bad.spr: ", 9) == 0 && strstr(err.msg, want), "patch at %zu: error '%s' (want '%s')",
-          at, err.msg, want);
-    ew_spr_free(s);
-    free(d);
+    expect_error(spr_from, free_spr, "bad.spr", good, size, at, value, is_float, fvalue, want);
 }
 
 static void test_bad_spr(void) {

@@ -27,9 +27,11 @@ static void sky_st(const ew_view *v, const ew_texture *t, float u, float y, floa
     *tt = reach * d[1];
 }
 
+float ew_sky_scroll(double time) { return (float)fmod(time * 8.0, 4096.0); }
+
 static uint8_t sky_texel(const ew_view *v, const ew_texture *t, float s, float tt) {
     int half = t->width / 2 > 0 ? t->width / 2 : 1, rows = t->height;
-    float scroll = (float)fmod(v->time * 8.0, 4096.0);
+    float scroll = ew_sky_scroll(v->time);
     const uint8_t *px = t->mip[0];
     uint8_t front = px[wrap((int)floorf(tt + 2 * scroll), rows) * t->width +
                        wrap((int)floorf(s + 2 * scroll), half)];
@@ -52,33 +54,31 @@ void ew_draw_sky_span(ew_renderer *r, const ew_span *sp, const ew_texture *t) {
     int pow2 = half > 0 && (half & (half - 1)) == 0 && rows > 0 && (rows & (rows - 1)) == 0;
     float scroll = r->sky_scroll;
     const uint8_t *px = t->mip[0];
-    {
-        uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
-        float s0, t0, s1, t1;
-        int step = r->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
-        sky_st(v, t, (float)sp->u, (float)sp->v, &s0, &t0);
-        for (int i = 0; i < sp->count; i += step) {
-            int n = sp->count - i < step ? sp->count - i : step;
-            sky_st(v, t, (float)(sp->u + i + step), (float)sp->v, &s1, &t1);
-            if (!pow2) {
-                float ds = (s1 - s0) / step, dt = (t1 - t0) / step;
-                for (int k = 0; k < n; k++) dst[i + k] = sky_texel(v, t, s0 + ds * k, t0 + dt * k);
-            } else {
-                /* 16.16 fixed point from the same floored start, two layers. */
-                int32_t fs = (int32_t)floorf((s0 + 2 * scroll) * 65536.0f), ft = (int32_t)floorf((t0 + 2 * scroll) * 65536.0f);
-                int32_t bs = (int32_t)floorf((s0 + scroll) * 65536.0f), bt = (int32_t)floorf((t0 + scroll) * 65536.0f);
-                int32_t ds = (int32_t)((s1 - s0) * 65536.0f / step), dt = (int32_t)((t1 - t0) * 65536.0f / step);
-                unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
-                for (int k = 0; k < n; k++) {
-                    uint8_t c = px[(((unsigned)ft >> 16) & rm) * (unsigned)t->width + (((unsigned)fs >> 16) & hm)];
-                    if (!c)
-                        c = px[(((unsigned)bt >> 16) & rm) * (unsigned)t->width + (unsigned)half +
-                               (((unsigned)bs >> 16) & hm)];
-                    dst[i + k] = c;
-                    fs += ds, ft += dt, bs += ds, bt += dt;
-                }
+    uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
+    float s0, t0, s1, t1;
+    int step = r->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
+    sky_st(v, t, (float)sp->u, (float)sp->v, &s0, &t0);
+    for (int i = 0; i < sp->count; i += step) {
+        int n = sp->count - i < step ? sp->count - i : step;
+        sky_st(v, t, (float)(sp->u + i + step), (float)sp->v, &s1, &t1);
+        if (!pow2) {
+            float ds = (s1 - s0) / step, dt = (t1 - t0) / step;
+            for (int k = 0; k < n; k++) dst[i + k] = sky_texel(v, t, s0 + ds * k, t0 + dt * k);
+        } else {
+            /* 16.16 fixed point from the same floored start, two layers. */
+            int32_t fs = (int32_t)floorf((s0 + 2 * scroll) * 65536.0f), ft = (int32_t)floorf((t0 + 2 * scroll) * 65536.0f);
+            int32_t bs = (int32_t)floorf((s0 + scroll) * 65536.0f), bt = (int32_t)floorf((t0 + scroll) * 65536.0f);
+            int32_t ds = (int32_t)((s1 - s0) * 65536.0f / step), dt = (int32_t)((t1 - t0) * 65536.0f / step);
+            unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
+            for (int k = 0; k < n; k++) {
+                uint8_t c = px[(((unsigned)ft >> 16) & rm) * (unsigned)t->width + (((unsigned)fs >> 16) & hm)];
+                if (!c)
+                    c = px[(((unsigned)bt >> 16) & rm) * (unsigned)t->width + (unsigned)half +
+                           (((unsigned)bs >> 16) & hm)];
+                dst[i + k] = c;
+                fs += ds, ft += dt, bs += ds, bt += dt;
             }
-            s0 = s1, t0 = t1;
         }
+        s0 = s1, t0 = t1;
     }
 }
