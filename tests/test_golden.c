@@ -1,0 +1,130 @@
+/* Frames stay what they were: every view of every shared map with views
+ * (and the built-in scene), with their entities, at 320x200 and 1920x1080,
+ * on one thread and on two, hashed (FNV-1a 64 over the 8-bit frame) and
+ * compared against tests/golden/frames.txt, the list made from the frames
+ * of the commit before the restructuring (cde885f).  A refactor that changes
+ * one pixel of one of those frames fails here.
+ *
+ * EW_GOLDEN_WRITE=FILE writes the list instead of checking it. */
+#include "util.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const maps[] = {"e1m1", "e2m1", "e4m1", "lqdm1", "lqdm7", "slope", "start", "builtin"};
+static const int sizes[][2] = {{320, 200}, {1920, 1080}};
+
+static uint64_t fnv1a(const uint8_t *p, size_t n) {
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * 1099511628211ull;
+    return h;
+}
+
+typedef struct entry {
+    char     map[32];
+    int      w, h, view;
+    uint64_t hash;
+} entry;
+
+static entry *golden;
+static int ngolden;
+
+static void read_golden(const char *path) {
+    FILE *f = fopen(path, "r");
+    CHECK(f != NULL, "%s: cannot open", path);
+    if (!f) return;
+    char line[256];
+    int cap = 0;
+    while (fgets(line, sizeof line, f)) {
+        entry e;
+        unsigned long long h;
+        if (line[0] == '#' || sscanf(line, "%31s %dx%d %d %llx", e.map, &e.w, &e.h, &e.view, &h) != 5) continue;
+        e.hash = h;
+        if (ngolden == cap) {
+            cap = cap ? cap * 2 : 256;
+            golden = realloc(golden, sizeof *golden * (size_t)cap);
+        }
+        golden[ngolden++] = e;
+    }
+    fclose(f);
+}
+
+static const entry *find(const char *map, int w, int h, int view) {
+    for (int i = 0; i < ngolden; i++)
+        if (!strcmp(golden[i].map, map) && golden[i].w == w && golden[i].h == h && golden[i].view == view)
+            return &golden[i];
+    return NULL;
+}
+
+int main(void) {
+    const char *write = getenv("EW_GOLDEN_WRITE");
+    const char *src = getenv("EW_SOURCE");
+    char path[1024];
+    snprintf(path, sizeof path, "%s/tests/golden/frames.txt", src ? src : "..");
+    FILE *out = NULL;
+    if (write && *write) {
+        out = fopen(write, "w");
+        CHECK(out != NULL, "%s: cannot write", write);
+        if (!out) return ew_t_finish();
+        fprintf(out, "# map WxH view fnv1a64 of the 8-bit frame (with entities; 1 and 2 threads agree)\n");
+    } else {
+        read_golden(path);
+        CHECK(ngolden > 0, "%s: no entries", path);
+    }
+    long frames = 0, differ = 0, missing = 0;
+    for (size_t m = 0; m < sizeof maps / sizeof *maps; m++) {
+        ew_assets a;
+        ew_error err;
+        ew_scene *sc = NULL;
+        if (!strcmp(maps[m], "builtin")) {
+            CHECK(ew_assets_builtin(&a, &err) == 0, "builtin: %s", err.msg);
+            sc = ew_scene_builtin(a.world, &err);
+        } else {
+            if (ew_t_load_map(maps[m], &a) < 0) continue;
+            char rel[256];
+            snprintf(rel, sizeof rel, "data/librequake/maps/%s.bsp", maps[m]);
+            sc = ew_scene_from_map(a.world, ew_t_shared(rel), NULL, &err);
+        }
+        CHECK(sc != NULL, "%s: scene: %s", maps[m], err.msg);
+        ew_camera views[EW_MAX_VIEWS];
+        int nv = ew_view_set(a.world, views);
+        CHECK(nv > 0, "%s: no views", maps[m]);
+        for (size_t s = 0; s < sizeof sizes / sizeof *sizes; s++) {
+            int w = sizes[s][0], h = sizes[s][1];
+            for (int threads = 1; threads <= 2; threads++) {
+                ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, w, h, &err);
+                CHECK(r != NULL, "%s: %s", maps[m], err.msg);
+                if (!r) continue;
+                CHECK(ew_set_threads(r, threads) == threads, "%s: %d threads", maps[m], threads);
+                ew_set_scene(r, sc);
+                for (int v = 0; v < nv; v++) {
+                    CHECK(ew_render(r, &views[v], NULL) == 0, "%s view %d", maps[m], v);
+                    uint64_t hash = fnv1a(ew_frame_pixels(r), (size_t)w * h);
+                    frames++;
+                    if (out) {
+                        if (threads == 1) fprintf(out, "%s %dx%d %d %016llx\n", maps[m], w, h, v, (unsigned long long)hash);
+                        continue;
+                    }
+                    const entry *e = find(maps[m], w, h, v);
+                    if (!e) {
+                        missing++;
+                        CHECK(0, "%s %dx%d view %d: not in the list", maps[m], w, h, v);
+                    } else if (e->hash != hash) {
+                        differ++;
+                        CHECK(0, "%s %dx%d view %d, %d thread(s): frame differs from the list", maps[m], w, h, v,
+                              threads);
+                    }
+                }
+                ew_renderer_free(r);
+            }
+        }
+        ew_scene_free(sc);
+        ew_assets_free(&a);
+    }
+    if (out) fclose(out);
+    printf("%ld frames, %ld differ from the list, %ld not in it\n", frames, differ, missing);
+    if (!out) CHECK(frames >= ngolden * 2, "%ld frames rendered for %d entries", frames, ngolden);
+    free(golden);
+    return ew_t_finish();
+}
