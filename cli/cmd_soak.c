@@ -20,7 +20,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "edgewise.h"
-#include "ew_render.h"  /* the world's leaves and the renderer's budgets */
+#include "renderer.h"  /* the world's leaves and the renderer's budgets */
 #include "ew_util.h"    /* ew_now_ms */
 
 #include <errno.h>
@@ -295,9 +295,9 @@ static void print_findings(FILE *out, const char *key, const findings *f) {
 /* A budget that refuses work when full: surfaces, edges (a face needs up
  * to EW_MAX_POLY of them) or a band's spans. */
 static int budget_full(const ew_renderer *r) {
-    if (r->nsurfs >= r->max_surfs || r->nedges + EW_MAX_POLY + 4 > r->max_edges) return 1;
-    for (int i = 0; i < r->nbands; i++)
-        if (r->bands[i].nspans >= r->bands[i].max_spans || r->bands[i].naet >= r->bands[i].max_aet)
+    if (r->el.nsurfs >= r->el.max_surfs || r->el.nedges + EW_MAX_POLY + 4 > r->el.max_edges) return 1;
+    for (int i = 0; i < r->sched.nbands; i++)
+        if (r->sched.bands[i].nspans >= r->sched.bands[i].max_spans || r->sched.bands[i].naet >= r->sched.bands[i].max_aet)
             return 1;
     return 0;
 }

@@ -33,6 +33,10 @@ enum {
     EW_SURF_MISSING   = 16  /* texture slot without pixel data */
 };
 
+/* Largest texture extent of a lit face, in texels (the loader refuses
+ * more): bounds lit surfaces, and the span drawer's 16-bit texel maths. */
+#define EW_MAX_EXTENT 2048
+
 typedef struct ew_plane {
     float normal[3];
     float dist;

@@ -5,7 +5,7 @@
  * sleep on a condition variable: a wake-up through the kernel costs more
  * than a phase at small frame sizes.  ew_pool_wake, called as a frame
  * starts, has sleeping workers poll through the serial front end. */
-#include "ew_render.h"
+#include "renderer.h"
 
 #include <pthread.h>
 #include <stdatomic.h>

@@ -1,6 +1,8 @@
-/* The renderer context and the frame: front end (PVS, BSP walk, edges),
- * edge scan into spans, then the back end draws each surface's spans. */
-#include "ew_render.h"
+/* The renderer context and the frame: the front end (PVS, BSP walk) hands
+ * visible faces to the hidden-surface method, each band is resolved into
+ * spans, the lit surfaces they need are built, then each band draws its
+ * spans and the passes over the world (renderer.h, docs/architecture.md). */
+#include "renderer.h"
 #include "ew_util.h"
 
 #include <math.h>
@@ -26,20 +28,26 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
                 EW_MIN_H, EW_MAX_W, EW_MAX_H);
         return NULL;
     }
-    ew_renderer *r = calloc(1, sizeof *r);
+    /* Aligned: the scheduler's counters sit on cache lines of their own. */
+    ew_renderer *r = aligned_alloc(_Alignof(ew_renderer), (sizeof(ew_renderer) + 63) / 64 * 64);
     if (!r) goto oom;
+    memset(r, 0, sizeof *r);
     r->world = w, r->palette = palette, r->colormap = colormap;
-    r->width = width, r->height = height;
-    for (int i = 0; i < 64; i++) r->lightstyle[i] = 256;  /* normal light */
-    r->subdiv_shift = 4;                                   /* a divide every 16 pixels */
-    r->alias_raster = EW_ALIAS_AUTO;
-    r->alias_threshold = 40;
+    r->target.width = width, r->target.height = height;
+    for (int i = 0; i < 64; i++) r->cfg.lightstyle[i] = 256;  /* normal light */
+    r->cfg.subdiv_shift = 4;                                   /* a divide every 16 pixels */
+    r->cfg.alias_raster = EW_ALIAS_AUTO;
+    r->cfg.alias_threshold = 40;
+    r->cfg.hsr = &ew_hsr_edge;
+    r->target.pitch = width, r->target.bpp = 1;  /* 8-bit palette indices */
+    r->draw.target = r->zf.target = &r->target;
+    r->draw.view = &r->view;
 
     /* Budgets grow with the frame: more pixels can show more polygons. */
     long px = (long)width * height;
-    r->max_surfs = (int)(4096 + px / 256);
-    if (r->max_surfs > 65535) r->max_surfs = 65535;  /* surface numbers are 16-bit */
-    r->max_edges = r->max_surfs * 6;
+    r->el.max_surfs = (int)(4096 + px / 256);
+    if (r->el.max_surfs > 65535) r->el.max_surfs = 65535;  /* surface numbers are 16-bit */
+    r->el.max_edges = r->el.max_surfs * 6;
     int max_spans = height * 192;
 
     int maxlm = 1;
@@ -47,47 +55,48 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
         int n = ((w->faces[i].extents[0] >> 4) + 1) * ((w->faces[i].extents[1] >> 4) + 1);
         if (!(w->faces[i].flags & (EW_SURF_SKY | EW_SURF_TURB)) && n > maxlm) maxlm = n;
     }
-    r->frame = malloc((size_t)px);
-    r->zbuf = malloc(sizeof(float) * (size_t)px);
-    r->leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
-    r->node_frame = calloc((size_t)w->numnodes + 1, sizeof(int));
-    r->face_frame = calloc((size_t)w->numfaces + 1, sizeof(int));
-    r->leaf_key = calloc((size_t)w->numleaves + 1, sizeof(int));
-    r->leaf_keyframe = calloc((size_t)w->numleaves + 1, sizeof(int));
-    r->face_dlframe = calloc((size_t)w->numfaces + 1, sizeof(int));
-    r->face_dlbits = calloc((size_t)w->numfaces + 1, sizeof(unsigned));
-    r->edge_cache_frame = calloc((size_t)w->numedges + 1, sizeof(int));
-    r->edge_cache_index = calloc((size_t)w->numedges + 1, sizeof(int));
-    r->edge_cache_down = calloc((size_t)w->numedges + 1, 1);
-    r->edges = malloc(sizeof(ew_edge) * r->max_edges);
-    r->new_edges = malloc(sizeof(int32_t) * (size_t)(height + 1));
-    r->surfs = malloc(sizeof(ew_surf) * r->max_surfs);
-    r->maxlm = maxlm;
-    r->max_spans = max_spans;
-    r->surf_cache = malloc(sizeof(ew_cached_surf *) * r->max_surfs);
-    r->to_build = malloc(sizeof(ew_cached_surf *) * r->max_surfs);
-    r->row_cost = malloc(sizeof(float) * (size_t)height);
-    r->row_band = calloc((size_t)height, sizeof(int32_t));
-    r->row_span0 = calloc((size_t)height, sizeof(int32_t));
-    r->row_nspans = calloc((size_t)height, sizeof(int32_t));
-    r->zlo = calloc((size_t)height, sizeof(int32_t));
-    r->zhi = calloc((size_t)height, sizeof(int32_t));
-    r->surf_draw = calloc((size_t)r->max_surfs, sizeof *r->surf_draw);
-    r->grad_list = malloc(sizeof(int) * (size_t)r->max_surfs);
-    if (!r->frame || !r->zbuf || !r->leaf_frame || !r->node_frame || !r->face_frame ||
-        !r->leaf_key || !r->leaf_keyframe || !r->face_dlframe || !r->face_dlbits ||
-        !r->edge_cache_frame || !r->edge_cache_index || !r->edge_cache_down || !r->edges ||
-        !r->new_edges || !r->surfs || !r->surf_cache || !r->to_build || !r->row_cost ||
-        !r->row_band || !r->row_span0 || !r->row_nspans || !r->zlo || !r->zhi || !r->surf_draw ||
-        !r->grad_list)
+    r->target.pixels = malloc((size_t)px);
+    r->target.zbuf = malloc(sizeof(float) * (size_t)px);
+    r->marks.leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
+    r->marks.node_frame = calloc((size_t)w->numnodes + 1, sizeof(int));
+    r->marks.face_frame = calloc((size_t)w->numfaces + 1, sizeof(int));
+    r->marks.leaf_key = calloc((size_t)w->numleaves + 1, sizeof(int));
+    r->marks.leaf_keyframe = calloc((size_t)w->numleaves + 1, sizeof(int));
+    r->marks.face_dlframe = calloc((size_t)w->numfaces + 1, sizeof(int));
+    r->marks.face_dlbits = calloc((size_t)w->numfaces + 1, sizeof(unsigned));
+    r->marks.edge_cache_frame = calloc((size_t)w->numedges + 1, sizeof(int));
+    r->marks.edge_cache_index = calloc((size_t)w->numedges + 1, sizeof(int));
+    r->marks.edge_cache_down = calloc((size_t)w->numedges + 1, 1);
+    r->el.edges = malloc(sizeof(ew_edge) * r->el.max_edges);
+    r->el.new_edges = malloc(sizeof(int32_t) * (size_t)(height + 1));
+    r->el.surfs = malloc(sizeof(ew_surf) * r->el.max_surfs);
+    r->lit.maxlm = maxlm;
+    r->el.max_spans = max_spans;
+    r->lit.surf_cache = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs);
+    r->lit.to_build = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs);
+    r->sched.row_cost = malloc(sizeof(float) * (size_t)height);
+    r->zf.row_band = calloc((size_t)height, sizeof(int32_t));
+    r->zf.row_span0 = calloc((size_t)height, sizeof(int32_t));
+    r->zf.row_nspans = calloc((size_t)height, sizeof(int32_t));
+    r->zf.zlo = calloc((size_t)height, sizeof(int32_t));
+    r->zf.zhi = calloc((size_t)height, sizeof(int32_t));
+    r->lit.surf_draw = calloc((size_t)r->el.max_surfs, sizeof *r->lit.surf_draw);
+    r->lit.grad_list = malloc(sizeof(int) * (size_t)r->el.max_surfs);
+    if (!r->target.pixels || !r->target.zbuf || !r->marks.leaf_frame || !r->marks.node_frame || !r->marks.face_frame ||
+        !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
+        !r->marks.edge_cache_frame || !r->marks.edge_cache_index || !r->marks.edge_cache_down || !r->el.edges ||
+        !r->el.new_edges || !r->el.surfs || !r->lit.surf_cache || !r->lit.to_build || !r->sched.row_cost ||
+        !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi || !r->lit.surf_draw ||
+        !r->lit.grad_list)
         goto oom;
+    r->zf.draw = r->lit.surf_draw;
     if (ew_set_threads(r, 1) < 0) goto oom;
     /* The cache holds many frames' worth of surfaces at this size, so a
      * walk through a level rebuilds little (16 bytes a pixel, 16..512 MiB). */
     size_t budget = (size_t)px * 16;
     if (budget < ((size_t)16 << 20)) budget = (size_t)16 << 20;
     if (budget > ((size_t)512 << 20)) budget = (size_t)512 << 20;
-    if (ew_cache_init(&r->cache, w->numfaces, budget) < 0) goto oom;
+    if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
     return r;
 oom:
     ew_renderer_free(r);
@@ -96,15 +105,16 @@ oom:
 }
 
 static void free_bands(ew_renderer *r) {
-    ew_pool_free(r->pool);
-    r->pool = NULL;
-    for (int i = 0; i < r->nbands; i++) ew_band_free(&r->bands[i]);
-    free(r->bands);
-    r->bands = NULL;
-    r->nbands = 0;
-    r->nthreads = 0;
-    free(r->blocklights);
-    r->blocklights = NULL;
+    ew_pool_free(r->sched.pool);
+    r->sched.pool = NULL;
+    for (int i = 0; i < r->sched.nbands; i++) ew_band_free(&r->sched.bands[i]);
+    free(r->sched.bands);
+    r->sched.bands = NULL;
+    r->zf.bands = NULL;
+    r->sched.nbands = 0;
+    r->sched.nthreads = 0;
+    free(r->lit.blocklights);
+    r->lit.blocklights = NULL;
 }
 
 int ew_set_threads(ew_renderer *r, int n) {
@@ -113,81 +123,85 @@ int ew_set_threads(ew_renderer *r, int n) {
         n = cores > 0 ? (int)cores : 1;
     }
     if (n > EW_MAX_THREADS) n = EW_MAX_THREADS;
-    if (r->nbands) ew_zfill_rect(r, 0, 0, r->width, r->height);  /* the last frame's, while its spans exist */
+    if (r->sched.nbands) ew_zfill_rect(&r->zf, 0, 0, r->target.width, r->target.height);  /* the last frame's, while its spans exist */
     free_bands(r);
     /* The old bands' spans are gone, and the z-buffer is complete. */
-    memset(r->row_nspans, 0, sizeof(int32_t) * (size_t)r->height);
-    ew_zfill_mark_all(r);
-    r->pool = n > 1 ? ew_pool_create(n) : NULL;
-    if (n > 1 && r->pool) n = ew_pool_threads(r->pool);
-    if (n > 1 && !r->pool) n = 1;
+    memset(r->zf.row_nspans, 0, sizeof(int32_t) * (size_t)r->target.height);
+    ew_zfill_mark_all(&r->zf);
+    r->sched.pool = n > 1 ? ew_pool_create(n) : NULL;
+    if (n > 1 && r->sched.pool) n = ew_pool_threads(r->sched.pool);
+    if (n > 1 && !r->sched.pool) n = 1;
     /* One band alone; with threads, several each (at least 8 rows a band),
      * so a thread that finishes early takes the next band instead of idling. */
     int nb = n == 1 ? 1 : n * EW_BANDS_PER_THREAD;
-    if (nb > r->height / 8) nb = r->height / 8;
-    r->bands = calloc((size_t)nb, sizeof(ew_band));
-    r->blocklights = malloc(sizeof(int) * (size_t)r->maxlm * n);
-    if (!r->bands || !r->blocklights) return -1;
-    r->nthreads = n;
-    r->nbands = nb;
+    if (nb > r->target.height / 8) nb = r->target.height / 8;
+    /* Aligned like ew_band, so no two bands' counters share a cache line. */
+    r->sched.bands = aligned_alloc(_Alignof(ew_band), sizeof(ew_band) * (size_t)nb);
+    r->lit.blocklights = malloc(sizeof(int) * (size_t)r->lit.maxlm * n);
+    if (!r->sched.bands || !r->lit.blocklights) return -1;
+    memset(r->sched.bands, 0, sizeof(ew_band) * (size_t)nb);
+    r->zf.bands = r->sched.bands;
+    r->sched.nthreads = n;
+    r->sched.nbands = nb;
     for (int i = 0; i < nb; i++)
-        if (ew_band_init(&r->bands[i], r->max_surfs, r->max_spans, r->max_edges) < 0) return -1;
-    r->bands_sized_for = 0;  /* no cost history for these bands yet */
+        if (ew_band_init(&r->sched.bands[i], r->el.max_surfs, r->el.max_spans, r->el.max_edges) < 0) return -1;
+    r->sched.bands_sized_for = 0;  /* no cost history for these bands yet */
     return n;
 }
 
-int ew_get_threads(const ew_renderer *r) { return r->nthreads; }
+int ew_get_threads(const ew_renderer *r) { return r->sched.nthreads; }
 
 void ew_renderer_free(ew_renderer *r) {
     if (!r) return;
-    ew_cache_free(&r->cache);
+    ew_cache_free(&r->lit.cache);
     free_bands(r);
-    free(r->surf_cache), free(r->to_build), free(r->row_cost);
-    free(r->row_band), free(r->row_span0), free(r->row_nspans), free(r->zlo), free(r->zhi);
-    free(r->surf_draw), free(r->grad_list);
-    free(r->frame), free(r->zbuf), free(r->face_ids);
-    free(r->leaf_frame), free(r->node_frame), free(r->face_frame);
-    free(r->leaf_key), free(r->leaf_keyframe), free(r->ent_views), free(r->ent_frame);
+    free(r->lit.surf_cache), free(r->lit.to_build), free(r->sched.row_cost);
+    free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
+    free(r->lit.surf_draw), free(r->lit.grad_list);
+    free(r->target.pixels), free(r->target.zbuf), free(r->face_ids);
+    free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame);
+    free(r->marks.leaf_key), free(r->marks.leaf_keyframe), free(r->ents.ent_views), free(r->ents.ent_frame);
     ew_free_box_surfs(r);
-    free(r->face_dlframe), free(r->face_dlbits);
-    free(r->edge_cache_frame), free(r->edge_cache_index), free(r->edge_cache_down);
-    free(r->edges), free(r->new_edges), free(r->surfs), free(r->blocklights);
+    free(r->marks.face_dlframe), free(r->marks.face_dlbits);
+    free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
+    free(r->el.edges), free(r->el.new_edges), free(r->el.surfs), free(r->lit.blocklights);
+    free(r->ref.polys);
     free(r);
 }
 
-int ew_frame_width(const ew_renderer *r) { return r->width; }
-int ew_frame_height(const ew_renderer *r) { return r->height; }
-const uint8_t *ew_frame_pixels(const ew_renderer *r) { return r->frame; }
+int ew_frame_width(const ew_renderer *r) { return r->target.width; }
+int ew_frame_height(const ew_renderer *r) { return r->target.height; }
+const uint8_t *ew_frame_pixels(const ew_renderer *r) { return r->target.pixels; }
 const float *ew_frame_zbuffer(ew_renderer *r) {
-    ew_zfill_rect(r, 0, 0, r->width, r->height);  /* the rest of the world's 1/z */
-    return r->zbuf;
+    ew_zfill_rect(&r->zf, 0, 0, r->target.width, r->target.height);  /* the rest of the world's 1/z */
+    return r->target.zbuf;
 }
 
-void ew_set_full_zfill(ew_renderer *r, int on) { r->zfill_all = on != 0; }
+void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
 const int *ew_frame_face_ids(const ew_renderer *r) { return r->face_ids; }
 
 void ew_set_lightstyle(ew_renderer *r, int style, int value) {
-    if (style >= 0 && style < 64) r->lightstyle[style] = value < 0 ? 0 : value > 1024 ? 1024 : value;
+    if (style >= 0 && style < 64) r->cfg.lightstyle[style] = value < 0 ? 0 : value > 1024 ? 1024 : value;
 }
 
 int ew_set_subdivision(ew_renderer *r, int pixels) {
     for (int shift = 0; shift <= 5; shift++)
         if (pixels == 1 << shift) {
-            r->subdiv_shift = shift;
+            r->cfg.subdiv_shift = shift;
             return 0;
         }
     return -1;
 }
 
 void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float threshold_px) {
-    r->alias_raster = mode;
-    if (threshold_px > 0 && threshold_px < 1e6f) r->alias_threshold = threshold_px;
+    r->cfg.alias_raster = mode;
+    if (threshold_px > 0 && threshold_px < 1e6f) r->cfg.alias_threshold = threshold_px;
 }
 
 void ew_enable_face_ids(ew_renderer *r, int on) {
-    r->face_ids_on = on;
-    if (on && !r->face_ids) r->face_ids = malloc(sizeof(int) * (size_t)r->width * r->height);
-    if (!r->face_ids) r->face_ids_on = 0;
+    r->cfg.face_ids_on = on;
+    if (on && !r->face_ids) r->face_ids = malloc(sizeof(int) * (size_t)r->target.width * r->target.height);
+    if (!r->face_ids) r->cfg.face_ids_on = 0;
 }
 
 static int camera_ok(const ew_camera *c) {
@@ -196,62 +210,28 @@ static int camera_ok(const ew_camera *c) {
     return isfinite(c->fov) && c->fov >= 0 && c->fov < 179 && isfinite(c->time);
 }
 
-/* Starts a frame: new frame number (resetting the marks if it wraps), view. */
+/* Starts a frame: new frame number (resetting the marks if it wraps), view,
+ * the span drawers' tables, the hidden-surface method, the PVS. */
 int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     if (!camera_ok(cam)) return -1;
     const ew_world *w = r->world;
-    if (++r->framecount == INT32_MAX) {
-        memset(r->leaf_frame, 0, sizeof(int) * (size_t)w->numleaves);
-        memset(r->node_frame, 0, sizeof(int) * (size_t)w->numnodes);
-        memset(r->face_frame, 0, sizeof(int) * (size_t)w->numfaces);
-        memset(r->leaf_keyframe, 0, sizeof(int) * (size_t)w->numleaves);
-        memset(r->face_dlframe, 0, sizeof(int) * (size_t)w->numfaces);
-        memset(r->edge_cache_frame, 0, sizeof(int) * (size_t)w->numedges);
-        r->framecount = 1;
+    if (++r->marks.framecount == INT32_MAX) {
+        memset(r->marks.leaf_frame, 0, sizeof(int) * (size_t)w->numleaves);
+        memset(r->marks.node_frame, 0, sizeof(int) * (size_t)w->numnodes);
+        memset(r->marks.face_frame, 0, sizeof(int) * (size_t)w->numfaces);
+        memset(r->marks.leaf_keyframe, 0, sizeof(int) * (size_t)w->numleaves);
+        memset(r->marks.face_dlframe, 0, sizeof(int) * (size_t)w->numfaces);
+        memset(r->marks.edge_cache_frame, 0, sizeof(int) * (size_t)w->numedges);
+        r->marks.framecount = 1;
     }
     memset(&r->stats, 0, sizeof r->stats);
-    ew_view_setup(&r->view, cam, r->width, r->height);
-    ew_turb_table(r->turb, cam->time);
-    r->sky_scroll = ew_sky_scroll(r->view.time);
-    r->nedges = 0;
-    r->nsurfs = 1;  /* surface 0: the background, behind everything */
-    r->surfs[0].key = INT32_MAX;
-    r->surfs[0].face = -1;
-    r->surfs[0].flags = 0;
-    r->surfs[0].nearzi = 0;
-    r->surfs[0].view = &r->view;
-    r->surfs[0].insubmodel = 0;
-    r->currentkey = 0;
-    for (int v = 0; v <= r->height; v++) r->new_edges[v] = -1;
+    ew_view_setup(&r->view, cam, r->target.width, r->target.height);
+    ew_turb_table(r->draw.turb, cam->time);
+    r->draw.sky_scroll = ew_sky_scroll(r->view.time);
+    r->draw.subdiv_shift = r->cfg.subdiv_shift;
+    r->cfg.hsr->begin(r);
     ew_pvs_mark(r);
     return 0;
-}
-
-/* Draws the band's spans in the order the scan made them, row by row: the
- * frame is written straight through and so is the span list, where a
- * surface's own spans lie scattered.  Lit surfaces were looked up and
- * built, and every surface's gradients computed once, before the bands
- * started (see ew_render). */
-void ew_draw_band(ew_renderer *r, ew_band *b) {
-    for (int i = 0; i < b->nspans; i++) {
-        const ew_span *sp = &b->spans[i];
-        const ew_surf_draw *d = &r->surf_draw[sp->surf];
-        switch (d->kind) {
-        case EW_DRAW_LIT:
-            ew_draw_lit_span(r, sp, d);
-            break;
-        case EW_DRAW_SKY:
-            ew_draw_sky_span(r, sp, d->tex);
-            break;
-        case EW_DRAW_TURB:
-            ew_draw_turb_span(r, sp, &d->g, d->tex);
-            break;
-        default:  /* gaps (nothing covers them), or no memory for the surface: black */
-            memset(r->frame + (size_t)sp->v * r->width + sp->u, 0, (size_t)sp->count);
-            break;
-        }
-        if (r->zfill_all) ew_zfill_span(r, sp, &d->g);  /* the background's g is 0: far */
-    }
 }
 
 /* Writes and coverage, measured on the scan's output rather than trusted:
@@ -277,8 +257,8 @@ static void account_spans(ew_band *b) {
 static void record_face_ids(ew_renderer *r, const ew_band *b) {
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
-        int face = r->surfs[sp->surf].face;
-        int *dst = r->face_ids + (size_t)sp->v * r->width + sp->u;
+        int face = r->el.surfs[sp->surf].face;
+        int *dst = r->face_ids + (size_t)sp->v * r->target.width + sp->u;
         for (int k = 0; k < sp->count; k++) dst[k] = face;
     }
 }
@@ -287,32 +267,32 @@ static void record_face_ids(ew_renderer *r, const ew_band *b) {
  * idles while another finishes a busy band (cost per row is taken as even
  * within each band).  Without history, equal rows. */
 static void place_bands(ew_renderer *r) {
-    int n = r->nbands, h = r->height;
-    if (r->bands_sized_for != n) {
-        for (int i = 0; i < n; i++) r->bands[i].y0 = h * i / n, r->bands[i].y1 = h * (i + 1) / n;
+    int n = r->sched.nbands, h = r->target.height;
+    if (r->sched.bands_sized_for != n) {
+        for (int i = 0; i < n; i++) r->sched.bands[i].y0 = h * i / n, r->sched.bands[i].y1 = h * (i + 1) / n;
         return;
     }
     double total = 0;
     for (int i = 0; i < n; i++) {
-        const ew_band *b = &r->bands[i];
-        double per_row = r->band_ms[i] / (b->y1 - b->y0) + 1e-6;
-        for (int v = b->y0; v < b->y1; v++) r->row_cost[v] = (float)per_row;
+        const ew_band *b = &r->sched.bands[i];
+        double per_row = b->ms / (b->y1 - b->y0) + 1e-6;
+        for (int v = b->y0; v < b->y1; v++) r->sched.row_cost[v] = (float)per_row;
         total += per_row * (b->y1 - b->y0);
     }
     double acc = 0;
     int band = 0, y0 = 0;
     for (int v = 0; v < h && band < n - 1; v++) {
-        acc += r->row_cost[v];
+        acc += r->sched.row_cost[v];
         int rows_left = h - (v + 1), bands_left = n - band - 1;
         if ((acc >= total * (band + 1) / n && v + 1 - y0 >= 8) || rows_left == 8 * bands_left) {
-            r->bands[band].y0 = y0, r->bands[band].y1 = v + 1;
+            r->sched.bands[band].y0 = y0, r->sched.bands[band].y1 = v + 1;
             y0 = v + 1;
             band++;
         }
     }
     for (; band < n; band++) {  /* the last band takes the rest */
         int y1 = band == n - 1 ? h : y0 + 8;
-        r->bands[band].y0 = y0, r->bands[band].y1 = y1;
+        r->sched.bands[band].y0 = y0, r->sched.bands[band].y1 = y1;
         y0 = y1;
     }
 }
@@ -322,13 +302,13 @@ static void place_bands(ew_renderer *r) {
 static void job_scan(void *ctx, int thread) {
     (void)thread;
     ew_renderer *r = ctx;
-    for (int i; (i = atomic_fetch_add(&r->next_band, 1)) < r->nbands;) {
+    for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;) {
         double t0 = ew_now_ms();
-        ew_band *b = &r->bands[i];
+        ew_band *b = &r->sched.bands[i];
         b->dropped = 0;
-        ew_scan_band(r, b);
-        ew_zfill_index_band(r, b, i);
-        r->band_ms[i] = ew_now_ms() - t0;
+        r->cfg.hsr->resolve(r, b);
+        ew_zfill_index_band(&r->zf, b, i);
+        b->ms = ew_now_ms() - t0;
     }
 }
 
@@ -337,17 +317,17 @@ static void job_scan(void *ctx, int thread) {
 static void job_build(void *ctx, int thread) {
     ew_renderer *r = ctx;
     const ew_world *w = r->world;
-    int *scratch = r->blocklights + (size_t)r->maxlm * thread;
-    for (int k; (k = atomic_fetch_add(&r->next_build, 1)) < r->nbuild;)
-        ew_cache_build(r, r->to_build[k], scratch);
+    int *scratch = r->lit.blocklights + (size_t)r->lit.maxlm * thread;
+    for (int k; (k = atomic_fetch_add(&r->sched.next_build, 1)) < r->lit.nbuild;)
+        ew_cache_build(r, r->lit.to_build[k], scratch);
     enum { CHUNK = 32 };
-    for (int k; (k = atomic_fetch_add(&r->next_grad, CHUNK)) < r->ngrad;) {
-        int end = k + CHUNK < r->ngrad ? k + CHUNK : r->ngrad;
+    for (int k; (k = atomic_fetch_add(&r->sched.next_grad, CHUNK)) < r->lit.ngrad;) {
+        int end = k + CHUNK < r->lit.ngrad ? k + CHUNK : r->lit.ngrad;
         for (; k < end; k++) {
-            int s = r->grad_list[k];
-            const ew_surf *sf = &r->surfs[s];
-            ew_surf_draw *d = &r->surf_draw[s];
-            ew_face_gradients(w, sf->view, &w->faces[sf->face], d->kind == EW_DRAW_LIT ? r->surf_cache[s]->mip : 0,
+            int s = r->lit.grad_list[k];
+            const ew_surf *sf = &r->el.surfs[s];
+            ew_surf_draw *d = &r->lit.surf_draw[s];
+            ew_face_gradients(w, sf->view, &w->faces[sf->face], d->kind == EW_DRAW_LIT ? r->lit.surf_cache[s]->mip : 0,
                               &d->g);
         }
     }
@@ -358,17 +338,17 @@ static void job_build(void *ctx, int thread) {
 static void job_draw(void *ctx, int thread) {
     (void)thread;
     ew_renderer *r = ctx;
-    for (int i; (i = atomic_fetch_add(&r->next_band, 1)) < r->nbands;) {
+    for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;) {
         double t0 = ew_now_ms();
-        ew_band *b = &r->bands[i];
-        ew_draw_band(r, b);
+        ew_band *b = &r->sched.bands[i];
+        ew_draw_spans(&r->draw, b, r->lit.surf_draw, r->zf.all);
         account_spans(b);
         double t1 = ew_now_ms();
         memset(&b->model_stats, 0, sizeof b->model_stats);
         ew_rows rows = {b->y0, b->y1, &b->model_stats, i == 0};
-        ew_draw_entities(r, &rows);
+        ew_passes_draw(r, &rows);
         b->model_ms = ew_now_ms() - t1;
-        r->band_ms[i] += ew_now_ms() - t0;
+        b->ms += ew_now_ms() - t0;
     }
 }
 
@@ -378,18 +358,18 @@ static void job_draw(void *ctx, int thread) {
  * listed for the parallel step that follows. */
 static void prepare_surfaces(ew_renderer *r) {
     const ew_world *w = r->world;
-    r->nbuild = 0;
-    r->ngrad = 0;
-    memset(&r->surf_draw[0], 0, sizeof r->surf_draw[0]);  /* the background: black and far */
-    for (int s = 1; s < r->nsurfs; s++) {
-        r->surf_cache[s] = NULL;
-        const ew_surf *sf = &r->surfs[s];
+    r->lit.nbuild = 0;
+    r->lit.ngrad = 0;
+    memset(&r->lit.surf_draw[0], 0, sizeof r->lit.surf_draw[0]);  /* the background: black and far */
+    for (int s = 1; s < r->el.nsurfs; s++) {
+        r->lit.surf_cache[s] = NULL;
+        const ew_surf *sf = &r->el.surfs[s];
         const ew_face *f = &w->faces[sf->face];
         int used = 0;
-        for (int i = 0; i < r->nbands && !used; i++) used = r->bands[i].has_spans[s];
+        for (int i = 0; i < r->sched.nbands && !used; i++) used = r->sched.bands[i].has_spans[s];
         if (!used) continue;
-        ew_surf_draw *d = &r->surf_draw[s];
-        r->grad_list[r->ngrad++] = s;
+        ew_surf_draw *d = &r->lit.surf_draw[s];
+        r->lit.grad_list[r->lit.ngrad++] = s;
         if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) {
             d->kind = f->flags & EW_SURF_SKY ? EW_DRAW_SKY : EW_DRAW_TURB;
             d->tex = ew_face_texture(w, f, r->view.time);
@@ -397,7 +377,7 @@ static void prepare_surfaces(ew_renderer *r) {
         }
         int build;
         ew_cached_surf *e = ew_cache_lookup(r, sf->face, ew_face_mip(&r->view, w, f, sf->nearzi), &build);
-        r->surf_cache[s] = e;
+        r->lit.surf_cache[s] = e;
         if (!e) {
             r->stats.dropped++;
             d->kind = EW_DRAW_FLAT;
@@ -405,43 +385,43 @@ static void prepare_surfaces(ew_renderer *r) {
         }
         d->kind = EW_DRAW_LIT;
         d->pixels = e->pixels, d->pitch = e->width;
-        if (build) r->to_build[r->nbuild++] = e;
+        if (build) r->lit.to_build[r->lit.nbuild++] = e;
     }
 }
 
 int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double t0 = ew_now_ms();
     if (ew_frame_begin(r, cam) < 0) return -1;
-    ew_pool_wake(r->pool);
+    ew_pool_wake(r->sched.pool);
+    ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
     ew_walk_world(r);
-    ew_emit_brush_models(r);
-    ew_mark_dlights(r);
+    ew_walk_brush_models(r);
     double t1 = ew_now_ms();
 
     place_bands(r);
-    atomic_store(&r->next_band, 0);
-    ew_pool_run(r->pool, job_scan, r);
+    atomic_store(&r->sched.next_band, 0);
+    ew_pool_run(r->sched.pool, job_scan, r);
     double t2 = ew_now_ms();
     prepare_surfaces(r);
     double te = ew_now_ms();
-    ew_prepare_entities(r);
+    ew_passes_prepare(r);
     double prep_ms = ew_now_ms() - te;
-    atomic_store(&r->next_build, 0);
-    atomic_store(&r->next_grad, 0);
-    ew_pool_run(r->pool, job_build, r);
-    atomic_store(&r->next_band, 0);
-    ew_pool_run(r->pool, job_draw, r);
-    r->bands_sized_for = r->nbands;
+    atomic_store(&r->sched.next_build, 0);
+    atomic_store(&r->sched.next_grad, 0);
+    ew_pool_run(r->sched.pool, job_build, r);
+    atomic_store(&r->sched.next_band, 0);
+    ew_pool_run(r->sched.pool, job_draw, r);
+    r->sched.bands_sized_for = r->sched.nbands;
     double t3 = ew_now_ms();
-    if (r->scene) ew_scene_counts(r->scene, NULL, &r->stats.entities_unknown, &r->stats.models_missing);
+    if (r->ents.scene) ew_scene_counts(r->ents.scene, NULL, &r->stats.entities_unknown, &r->stats.models_missing);
 
     ew_stats *st = &r->stats;
-    st->pixels = (long)r->width * r->height;
-    st->edges = r->nedges;
-    st->surfaces = r->nsurfs - 1;
+    st->pixels = (long)r->target.width * r->target.height;
+    st->edges = r->el.nedges;
+    st->surfaces = r->el.nsurfs - 1;
     double models_ms = 0;
-    for (int i = 0; i < r->nbands; i++) {
-        const ew_band *b = &r->bands[i];
+    for (int i = 0; i < r->sched.nbands; i++) {
+        const ew_band *b = &r->sched.bands[i];
         const ew_stats *m = &b->model_stats;
         st->spans += b->nspans;
         st->dropped += b->dropped + m->dropped;
@@ -450,13 +430,13 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         st->alias_pixels += m->alias_pixels, st->particles += m->particles;
         models_ms += b->model_ms;
         st->pixels_written += b->written, st->pixels_covered += b->covered;
-        if (r->face_ids_on) record_face_ids(r, b);
+        if (r->cfg.face_ids_on) record_face_ids(r, b);
     }
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
     /* Models are drawn inside the bands' draw step; ms_models is their
      * time summed over bands, per thread (the wall time they took), plus
      * the serial per-frame entity pass. */
-    models_ms = models_ms / r->nthreads + prep_ms;
+    models_ms = models_ms / r->sched.nthreads + prep_ms;
     st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2 - models_ms;
     st->ms_models = models_ms, st->ms_total = t3 - t0;
     if (stats) *stats = *st;

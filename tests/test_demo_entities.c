@@ -7,7 +7,7 @@
  * world around it.  Also: the frame stays fully covered once, the scene is
  * the same every time, and time animates the model. */
 #include "util.h"
-#include "ew_render.h"
+#include "renderer.h"
 #include "scene/builtin.h"
 #include "scene/scene.h"
 

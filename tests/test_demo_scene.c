@@ -3,7 +3,7 @@
  * sky, liquid and lit walls all present, agreement with the reference path,
  * animated textures move with time. */
 #include "util.h"
-#include "ew_render.h"
+#include "renderer.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -8,7 +8,7 @@
  */
 #include "util.h"
 #include "seed_files.h"
-#include "ew_render.h"
+#include "renderer.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -161,17 +161,17 @@ static void cache_cap(const ew_world *w, const char *name) {
     if (!r) return;
     ew_camera views[EW_MAX_VIEWS];
     int nv = ew_view_set(w, views), refused = 0;
-    r->cache.budget = 32 * 1024;
+    r->lit.cache.budget = 32 * 1024;
     for (int i = 0; i < nv; i++) {
         ew_stats st;
         CHECK(ew_render(r, &views[i], &st) == 0, "%s: view %d", name, i);
-        CHECK(r->cache.bytes <= 2 * r->cache.budget, "%s: view %d: cache %zu bytes, cap %zu", name, i,
-              r->cache.bytes, 2 * r->cache.budget);
+        CHECK(r->lit.cache.bytes <= 2 * r->lit.cache.budget, "%s: view %d: cache %zu bytes, cap %zu", name, i,
+              r->lit.cache.bytes, 2 * r->lit.cache.budget);
         CHECK(st.pixels_covered == st.pixels, "%s: view %d: refused surfaces must still be drawn", name, i);
         refused += st.dropped > 0;
     }
     CHECK(refused > 0, "%s: a 32 KB cache refused nothing", name);
-    r->cache.budget = (size_t)16 << 20;
+    r->lit.cache.budget = (size_t)16 << 20;
     for (int i = 0; i < nv; i++) {
         ew_stats st;
         ew_render(r, &views[i], &st);

@@ -9,7 +9,7 @@
  *   - (printed, not asserted) the speed of affine vs subdivision on 200
  *     small soldiers. */
 #include "util.h"
-#include "ew_render.h"
+#include "renderer.h"
 #include "ew_util.h"
 #include "raster/alias.h"
 #include "model_fixtures.h"
@@ -243,25 +243,25 @@ typedef struct snapshot {
 } snapshot;
 
 static void snap_take(ew_renderer *r, snapshot *s) {
-    size_t n = (size_t)r->width * r->height;
-    memcpy(s->frame, r->frame, n);
+    size_t n = (size_t)r->target.width * r->target.height;
+    memcpy(s->frame, r->target.pixels, n);
     memcpy(s->zbuf, ew_frame_zbuffer(r), n * sizeof(float));  /* the whole frame's 1/z */
 }
 static void snap_restore(ew_renderer *r, const snapshot *s) {
-    size_t n = (size_t)r->width * r->height;
-    memcpy(r->frame, s->frame, n);
-    memcpy(r->zbuf, s->zbuf, n * sizeof(float));
+    size_t n = (size_t)r->target.width * r->target.height;
+    memcpy(r->target.pixels, s->frame, n);
+    memcpy(r->target.zbuf, s->zbuf, n * sizeof(float));
 }
 
 /* Pixels whose z changed; fails if any got farther (the z test broken). */
 static long changed_pixels(const ew_renderer *r, const snapshot *s, long *farther, long *colour_only) {
     long n = 0;
     *farther = 0, *colour_only = 0;
-    for (long i = 0; i < (long)r->width * r->height; i++) {
-        if (r->zbuf[i] != s->zbuf[i]) {
+    for (long i = 0; i < (long)r->target.width * r->target.height; i++) {
+        if (r->target.zbuf[i] != s->zbuf[i]) {
             n++;
-            if (r->zbuf[i] < s->zbuf[i]) (*farther)++;
-        } else if (r->frame[i] != s->frame[i]) {
+            if (r->target.zbuf[i] < s->zbuf[i]) (*farther)++;
+        } else if (r->target.pixels[i] != s->frame[i]) {
             (*colour_only)++;
         }
     }
@@ -289,7 +289,7 @@ static void measure(ew_renderer *r, const ew_camera *cam, const ew_mdl *soldier)
     enum { N = 200, REPS = 30 };
     ew_model_pose poses[N];
     uint32_t seed = 99;
-    ew_view_setup(&r->view, cam, r->width, r->height);
+    ew_view_setup(&r->view, cam, r->target.width, r->target.height);
     const ew_view *v = &r->view;
     for (int i = 0; i < N; i++) {
         seed = seed * 1664525u + 1013904223u;
@@ -312,9 +312,9 @@ static void measure(ew_renderer *r, const ew_camera *cam, const ew_mdl *soldier)
     /* Interleaved, best of REPS each: other work on the machine only adds. */
     for (int rep = 0; rep < REPS; rep++) {
         for (int mi = 0; mi < 3; mi++) {
-            r->alias_raster = modes[mi];
-            r->alias_threshold = 40;
-            memset(r->zbuf, 0, sizeof(float) * (size_t)r->width * r->height);
+            r->cfg.alias_raster = modes[mi];
+            r->cfg.alias_threshold = 40;
+            memset(r->target.zbuf, 0, sizeof(float) * (size_t)r->target.width * r->target.height);
             memset(&r->stats, 0, sizeof r->stats);
             double t0 = ew_now_ms();
             for (int i = 0; i < N; i++) ew_draw_alias(r, soldier, &poses[i]);
@@ -355,12 +355,12 @@ static void test_in_frame(void) {
 
     ew_camera cam = views[0];
     CHECK(ew_render(r, &cam, NULL) == 0, "render");
-    size_t npx = (size_t)r->width * r->height;
+    size_t npx = (size_t)r->target.width * r->target.height;
     snapshot world = {malloc(npx), malloc(npx * sizeof(float))};
     snap_take(r, &world);
     const ew_view *v = &r->view;
     /* 100 units ahead, or nearer if a wall is closer (as seen at the centre). */
-    float zc = world.zbuf[(r->height / 2) * r->width + r->width / 2];
+    float zc = world.zbuf[(r->target.height / 2) * r->target.width + r->target.width / 2];
     float dist = 100;
     if (zc > 0 && 0.6f / zc < dist) dist = 0.6f / zc;
     printf("e1m1 view 0: wall %.0f units ahead at the centre, models at %.0f\n", zc > 0 ? 1 / zc : -1.0, dist);
@@ -397,7 +397,7 @@ static void test_in_frame(void) {
             CHECK(r->stats.alias_tris_subdiv == 0, "%s: %d subdivided", names[mi], r->stats.alias_tris_subdiv);
         printf("soldier %s: %d triangles, %ld pixels\n", names[mi], r->stats.alias_tris, n);
         if (mi == 0 && getenv("EW_MODELS_PNG")) {
-            ew_write_png(getenv("EW_MODELS_PNG"), r->frame, r->width, r->height, a.palette, &err);
+            ew_write_png(getenv("EW_MODELS_PNG"), r->target.pixels, r->target.width, r->target.height, a.palette, &err);
         }
     }
     /* The same soldier behind the camera: culled, nothing changes. */
@@ -405,7 +405,7 @@ static void test_in_frame(void) {
     ew_model_pose behind = p;
     for (int k = 0; k < 3; k++) behind.origin[k] = v->origin[k] - v->forward[k] * 100;
     CHECK(ew_draw_alias(r, soldier, &behind) == 0, "soldier behind the camera drawn");
-    CHECK(memcmp(r->frame, world.frame, npx) == 0, "culled soldier changed pixels");
+    CHECK(memcmp(r->target.pixels, world.frame, npx) == 0, "culled soldier changed pixels");
 
     /* The explosion sprite, a few frames. */
     for (int f = 0; f < explod->numframes; f += 2) {

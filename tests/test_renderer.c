@@ -1,7 +1,7 @@
 /* Renderer behaviour on a real map: surface cache hits and rebuilds, edge
  * sharing, light styles, animated textures, budgets, sizes and bad input. */
 #include "util.h"
-#include "ew_render.h"
+#include "renderer.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -55,9 +55,9 @@ int main(void) {
 
     /* A light style change rebuilds exactly the surfaces that use it. */
     int uses0 = 0;
-    for (int i = 0; i < r->nsurfs; i++) {
-        const ew_face *f = &a.world->faces[r->surfs[i].face < 0 ? 0 : r->surfs[i].face];
-        if (r->surfs[i].face >= 0 && f->lightofs >= 0 && !(f->flags & (EW_SURF_SKY | EW_SURF_TURB)))
+    for (int i = 0; i < r->el.nsurfs; i++) {
+        const ew_face *f = &a.world->faces[r->el.surfs[i].face < 0 ? 0 : r->el.surfs[i].face];
+        if (r->el.surfs[i].face >= 0 && f->lightofs >= 0 && !(f->flags & (EW_SURF_SKY | EW_SURF_TURB)))
             for (int k = 0; k < 4; k++) uses0 += f->styles[k] == 0;
     }
     ew_set_lightstyle(r, 0, 512);
@@ -95,12 +95,12 @@ int main(void) {
 
     /* Budgets: with room for only 40 surfaces the frame still completes,
      * counts what it refused, and writes every pixel (the rest is background). */
-    int saved = r->max_surfs;
-    r->max_surfs = 40;
+    int saved = r->el.max_surfs;
+    r->el.max_surfs = 40;
     ew_stats sb;
     CHECK(ew_render(r, &views[0], &sb) == 0, "render on a small budget");
     CHECK(sb.dropped > 0 && sb.surfaces <= 39, "dropped %d, surfaces %d", sb.dropped, sb.surfaces);
-    r->max_surfs = saved;
+    r->el.max_surfs = saved;
 
     /* Bad cameras are refused, not rendered. */
     ew_camera bad = views[0];

@@ -3,7 +3,7 @@
  * extended to them) and dynamic lights (exactly the faces in reach are
  * rebuilt, the rest stay cached). */
 #include "util.h"
-#include "ew_render.h"
+#include "renderer.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -173,15 +173,15 @@ int main(void) {
     ew_render(r, &views[dv], &sd);
     int lit = 0, lit_far = 0, near_unlit = 0, drawn = 0;
     /* Count each lit surface once: brush faces come in fragments. */
-    const ew_cached_surf **seen = calloc((size_t)r->nsurfs, sizeof *seen);
-    for (int s = 1; s < r->nsurfs; s++) {
-        int fi = r->surfs[s].face;
+    const ew_cached_surf **seen = calloc((size_t)r->el.nsurfs, sizeof *seen);
+    for (int s = 1; s < r->el.nsurfs; s++) {
+        int fi = r->el.surfs[s].face;
         const ew_face *f = &a.world->faces[fi];
-        if (f->flags & (EW_SURF_SKY | EW_SURF_TURB) || !r->surf_cache[s]) continue;
+        if (f->flags & (EW_SURF_SKY | EW_SURF_TURB) || !r->lit.surf_cache[s]) continue;
         int dup = 0;
-        for (int k = 0; k < drawn && !dup; k++) dup = seen[k] == r->surf_cache[s];
+        for (int k = 0; k < drawn && !dup; k++) dup = seen[k] == r->lit.surf_cache[s];
         if (dup) continue;
-        seen[drawn] = r->surf_cache[s];
+        seen[drawn] = r->lit.surf_cache[s];
         drawn++;
         const ew_plane *pl = &a.world->planes[f->plane];
         float d = fabsf(at[0] * pl->normal[0] + at[1] * pl->normal[1] + at[2] * pl->normal[2] - pl->dist);

@@ -22,7 +22,7 @@ enum { FMT_29, FMT_BSP2, FMT_2PSB };
 #define MAX_TEX_SIZE 4096
 /* Light maps and surface caches are sized from the extents; Quake allows
  * 256 texels, modern compilers more, this bound keeps sizes sane. */
-#define MAX_EXTENT 2048
+#define MAX_EXTENT EW_MAX_EXTENT
 /* Vertices: far beyond any map (Quake's own stay within +-32768), close
  * enough that no product of two coordinates or of a coordinate and a unit
  * vector can overflow a float in the renderer's transforms. */

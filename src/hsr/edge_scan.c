@@ -5,7 +5,7 @@
  * surface; if it was on top, its span ends and the next one down resumes.
  * So every pixel of the band is emitted exactly once, for the nearest
  * surface, and surface 0 (the background, farthest of all) fills any gap. */
-#include "ew_render.h"
+#include "renderer.h"
 
 #include <limits.h>
 #include <stdlib.h>
@@ -110,33 +110,38 @@ static void sort_active(ew_active *a, int n) {
     }
 }
 
-void ew_scan_band(ew_renderer *r, ew_band *b) {
-    const ew_surf *surfs = r->surfs;
+void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
+    const ew_surf *surfs = el->surfs;
+    const ew_edge *edges = el->edges;
     int32_t *next = b->st_next, *prev = b->st_prev, *state = b->st_state, *lastu = b->st_lastu;
-    int width = r->width;
 
+    /* The stack's counts are all zero here: calloc'd, and the stepping pass
+     * clears every count an active edge touched at the end of each line. */
     b->nspans = 0;
     b->naet = 0;
-    memset(b->has_spans, 0, (size_t)r->nsurfs);
-    for (int i = 0; i < r->nsurfs; i++) state[i] = 0;
+    memset(b->has_spans, 0, (size_t)el->nsurfs);
 
-    /* Edges that began above the band and are still alive at its top, in
-     * edge order: sorted at once, since the insertion sort of the first
-     * row would take time quadratic in their number. */
-    for (int i = 0; i < r->nedges; i++) {
-        const ew_edge *e = &r->edges[i];
-        if (e->v_first < b->y0 && e->v_last >= b->y0) add_active(b, e, b->y0);
-    }
+    /* Edges that began above the band and are still alive at its top: only
+     * the rows above are visited, and the edges are sorted at once, since
+     * the insertion sort of the first row would take time quadratic in
+     * their number. */
+    for (int v = 0; v < b->y0; v++)
+        for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new)
+            if (edges[i].v_last >= b->y0) add_active(b, &edges[i], b->y0);
     if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, cmp_active);
 
     for (int v = b->y0; v < b->y1; v++) {
-        for (int i = r->new_edges[v]; i >= 0; i = r->edges[i].next_new) add_active(b, &r->edges[i], v);
-        sort_active(b->aet, b->naet);
+        for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
+        /* Read once per line: emit_span's stores could alias them, so
+         * the compiler would reload both at every edge. */
+        ew_active *aet = b->aet;
+        const int naet = b->naet;
+        sort_active(aet, naet);
 
         int top = 0;  /* the background, always at the bottom of the stack */
         next[0] = -1, prev[0] = -1, lastu[0] = 0;
-        for (int i = 0; i < b->naet; i++) {
-            const ew_active *a = &b->aet[i];
+        for (int i = 0; i < naet; i++) {
+            const ew_active *a = &aet[i];
             int iu = (int)(((int64_t)a->u + 0xFFFF) >> 16);  /* first pixel centre right of the edge */
             iu = iu < 0 ? 0 : iu > width ? width : iu;
             int s = a->surfs[0];
@@ -176,13 +181,27 @@ void ew_scan_band(ew_renderer *r, ew_band *b) {
         /* Step the edges that go on to the next line, and clear the counts:
          * ones left unbalanced by inconsistent edges must not leak into it. */
         int n = 0;
-        for (int i = 0; i < b->naet; i++) {
-            ew_active a = b->aet[i];
+        for (int i = 0; i < naet; i++) {
+            ew_active a = aet[i];
             state[a.surfs[0]] = state[a.surfs[1]] = 0;
             if (a.v_last <= v) continue;
             a.u += a.u_step;
-            b->aet[n++] = a;
+            aet[n++] = a;
         }
         b->naet = n;
     }
 }
+
+/* ---- the edge list as a hidden-surface method ---- */
+
+static void edge_begin(ew_renderer *r) {
+    ew_edge_list *el = &r->el;
+    el->nedges = 0;
+    el->nsurfs = 1;  /* surface 0: the background, behind everything */
+    el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->view};
+    for (int v = 0; v <= r->target.height; v++) el->new_edges[v] = -1;
+}
+
+static void edge_resolve(ew_renderer *r, ew_band *b) { ew_scan_band(&r->el, r->target.width, b); }
+
+const ew_hsr_method ew_hsr_edge = {"edge", edge_begin, ew_emit_face, ew_emit_poly, edge_resolve};

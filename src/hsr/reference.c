@@ -1,34 +1,59 @@
-/* The reference path: hidden surfaces removed by brute force, independent
- * of the edge list.  The same front end picks the visible faces; each is
- * filled pixel by pixel with a per-pixel z-buffer test from its plane
- * equation (raster/zpoly.c), textured from the same lit surfaces with a
- * true divide per pixel.  Slow and simple on purpose: the tests trust it. */
-#include "ew_render.h"
+/* The reference method: hidden surfaces removed by brute force, independent
+ * of the edge list.  The same front end hands over the visible faces; each
+ * is clipped and projected, its lit surface looked up (and built) at once,
+ * and every band then fills its rows of every polygon pixel by pixel with
+ * a per-pixel z-buffer test from the face's plane equation, textured with
+ * a true divide per pixel (raster/zpoly.c).  Slow and simple on purpose:
+ * the tests trust it. */
+#include "renderer.h"
 #include "ew_util.h"
 
+#include <stdlib.h>
 #include <string.h>
 
-/* One world-space polygon of face fi; v is the camera in the face's own
- * space.  Returns 1 if it won any pixel. */
-static int ref_poly(ew_renderer *r, int *ids, int fi, const ew_view *v, float (*in)[3], int n) {
-    const ew_world *w = r->world;
-    const ew_face *f = &w->faces[fi];
-    ew_zpoly p;
-    if (!ew_zpoly_project(r, in, n, &p)) return 0;
-    ew_zpoly_look look = {w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0, 0};  /* exact: a divide per pixel */
-    if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
-        int build;
-        look.mip = ew_face_mip(&r->view, w, f, p.nearzi);
-        ew_cached_surf *e = ew_cache_lookup(r, fi, look.mip, &build);
-        if (e && build) ew_cache_build(r, e, r->blocklights);
-        if (e) look.surf = e->pixels, look.surf_width = e->width;
-    }
-    return ew_zpoly_fill(r, &p, &look, ids, fi, 0, r->height) > 0;
+struct ew_ref_poly {
+    ew_zpoly      p;
+    ew_zpoly_look look;
+    int           face;
+};
+
+static void ref_begin(ew_renderer *r) {
+    r->ref.npolys = 0;
+    r->el.nedges = 0;
+    r->el.nsurfs = 1;  /* no spans: the back end draws nothing of the world */
 }
 
-typedef struct ref_ctx { int *ids; } ref_ctx;
+/* One world-space polygon of face fi; v is the camera in the face's own space. */
+static void ref_poly(ew_renderer *r, float (*in)[3], int n, int fi, const ew_view *v, int key) {
+    (void)key;  /* the z-buffer needs no order */
+    const ew_world *w = r->world;
+    const ew_face *f = &w->faces[fi];
+    ew_ref *ref = &r->ref;
+    if (ref->npolys == ref->cap) {
+        int cap = ref->cap ? ref->cap * 2 : 256;
+        ew_ref_poly *p = realloc(ref->polys, sizeof *p * (size_t)cap);
+        if (!p) {
+            r->stats.dropped++;
+            return;
+        }
+        ref->polys = p, ref->cap = cap;
+    }
+    ew_ref_poly *rp = &ref->polys[ref->npolys];
+    if (!ew_zpoly_project(&r->view, in, n, &rp->p)) return;
+    rp->face = fi;
+    rp->look = (ew_zpoly_look){w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0, 0};  /* exact */
+    if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
+        int build;
+        rp->look.mip = ew_face_mip(&r->view, w, f, rp->p.nearzi);
+        ew_cached_surf *e = ew_cache_lookup(r, fi, rp->look.mip, &build);
+        if (e && build) ew_cache_build(r, e, r->lit.blocklights);
+        if (e) rp->look.surf = e->pixels, rp->look.surf_width = e->width;
+    }
+    r->stats.surfaces++;
+    ref->npolys++;
+}
 
-static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
+static void ref_face(ew_renderer *r, int fi, int clipflags, int key) {
     (void)clipflags;  /* clipped against every plane regardless */
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[fi];
@@ -38,37 +63,44 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, void *vctx) {
         const float *p = w->verts[ew_face_vertex(w, f, i)];
         in[i][0] = p[0], in[i][1] = p[1], in[i][2] = p[2];
     }
-    ref_poly(r, ((ref_ctx *)vctx)->ids, fi, &r->view, in, f->numedges);
+    ref_poly(r, in, f->numedges, fi, &r->view, key);
 }
 
-static int ref_brush_face(ew_renderer *r, void *ctx, int fi, const ew_view *mv,
-                          const float normal[3], float (*p)[3], int n) {
-    (void)normal;
-    return ref_poly(r, ((ref_ctx *)ctx)->ids, fi, mv, p, n);
+/* The band's rows: cleared to the background, then every polygon filled. */
+static void ref_resolve(ew_renderer *r, ew_band *b) {
+    const ew_target *t = &r->target;
+    int *ids = r->ref.ids ? r->ref.ids : r->cfg.face_ids_on ? r->face_ids : NULL;
+    b->nspans = 0;
+    b->naet = 0;
+    memset(b->has_spans, 0, (size_t)r->el.nsurfs);
+    for (int y = b->y0; y < b->y1; y++) {
+        memset(ew_target_at(t, 0, y), 0, (size_t)t->width * (size_t)t->bpp);
+        float *z = ew_target_z(t, 0, y);
+        for (int x = 0; x < t->width; x++) z[x] = 0;
+        if (ids)
+            for (int x = 0; x < t->width; x++) ids[(size_t)y * t->width + x] = -1;
+    }
+    for (int i = 0; i < r->ref.npolys; i++) {
+        const ew_ref_poly *rp = &r->ref.polys[i];
+        ew_zpoly_fill(&r->draw, &rp->p, &rp->look, ids, rp->face, b->y0, b->y1);
+    }
 }
 
-/* Renders into the renderer's own frame and z-buffer (so the moving
- * things drawn after it meet the same z-buffer test), then copies out. */
+const ew_hsr_method ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve};
+
+/* Renders the frame with the reference method (the moving things drawn
+ * over its z-buffer as over the edge list's), then copies it out. */
 int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, int *face_ids,
                         ew_error *err) {
-    size_t px = (size_t)r->width * r->height;
-    ref_ctx c = {face_ids};
-    if (ew_frame_begin(r, cam) < 0) return ew_fail(err, "reference: bad camera");
-    for (size_t i = 0; i < px; i++) {
-        r->zbuf[i] = 0;
-        r->frame[i] = 0;
-        if (face_ids) face_ids[i] = -1;
-    }
-    r->face_hook = ref_face;
-    r->face_hook_ctx = &c;
-    ew_walk_world(r);
-    r->face_hook = NULL;
-    r->face_hook_ctx = NULL;
-    ew_for_brush_faces(r, ref_brush_face, &c);
-    ew_zfill_mark_all(r);  /* the z-buffer is the reference's own, complete */
-    ew_prepare_entities(r);
-    ew_rows all = {0, r->height, &r->stats, 1};
-    ew_draw_entities(r, &all);
-    if (pixels) memcpy(pixels, r->frame, px);
+    const ew_hsr_method *was = r->cfg.hsr;
+    r->cfg.hsr = &ew_hsr_reference;
+    r->ref.ids = face_ids;
+    int rc = ew_render(r, cam, NULL);
+    r->ref.ids = NULL;
+    r->cfg.hsr = was;
+    if (rc < 0) return ew_fail(err, "reference: bad camera");
+    if (pixels)
+        for (int y = 0; y < r->target.height; y++)
+            memcpy(pixels + (size_t)y * r->target.width, ew_target_at(&r->target, 0, y), (size_t)r->target.width);
     return 0;
 }

@@ -4,7 +4,7 @@
  * used surfaces are evicted once the byte budget is exceeded; a surface
  * used in the current frame is never evicted, and the cache never holds
  * more than twice its budget. */
-#include "ew_render.h"
+#include "renderer.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -44,24 +44,24 @@ void ew_cache_free(ew_surf_cache *c) {
 }
 
 ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
-    ew_surf_cache *c = &r->cache;
+    ew_surf_cache *c = &r->lit.cache;
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[face];
     const ew_texture *tex = ew_face_texture(w, f, r->view.time);
     int texture = (int)(tex - w->textures);
     int light[4];
-    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->lightstyle[f->styles[k] & 63];
+    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->cfg.lightstyle[f->styles[k] & 63];
 
     unsigned dl = ew_face_dlights(r, face);
     ew_cached_surf *e = c->slot[face * 4 + mip];
     *build = 0;
     /* A dynamically lit surface is good only for the frame that built it. */
     if (e && e->texture == texture && memcmp(e->light, light, sizeof light) == 0 && e->dlights == dl &&
-        (!dl || e->last_frame == r->framecount)) {
-        if (e->last_frame != r->framecount) r->stats.surfaces_cached++;
+        (!dl || e->last_frame == r->marks.framecount)) {
+        if (e->last_frame != r->marks.framecount) r->stats.surfaces_cached++;
         lru_unlink(c, e);
         lru_push_front(c, e);
-        e->last_frame = r->framecount;
+        e->last_frame = r->marks.framecount;
         return e;
     }
     int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
@@ -80,7 +80,7 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
      * is refused (drawn flat, counted in dropped), so no map can make the
      * cache grow without bound. */
     size_t need = (size_t)width * height;
-    while (c->bytes + need > c->budget && c->lru_tail && c->lru_tail->last_frame != r->framecount)
+    while (c->bytes + need > c->budget && c->lru_tail && c->lru_tail->last_frame != r->marks.framecount)
         evict(c, c->lru_tail);
     if (c->bytes + need > 2 * c->budget) {
         c->slot[face * 4 + mip] = NULL;
@@ -99,8 +99,8 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
     memcpy(e->light, light, sizeof light);
     c->bytes += (size_t)width * height;
     lru_push_front(c, e);
-    e->last_frame = r->framecount;
-    while (c->bytes > c->budget && c->lru_tail && c->lru_tail->last_frame != r->framecount)
+    e->last_frame = r->marks.framecount;
+    while (c->bytes > c->budget && c->lru_tail && c->lru_tail->last_frame != r->marks.framecount)
         evict(c, c->lru_tail);
     r->stats.surfaces_built++;
     *build = 1;

@@ -4,7 +4,7 @@
  * rebuilt with the light added; a surface built with a light is rebuilt once
  * more when the light has gone.  Faces the light does not reach keep their
  * cached surfaces. */
-#include "ew_render.h"
+#include "renderer.h"
 #include "scene/scene.h"
 
 #include <math.h>
@@ -25,11 +25,11 @@ static void mark(ew_renderer *r, const float p[3], float radius, int bit, int no
         }
         for (int i = 0; i < n->numfaces; i++) {
             int fi = n->firstface + i;
-            if (r->face_dlframe[fi] != r->framecount) {
-                r->face_dlframe[fi] = r->framecount;
-                r->face_dlbits[fi] = 0;
+            if (r->marks.face_dlframe[fi] != r->marks.framecount) {
+                r->marks.face_dlframe[fi] = r->marks.framecount;
+                r->marks.face_dlbits[fi] = 0;
             }
-            r->face_dlbits[fi] |= 1u << bit;
+            r->marks.face_dlbits[fi] |= 1u << bit;
         }
         mark(r, p, radius, bit, n->children[0], depth);
         node = n->children[1];
@@ -37,7 +37,7 @@ static void mark(ew_renderer *r, const float p[3], float radius, int bit, int no
 }
 
 void ew_mark_dlights(ew_renderer *r) {
-    const struct ew_scene *sc = r->scene;
+    const struct ew_scene *sc = r->ents.scene;
     if (!sc) return;
     const ew_world *w = r->world;
     for (int i = 0; i < sc->ndlights; i++) {
@@ -58,11 +58,11 @@ void ew_mark_dlights(ew_renderer *r) {
 }
 
 unsigned ew_face_dlights(const ew_renderer *r, int face) {
-    return r->face_dlframe[face] == r->framecount ? r->face_dlbits[face] : 0;
+    return r->marks.face_dlframe[face] == r->marks.framecount ? r->marks.face_dlbits[face] : 0;
 }
 
 void ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *bl) {
-    const struct ew_scene *sc = r->scene;
+    const struct ew_scene *sc = r->ents.scene;
     const ew_world *w = r->world;
     if (!sc || !bits) return;
     const ew_plane *pl = &w->planes[f->plane];

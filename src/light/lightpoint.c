@@ -45,7 +45,7 @@ static int trace(const ew_renderer *r, int node, const float start[3], const flo
             for (int k = 0; k < 4 && f->styles[k] != 255; k++, at += (long)smax * tmax) {
                 if (at < 0 || at >= w->lightsize) break;
                 int style = f->styles[k];
-                int scale = style < 64 ? r->lightstyle[style] : 256;
+                int scale = style < 64 ? r->cfg.lightstyle[style] : 256;
                 sum += (long)w->lighting[at] * scale;
             }
             sum >>= 8;

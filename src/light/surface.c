@@ -2,7 +2,7 @@
  * buffer the size of the face, lighting each texel from the face's light
  * map through the colormap.  Light samples sit every 16 texels and are
  * interpolated bilinearly between them; up to four light styles add up. */
-#include "ew_render.h"
+#include "renderer.h"
 
 int ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi) {
     float scale = nearzi * (v->xscale > v->yscale ? v->xscale : v->yscale) * w->texinfo[f->texinfo].mipadjust;

@@ -328,18 +328,18 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
     /* The world's 1/z under the model's screen box (a pixel of margin for
      * snapping), or under all these rows if the box reaches behind the eye. */
     if (behind || !(umin <= umax && vmin <= vmax)) {
-        ew_zfill_rect(r, 0, rows->y0, r->width, rows->y1);
+        ew_zfill_rect(&r->zf, 0, rows->y0, r->target.width, rows->y1);
     } else {
         /* Clamped first: a corner just in front of the eye projects far out. */
-        float w = (float)r->width, h = (float)r->height;
+        float w = (float)r->target.width, h = (float)r->target.height;
         int zx0 = (int)floorf(fminf(fmaxf(umin, -2), w)) - 1, zx1 = (int)ceilf(fminf(fmaxf(umax, -2), w)) + 2;
         int zy0 = (int)floorf(fminf(fmaxf(vmin, -2), h)) - 1, zy1 = (int)ceilf(fminf(fmaxf(vmax, -2), h)) + 2;
-        ew_zfill_rect(r, zx0, zy0 > rows->y0 ? zy0 : rows->y0, zx1, zy1 < rows->y1 ? zy1 : rows->y1);
+        ew_zfill_rect(&r->zf, zx0, zy0 > rows->y0 ? zy0 : rows->y0, zx1, zy1 < rows->y1 ? zy1 : rows->y1);
     }
-    int top = vmin < 0 ? 0 : vmin >= r->height ? r->height - 1 : (int)vmin;
+    int top = vmin < 0 ? 0 : vmin >= r->target.height ? r->target.height - 1 : (int)vmin;
     int counts = accept ? (top >= rows->y0 && top < rows->y1) : rows->first;
-    int subdiv = accept && (r->alias_raster == EW_ALIAS_SUBDIV ||
-                            (r->alias_raster == EW_ALIAS_AUTO && vmax - vmin < r->alias_threshold));
+    int subdiv = accept && (r->cfg.alias_raster == EW_ALIAS_SUBDIV ||
+                            (r->cfg.alias_raster == EW_ALIAS_AUTO && vmax - vmin < r->cfg.alias_threshold));
 
     /* Byte vertex -> view space. */
     float bm[3][3], bt[3];
@@ -387,8 +387,8 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
 
     ew_araster ra;
     memset(&ra, 0, sizeof ra);
-    ra.frame = r->frame, ra.zbuf = r->zbuf, ra.pitch = r->width;
-    ra.x0 = 0, ra.y0 = rows->y0, ra.x1 = r->width, ra.y1 = rows->y1;
+    ra.frame = r->target.pixels, ra.zbuf = r->target.zbuf, ra.pitch = r->target.width;
+    ra.x0 = 0, ra.y0 = rows->y0, ra.x1 = r->target.width, ra.y1 = rows->y1;
     ra.skin = m->skinpixels + (size_t)image * m->skinwidth * m->skinheight;
     ra.skinw = m->skinwidth, ra.skinh = m->skinheight;
     ra.colormap = r->colormap;
@@ -462,6 +462,6 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
 }
 
 int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
-    ew_rows all = {0, r->height, &r->stats, 1};
+    ew_rows all = {0, r->target.height, &r->stats, 1};
     return ew_draw_alias_rows(r, m, p, &all);
 }

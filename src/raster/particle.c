@@ -36,10 +36,10 @@ void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const e
         if (y1 > rows->y1) y1 = rows->y1;
         if (y0 >= y1) continue;
         uint8_t color = p[i].color;
-        ew_zfill_rect(r, x0, y0, x1, y1);
+        ew_zfill_rect(&r->zf, x0, y0, x1, y1);
         for (int y = y0; y < y1; y++) {
-            float *zr = r->zbuf + (size_t)y * r->width;
-            uint8_t *fr = r->frame + (size_t)y * r->width;
+            float *zr = r->target.zbuf + (size_t)y * r->target.width;
+            uint8_t *fr = r->target.pixels + (size_t)y * r->target.width;
             for (int x = x0; x < x1; x++) {
                 if (zi >= zr[x]) {
                     zr[x] = zi;
@@ -75,6 +75,6 @@ int ew_particle_field(ew_particle *out, int n, const float center[3], float radi
 }
 
 void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
-    ew_rows all = {0, r->height, &r->stats, 1};
+    ew_rows all = {0, r->target.height, &r->stats, 1};
     ew_draw_particles_rows(r, p, n, &all);
 }

@@ -4,7 +4,7 @@
  * twice as fast as the back layer (right half).  Unlit.  Spans compute the
  * exact coordinates every 32 pixels and step linearly between, as the
  * original did; the reference path computes every pixel. */
-#include "ew_render.h"
+#include "raster/raster.h"
 
 #include <math.h>
 
@@ -46,17 +46,17 @@ uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y) {
     return sky_texel(v, t, s, tt);
 }
 
-void ew_draw_sky_span(ew_renderer *r, const ew_span *sp, const ew_texture *t) {
-    const ew_view *v = &r->view;
+void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *t) {
+    const ew_view *v = c->view;
     int half = t->width / 2, rows = t->height;
     /* Power-of-two layers (Quake's are 128x128) wrap with a mask; others
      * take the exact path per pixel. */
     int pow2 = half > 0 && (half & (half - 1)) == 0 && rows > 0 && (rows & (rows - 1)) == 0;
-    float scroll = r->sky_scroll;
+    float scroll = c->sky_scroll;
     const uint8_t *px = t->mip[0];
-    uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
+    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
     float s0, t0, s1, t1;
-    int step = r->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
+    int step = c->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
     sky_st(v, t, (float)sp->u, (float)sp->v, &s0, &t0);
     for (int i = 0; i < sp->count; i += step) {
         int n = sp->count - i < step ? sp->count - i : step;
@@ -71,11 +71,10 @@ void ew_draw_sky_span(ew_renderer *r, const ew_span *sp, const ew_texture *t) {
             int32_t ds = (int32_t)((s1 - s0) * 65536.0f / step), dt = (int32_t)((t1 - t0) * 65536.0f / step);
             unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
             for (int k = 0; k < n; k++) {
-                uint8_t c = px[(((unsigned)ft >> 16) & rm) * (unsigned)t->width + (((unsigned)fs >> 16) & hm)];
-                if (!c)
-                    c = px[(((unsigned)bt >> 16) & rm) * (unsigned)t->width + (unsigned)half +
-                           (((unsigned)bs >> 16) & hm)];
-                dst[i + k] = c;
+                uint8_t px_front = px[(((unsigned)ft >> 16) & rm) * (unsigned)t->width + (((unsigned)fs >> 16) & hm)];
+                ew_put8(&dst[i + k], px_front ? px_front
+                                              : px[(((unsigned)bt >> 16) & rm) * (unsigned)t->width +
+                                                   (unsigned)half + (((unsigned)bs >> 16) & hm)]);
                 fs += ds, ft += dt, bs += ds, bt += dt;
             }
         }

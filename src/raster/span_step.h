@@ -7,7 +7,7 @@
 #ifndef EW_SPAN_STEP_H
 #define EW_SPAN_STEP_H
 
-#include "ew_render.h"
+#include "raster/raster.h"
 
 typedef struct ew_stepper {
     const ew_gradients *g;

@@ -127,7 +127,7 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     if (y1 > rows->y1) y1 = rows->y1;
     if (x0 >= x1) return 0;
     if (y0 >= y1) return 1;  /* in view, but not in these rows */
-    ew_zfill_rect(r, x0, y0, x1, y1);
+    ew_zfill_rect(&r->zf, x0, y0, x1, y1);
 
     /* Per pixel: d = ((u - xc) / xs, -(v - yc) / ys, 1);  1/z = N.d / N.O;
      * a = (R.d) z - R.O, b = (U.d) z - U.O. */
@@ -141,8 +141,8 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     int pw = pic->width, ph = pic->height;
     long count = 0;
     for (int y = y0; y < y1; y++) {
-        float *zr = r->zbuf + (size_t)y * r->width;
-        uint8_t *fr = r->frame + (size_t)y * r->width;
+        float *zr = r->target.zbuf + (size_t)y * r->target.width;
+        uint8_t *fr = r->target.pixels + (size_t)y * r->target.width;
         float fy = (float)y;
         for (int x = x0; x < x1; x++) {
             float fx = (float)x;
@@ -164,6 +164,6 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
 }
 
 int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
-    ew_rows all = {0, r->height, &r->stats, 1};
+    ew_rows all = {0, r->target.height, &r->stats, 1};
     return ew_draw_sprite_rows(r, s, p, &all);
 }

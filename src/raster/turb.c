@@ -1,6 +1,6 @@
 /* Liquids ('*' textures): drawn straight from the texture, unlit, with each
  * coordinate displaced by a sine of the other that drifts with time. */
-#include "span_step.h"
+#include "raster/span_step.h"
 
 #include <math.h>
 
@@ -10,21 +10,32 @@ void ew_turb_table(int32_t table[128], double time) {
         table[i] = (int32_t)(8 * 65536.0 * (1.0 + sin((i + phase) * 2 * 3.14159265358979 / 128)));
 }
 
-uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, int32_t tt) {
-    int x = (int)(((uint32_t)s + (uint32_t)table[(tt >> 16) & 127]) >> 16);
-    int y = (int)(((uint32_t)tt + (uint32_t)table[(s >> 16) & 127]) >> 16);
-    return t->mip[0][(y % t->height) * t->width + (x % t->width)];
+/* The warped coordinates are never negative (unsigned, shifted down), so
+ * for power-of-two textures a mask gives what the remainder would. */
+static inline uint8_t turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, int32_t tt,
+                                 unsigned wmask, unsigned hmask) {
+    unsigned x = ((uint32_t)s + (uint32_t)table[(tt >> 16) & 127]) >> 16;
+    unsigned y = ((uint32_t)tt + (uint32_t)table[(s >> 16) & 127]) >> 16;
+    if (wmask && hmask) return t->mip[0][(y & hmask) * (unsigned)t->width + (x & wmask)];
+    return t->mip[0][(y % (unsigned)t->height) * (unsigned)t->width + (x % (unsigned)t->width)];
 }
 
-void ew_draw_turb_span(ew_renderer *r, const ew_span *sp, const ew_gradients *g, const ew_texture *t) {
-    uint8_t *dst = r->frame + (size_t)sp->v * r->width + sp->u;
+static unsigned pow2_mask(int n) { return n > 0 && (n & (n - 1)) == 0 ? (unsigned)n - 1 : 0; }
+
+uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, int32_t tt) {
+    return turb_texel(table, t, s, tt, pow2_mask(t->width), pow2_mask(t->height));
+}
+
+void ew_draw_turb_span(const ew_span_ctx *c, const ew_span *sp, const ew_gradients *g, const ew_texture *t) {
+    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+    unsigned wmask = pow2_mask(t->width), hmask = pow2_mask(t->height);
     ew_stepper st;
     int32_t s, tt, ds, dt;
     int n;
-    ew_step_begin(&st, g, r->subdiv_shift, sp->u, sp->v, sp->count);
+    ew_step_begin(&st, g, c->subdiv_shift, sp->u, sp->v, sp->count);
     while ((n = ew_step_next(&st, &s, &tt, &ds, &dt)) > 0) {
         for (int i = 0; i < n; i++) {
-            *dst++ = ew_turb_texel(r->turb, t, s, tt);
+            ew_put8(dst++, turb_texel(c->turb, t, s, tt, wmask, hmask));
             s += ds;
             tt += dt;
         }

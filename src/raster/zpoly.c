@@ -6,12 +6,11 @@
  * drawn with it over the z-filled world too, but with the world spans'
  * texturing, a divide every 16 pixels: near the eye a box covers a tenth
  * of the frame, and a divide per pixel there cost a fifth of the frame. */
-#include "span_step.h"
+#include "raster/span_step.h"
 
 #include <math.h>
 
-int ew_zpoly_project(const ew_renderer *r, float (*in)[3], int n, ew_zpoly *p) {
-    const ew_view *v = &r->view;
+int ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p) {
     float out[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
     if (n > EW_MAX_POLY - 8) return 0;
@@ -45,39 +44,42 @@ int ew_zpoly_project(const ew_renderer *r, float (*in)[3], int n, ew_zpoly *p) {
     p->y0 = (int)ceilf(vmin), p->y1 = (int)ceilf(vmax) - 1;
     if (p->x0 < 0) p->x0 = 0;
     if (p->y0 < 0) p->y0 = 0;
-    if (p->x1 > r->width - 1) p->x1 = r->width - 1;
-    if (p->y1 > r->height - 1) p->y1 = r->height - 1;
+    if (p->x1 > v->width - 1) p->x1 = v->width - 1;
+    if (p->y1 > v->height - 1) p->y1 = v->height - 1;
     return 1;
 }
 
 /* Pixels xa..xb of row y of a lit surface, z-tested, textured like a world
  * span; returns the pixels won. */
-static long stepped_row(ew_renderer *r, const ew_gradients *g, const ew_zpoly_look *look, int *ids,
+static long stepped_row(const ew_span_ctx *c, const ew_gradients *g, const ew_zpoly_look *look, int *ids,
                         int id, int xa, int xb, int y) {
     ew_stepper st;
     int32_t s, t, ds, dt;
     int n, x = xa;
     long won = 0;
     float zrow = g->zi_v * (float)y + g->zi_0;
-    size_t row = (size_t)y * r->width;
-    ew_step_begin(&st, g, r->subdiv_shift, xa, y, xb - xa + 1);
+    const ew_target *tg = c->target;
+    size_t row = (size_t)y * (size_t)tg->width;
+    uint8_t *dst = ew_target_at(tg, 0, y);
+    ew_step_begin(&st, g, c->subdiv_shift, xa, y, xb - xa + 1);
     while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
         for (int k = 0; k < n; k++, x++, s += ds, t += dt) {
             size_t o = row + (size_t)x;
             float zi = g->zi_u * (float)x + zrow;
-            if (zi <= r->zbuf[o]) continue;
-            r->zbuf[o] = zi;
+            if (zi <= tg->zbuf[o]) continue;
+            tg->zbuf[o] = zi;
             won++;
             if (ids) ids[o] = id;
-            r->frame[o] = look->surf[((uint32_t)t >> 16) * (uint32_t)look->surf_width + ((uint32_t)s >> 16)];
+            ew_put8(dst + x, look->surf[((uint32_t)t >> 16) * (uint32_t)look->surf_width + ((uint32_t)s >> 16)]);
         }
     }
     return won;
 }
 
-long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,
-                  int y0, int y1) {
+long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,
+                   int y0, int y1) {
     const ew_face *f = look->face;
+    const ew_target *tg = c->target;
     ew_gradients g;
     ew_face_gradients(look->world, look->view, f, look->mip, &g);
     long won = 0;
@@ -110,30 +112,30 @@ long ew_zpoly_fill(ew_renderer *r, const ew_zpoly *p, const ew_zpoly_look *look,
         if (xa < p->x0) xa = p->x0;
         if (xb > p->x1) xb = p->x1;
         if (look->stepped && look->surf && !(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
-            if (xb >= xa) won += stepped_row(r, &g, look, ids, id, xa, xb, y);
+            if (xb >= xa) won += stepped_row(c, &g, look, ids, id, xa, xb, y);
             continue;
         }
         for (int x = xa; x <= xb; x++) {
-            size_t o = (size_t)y * r->width + x;
+            size_t o = (size_t)y * (size_t)tg->width + (size_t)x;
             float zi = g.zi_u * (float)x + (g.zi_v * (float)y + g.zi_0);
-            if (zi <= r->zbuf[o]) continue;
-            r->zbuf[o] = zi;
+            if (zi <= tg->zbuf[o]) continue;
+            tg->zbuf[o] = zi;
             won++;
             if (ids) ids[o] = id;
             uint8_t px;
             if (f->flags & EW_SURF_SKY) {
-                px = ew_sky_pixel(&r->view, look->tex, (float)x, (float)y);
+                px = ew_sky_pixel(c->view, look->tex, (float)x, (float)y);
             } else {
                 float z = 65536.0f / zi;
                 float fx = (float)x, fy = (float)y;
                 int32_t s = ew_tex_fix((g.s_u * fx + (g.s_v * fy + g.s_0)) * z, g.s_adjust, 0, g.s_max);
                 int32_t t = ew_tex_fix((g.t_u * fx + (g.t_v * fy + g.t_0)) * z, g.t_adjust, 0, g.t_max);
                 if (f->flags & EW_SURF_TURB)
-                    px = ew_turb_texel(r->turb, look->tex, s, t);
+                    px = ew_turb_texel(c->turb, look->tex, s, t);
                 else
                     px = look->surf ? look->surf[(t >> 16) * look->surf_width + (s >> 16)] : 0;
             }
-            r->frame[o] = px;
+            ew_put8(ew_target_at(tg, x, y), px);
         }
     }
     return won;

@@ -2,7 +2,7 @@
  * Models are loaded once per scene and shared by the entities using them. */
 #include "scene.h"
 #include "entities.h"
-#include "ew_render.h"
+#include "renderer.h"
 #include "ew_util.h"
 #include "raster/alias.h"
 
@@ -262,10 +262,10 @@ ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data
 
 void ew_set_scene(ew_renderer *r, const ew_scene *s) {
     ew_free_box_surfs(r);  /* they belong to the old scene's models */
-    r->scene = s;
+    r->ents.scene = s;
     int need = s ? s->nents : 0;
-    if (need > r->max_ent_views) {
-        ew_view *v = realloc(r->ent_views, sizeof *v * (size_t)need);
-        if (v) r->ent_views = v, r->max_ent_views = need;
+    if (need > r->ents.max_ent_views) {
+        ew_view *v = realloc(r->ents.ent_views, sizeof *v * (size_t)need);
+        if (v) r->ents.ent_views = v, r->ents.max_ent_views = need;
     }
 }

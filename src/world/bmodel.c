@@ -4,7 +4,7 @@
  * solid leaves vanish (so it cannot poke through walls), and the rest take
  * the BSP key of their leaf, so they sort against the world in BSP order
  * and, within one leaf, against each other by 1/z (see hsr/edge_scan.c). */
-#include "ew_render.h"
+#include "renderer.h"
 #include "scene/scene.h"
 
 #include <math.h>
@@ -21,6 +21,7 @@ typedef struct split_ctx {
     const ew_view *view;    /* camera in the model's own space */
     int            face;
     float          normal[3]; /* the face's outward normal in world space */
+    int            handed;    /* fragments handed to the hidden-surface method */
 } split_ctx;
 
 static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
@@ -32,8 +33,10 @@ static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
     }
     if (node < 0) {
         int li = -1 - node;
-        if (r->leaf_keyframe[li] == r->framecount && w->leaves[li].contents != EW_CONTENTS_SOLID)
-            ew_emit_poly(r, p, n, c->face, c->view, r->leaf_key[li]);
+        if (r->marks.leaf_keyframe[li] == r->marks.framecount && w->leaves[li].contents != EW_CONTENTS_SOLID) {
+            r->cfg.hsr->poly(r, p, n, c->face, c->view, r->marks.leaf_key[li]);
+            c->handed++;
+        }
         return;
     }
     const ew_node *nd = &w->nodes[node];
@@ -74,22 +77,15 @@ static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
     if (nb >= 3) split(c, b, nb, nd->children[1], depth + 1);
 }
 
-/* Entity rotation: columns are the model's x (forward), y (left), z (up). */
-void ew_entity_axes(const float angles[3], float ax[3][3]) {
-    float fwd[3], right[3], up[3];
-    ew_angle_vectors(angles, fwd, right, up);
-    for (int k = 0; k < 3; k++) ax[k][0] = fwd[k], ax[k][1] = -right[k], ax[k][2] = up[k];
-}
-
 void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx) {
-    const struct ew_scene *sc = r->scene;
+    const struct ew_scene *sc = r->ents.scene;
     if (!sc) return;
     const ew_world *w = r->world;
     int used = 0;
     for (int ei = 0; ei < sc->nents; ei++) {
         const ew_scene_entity *e = &sc->ents[ei];
         int sub = -1 - e->model;
-        if (e->model >= 0 || sub <= 0 || sub >= w->nummodels || used >= r->max_ent_views) continue;
+        if (e->model >= 0 || sub <= 0 || sub >= w->nummodels || used >= r->ents.max_ent_views) continue;
         const ew_model *m = &w->models[sub];
         float ax[3][3];
         ew_entity_axes(e->angles, ax);
@@ -100,7 +96,7 @@ void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx) {
             r->stats.entities_culled++;
             continue;
         }
-        ew_view *mv = &r->ent_views[used++];
+        ew_view *mv = &r->ents.ent_views[used++];
         ew_view_to_model(&r->view, ax, e->origin, mv);
         int drawn = 0;
         for (int i = 0; i < m->numfaces; i++) {
@@ -128,13 +124,13 @@ void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx) {
     }
 }
 
-static int emit_fragments(ew_renderer *r, void *ctx, int fi, const ew_view *mv,
-                          const float normal[3], float (*p)[3], int n) {
+/* A face is drawn if any fragment of it lands in a visited leaf. */
+static int split_face(ew_renderer *r, void *ctx, int fi, const ew_view *mv,
+                      const float normal[3], float (*p)[3], int n) {
     (void)ctx;
-    int before = r->nsurfs;
-    split_ctx c = {r, mv, fi, {normal[0], normal[1], normal[2]}};
+    split_ctx c = {r, mv, fi, {normal[0], normal[1], normal[2]}, 0};
     split(&c, p, n, r->world->models[0].headnode, 0);
-    return r->nsurfs > before;
+    return c.handed > 0;
 }
 
-void ew_emit_brush_models(ew_renderer *r) { ew_for_brush_faces(r, emit_fragments, NULL); }
+void ew_walk_brush_models(ew_renderer *r) { ew_for_brush_faces(r, split_face, NULL); }

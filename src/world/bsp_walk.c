@@ -1,34 +1,14 @@
 /* Front end: walk the world BSP front to back.  A node's bounding box is
  * tested against the frustum planes it is not already known to be inside
  * of (clipflags bit i = plane i still needs testing); leaves in the PVS and
- * the frustum mark their surfaces; each node then emits its marked faces
- * that face the camera, all with one BSP-order key. */
-#include "ew_render.h"
+ * the frustum mark their surfaces; each node then hands its marked faces
+ * that face the camera to the frame's hidden-surface method, all with one
+ * BSP-order key. */
+#include "renderer.h"
 
 #define EW_MAX_WALK_DEPTH 4096
 
-/* Returns -1 if the box is outside a plane, else the reduced clipflags. */
-int ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags) {
-    for (int i = 0; i < 4; i++) {
-        if (!(clipflags & (1 << i))) continue;
-        const ew_plane *p = &v->frustum[i];
-        float far_pt = 0, near_pt = 0;  /* corners most / least along the normal */
-        for (int k = 0; k < 3; k++) {
-            if (p->normal[k] >= 0) {
-                far_pt += p->normal[k] * maxs[k];
-                near_pt += p->normal[k] * mins[k];
-            } else {
-                far_pt += p->normal[k] * mins[k];
-                near_pt += p->normal[k] * maxs[k];
-            }
-        }
-        if (far_pt <= p->dist) return -1;                 /* wholly outside */
-        if (near_pt >= p->dist) clipflags &= ~(1 << i);   /* wholly inside */
-    }
-    return clipflags;
-}
-
-static void walk(ew_renderer *r, int n, int clipflags, int depth) {
+static void walk(ew_renderer *r, int n, int clipflags, int depth, int *key) {
     const ew_world *w = r->world;
     if (depth > EW_MAX_WALK_DEPTH) {
         r->stats.dropped++;
@@ -37,18 +17,18 @@ static void walk(ew_renderer *r, int n, int clipflags, int depth) {
     if (n < 0) {
         int li = -1 - n;
         const ew_leaf *leaf = &w->leaves[li];
-        if (r->leaf_frame[li] != r->framecount || leaf->contents == EW_CONTENTS_SOLID) return;
+        if (r->marks.leaf_frame[li] != r->marks.framecount || leaf->contents == EW_CONTENTS_SOLID) return;
         if (clipflags && ew_cull_box(&r->view, leaf->mins, leaf->maxs, clipflags) < 0) return;
         r->stats.visible_leaves++;
         /* Brush model fragments in this leaf sort here in BSP order. */
-        r->leaf_key[li] = r->currentkey++;
-        r->leaf_keyframe[li] = r->framecount;
+        r->marks.leaf_key[li] = (*key)++;
+        r->marks.leaf_keyframe[li] = r->marks.framecount;
         for (int i = 0; i < leaf->nummarks; i++)
-            r->face_frame[w->marksurfaces[leaf->firstmark + i]] = r->framecount;
+            r->marks.face_frame[w->marksurfaces[leaf->firstmark + i]] = r->marks.framecount;
         return;
     }
     const ew_node *node = &w->nodes[n];
-    if (r->node_frame[n] != r->framecount) return;
+    if (r->marks.node_frame[n] != r->marks.framecount) return;
     if (clipflags) {
         clipflags = ew_cull_box(&r->view, node->mins, node->maxs, clipflags);
         if (clipflags < 0) return;
@@ -58,28 +38,26 @@ static void walk(ew_renderer *r, int n, int clipflags, int depth) {
     float d = o[0] * pl->normal[0] + o[1] * pl->normal[1] + o[2] * pl->normal[2] - pl->dist;
     int side = d >= 0 ? 0 : 1;
 
-    walk(r, node->children[side], clipflags, depth + 1);
+    walk(r, node->children[side], clipflags, depth + 1, key);
 
     /* Faces on this node: only those facing the camera can be seen. */
     int want_back = side;  /* camera behind the plane sees PLANEBACK faces */
     for (int i = 0; i < node->numfaces; i++) {
         int fi = node->firstface + i;
         const ew_face *f = &w->faces[fi];
-        if (r->face_frame[fi] != r->framecount) continue;
+        if (r->marks.face_frame[fi] != r->marks.framecount) continue;
         if (((f->flags & EW_SURF_PLANEBACK) != 0) != want_back) continue;
         if (d == 0) continue;  /* edge-on */
-        if (r->face_hook)
-            r->face_hook(r, fi, clipflags, r->face_hook_ctx);
-        else
-            ew_emit_face(r, fi, clipflags);
+        r->cfg.hsr->face(r, fi, clipflags, *key);
     }
-    r->currentkey++;
+    (*key)++;
 
-    walk(r, node->children[!side], clipflags, depth + 1);
+    walk(r, node->children[!side], clipflags, depth + 1, key);
 }
 
 void ew_walk_world(ew_renderer *r) {
-    walk(r, r->world->models[0].headnode, 15, 0);
+    int key = 0;  /* BSP order: grows front to back */
+    walk(r, r->world->models[0].headnode, 15, 0, &key);
 }
 
 /* Does a world-space box touch any leaf of this frame's PVS?  (Entities in
@@ -105,7 +83,7 @@ static int box_visible(const ew_renderer *r, int n, const float lo[3], const flo
         }
     }
     int leaf = -1 - n;
-    return r->leaf_frame[leaf] == r->framecount && w->leaves[leaf].contents != EW_CONTENTS_SOLID;
+    return r->marks.leaf_frame[leaf] == r->marks.framecount && w->leaves[leaf].contents != EW_CONTENTS_SOLID;
 }
 
 int ew_box_in_pvs(const ew_renderer *r, const float lo[3], const float hi[3]) {

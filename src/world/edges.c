@@ -3,7 +3,7 @@
  * edge emitted for one face is cached for the frame, and the face on its
  * other side reuses it (filling the edge's other surface slot) instead of
  * clipping and projecting it again. */
-#include "ew_render.h"
+#include "renderer.h"
 
 #include <math.h>
 
@@ -34,11 +34,11 @@ static int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) {
     const proj *top = down ? a : b, *bot = down ? b : a;
     int first = (int)ceilf(top->v), last = (int)ceilf(bot->v) - 1;
     if (first > last) return -1;
-    if (r->nedges >= r->max_edges) {
+    if (r->el.nedges >= r->el.max_edges) {
         r->stats.dropped++;
         return -1;
     }
-    ew_edge *e = &r->edges[r->nedges];
+    ew_edge *e = &r->el.edges[r->el.nedges];
     double slope = (double)(bot->u - top->u) / (double)(bot->v - top->v);
     double u = top->u + (first - top->v) * slope;
     e->u = (int32_t)floor(u * 65536.0 + 0.5);
@@ -48,9 +48,9 @@ static int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) {
     e->surfs[0] = down ? (uint16_t)s : 0;  /* going down on screen: right side */
     e->surfs[1] = down ? 0 : (uint16_t)s;
     e->nearzi = a->zi > b->zi ? a->zi : b->zi;
-    e->next_new = r->new_edges[first];
-    r->new_edges[first] = r->nedges;
-    return r->nedges++;
+    e->next_new = r->el.new_edges[first];
+    r->el.new_edges[first] = r->el.nedges;
+    return r->el.nedges++;
 }
 
 /* Emits (or reuses) world edge `se` (a signed surfedge) between a and b,
@@ -58,11 +58,11 @@ static int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) {
 static float emit_world_edge(ew_renderer *r, int se, const float *pa, const float *pb,
                              proj *ja, int *va, proj *jb, int *vb, int s) {
     int e = se >= 0 ? se : -se, sign = se >= 0 ? 1 : -1;
-    if (r->edge_cache_frame[e] == r->framecount) {
-        int idx = r->edge_cache_index[e];
+    if (r->marks.edge_cache_frame[e] == r->marks.framecount) {
+        int idx = r->marks.edge_cache_index[e];
         if (idx < 0) return 0;  /* known not to cross a scanline */
-        int slot = sign * r->edge_cache_down[e] > 0 ? 0 : 1;
-        ew_edge *ed = &r->edges[idx];
+        int slot = sign * r->marks.edge_cache_down[e] > 0 ? 0 : 1;
+        ew_edge *ed = &r->el.edges[idx];
         if (ed->surfs[slot] == 0) {
             ed->surfs[slot] = (uint16_t)s;
             r->stats.edges_cached++;
@@ -73,75 +73,28 @@ static float emit_world_edge(ew_renderer *r, int se, const float *pa, const floa
     if (!*va) project(r, pa, ja), *va = 1;
     if (!*vb) project(r, pb, jb), *vb = 1;
     int idx = add_edge(r, ja, jb, s);
-    r->edge_cache_frame[e] = r->framecount;
-    r->edge_cache_index[e] = idx;
-    r->edge_cache_down[e] = (int8_t)((jb->v > ja->v) ? sign : -sign);
+    r->marks.edge_cache_frame[e] = r->marks.framecount;
+    r->marks.edge_cache_index[e] = idx;
+    r->marks.edge_cache_down[e] = (int8_t)((jb->v > ja->v) ? sign : -sign);
     return ja->zi > jb->zi ? ja->zi : jb->zi;
 }
 
-int ew_clip_poly(const ew_view *v, int clipflags, float (*in)[3], int nin,
-                 float (*out)[3], int *tag_in, int *tag_out) {
-    float buf[2][EW_MAX_POLY][3];
-    int tagbuf[2][EW_MAX_POLY];
-    float (*src)[3] = in;
-    int *stag = tag_in, n = nin;
-    int which = 0;
-    for (int pi = 0; pi < 4; pi++) {
-        if (!(clipflags & (1 << pi))) continue;
-        const ew_plane *p = &v->frustum[pi];
-        float d[EW_MAX_POLY];
-        int any_out = 0;
-        for (int i = 0; i < n; i++) {
-            d[i] = src[i][0] * p->normal[0] + src[i][1] * p->normal[1] + src[i][2] * p->normal[2] - p->dist;
-            if (d[i] < 0) any_out = 1;
-        }
-        if (!any_out) continue;
-        float (*dst)[3] = buf[which];
-        int *dtag = tagbuf[which];
-        int m = 0;
-        for (int i = 0; i < n && m < EW_MAX_POLY - 2; i++) {
-            int j = i + 1 == n ? 0 : i + 1;
-            int in_i = d[i] >= 0, in_j = d[j] >= 0;
-            if (in_i) {
-                dst[m][0] = src[i][0], dst[m][1] = src[i][1], dst[m][2] = src[i][2];
-                dtag[m++] = in_j ? stag[i] : -1;
-            }
-            if (in_i != in_j) {
-                /* Always interpolate from the inside end, so the two faces that
-                 * share this edge get bit-identical points and no crack. */
-                const float *a = in_i ? src[i] : src[j], *b = in_i ? src[j] : src[i];
-                float da = in_i ? d[i] : d[j], db = in_i ? d[j] : d[i];
-                float t = da / (da - db);
-                for (int k = 0; k < 3; k++) dst[m][k] = a[k] + t * (b[k] - a[k]);
-                dtag[m++] = -1;
-            }
-        }
-        src = dst, stag = dtag, n = m;
-        which ^= 1;
-        if (n < 3) return 0;
-    }
-    for (int i = 0; i < n; i++) {
-        out[i][0] = src[i][0], out[i][1] = src[i][1], out[i][2] = src[i][2];
-        tag_out[i] = stag[i];
-    }
-    return n;
-}
-
-void ew_emit_face(ew_renderer *r, int fi, int clipflags) {
+void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[fi];
     int n = f->numedges;
-    if (r->nsurfs >= r->max_surfs || n > EW_MAX_POLY - 8 ||
-        r->nedges + n + 4 > r->max_edges) {
+    if (r->el.nsurfs >= r->el.max_surfs || n > EW_MAX_POLY - 8 ||
+        r->el.nedges + n + 4 > r->el.max_edges) {
         r->stats.dropped++;
         return;
     }
-    int s = r->nsurfs;
+    int s = r->el.nsurfs;
     float nearzi = 0;
     proj pj[EW_MAX_POLY];
-    int valid[EW_MAX_POLY] = {0};
+    int valid[EW_MAX_POLY];  /* cleared for the face's (clipped) vertices only, not all 256 */
 
     if (clipflags == 0) {
+        for (int i = 0; i < n; i++) valid[i] = 0;
         /* Wholly inside the frustum: every edge is a whole world edge. */
         for (int i = 0; i < n; i++) {
             int j = i + 1 == n ? 0 : i + 1;
@@ -161,6 +114,7 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags) {
         }
         int m = ew_clip_poly(&r->view, clipflags, in, n, out, tin, tout);
         if (m < 3) return;
+        for (int i = 0; i < m; i++) valid[i] = 0;
         for (int i = 0; i < m; i++) {
             int j = i + 1 == m ? 0 : i + 1;
             float zi;
@@ -176,18 +130,18 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags) {
             if (zi > nearzi) nearzi = zi;
         }
     }
-    ew_surf *sf = &r->surfs[s];
-    sf->key = r->currentkey;
+    ew_surf *sf = &r->el.surfs[s];
+    sf->key = key;
     sf->face = fi;
     sf->flags = f->flags;
     sf->nearzi = nearzi;
     sf->view = &r->view;
     sf->insubmodel = 0;
-    r->nsurfs++;
+    r->el.nsurfs++;
 }
 
 void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
-    if (r->nsurfs >= r->max_surfs || n > EW_MAX_POLY - 8 || r->nedges + n + 4 > r->max_edges) {
+    if (r->el.nsurfs >= r->el.max_surfs || n > EW_MAX_POLY - 8 || r->el.nedges + n + 4 > r->el.max_edges) {
         r->stats.dropped++;
         return;
     }
@@ -196,7 +150,7 @@ void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_vie
     for (int i = 0; i < n; i++) tin[i] = -1;
     int m = ew_clip_poly(&r->view, 15, verts, n, out, tin, tout);
     if (m < 3) return;
-    int s = r->nsurfs;
+    int s = r->el.nsurfs;
     proj pj[EW_MAX_POLY];
     float nearzi = 0;
     for (int i = 0; i < m; i++) {
@@ -204,7 +158,7 @@ void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_vie
         if (pj[i].zi > nearzi) nearzi = pj[i].zi;
     }
     for (int i = 0; i < m; i++) add_edge(r, &pj[i], &pj[i + 1 == m ? 0 : i + 1], s);
-    ew_surf *sf = &r->surfs[s];
+    ew_surf *sf = &r->el.surfs[s];
     const ew_face *f = &r->world->faces[fi];
     sf->key = key;
     sf->face = fi;
@@ -215,5 +169,5 @@ void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_vie
     ew_gradients g;
     ew_face_gradients(r->world, v, f, 0, &g);
     sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
-    r->nsurfs++;
+    r->el.nsurfs++;
 }

@@ -1,6 +1,6 @@
 /* Potentially visible set: find the camera's leaf, decompress its row of
  * the PVS and mark those leaves (and every node above them) for this frame. */
-#include "ew_render.h"
+#include "renderer.h"
 
 int ew_point_leaf(const ew_world *w, int headnode, const float p[3]) {
     int n = headnode;
@@ -16,11 +16,11 @@ int ew_point_leaf(const ew_world *w, int headnode, const float p[3]) {
 
 static void mark_leaf(ew_renderer *r, int leaf) {
     const ew_world *w = r->world;
-    if (r->leaf_frame[leaf] == r->framecount) return;
-    r->leaf_frame[leaf] = r->framecount;
+    if (r->marks.leaf_frame[leaf] == r->marks.framecount) return;
+    r->marks.leaf_frame[leaf] = r->marks.framecount;
     for (int n = w->leaves[leaf].parent; n >= 0; n = w->nodes[n].parent) {
-        if (r->node_frame[n] == r->framecount) break;
-        r->node_frame[n] = r->framecount;
+        if (r->marks.node_frame[n] == r->marks.framecount) break;
+        r->marks.node_frame[n] = r->marks.framecount;
     }
 }
 

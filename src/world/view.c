@@ -1,5 +1,5 @@
 /* View setup: camera basis from Quake angles, projection, frustum planes. */
-#include "ew_render.h"
+#include "world/view.h"
 
 #include <math.h>
 
@@ -73,4 +73,32 @@ void ew_view_to_model(const ew_view *v, const float ax[3][3], const float origin
             for (int k = 0; k < 3; k++) d[k] -= origin[k];
         for (int k = 0; k < 3; k++) dst[q][k] = ax[0][k] * d[0] + ax[1][k] * d[1] + ax[2][k] * d[2];
     }
+}
+
+/* Entity rotation: columns are the model's x (forward), y (left), z (up). */
+void ew_entity_axes(const float angles[3], float ax[3][3]) {
+    float fwd[3], right[3], up[3];
+    ew_angle_vectors(angles, fwd, right, up);
+    for (int k = 0; k < 3; k++) ax[k][0] = fwd[k], ax[k][1] = -right[k], ax[k][2] = up[k];
+}
+
+/* Returns -1 if the box is outside a plane, else the reduced clipflags. */
+int ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags) {
+    for (int i = 0; i < 4; i++) {
+        if (!(clipflags & (1 << i))) continue;
+        const ew_plane *p = &v->frustum[i];
+        float far_pt = 0, near_pt = 0;  /* corners most / least along the normal */
+        for (int k = 0; k < 3; k++) {
+            if (p->normal[k] >= 0) {
+                far_pt += p->normal[k] * maxs[k];
+                near_pt += p->normal[k] * mins[k];
+            } else {
+                far_pt += p->normal[k] * mins[k];
+                near_pt += p->normal[k] * maxs[k];
+            }
+        }
+        if (far_pt <= p->dist) return -1;                 /* wholly outside */
+        if (near_pt >= p->dist) clipflags &= ~(1 << i);   /* wholly inside */
+    }
+    return clipflags;
 }

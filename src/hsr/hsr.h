@@ -1,0 +1,106 @@
+/* Hidden-surface removal (internal): one interface, one file per method.
+ *
+ * The front end (world/) walks the BSP front to back and hands every
+ * visible, camera-facing world face and every brush-model polygon to the
+ * frame's method; each band of the frame is then resolved into spans for
+ * the back end to draw (hsr/edge_scan.c: Quake's global edge list) or
+ * straight into pixels (hsr/reference.c: a per-pixel z-buffer the tests
+ * trust).  A new method (beam tree, span list, painter's order...) is a new
+ * file here with its own ew_hsr_method. */
+#ifndef EW_HSR_H
+#define EW_HSR_H
+
+#include "world/view.h"
+
+typedef struct ew_renderer ew_renderer;
+typedef struct ew_band ew_band;
+
+typedef struct ew_hsr_method {
+    const char *name;
+    /* A frame starts (serial, after the view and the PVS are set). */
+    void (*begin)(ew_renderer *r);
+    /* A visible world face facing the camera, in BSP order front to back;
+     * key grows from front to back (serial, from the walk). */
+    void (*face)(ew_renderer *r, int face, int clipflags, int key);
+    /* A brush-model polygon in world space: face fi of a moved model seen
+     * through v (the camera in the model's space), sorting at BSP key key
+     * (serial). */
+    void (*poly)(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
+    /* Resolves rows [b->y0, b->y1): spans into b, or pixels into the frame
+     * (parallel: one band per call, bands never share rows). */
+    void (*resolve)(ew_renderer *r, ew_band *b);
+} ew_hsr_method;
+
+extern const ew_hsr_method ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */
+extern const ew_hsr_method ew_hsr_reference;  /* hsr/reference.c */
+
+/* ---- the global edge list (built by world/edges.c, scanned by edge_scan.c) ---- */
+typedef struct ew_edge {
+    int32_t  u;          /* 16.16 screen x at the first scanline */
+    int32_t  u_step;     /* 16.16 per scanline */
+    int32_t  v_first;    /* first scanline crossed */
+    int32_t  v_last;     /* last scanline crossed */
+    uint16_t surfs[2];   /* [0]: surface it trails (right side), [1]: leads */
+    int32_t  next_new;   /* next edge starting on the same line, -1 end */
+    float    nearzi;     /* larger 1/z of its two ends */
+} ew_edge;
+
+/* A polygon in the edge list. */
+typedef struct ew_surf {
+    int   key;           /* BSP order: smaller is nearer */
+    int   face;          /* world face, -1 for the background */
+    int   flags;         /* EW_SURF_* */
+    float nearzi;        /* largest 1/z of its clipped vertices (mip choice) */
+    const ew_view *view; /* the camera in the face's own space (moved brush models) */
+    int   insubmodel;    /* brush model fragment: ties in key sort by 1/z */
+    float zi_u, zi_v, zi_0;  /* 1/z plane (brush model fragments only) */
+} ew_surf;
+
+typedef struct ew_edge_list {
+    ew_edge *edges;      int nedges, max_edges;
+    int32_t *new_edges;  /* per scanline: first edge starting there, -1 */
+    ew_surf *surfs;      int nsurfs, max_surfs;  /* surface 0 is the background */
+    int      max_spans;  /* per band */
+} ew_edge_list;
+
+/* Spans are kept in the order the scan makes them: row by row, left to
+ * right within a row (the drawing, the z-fill index and the accounting all
+ * rely on it). */
+typedef struct ew_span {
+    int32_t u, v, count;
+    int32_t surf;        /* the surface it belongs to */
+} ew_span;
+
+typedef struct ew_active {
+    int32_t  u, u_step, v_last;
+    uint16_t surfs[2];
+} ew_active;
+
+/* One horizontal band [y0, y1): its scan state, its spans, and what its
+ * draw job counted.  Aligned so neighbouring bands' counters, written by
+ * different threads, never share a cache line. */
+struct ew_band {
+    _Alignas(64) int y0, y1;
+    /* surface stack, indexed by surface number; 0 is the background */
+    int32_t *st_next, *st_prev, *st_state, *st_lastu;
+    uint8_t *has_spans;             /* per surface: won a span in this band */
+    ew_span *spans;  int nspans, cap_spans, max_spans;
+    ew_active *aet;  int naet, cap_aet, max_aet;
+    int dropped;
+    ew_stats model_stats;           /* this band's share of the moving things' counters */
+    long written, covered;          /* world pixels its spans wrote, and covered at least once */
+    double model_ms;                /* time it spent on them */
+    double ms;                      /* the whole band's cost this frame (sizes the next frame's bands) */
+};
+
+int  ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet);
+void ew_band_free(ew_band *b);
+/* The edge list's scan of one band into spans. */
+void ew_scan_band(const ew_edge_list *el, int width, ew_band *b);
+
+/* world/edges.c: clip, project and emit one face (or a loose polygon) into
+ * the edge list: the edge method's face and poly. */
+void ew_emit_face(ew_renderer *r, int face, int clipflags, int key);
+void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
+
+#endif

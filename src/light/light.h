@@ -1,0 +1,78 @@
+/* Light (internal): light maps into lit surfaces, the surface cache that
+ * keeps them across frames, dynamic lights, and the light under a model. */
+#ifndef EW_LIGHT_H
+#define EW_LIGHT_H
+
+#include "world/view.h"
+
+typedef struct ew_renderer ew_renderer;
+
+/* ---- surface cache (light/cache.c) ---- */
+typedef struct ew_cached_surf {
+    struct ew_cached_surf *lru_prev, *lru_next;
+    int      face, mip, texture;
+    int      light[4];   /* style values it was lit with */
+    unsigned dlights;    /* dynamic lights it was built with */
+    int      width, height;
+    int      last_frame;
+    uint8_t *pixels;
+} ew_cached_surf;
+
+typedef struct ew_surf_cache {
+    ew_cached_surf **slot;        /* numfaces * 4 (per mip) */
+    ew_cached_surf  *lru_head, *lru_tail;
+    size_t bytes, budget;
+} ew_surf_cache;
+
+int  ew_cache_init(ew_surf_cache *c, int numfaces, size_t budget);
+void ew_cache_free(ew_surf_cache *c);
+/* Finds (or makes room for) the lit surface of a face at a mip level and
+ * marks it used this frame; *build is set when its pixels must be built
+ * (ew_cache_build, which may run on any thread: entries are distinct).
+ * Serial: lookups allocate and evict.  NULL when out of memory. */
+ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
+void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
+
+/* ---- lit surfaces (light/surface.c) ---- */
+int  ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi);
+const ew_texture *ew_face_texture(const ew_world *w, const ew_face *f, double time);
+/* Builds face f of world w lit by style values light[] (and, for the
+ * renderer's own world, the dynamic lights in bits dlights) into out. */
+void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
+                      const ew_texture *tex, int mip, const int light[4], unsigned dlights,
+                      uint8_t *out, int *scratch);
+
+/* ---- dynamic lights (light/dlight.c) ---- */
+/* Marks the faces in reach of the scene's dynamic lights; the lights on a
+ * face this frame (bit i = light i); adds them to a light map. */
+void     ew_mark_dlights(ew_renderer *r);
+unsigned ew_face_dlights(const ew_renderer *r, int face);
+void     ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *blocklights);
+
+/* ---- light on moving things (light/lightpoint.c, light/model_light.c) ---- */
+/* The world's light level under point p (0..255). */
+int  ew_light_point(const ew_renderer *r, const float p[3]);
+/* An alias model's ambient and directional shade at origin: the floor
+ * under it plus the dynamic lights in reach. */
+void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade);
+
+/* ---- item boxes' lit surfaces (light/box_surfs.c) ---- */
+/* Every face of a box at every mip, rebuilt only when a light style on it
+ * or its texture frame changes (serial, once per frame). */
+typedef struct ew_box_surf {
+    uint8_t *pixels[4];
+    int      width[4];
+    int      light[4];          /* style values they were lit with */
+    const ew_texture *tex;      /* and the texture frame (animated textures) */
+    int      built;
+} ew_box_surf;
+typedef struct ew_box_surfs {
+    int         nfaces;
+    ew_box_surf face[];         /* model 0's faces */
+} ew_box_surfs;
+/* Makes scene model mi's (an item box world bw) surfaces current; -1 when
+ * out of memory. */
+int  ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw);
+void ew_free_box_surfs(ew_renderer *r);
+
+#endif

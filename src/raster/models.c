@@ -1,0 +1,85 @@
+/* The scene's z-buffered moving things, drawn in each band's rows after its
+ * world spans: alias models, sprites, item boxes, then particles (the
+ * "models" pass of scene/passes.c).  Which ones and their light were
+ * settled once for the frame (world/entities.c). */
+#include "renderer.h"
+#include "raster/alias.h"
+#include "scene/scene.h"
+
+/* An item box: faces of a small world of its own, z-buffered. */
+static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surfs,
+                    const ew_scene_entity *e, const ew_rows *rows) {
+    const ew_model *m = &bw->models[0];
+    float ax[3][3];
+    ew_entity_axes(e->angles, ax);
+    float lo[3], hi[3];
+    ew_moved_box(ax, e->origin, m->mins, m->maxs, lo, hi);
+    if (ew_cull_box(&r->view, lo, hi, 15) < 0) return 0;
+    ew_view mv;  /* the camera in the box's space */
+    ew_view_to_model(&r->view, ax, e->origin, &mv);
+    long won = 0;
+    int in_view = 0;
+    for (int i = 0; i < m->numfaces; i++) {
+        const ew_face *f = &bw->faces[m->firstface + i];
+        const ew_plane *pl = &bw->planes[f->plane];
+        float dist = mv.origin[0] * pl->normal[0] + mv.origin[1] * pl->normal[1] + mv.origin[2] * pl->normal[2] - pl->dist;
+        int back = (f->flags & EW_SURF_PLANEBACK) != 0;
+        if ((back && dist >= 0) || (!back && dist <= 0) || f->numedges > EW_MAX_POLY - 8) continue;
+        float p[EW_MAX_POLY][3];
+        for (int v = 0; v < f->numedges; v++) {
+            const float *q = bw->verts[ew_face_vertex(bw, f, v)];
+            for (int k = 0; k < 3; k++) p[v][k] = e->origin[k] + ax[k][0] * q[0] + ax[k][1] * q[1] + ax[k][2] * q[2];
+        }
+        ew_zpoly zp;
+        if (!ew_zpoly_project(&r->view, p, f->numedges, &zp)) continue;
+        in_view = 1;
+        if (zp.y1 < rows->y0 || zp.y0 >= rows->y1) continue;  /* another band's rows */
+        ew_zpoly_look look = {bw, f, &mv, ew_face_texture(bw, f, r->view.time), NULL, 0, 0, 1};
+        if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
+            const ew_box_surf *bs = surfs && i < surfs->nfaces ? &surfs->face[i] : NULL;
+            if (!bs || !bs->built) {  /* no memory for it */
+                rows->stats->dropped++;
+                continue;
+            }
+            look.mip = ew_face_mip(&r->view, bw, f, zp.nearzi);
+            look.surf = bs->pixels[look.mip], look.surf_width = bs->width[look.mip];
+        }
+        ew_zfill_rect(&r->zf, zp.x0, zp.y0 > rows->y0 ? zp.y0 : rows->y0, zp.x1 + 1,
+                      zp.y1 + 1 < rows->y1 ? zp.y1 + 1 : rows->y1);
+        won += ew_zpoly_fill(&r->draw, &zp, &look, NULL, 0, rows->y0, rows->y1);
+    }
+    rows->stats->alias_pixels += won;
+    return in_view;
+}
+
+void ew_draw_models(ew_renderer *r, const ew_rows *rows) {
+    const struct ew_scene *sc = r->ents.scene;
+    if (!sc) return;
+    for (int i = 0; i < r->ents.nent_frame && i < sc->nents; i++) {
+        const ew_scene_entity *e = &sc->ents[i];
+        const ew_ent_frame *ef = &r->ents.ent_frame[i];
+        if (!ef->visible) continue;
+        const ew_scene_model *m = &sc->models[e->model];
+        ew_model_pose pose = {{e->origin[0], e->origin[1], e->origin[2]},
+                              {e->angles[0], e->angles[1], e->angles[2]},
+                              e->frame, e->skin, r->view.time, ef->ambient, ef->shade};
+        int drawn = 0;
+        if (m->kind == EW_MODEL_ALIAS) {
+            /* Time walks a model through its frames at the game's 10 a
+             * second (frame groups animate by their own intervals too). */
+            const ew_mdl *mdl = m->data;
+            if (r->view.time > 0 && mdl->numframes > 1)
+                pose.frame = (int)(((long long)(r->view.time * 10) + e->frame) % mdl->numframes);
+            drawn = ew_draw_alias_rows(r, m->data, &pose, rows);
+        } else if (m->kind == EW_MODEL_SPRITE) {
+            drawn = ew_draw_sprite_rows(r, m->data, &pose, rows);
+        } else if (m->kind == EW_MODEL_BOX) {
+            drawn = draw_box(r, m->data, e->model < r->ents.nbox_surfs ? r->ents.box_surfs[e->model] : NULL, e, rows);
+        }
+        if (rows->first) {
+            if (drawn) rows->stats->entities_drawn++;
+            else rows->stats->entities_culled++;
+        }
+    }
+    if (sc->nparticles) ew_draw_particles_rows(r, sc->particles, sc->nparticles, rows);
+}

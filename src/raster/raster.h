@@ -1,0 +1,96 @@
+/* The back end (internal): span drawers, sky, liquids, the z-buffered
+ * polygon fill, and what a band's drawing calls may touch.  Drawers take
+ * only the frame target and the per-frame tables they read (ew_span_ctx),
+ * not the renderer. */
+#ifndef EW_RASTER_H
+#define EW_RASTER_H
+
+#include "hsr/hsr.h"
+#include "raster/target.h"
+
+/* Screen gradients of a face: s/z, t/z and 1/z are linear in screen space. */
+typedef struct ew_gradients {
+    float zi_u, zi_v, zi_0;       /* 1/z = zi_u*u + zi_v*v + zi_0 */
+    float s_u, s_v, s_0;          /* s/z likewise, seen from the eye */
+    float t_u, t_v, t_0;
+    int32_t s_adjust, t_adjust;   /* 16.16: s = (s/z) * z + s_adjust */
+    int32_t s_max, t_max;         /* 16.16 clamp limits */
+} ew_gradients;
+/* raster/gradients.c: face f of world w seen through v (the camera in the
+ * face's own space) at a mip level. */
+void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
+                       ew_gradients *g);
+
+/* How one surface's spans are drawn this frame (set before the bands draw). */
+enum { EW_DRAW_BACKGROUND, EW_DRAW_LIT, EW_DRAW_SKY, EW_DRAW_TURB, EW_DRAW_FLAT };
+typedef struct ew_surf_draw {
+    ew_gradients g;           /* screen gradients (mip of its lit surface; 0 for sky and liquids) */
+    const uint8_t *pixels;    /* EW_DRAW_LIT: the lit surface, pitch bytes a row */
+    int pitch;
+    int kind;                 /* EW_DRAW_*; FLAT: no memory for its lit surface */
+    const ew_texture *tex;    /* sky and liquids */
+} ew_surf_draw;
+
+/* What the span drawers read, set once per frame. */
+typedef struct ew_span_ctx {
+    const ew_target *target;
+    int            subdiv_shift;   /* perspective divide every 1 << shift pixels */
+    const ew_view *view;           /* the sky's rays */
+    float          sky_scroll;     /* sky layers' offset for this frame's time */
+    int32_t        turb[128];      /* liquid warp for this frame's time */
+} ew_span_ctx;
+
+/* raster/span.c, sky.c, turb.c: one span of each kind.  A band draws its
+ * spans in the order the scan made them (row by row), so the frame is
+ * written front to back in memory and the span list is read straight
+ * through. */
+void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d);
+void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *t);
+void ew_draw_turb_span(const ew_span_ctx *c, const ew_span *sp, const ew_gradients *g, const ew_texture *t);
+void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp);  /* black */
+/* Every span of a band, each by its surface's ew_surf_draw; with full_z the
+ * world's 1/z goes under every span too (ew_set_full_zfill). */
+void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *draw, int full_z);
+
+/* Sky colour of one pixel (shared with the reference path). */
+uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y);
+/* The sky layers' offset in texels at a time (the back layer's; the front
+ * one moves twice as far). */
+float   ew_sky_scroll(double time);
+void    ew_turb_table(int32_t table[128], double time);
+uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, int32_t tt);
+
+/* Rows of the frame a drawing call may touch, and where its counters go:
+ * moving things are drawn band by band, each band only in its own rows. */
+typedef struct ew_rows {
+    int       y0, y1;      /* [y0, y1) */
+    ew_stats *stats;
+    int       first;       /* the band that counts per-model figures (triangles, entities) */
+} ew_rows;
+
+/* raster/zpoly.c: the z-buffered polygon fill (reference path, item boxes) */
+typedef struct ew_zpoly {
+    int    n;
+    float  u[EW_MAX_POLY], v[EW_MAX_POLY];
+    float  nearzi;
+    double sign;
+    int    x0, y0, x1, y1;
+} ew_zpoly;
+typedef struct ew_zpoly_look {
+    const ew_world   *world;
+    const ew_face    *face;
+    const ew_view    *view;         /* the camera in the face's own space */
+    const ew_texture *tex;          /* sky and liquids */
+    const uint8_t    *surf;         /* lit surface (others) */
+    int               surf_width, mip;
+    int               stepped;      /* lit surfaces: a divide every 16 pixels as world
+                                       spans (ew_stepper), not at every pixel */
+} ew_zpoly_look;
+/* Clips (whole frustum) and projects a world-space polygon; 0 if nothing is left. */
+int  ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p);
+/* Fills it into the target where nearer, within rows [y0, y1); ids[pixel]
+ * = id where it wins (ids may be NULL).  Returns the pixels won. */
+long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,
+                   int y0, int y1);
+
+#endif

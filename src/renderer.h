@@ -1,0 +1,103 @@
+/*
+ * The renderer context (internal).  Everything a frame needs lives in an
+ * ew_renderer, in one part per stage, or in an ew_band (one horizontal
+ * band's scan state and spans), never in globals, so bands of one frame
+ * are scanned and drawn on several threads.  docs/architecture.md draws
+ * the pipeline; each stage's interface is its own header:
+ *
+ *   world/view.h    camera, frustum, clipping          (world/view.c, clip.c)
+ *   world/front.h   PVS, BSP walk, brush models, entity culling
+ *   hsr/hsr.h       hidden-surface methods: edge list (edge_scan.c), reference
+ *   light/light.h   surface cache, lit surfaces, dynamic lights, model light
+ *   raster/raster.h span drawers, sky, liquids, z-buffered polygons
+ *   raster/zfill.h  deferred z-fill;  raster/target.h  the frame target
+ *   scene/passes.h  what is drawn over the world, in order
+ */
+#ifndef EW_RENDERER_H
+#define EW_RENDERER_H
+
+#include "hsr/hsr.h"
+#include "light/light.h"
+#include "pool.h"
+#include "raster/raster.h"
+#include "raster/zfill.h"
+#include "scene/passes.h"
+#include "world/front.h"
+
+#include <stdatomic.h>
+
+/* Settings: changed between frames, read by every stage. */
+typedef struct ew_config {
+    int   subdiv_shift;              /* perspective divide every 1 << shift px */
+    int   alias_raster;              /* ew_alias_raster */
+    float alias_threshold;           /* auto: subdivide below this screen height */
+    int   lightstyle[64];
+    int   face_ids_on;               /* test hook: record the face of each pixel */
+    const ew_hsr_method *hsr;        /* hidden-surface method */
+} ew_config;
+
+/* Bands of the frame: several per thread, taken in turn by whichever
+ * thread is free, with boundaries that follow the last frame's cost.  The
+ * counters threads take work from sit on cache lines of their own. */
+typedef struct ew_sched {
+    ew_pool *pool;
+    int      nthreads, nbands;
+    ew_band *bands;
+    float   *row_cost;                            /* per scanline, from the bands' cost */
+    int      bands_sized_for;                     /* row_cost valid for this many bands */
+    _Alignas(64) _Atomic int next_band;           /* work handed out in a phase */
+    _Alignas(64) _Atomic int next_build;
+    _Alignas(64) _Atomic int next_grad;
+    _Alignas(64) char end;
+} ew_sched;
+
+/* This frame's lit surfaces: per surface of the edge list, its cache entry
+ * (normal surfaces only) and how its spans are drawn. */
+typedef struct ew_lit {
+    ew_surf_cache    cache;
+    ew_cached_surf **surf_cache;
+    ew_surf_draw    *surf_draw;
+    ew_cached_surf **to_build;  int nbuild;
+    int             *grad_list; int ngrad;       /* surfaces whose gradients are needed */
+    int              maxlm;                      /* largest light map, in samples */
+    int             *blocklights;                /* building scratch, maxlm per thread */
+} ew_lit;
+
+/* The scene drawn with the world, and what this frame knows of it. */
+typedef struct ew_ents {
+    const struct ew_scene *scene;               /* or NULL */
+    ew_view      *ent_views;  int max_ent_views; /* camera in each brush entity's space */
+    ew_ent_frame *ent_frame;  int nent_frame, max_ent_frame;
+    ew_box_surfs **box_surfs; int nbox_surfs;   /* per scene model: item box surfaces, or NULL */
+} ew_ents;
+
+/* The reference method's frame: the polygons it fills band by band. */
+typedef struct ew_ref_poly ew_ref_poly;
+typedef struct ew_ref {
+    ew_ref_poly *polys; int npolys, cap;
+    int         *ids;                            /* ew_render_reference's face ids, or NULL */
+} ew_ref;
+
+struct ew_renderer {
+    const ew_world *world;
+    const uint8_t  *palette, *colormap;
+    ew_config   cfg;
+    ew_target   target;
+    ew_view     view;                            /* this frame's camera */
+    ew_stats    stats;                           /* this frame's counters (serial stages) */
+    ew_marks    marks;
+    ew_edge_list el;
+    ew_span_ctx draw;
+    ew_zfill    zf;
+    ew_lit      lit;
+    ew_ents     ents;
+    ew_ref      ref;
+    ew_sched    sched;
+    int        *face_ids;                        /* test hook: per pixel, or NULL */
+};
+
+/* renderer.c: new frame number, view, per-frame tables, PVS marks, and the
+ * hidden-surface method's begin. */
+int  ew_frame_begin(ew_renderer *r, const ew_camera *cam);
+
+#endif

@@ -1,0 +1,26 @@
+/* What is drawn over the opaque world, in order (internal, scene/passes.c).
+ * The world's spans come first and own every pixel once; each pass then
+ * draws, band by band, only in its band's rows, z-tested against what is
+ * there.  Today: the moving things.  Later passes (fences and translucent
+ * surfaces, then fog) go into the one list in scene/passes.c. */
+#ifndef EW_SCENE_PASSES_H
+#define EW_SCENE_PASSES_H
+
+#include "raster/raster.h"
+
+typedef struct ew_pass {
+    const char *name;
+    /* Once a frame, serial, after the scan and before the bands draw (NULL: nothing). */
+    int  (*prepare)(ew_renderer *r);
+    /* In one band's rows, after that band's world spans (parallel across bands). */
+    void (*draw)(ew_renderer *r, const ew_rows *rows);
+} ew_pass;
+
+void ew_passes_prepare(ew_renderer *r);
+void ew_passes_draw(ew_renderer *r, const ew_rows *rows);
+
+/* raster/models.c: alias models, sprites, item boxes, then particles,
+ * z-buffered over the z-filled world.  (Brush models are in the world.) */
+void ew_draw_models(ew_renderer *r, const ew_rows *rows);
+
+#endif

@@ -1,0 +1,50 @@
+/* Entities of the scene, once per frame before the bands draw: which ones
+ * the frustum and the PVS let through, with the light on each (alias
+ * models) and their item-box surfaces made current, so the bands only
+ * draw.  Brush entities are not here: they went into the world. */
+#include "renderer.h"
+#include "raster/alias.h"
+#include "scene/scene.h"
+
+#include <stdlib.h>
+
+/* How far a model reaches from its origin, for the PVS and frustum tests. */
+static float model_reach(const ew_scene_model *m) {
+    return m->kind == EW_MODEL_ALIAS  ? ((const ew_mdl *)m->data)->radius
+           : m->kind == EW_MODEL_BOX ? 64.0f
+                                      : ((const ew_spr *)m->data)->radius;
+}
+
+int ew_prepare_entities(ew_renderer *r) {
+    const struct ew_scene *sc = r->ents.scene;
+    r->ents.nent_frame = 0;
+    if (!sc) return 0;
+    if (sc->nents > r->ents.max_ent_frame) {
+        ew_ent_frame *f = realloc(r->ents.ent_frame, sizeof *f * (size_t)sc->nents);
+        if (!f) {
+            r->stats.dropped++;
+            return -1;
+        }
+        r->ents.ent_frame = f, r->ents.max_ent_frame = sc->nents;
+    }
+    for (int i = 0; i < sc->nents; i++) {
+        const ew_scene_entity *e = &sc->ents[i];
+        ew_ent_frame *ef = &r->ents.ent_frame[i];
+        ef->visible = 0;
+        if (e->model < 0) continue;  /* brush entities are in the edge list */
+        const ew_scene_model *m = &sc->models[e->model];
+        /* Potentially visible at all?  A box around the model against the
+         * PVS and the frustum. */
+        float reach = model_reach(m), lo[3], hi[3];
+        for (int k = 0; k < 3; k++) lo[k] = e->origin[k] - reach, hi[k] = e->origin[k] + reach;
+        if (ew_cull_box(&r->view, lo, hi, 15) < 0 || !ew_box_in_pvs(r, lo, hi)) {  /* the cheap test first */
+            r->stats.entities_culled++;
+            continue;
+        }
+        ef->visible = 1;
+        if (m->kind == EW_MODEL_ALIAS) ew_model_light(r, e->origin, &ef->ambient, &ef->shade);
+        if (m->kind == EW_MODEL_BOX && ew_prepare_box(r, e->model, m->data) < 0) r->stats.dropped++;
+    }
+    r->ents.nent_frame = sc->nents;
+    return 0;
+}

@@ -1,0 +1,46 @@
+/* The camera of a frame (internal, world/view.c): basis, projection and
+ * frustum planes, and the moves between world and model space. */
+#ifndef EW_WORLD_VIEW_H
+#define EW_WORLD_VIEW_H
+
+#include "ew_world.h"
+
+typedef struct ew_view {
+    float origin[3];
+    float forward[3], right[3], up[3];
+    float xcenter, ycenter;   /* pixel centres are integers */
+    float xscale, yscale;     /* pixels per unit of x/z, y/z */
+    ew_plane frustum[4];      /* world space, normals point inward */
+    int   width, height;
+    double time;
+} ew_view;
+
+void ew_view_setup(ew_view *v, const ew_camera *cam, int width, int height);
+/* Forward, right and up of Quake angles (pitch yaw roll, degrees). */
+void ew_angle_vectors(const float angles[3], float fwd[3], float right[3], float up[3]);
+/* Entity rotation from Quake angles: columns are the model's x, y, z axes. */
+void ew_entity_axes(const float angles[3], float ax[3][3]);
+/* Moved models (ax: the model's axes as columns, from ew_entity_axes):
+ * the world box around its moved bounds, and the camera in its own space
+ * (p_model = ax^T (p_world - origin)). */
+void ew_moved_box(const float ax[3][3], const float origin[3], const float mins[3],
+                  const float maxs[3], float lo[3], float hi[3]);
+void ew_view_to_model(const ew_view *v, const float ax[3][3], const float origin[3], ew_view *out);
+/* World point -> view space (x right, y up, z forward). */
+static inline void ew_view_transform(const ew_view *v, const float p[3], float out[3]) {
+    float d0 = p[0] - v->origin[0], d1 = p[1] - v->origin[1], d2 = p[2] - v->origin[2];
+    out[0] = d0 * v->right[0] + d1 * v->right[1] + d2 * v->right[2];
+    out[1] = d0 * v->up[0] + d1 * v->up[1] + d2 * v->up[2];
+    out[2] = d0 * v->forward[0] + d1 * v->forward[1] + d2 * v->forward[2];
+}
+/* -1 if the box is outside a frustum plane in clipflags, else the planes it still crosses. */
+int  ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags);
+
+/* world/clip.c: clips a polygon (world coords) against the frustum planes
+ * in clipflags; returns the vertex count (0 if all clipped).  tag_out[i] =
+ * tag_in of the original edge leaving vertex i, or -1 for a new edge. */
+#define EW_MAX_POLY 256
+int  ew_clip_poly(const ew_view *v, int clipflags, float (*in)[3], int nin,
+                  float (*out)[3], int *edge_tag_in, int *edge_tag_out);
+
+#endif
