@@ -6,13 +6,19 @@
  * than a phase at small frame sizes.  ew_pool_wake, called as a frame
  * starts, has sleeping workers poll through the serial front end. */
 #include "renderer.h"
+#include "ew_util.h"
 
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 
-#define SPIN_ROUNDS 20000  /* about 50-100 microseconds of polling */
-#define WAKE_ROUNDS (8 * SPIN_ROUNDS)  /* after ew_pool_wake: long enough for a front end */
+/* Polling is bounded by time, not by a count of pause instructions (whose
+ * latency differs tenfold between processors: 20000 of them took 0.57 ms
+ * here and would take 0.05 ms on older cores).  Long enough to bridge the
+ * serial steps between a frame's phases (0.1-0.6 ms at 1080p), short
+ * enough that an idle renderer sleeps at once. */
+#define SPIN_MS 0.6
+#define WAKE_MS (8 * SPIN_MS)  /* after ew_pool_wake: long enough for a front end */
 
 struct ew_pool {
     int              threads;     /* including the caller */
@@ -35,20 +41,36 @@ static inline void relax(void) {
 #endif
 }
 
+/* Polls until done(arg) or ms milliseconds have passed (the clock is read
+ * every 64 rounds); returns done(arg). */
+static int spin_until(int (*done)(void *), void *arg, double ms) {
+    double end = ew_now_ms() + ms;
+    for (int k = 1;; k++) {
+        if (done(arg)) return 1;
+        relax();
+        if ((k & 63) == 0 && ew_now_ms() > end) return done(arg);
+    }
+}
+
+typedef struct gen_wait { ew_pool *p; unsigned seen; } gen_wait;
+static int job_posted(void *a) {
+    gen_wait *g = a;
+    return atomic_load(&g->p->generation) != g->seen || atomic_load(&g->p->quit);
+}
+static int all_done(void *a) { return atomic_load(&((ew_pool *)a)->pending) <= 0; }
+
 static void *worker(void *vp) {
     worker_arg *wa = vp;
     ew_pool *p = wa->p;
     int index = wa->index;
     free(wa);
     unsigned seen = 0, woken = 0;
-    int rounds = SPIN_ROUNDS;
+    double spin = SPIN_MS;
     for (;;) {
+        gen_wait gw = {p, seen};
+        spin_until(job_posted, &gw, spin);
         unsigned g = atomic_load(&p->generation);
-        for (int k = 0; k < rounds && g == seen && !atomic_load(&p->quit); k++) {
-            relax();
-            g = atomic_load(&p->generation);
-        }
-        rounds = SPIN_ROUNDS;
+        spin = SPIN_MS;
         if (g == seen && !atomic_load(&p->quit)) {
             pthread_mutex_lock(&p->mu);
             while ((g = atomic_load(&p->generation)) == seen && atomic_load(&p->wakes) == woken &&
@@ -57,7 +79,7 @@ static void *worker(void *vp) {
             pthread_mutex_unlock(&p->mu);
             if (g == seen && atomic_load(&p->wakes) != woken) {  /* a frame is starting */
                 woken = atomic_load(&p->wakes);
-                rounds = WAKE_ROUNDS;
+                spin = WAKE_MS;
                 continue;
             }
         }
@@ -121,8 +143,7 @@ void ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
     pthread_cond_broadcast(&p->start);
     pthread_mutex_unlock(&p->mu);
     job(ctx, 0);
-    for (int k = 0; k < SPIN_ROUNDS && atomic_load(&p->pending) > 0; k++) relax();
-    if (atomic_load(&p->pending) > 0) {
+    if (!spin_until(all_done, p, SPIN_MS)) {
         pthread_mutex_lock(&p->mu);
         while (atomic_load(&p->pending) > 0) pthread_cond_wait(&p->done, &p->mu);
         pthread_mutex_unlock(&p->mu);
