@@ -166,6 +166,7 @@ void ew_renderer_free(ew_renderer *r) {
     free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
     free(r->el.edges), free(r->el.new_edges), free(r->el.surfs), free(r->lit.blocklights);
     free(r->ref.polys);
+    free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
     free(r);
 }
 
@@ -320,6 +321,7 @@ static void job_build(void *ctx, int thread) {
     int *scratch = r->lit.blocklights + (size_t)r->lit.maxlm * thread;
     for (int k; (k = atomic_fetch_add(&r->sched.next_build, 1)) < r->lit.nbuild;)
         ew_cache_build(r, r->lit.to_build[k], scratch);
+    ew_passes_work(r);  /* e.g. alias models posed once for every band */
     enum { CHUNK = 32 };
     for (int k; (k = atomic_fetch_add(&r->sched.next_grad, CHUNK)) < r->lit.ngrad;) {
         int end = k + CHUNK < r->lit.ngrad ? k + CHUNK : r->lit.ngrad;

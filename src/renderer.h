@@ -48,6 +48,8 @@ typedef struct ew_sched {
     _Alignas(64) _Atomic int next_band;           /* work handed out in a phase */
     _Alignas(64) _Atomic int next_build;
     _Alignas(64) _Atomic int next_grad;
+    _Alignas(64) _Atomic int next_item;           /* the passes' parallel preparation */
+    int      pass_items[8], npass_items;          /* per pass, its work items this frame */
     _Alignas(64) char end;
 } ew_sched;
 
@@ -69,6 +71,10 @@ typedef struct ew_ents {
     ew_view      *ent_views;  int max_ent_views; /* camera in each brush entity's space */
     ew_ent_frame *ent_frame;  int nent_frame, max_ent_frame;
     ew_box_surfs **box_surfs; int nbox_surfs;   /* per scene model: item box surfaces, or NULL */
+    /* alias models posed once a frame for every band (raster/alias.h) */
+    struct ew_alias_xf *xf;   int max_xf;       /* per entity */
+    struct ew_xvert *xverts;  size_t max_xverts; /* their vertices, one run per visible model */
+    int          *alias_list; int nalias;       /* visible alias entities, the parallel work */
 } ew_ents;
 
 /* The reference method's frame: the polygons it fills band by band. */

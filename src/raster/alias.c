@@ -169,14 +169,7 @@ void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, c
 
 /* ---- the model pipeline --------------------------------------------------- */
 
-/* A vertex of the current frame: view space, clip flags, projection. */
-typedef struct xvert {
-    float   p[3];     /* view space: x right, y up, z forward */
-    float   s, t, l;  /* texel (front), light row 8.8 as floats for clipping */
-    int32_t sback;    /* 16.16 texel s on the back half (onseam) */
-    int     clip;     /* bit k: outside clip plane k */
-    ew_avert sv;      /* projected (valid when clip == 0) */
-} xvert;
+typedef ew_xvert xvert;
 
 void ew_view_planes(const ew_view *v, float near_z, ew_view_planes_t *cp) {
     float w = (float)v->width, h = (float)v->height;
@@ -269,8 +262,9 @@ static int clip_poly(const clip_planes *cp, int mask, cvert *in, int n, cvert *s
     return n;
 }
 
-int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, const ew_rows *rows) {
-    if (!r || !m || !p) return 0;
+int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+                       ew_xvert *xv) {
+    xf->visible = 0;
     for (int k = 0; k < 3; k++)
         if (!isfinite(p->origin[k]) || !isfinite(p->angles[k]) || fabsf(p->origin[k]) > 1e6f) return 0;
     const ew_view *v = &r->view;
@@ -299,6 +293,7 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
     /* Trivial accept / reject by the frame's bounds. */
     clip_planes cp;
     ew_view_planes(v, NEAR_Z, &cp);
+    xf->cp = cp;
     int and_flags = 0x1F, or_flags = 0, behind = 0;
     float vmin = 1e30f, vmax = -1e30f, umin = 1e30f, umax = -1e30f;
     for (int c = 0; c < 8; c++) {
@@ -321,23 +316,6 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
     }
     if (and_flags) return 0;
     int accept = or_flags == 0;
-    /* Wholly in view but not in this band's rows: nothing to do here.  The
-     * band holding the model's top row counts its triangles (any band
-     * would count the same); a model crossing the frustum, band 0. */
-    if (accept && (vmax < rows->y0 - 1 || vmin > rows->y1 + 1)) return 1;
-    /* The world's 1/z under the model's screen box (a pixel of margin for
-     * snapping), or under all these rows if the box reaches behind the eye. */
-    if (behind || !(umin <= umax && vmin <= vmax)) {
-        ew_zfill_rect(&r->zf, 0, rows->y0, r->target.width, rows->y1);
-    } else {
-        /* Clamped first: a corner just in front of the eye projects far out. */
-        float w = (float)r->target.width, h = (float)r->target.height;
-        int zx0 = (int)floorf(fminf(fmaxf(umin, -2), w)) - 1, zx1 = (int)ceilf(fminf(fmaxf(umax, -2), w)) + 2;
-        int zy0 = (int)floorf(fminf(fmaxf(vmin, -2), h)) - 1, zy1 = (int)ceilf(fminf(fmaxf(vmax, -2), h)) + 2;
-        ew_zfill_rect(&r->zf, zx0, zy0 > rows->y0 ? zy0 : rows->y0, zx1, zy1 < rows->y1 ? zy1 : rows->y1);
-    }
-    int top = vmin < 0 ? 0 : vmin >= r->target.height ? r->target.height - 1 : (int)vmin;
-    int counts = accept ? (top >= rows->y0 && top < rows->y1) : rows->first;
     int subdiv = accept && (r->cfg.alias_raster == EW_ALIAS_SUBDIV ||
                             (r->cfg.alias_raster == EW_ALIAS_AUTO && vmax - vmin < r->cfg.alias_threshold));
 
@@ -356,9 +334,6 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
         lm[j] = light_towards[0] * axis[j][0] + light_towards[1] * axis[j][1] + light_towards[2] * axis[j][2];
     int ambient = p->ambient, shade = p->shade;
 
-    xvert stack_verts[STACK_VERTS];
-    xvert *xv = m->numverts <= STACK_VERTS ? stack_verts : malloc(sizeof(xvert) * (size_t)m->numverts);
-    if (!xv) return 0;
     int32_t smax = (m->skinwidth << 16) - 1, tmax = (m->skinheight << 16) - 1;
     int minx = v->width, miny = v->height, maxx = -1, maxy = -1;
     for (int i = 0; i < m->numverts; i++) {
@@ -384,6 +359,41 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
             if (x->sv.y > maxy) maxy = x->sv.y;
         }
     }
+
+    xf->visible = 1, xf->accept = accept, xf->behind = behind, xf->subdiv = subdiv;
+    xf->umin = umin, xf->umax = umax, xf->vmin = vmin, xf->vmax = vmax;
+    xf->minx = minx, xf->miny = miny, xf->maxx = maxx, xf->maxy = maxy;
+    xf->image = image, xf->smax = smax, xf->tmax = tmax;
+    xf->xv = xv;
+    return 1;
+}
+
+int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const ew_rows *rows) {
+    if (!xf->visible) return 0;
+    const ew_view *v = &r->view;
+    const clip_planes cp = xf->cp;
+    const xvert *xv = xf->xv;
+    int accept = xf->accept, behind = xf->behind, subdiv = xf->subdiv, image = xf->image;
+    float umin = xf->umin, umax = xf->umax, vmin = xf->vmin, vmax = xf->vmax;
+    int minx = xf->minx, miny = xf->miny, maxx = xf->maxx, maxy = xf->maxy;
+    int32_t smax = xf->smax, tmax = xf->tmax;
+    /* Wholly in view but not in this band's rows: nothing to do here.  The
+     * band holding the model's top row counts its triangles (any band
+     * would count the same); a model crossing the frustum, band 0. */
+    if (accept && (vmax < rows->y0 - 1 || vmin > rows->y1 + 1)) return 1;
+    /* The world's 1/z under the model's screen box (a pixel of margin for
+     * snapping), or under all these rows if the box reaches behind the eye. */
+    if (behind || !(umin <= umax && vmin <= vmax)) {
+        ew_zfill_rect(&r->zf, 0, rows->y0, r->target.width, rows->y1);
+    } else {
+        /* Clamped first: a corner just in front of the eye projects far out. */
+        float w = (float)r->target.width, h = (float)r->target.height;
+        int zx0 = (int)floorf(fminf(fmaxf(umin, -2), w)) - 1, zx1 = (int)ceilf(fminf(fmaxf(umax, -2), w)) + 2;
+        int zy0 = (int)floorf(fminf(fmaxf(vmin, -2), h)) - 1, zy1 = (int)ceilf(fminf(fmaxf(vmax, -2), h)) + 2;
+        ew_zfill_rect(&r->zf, zx0, zy0 > rows->y0 ? zy0 : rows->y0, zx1, zy1 < rows->y1 ? zy1 : rows->y1);
+    }
+    int top = vmin < 0 ? 0 : vmin >= r->target.height ? r->target.height - 1 : (int)vmin;
+    int counts = accept ? (top >= rows->y0 && top < rows->y1) : rows->first;
 
     ew_araster ra;
     memset(&ra, 0, sizeof ra);
@@ -452,13 +462,23 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
     }
     ew_alias_tile_end(&ra);
     if (tile && tile != stack_tile) free(tile);
-    if (xv != stack_verts) free(xv);
     if (counts) {
         rows->stats->alias_tris += drawn;
         rows->stats->alias_tris_subdiv += drawn_subdiv;
     }
     rows->stats->alias_pixels += ra.pixels;
     return 1;
+}
+
+int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, const ew_rows *rows) {
+    if (!r || !m || !p) return 0;
+    xvert stack_verts[STACK_VERTS];
+    xvert *xv = m->numverts <= STACK_VERTS ? stack_verts : malloc(sizeof(xvert) * (size_t)m->numverts);
+    if (!xv) return 0;
+    ew_alias_xf xf;
+    int drawn = ew_alias_transform(r, m, p, &xf, xv) ? ew_alias_draw(r, m, &xf, rows) : 0;
+    if (xv != stack_verts) free(xv);
+    return drawn;
 }
 
 int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {

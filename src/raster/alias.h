@@ -135,4 +135,32 @@ size_t ew_alias_tile_bytes(int w, int h);
 void   ew_alias_tile_begin(ew_araster *ra, int x0, int y0, int w, int h, void *mem);
 void   ew_alias_tile_end(ew_araster *ra);
 
+/* A vertex of the current frame: view space, clip flags, projection. */
+typedef struct ew_xvert {
+    float   p[3];     /* view space: x right, y up, z forward */
+    float   s, t, l;  /* texel (front), light row 8.8 as floats for clipping */
+    int32_t sback;    /* 16.16 texel s on the back half (onseam) */
+    int     clip;     /* bit k: outside clip plane k */
+    ew_avert sv;      /* projected (valid when clip == 0) */
+} ew_xvert;
+
+/* One alias model posed for this frame: its vertices in view space and
+ * projected, its screen bounds, and how it is rasterized.  Made once a
+ * frame (ew_alias_transform, in parallel across models) and read by every
+ * band the model crosses (ew_alias_draw), so no band transforms or lights
+ * it again. */
+typedef struct ew_alias_xf {
+    int              visible;                  /* 0: outside the frustum (or a bad pose) */
+    int              accept, behind, subdiv;   /* wholly in view; a corner behind the eye; rasterizer */
+    float            umin, umax, vmin, vmax;   /* screen box of its bounds */
+    int              minx, miny, maxx, maxy;   /* of its projected vertices */
+    int              image;                    /* skin picture */
+    int32_t          smax, tmax;
+    ew_view_planes_t cp;
+    const ew_xvert  *xv;                       /* numverts of them */
+} ew_alias_xf;
+int  ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+                        ew_xvert *xv);
+int  ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const ew_rows *rows);
+
 #endif

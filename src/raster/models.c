@@ -52,6 +52,32 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
     return in_view;
 }
 
+/* An entity's pose this frame. */
+static ew_model_pose entity_pose(const ew_renderer *r, const ew_scene_entity *e, const ew_scene_model *m,
+                                 const ew_ent_frame *ef) {
+    ew_model_pose pose = {{e->origin[0], e->origin[1], e->origin[2]},
+                          {e->angles[0], e->angles[1], e->angles[2]},
+                          e->frame, e->skin, r->view.time, ef->ambient, ef->shade};
+    if (m->kind == EW_MODEL_ALIAS) {
+        /* Time walks a model through its frames at the game's 10 a second
+         * (frame groups animate by their own intervals too). */
+        const ew_mdl *mdl = m->data;
+        if (r->view.time > 0 && mdl->numframes > 1)
+            pose.frame = (int)(((long long)(r->view.time * 10) + e->frame) % mdl->numframes);
+    }
+    return pose;
+}
+
+void ew_pose_alias(ew_renderer *r, int item) {
+    const struct ew_scene *sc = r->ents.scene;
+    int i = r->ents.alias_list[item];
+    const ew_scene_entity *e = &sc->ents[i];
+    const ew_scene_model *m = &sc->models[e->model];
+    const ew_ent_frame *ef = &r->ents.ent_frame[i];
+    ew_model_pose pose = entity_pose(r, e, m, ef);
+    ew_alias_transform(r, m->data, &pose, &r->ents.xf[i], r->ents.xverts + ef->xvert0);
+}
+
 void ew_draw_models(ew_renderer *r, const ew_rows *rows) {
     const struct ew_scene *sc = r->ents.scene;
     if (!sc) return;
@@ -60,17 +86,12 @@ void ew_draw_models(ew_renderer *r, const ew_rows *rows) {
         const ew_ent_frame *ef = &r->ents.ent_frame[i];
         if (!ef->visible) continue;
         const ew_scene_model *m = &sc->models[e->model];
-        ew_model_pose pose = {{e->origin[0], e->origin[1], e->origin[2]},
-                              {e->angles[0], e->angles[1], e->angles[2]},
-                              e->frame, e->skin, r->view.time, ef->ambient, ef->shade};
+        ew_model_pose pose = entity_pose(r, e, m, ef);
         int drawn = 0;
         if (m->kind == EW_MODEL_ALIAS) {
-            /* Time walks a model through its frames at the game's 10 a
-             * second (frame groups animate by their own intervals too). */
-            const ew_mdl *mdl = m->data;
-            if (r->view.time > 0 && mdl->numframes > 1)
-                pose.frame = (int)(((long long)(r->view.time * 10) + e->frame) % mdl->numframes);
-            drawn = ew_draw_alias_rows(r, m->data, &pose, rows);
+            /* Posed once for the frame (ew_pose_alias), unless that had no memory. */
+            drawn = r->ents.nalias ? ew_alias_draw(r, m->data, &r->ents.xf[i], rows)
+                                   : ew_draw_alias_rows(r, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_SPRITE) {
             drawn = ew_draw_sprite_rows(r, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_BOX) {

@@ -4,15 +4,33 @@
 #include "renderer.h"
 
 static const ew_pass passes[] = {
-    {"models", ew_prepare_entities, ew_draw_models},  /* alias models, sprites, item boxes, particles */
+    /* alias models, sprites, item boxes, particles */
+    {"models", ew_prepare_entities, ew_pose_alias, ew_draw_models},
     /* next: fences and translucent surfaces (back to front), then fog */
 };
+enum { NPASSES = sizeof passes / sizeof *passes };
+_Static_assert(NPASSES <= sizeof ((ew_sched *)0)->pass_items / sizeof(int), "room for every pass's work");
 
 void ew_passes_prepare(ew_renderer *r) {
-    for (size_t i = 0; i < sizeof passes / sizeof *passes; i++)
-        if (passes[i].prepare) passes[i].prepare(r);
+    ew_sched *s = &r->sched;
+    s->npass_items = 0;
+    for (int i = 0; i < NPASSES; i++) {
+        int n = passes[i].prepare ? passes[i].prepare(r) : 0;
+        s->pass_items[i] = passes[i].work && n > 0 ? n : 0;
+        s->npass_items += s->pass_items[i];
+    }
+    atomic_store(&s->next_item, 0);
+}
+
+void ew_passes_work(ew_renderer *r) {
+    ew_sched *s = &r->sched;
+    for (int k; (k = atomic_fetch_add(&s->next_item, 1)) < s->npass_items;) {
+        int i = 0;
+        while (k >= s->pass_items[i]) k -= s->pass_items[i++];
+        passes[i].work(r, k);
+    }
 }
 
 void ew_passes_draw(ew_renderer *r, const ew_rows *rows) {
-    for (size_t i = 0; i < sizeof passes / sizeof *passes; i++) passes[i].draw(r, rows);
+    for (int i = 0; i < NPASSES; i++) passes[i].draw(r, rows);
 }

@@ -10,17 +10,27 @@
 
 typedef struct ew_pass {
     const char *name;
-    /* Once a frame, serial, after the scan and before the bands draw (NULL: nothing). */
+    /* Once a frame, serial, after the scan and before the bands draw;
+     * returns how many work items it leaves for work() (NULL: nothing). */
     int  (*prepare)(ew_renderer *r);
+    /* One item of the frame's preparation, in parallel with the surface
+     * builds, before any band draws (NULL: none). */
+    void (*work)(ew_renderer *r, int item);
     /* In one band's rows, after that band's world spans (parallel across bands). */
     void (*draw)(ew_renderer *r, const ew_rows *rows);
 } ew_pass;
 
+/* Every pass's prepare, in order; the work items they leave are then taken
+ * by ew_passes_work on every thread until none is left. */
 void ew_passes_prepare(ew_renderer *r);
+void ew_passes_work(ew_renderer *r);
 void ew_passes_draw(ew_renderer *r, const ew_rows *rows);
 
 /* raster/models.c: alias models, sprites, item boxes, then particles,
- * z-buffered over the z-filled world.  (Brush models are in the world.) */
+ * z-buffered over the z-filled world.  (Brush models are in the world.)
+ * ew_pose_alias poses the frame's item-th visible alias model (the work
+ * ew_prepare_entities leaves). */
 void ew_draw_models(ew_renderer *r, const ew_rows *rows);
+void ew_pose_alias(ew_renderer *r, int item);
 
 #endif

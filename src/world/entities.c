@@ -23,14 +23,29 @@ int ew_prepare_entities(ew_renderer *r) {
         ew_ent_frame *f = realloc(r->ents.ent_frame, sizeof *f * (size_t)sc->nents);
         if (!f) {
             r->stats.dropped++;
-            return -1;
+            return 0;
         }
         r->ents.ent_frame = f, r->ents.max_ent_frame = sc->nents;
     }
+    ew_ents *en = &r->ents;
+    en->nalias = 0;
+    if (sc->nents > en->max_xf) {
+        ew_alias_xf *xf = realloc(en->xf, sizeof *xf * (size_t)sc->nents);
+        int *list = realloc(en->alias_list, sizeof *list * (size_t)sc->nents);
+        if (xf) en->xf = xf;
+        if (list) en->alias_list = list;
+        if (!xf || !list) {
+            r->stats.dropped++;
+            return 0;
+        }
+        en->max_xf = sc->nents;
+    }
+    size_t nxverts = 0;
     for (int i = 0; i < sc->nents; i++) {
         const ew_scene_entity *e = &sc->ents[i];
         ew_ent_frame *ef = &r->ents.ent_frame[i];
         ef->visible = 0;
+        en->xf[i].visible = 0;
         if (e->model < 0) continue;  /* brush entities are in the edge list */
         const ew_scene_model *m = &sc->models[e->model];
         /* Potentially visible at all?  A box around the model against the
@@ -42,9 +57,23 @@ int ew_prepare_entities(ew_renderer *r) {
             continue;
         }
         ef->visible = 1;
-        if (m->kind == EW_MODEL_ALIAS) ew_model_light(r, e->origin, &ef->ambient, &ef->shade);
+        if (m->kind == EW_MODEL_ALIAS) {
+            ew_model_light(r, e->origin, &ef->ambient, &ef->shade);
+            ef->xvert0 = nxverts;
+            nxverts += (size_t)((const ew_mdl *)m->data)->numverts;
+            en->alias_list[en->nalias++] = i;
+        }
         if (m->kind == EW_MODEL_BOX && ew_prepare_box(r, e->model, m->data) < 0) r->stats.dropped++;
     }
     r->ents.nent_frame = sc->nents;
-    return 0;
+    if (nxverts > en->max_xverts) {
+        ew_xvert *xv = realloc(en->xverts, sizeof *xv * nxverts);
+        if (!xv) {  /* each band poses its own then */
+            r->stats.dropped++;
+            en->nalias = 0;
+            return 0;
+        }
+        en->xverts = xv, en->max_xverts = nxverts;
+    }
+    return en->nalias;
 }

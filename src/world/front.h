@@ -44,11 +44,13 @@ void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx);
 
 /* world/entities.c: once per frame before the bands draw (serial): which
  * entities the PVS and the frustum let through, and the light on each, so
- * that the bands do not each work it out again.  -1 when out of memory
- * (no entities then). */
+ * that the bands do not each work it out again; returns how many alias
+ * models are left to pose (ew_pose_alias).  Out of memory: no entities
+ * (counted in dropped). */
 typedef struct ew_ent_frame {
-    int visible;
-    int ambient, shade;
+    int    visible;
+    int    ambient, shade;
+    size_t xvert0;      /* alias models: where their posed vertices start in ents.xverts */
 } ew_ent_frame;
 int  ew_prepare_entities(ew_renderer *r);
 
