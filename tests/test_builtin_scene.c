@@ -16,7 +16,7 @@
 #include "util.h"
 #include "ew_util.h"
 #include "ew_world.h"
-#include "scene/builtin.h"
+#include "mapgen.h"
 #include "asset/mdl.h"
 
 #include <math.h>

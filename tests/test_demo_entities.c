@@ -8,7 +8,7 @@
  * the same every time, and time animates the model. */
 #include "util.h"
 #include "ew_render.h"
-#include "scene/builtin.h"
+#include "mapgen.h"
 #include "scene/scene.h"
 
 #include <math.h>

@@ -12,7 +12,7 @@
  *     from it, with a spray where they fall back.
  * Everything is fixed, so every call makes the same scene.
  */
-#include "scene/builtin.h"
+#include "mapgen/mapgen.h"
 #include "scene/scene.h"
 #include "raster/alias.h"
 #include "ew_util.h"
