@@ -1,5 +1,6 @@
 /* The entity tokenizer and the view set of BENCHMARK.md. */
-#include "scene/entities.h"
+#include "asset/entity_lump.h"
+#include "scene/bench_views.h"
 #include "util.h"
 
 #include <math.h>
@@ -164,7 +165,7 @@ static void test_view_set(void) {
         "{ \"classname\" \"info_intermissionx\" \"origin\" \"0 0 0\" }\n"
         "{ \"classname\" \"xinfo_player_start\" \"origin\" \"0 0 0\" }\n"
         "{ \"origin\" \"0 0 0\" }\n";
-    int n = ew_view_set_from_entities(text, v, EW_MAX_VIEWS);
+    int n = ew_benchmark_views_from_entities(text, v, EW_MAX_VIEWS);
     CHECK(n == 10, "got %d views", n);
     if (n == 10) {
         CHECK(cam_is(&v[0], 100, -200, 46, 0, 90, 0), "v0");
@@ -178,10 +179,10 @@ static void test_view_set(void) {
     }
 
     /* max smaller than one player's four views cuts mid-player. */
-    CHECK(ew_view_set_from_entities(text, v, 2) == 2, "max 2");
-    CHECK(ew_view_set_from_entities(text, v, 0) == 0, "max 0");
-    CHECK(ew_view_set_from_entities(NULL, v, 4) == 0, "NULL text");
-    CHECK(ew_view_set_from_entities("", v, 4) == 0, "no entities");
+    CHECK(ew_benchmark_views_from_entities(text, v, 2) == 2, "max 2");
+    CHECK(ew_benchmark_views_from_entities(text, v, 0) == 0, "max 0");
+    CHECK(ew_benchmark_views_from_entities(NULL, v, 4) == 0, "NULL text");
+    CHECK(ew_benchmark_views_from_entities("", v, 4) == 0, "no entities");
 
     /* Nine players make 36 views: only the first 32 are kept, in order. */
     char big[4096] = "";
@@ -194,7 +195,7 @@ static void test_view_set(void) {
     }
     for (int i = 0; i < EW_MAX_VIEWS + 8; i++)
         v[i].fov = -1;
-    n = ew_view_set_from_entities(big, v, EW_MAX_VIEWS);
+    n = ew_benchmark_views_from_entities(big, v, EW_MAX_VIEWS);
     CHECK(n == EW_MAX_VIEWS, "got %d views from 9 players", n);
     CHECK(cam_is(&v[31], 70, 0, 22, 0, 7 + 270, 0), "v31");
     CHECK(v[32].fov == -1, "wrote past max");
@@ -205,7 +206,7 @@ static void test_view_set(void) {
         "{ \"classname\" \"info_intermission\" \"origin\" \"1 1 1\" }\n"
         "{ \"classname\" \"info_player_start\" \"origin\" \"0 0 0\" \n"
         "{ \"classname\" \"info_intermission\" }\n";
-    CHECK(ew_view_set_from_entities(broken, v, EW_MAX_VIEWS) == 5, "damaged lump");
+    CHECK(ew_benchmark_views_from_entities(broken, v, EW_MAX_VIEWS) == 5, "damaged lump");
 }
 
 /* Reads the entity lump straight from a BSP29 header (independent of the
@@ -260,7 +261,7 @@ static void test_real_maps(void) {
         ew_camera direct[EW_MAX_VIEWS];
         char *text = bsp_entities(ew_t_shared(rel));
         CHECK(text != NULL, "%s: cannot read the entity lump", maps[i].map);
-        int n = ew_view_set_from_entities(text, direct, EW_MAX_VIEWS);
+        int n = ew_benchmark_views_from_entities(text, direct, EW_MAX_VIEWS);
         free(text);
         CHECK(n == maps[i].views, "%s: %d views, want %d", maps[i].map, n, maps[i].views);
 
@@ -274,8 +275,8 @@ static void test_real_maps(void) {
         CHECK(w != NULL, "%s: %s", maps[i].map, err.msg);
         if (w) {
             ew_camera v[EW_MAX_VIEWS];
-            int m = ew_view_set(w, v);
-            CHECK(m == n, "%s: ew_view_set %d, direct %d", maps[i].map, m, n);
+            int m = ew_benchmark_views(w, v);
+            CHECK(m == n, "%s: ew_benchmark_views %d, direct %d", maps[i].map, m, n);
             for (int k = 0; k < m && k < n; k++)
                 CHECK(cam_is(&v[k], direct[k].origin[0], direct[k].origin[1], direct[k].origin[2],
                              direct[k].angles[0], direct[k].angles[1], direct[k].angles[2]),

@@ -1,7 +1,7 @@
 /* Scenes: the entities of a map (or of a program) drawn over its world.
  * Models are loaded once per scene and shared by the entities using them. */
 #include "scene.h"
-#include "entities.h"
+#include "asset/entity_lump.h"
 #include "ew_render.h"
 #include "ew_util.h"
 #include "raster/alias.h"

@@ -10,8 +10,8 @@
  * Parsing stops at the first syntax error and keeps every entity closed
  * before it, so a damaged lump still yields what it can.
  */
-#ifndef EW_ENTITIES_H
-#define EW_ENTITIES_H
+#ifndef EW_ENTITY_LUMP_H
+#define EW_ENTITY_LUMP_H
 
 #include "edgewise.h"
 #include <stddef.h>
@@ -47,9 +47,5 @@ const char *ew_entity_get(const ew_entity *e, const char *key);
  * Missing, malformed or non-finite components are 0; returns how many
  * numbers were read (0 if the key is absent). */
 int ew_entity_floats(const ew_entity *e, const char *key, float *v, int n);
-
-/* The view set of ../shared/BENCHMARK.md from entity text: at most max
- * cameras (fov 90, time 0) written to views; returns the count. */
-int ew_view_set_from_entities(const char *text, ew_camera *views, int max);
 
 #endif
