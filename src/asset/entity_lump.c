@@ -1,4 +1,4 @@
-/* The entity lump tokenizer (see entity_lump.h). */
+/* The entity lump tokenizer and its number conversion (see entity_lump.h). */
 #include "entity_lump.h"
 #include "ew_util.h"
 
@@ -184,6 +184,18 @@ const char *ew_entity_get(const ew_entity *e, const char *key) {
     return NULL;
 }
 
+int ew_entity_number(const char *s, const char **end, double lo, double hi, double *out) {
+    char *e;
+    double d = strtod(s, &e);
+    *end = e;
+    if (e == s)
+        return -1;
+    if (!isfinite(d) || d < lo || d > hi)
+        return 0;
+    *out = d;
+    return 1;
+}
+
 int ew_entity_floats(const ew_entity *e, const char *key, float *v, int n) {
     for (int i = 0; i < n; i++)
         v[i] = 0;
@@ -192,13 +204,29 @@ int ew_entity_floats(const ew_entity *e, const char *key, float *v, int n) {
         return 0;
     int got = 0;
     while (got < n) {
-        char *end;
-        double d = strtod(s, &end);
-        if (end == s)
+        double d = 0;
+        if (ew_entity_number(s, &s, -FLT_MAX, FLT_MAX, &d) < 0)
             break;
-        /* A camera built from inf or 1e300 would only poison the renderer. */
-        v[got++] = isfinite(d) && fabs(d) <= FLT_MAX ? (float)d : 0.0f;
-        s = end;
+        /* refused (inf, 1e300): 0, a camera built from it would only
+         * poison the renderer */
+        v[got++] = (float)d;
     }
     return got;
+}
+
+int ew_entity_int(const ew_entity *e, const char *key, int fallback) {
+    const char *s = ew_entity_get(e, key);
+    double d;
+    if (!s || ew_entity_number(s, &s, INT_MIN, INT_MAX, &d) != 1)
+        return fallback;
+    return (int)d;
+}
+
+int ew_entity_submodel(const ew_entity *e) {
+    const char *s = ew_entity_get(e, "model");
+    double d;
+    if (!s || s[0] != '*' || ew_entity_number(s + 1, &s, 1, INT_MAX, &d) != 1 || *s ||
+        d != floor(d))
+        return -1;
+    return (int)d;
 }
