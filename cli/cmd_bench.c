@@ -680,7 +680,7 @@ int cmd_bench(int argc, char **argv) {
                 break;
             }
             ew_camera views[EW_MAX_VIEWS];
-            int nviews = ew_view_set(a.world, views);
+            int nviews = ew_benchmark_views(a.world, views);
             const void *scene = NULL;
 #ifndef EW_BENCH_NO_SCENE
             /* The map's entities, as the game shows it; the built-in scene's

@@ -326,7 +326,7 @@ int cmd_soak(int argc, char **argv) {
         return 1;
     }
     ew_camera views[EW_MAX_VIEWS];
-    int nviews = ew_view_set(w, views);
+    int nviews = ew_benchmark_views(w, views);
 
     findings anomalies = {.count = 0}, drops = {.count = 0}, open_views = {.count = 0};
     long in_solid = 0, random_frames = 0, view_frames = 0;

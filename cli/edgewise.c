@@ -519,7 +519,7 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
         cam.fov = 90;
     } else {
         ew_camera views[EW_MAX_VIEWS];
-        int n = ew_view_set(a.world, views);
+        int n = ew_benchmark_views(a.world, views);
         view = (o->given & O_VIEW) ? o->view : default_view;
         if (n == 0) {
             error_line("%s: no views (no info_player* or info_intermission entity); "
@@ -616,7 +616,7 @@ static int cmd_views(options *o) {
     if (load(o, &a) < 0)
         return 1;
     ew_camera views[EW_MAX_VIEWS];
-    int n = ew_view_set(a.world, views);
+    int n = ew_benchmark_views(a.world, views);
     for (int i = 0; i < n; i++)
         printf("%d %g %g %g %g %g %g\n", i, views[i].origin[0], views[i].origin[1],
                views[i].origin[2], views[i].angles[0], views[i].angles[1], views[i].angles[2]);

@@ -4,8 +4,10 @@
  *   - a loaded world only holds indices the renderer can use unchecked;
  *   - a frame writes every pixel exactly once (overdraw 1) unless a budget
  *     dropped something.
- * The render target draws the map with its brush models and a dynamic
- * light; the MDL and SPR targets also draw what their loader accepted. */
+ * The BSP targets also read the entity lump as a map's scene does (the
+ * view set, classnames, spawnflags, submodels).  The render target draws
+ * the map with its brush models and a dynamic light; the MDL and SPR
+ * targets also draw what their loader accepted. */
 #include "fuzz_targets.h"
 #include "seed_files.h"
 
@@ -132,9 +134,13 @@ static int load_world(const uint8_t *data, size_t size) {
     ew_world_info info;
     ew_world_get_info(w, &info);
     ew_camera views[EW_MAX_VIEWS];
-    int n = ew_view_set(w, views);
+    int n = ew_benchmark_views(w, views);
     if (n < 0 || n > EW_MAX_VIEWS) broken("view count", n);
     (void)strlen(ew_world_entities(w));
+    /* The entity lump read as a map's scene is (no game directory, so no
+     * model files): every number in it goes through the parser's checks. */
+    ew_scene *sc = ew_scene_from_map(w, NULL, NULL, &err);
+    ew_scene_free(sc);
     ew_world_free(w);
     return 0;
 }
@@ -207,7 +213,7 @@ int ew_fuzz_render(const uint8_t *data, size_t size) {
     }
     ew_camera views[EW_MAX_VIEWS], cam;
     memset(&cam, 0, sizeof cam);
-    if (ew_view_set(w, views) > 0) {
+    if (ew_benchmark_views(w, views) > 0) {
         cam = views[0];
     } else {
         const ew_model *m = &w->models[0];

@@ -18,7 +18,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "edgewise.h"
-#include "scene/builtin.h"
+#include "mapgen.h"
 #include "seed_files.h"
 
 #include <errno.h>

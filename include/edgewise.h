@@ -99,9 +99,10 @@ typedef struct ew_camera {
     double time;       /* seconds: animated textures, sky scroll, liquids */
 } ew_camera;
 
-/* Fills up to EW_MAX_VIEWS cameras from the entity lump; returns the count
- * (0 if the map has no player start or intermission). */
-int ew_view_set(const ew_world *w, ew_camera views[EW_MAX_VIEWS]);
+/* The benchmark's view set (../shared/BENCHMARK.md): fills up to
+ * EW_MAX_VIEWS cameras from the entity lump (four per player start, one per
+ * intermission); returns the count (0 if the map has neither). */
+int ew_benchmark_views(const ew_world *w, ew_camera views[EW_MAX_VIEWS]);
 
 /* ---- everything needed to render one map -------------------------------- */
 

@@ -8,7 +8,7 @@
  * the same every time, and time animates the model. */
 #include "util.h"
 #include "renderer.h"
-#include "scene/builtin.h"
+#include "mapgen.h"
 #include "scene/scene.h"
 
 #include <math.h>
@@ -47,7 +47,7 @@ int main(void) {
     CHECK(ew_assets_builtin(&a, &err) == 0, "%s", err.msg);
     if (!a.world) return ew_t_finish();
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_view_set(a.world, views);
+    int nv = ew_benchmark_views(a.world, views);
     CHECK(nv >= 1, "no views");
     ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
     CHECK(r != NULL, "%s", err.msg);

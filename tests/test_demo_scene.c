@@ -16,7 +16,7 @@ int main(void) {
     ew_assets a;
     CHECK(ew_assets_builtin(&a, &err) == 0, "%s", err.msg);
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_view_set(a.world, views);
+    int nv = ew_benchmark_views(a.world, views);
     CHECK(nv >= 4, "built-in scene has %d views", nv);
     ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
     CHECK(r != NULL, "%s", err.msg);

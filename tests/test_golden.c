@@ -88,7 +88,7 @@ int main(void) {
         }
         CHECK(sc != NULL, "%s: scene: %s", maps[m], err.msg);
         ew_camera views[EW_MAX_VIEWS];
-        int nv = ew_view_set(a.world, views);
+        int nv = ew_benchmark_views(a.world, views);
         CHECK(nv > 0, "%s: no views", maps[m]);
         for (size_t s = 0; s < sizeof sizes / sizeof *sizes; s++) {
             int w = sizes[s][0], h = sizes[s][1];

@@ -58,7 +58,7 @@ static void render_ok(const ew_world *w, const char *what) {
     CHECK(r != NULL, "%s: %s", what, err.msg);
     if (!r) return;
     ew_camera views[EW_MAX_VIEWS];
-    int n = ew_view_set(w, views);
+    int n = ew_benchmark_views(w, views);
     for (int i = 0; i < n; i++) CHECK(ew_render(r, &views[i], NULL) == 0, "%s: view %d", what, i);
     ew_renderer_free(r);
 }
@@ -160,7 +160,7 @@ static void cache_cap(const ew_world *w, const char *name) {
     CHECK(r != NULL, "%s: %s", name, err.msg);
     if (!r) return;
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_view_set(w, views), refused = 0;
+    int nv = ew_benchmark_views(w, views), refused = 0;
     r->lit.cache.budget = 32 * 1024;
     for (int i = 0; i < nv; i++) {
         ew_stats st;

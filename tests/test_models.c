@@ -347,7 +347,7 @@ static void test_in_frame(void) {
     ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, 640, 480, &err);
     CHECK(r != NULL, "%s", err.msg);
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_view_set(a.world, views);
+    int nv = ew_benchmark_views(a.world, views);
     CHECK(nv > 0, "no views");
     ew_mdl *soldier = load_mdl("data/librequake/progs/soldier.mdl");
     ew_spr *explod = load_spr("data/librequake/progs/s_explod.spr");

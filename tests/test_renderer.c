@@ -24,7 +24,7 @@ int main(void) {
     CHECK(rc == 0, "%s", err.msg);
     if (rc) return ew_t_finish();
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_view_set(a.world, views);
+    int nv = ew_benchmark_views(a.world, views);
     CHECK(nv == 29, "e1m1 has %d views", nv);
 
     /* Sizes outside 320x200..7680x4320 are refused with a message. */

@@ -31,7 +31,7 @@ static void agreement(const char *map, double limit) {
     ew_set_scene(r, sc);
     ew_enable_face_ids(r, 1);
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_view_set(a.world, views), sub_pixels = 0;
+    int nv = ew_benchmark_views(a.world, views), sub_pixels = 0;
     int *ids = malloc(sizeof(int) * W * H), *ref = malloc(sizeof(int) * W * H);
     uint8_t *px = malloc(W * H), *ref_px = malloc(W * H);
     double worst = 1, sum = 0, worst_col = 1;
@@ -89,7 +89,7 @@ int main(void) {
     const char *path = ew_t_shared("data/librequake/maps/e1m1.bsp");
     CHECK(ew_assets_load(path, NULL, &a, &err) == 0, "%s", err.msg);
     ew_camera views[EW_MAX_VIEWS];
-    ew_view_set(a.world, views);
+    ew_benchmark_views(a.world, views);
     ew_scene *sc = ew_scene_from_map(a.world, path, NULL, &err);
     ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
     ew_enable_face_ids(r, 1);

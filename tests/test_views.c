@@ -1,8 +1,12 @@
-/* The entity tokenizer and the view set of BENCHMARK.md. */
-#include "scene/entities.h"
+/* The entity tokenizer, its checked number conversion and the view set of
+ * BENCHMARK.md. */
+#include "asset/entity_lump.h"
+#include "scene/bench_views.h"
 #include "util.h"
 
+#include <limits.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -152,6 +156,102 @@ static void test_fuzz(void) {
     CHECK(closed > 0, "the fuzz never produced an entity");
 }
 
+/* Every number of an entity lump goes through ew_entity_number: values no
+ * float or int can hold ("spawnflags" "1e30" was converted to int
+ * unchecked: undefined behaviour) give the caller's fallback. */
+static void test_checked_numbers(void) {
+    const char *text =
+        "{ \"i1\" \"1e30\" \"i2\" \"-inf\" \"i3\" \"nan\" \"i4\" \"-3e9\" \"i5\" \"3\" \"i6\" \"2.9\""
+        "  \"i7\" \"-1\" \"i8\" \"x\" \"i9\" \"2147483647\" \"i10\" \"2147483648\" \"i11\" \" 7 junk\""
+        "  \"f1\" \"1e40 0 0\" \"f2\" \"nan\" \"f3\" \"inf -1e39 nan\" \"f4\" \"-3.5 1e38 infinity 9\" }"
+        "{ \"model\" \"*1\" } { \"model\" \"*1e30\" } { \"model\" \"*0\" } { \"model\" \"*1.5\" }"
+        "{ \"model\" \"*12x\" } { \"model\" \"1\" } { } { \"model\" \"*-2\" } { \"model\" \"*nan\" }"
+        "{ \"model\" \"*99999999999\" } { \"model\" \"*\" } { \"model\" \"*37\" }";
+    ew_entities e;
+    ew_error err = { "" };
+    CHECK(ew_entities_parse(text, strlen(text), &e, &err) == 0 && e.count == 13, "%s", err.msg);
+    if (e.count != 13) {
+        ew_entities_free(&e);
+        return;
+    }
+    const ew_entity *n = &e.ents[0];
+    static const struct { const char *key; int want; } ints[] = {
+        {"i1", -7}, {"i2", -7}, {"i3", -7}, {"i4", -7}, {"i5", 3}, {"i6", 2}, {"i7", -1},
+        {"i8", -7}, {"i9", INT_MAX}, {"i10", -7}, {"i11", 7}, {"absent", -7},
+    };
+    for (size_t i = 0; i < sizeof ints / sizeof ints[0]; i++) {
+        int got = ew_entity_int(n, ints[i].key, -7);
+        CHECK(got == ints[i].want, "ew_entity_int %s: %d, want %d", ints[i].key, got, ints[i].want);
+    }
+    float v[4];
+    CHECK(ew_entity_floats(n, "f1", v, 3) == 3 && v[0] == 0 && v[1] == 0 && v[2] == 0,
+          "f1: %g %g %g", v[0], v[1], v[2]);
+    CHECK(ew_entity_floats(n, "f2", v, 1) == 1 && v[0] == 0, "f2: %g", v[0]);
+    CHECK(ew_entity_floats(n, "f3", v, 3) == 3 && v[0] == 0 && v[1] == 0 && v[2] == 0,
+          "f3: %g %g %g", v[0], v[1], v[2]);
+    CHECK(ew_entity_floats(n, "f4", v, 4) == 4 && v[0] == -3.5f && v[1] == 1e38f && v[2] == 0 &&
+              v[3] == 9, "f4: %g %g %g %g", v[0], v[1], v[2], v[3]);
+
+    /* The core conversion's three answers. */
+    const char *end;
+    double d = -1;
+    CHECK(ew_entity_number(" 12.5 x", &end, 0, 100, &d) == 1 && d == 12.5 && *end == ' ', "12.5");
+    d = -1;
+    CHECK(ew_entity_number("1e30", &end, INT_MIN, INT_MAX, &d) == 0 && d == -1 && *end == '\0',
+          "1e30 refused");
+    CHECK(ew_entity_number("nan", &end, -1e300, 1e300, &d) == 0 && d == -1, "nan refused");
+    CHECK(ew_entity_number("-infinity", &end, -HUGE_VAL, HUGE_VAL, &d) == 0, "inf refused");
+    const char *junk = "junk";
+    CHECK(ew_entity_number(junk, &end, 0, 1, &d) == -1 && end == junk, "no number");
+
+    static const int subs[] = {1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, 37};
+    for (int i = 0; i < 12; i++) {
+        int got = ew_entity_submodel(&e.ents[1 + i]);
+        const char *m = ew_entity_get(&e.ents[1 + i], "model");
+        CHECK(got == subs[i], "ew_entity_submodel %s: %d, want %d", m ? m : "(none)", got, subs[i]);
+    }
+    ew_entities_free(&e);
+}
+
+/* The kept regression input (tests/regress/bsp29/entity_number_overflow.bin,
+ * replayed by test_regressions): read as a map's scene and as the view set,
+ * its numbers all fall back. */
+static void test_regression_map(void) {
+    const char *src = getenv("EW_SOURCE");
+    char path[1024];
+    snprintf(path, sizeof path, "%s/tests/regress/bsp29/entity_number_overflow.bin",
+             src && *src ? src : ".");
+    uint8_t *data = NULL;
+    size_t size = 0;
+    ew_error err = { "" };
+    ew_world *w = NULL;
+    if (ew_read_file(path, &data, &size, &err) == 0)
+        w = ew_world_load(data, size, "entity_number_overflow.bin", &err);
+    free(data);
+    CHECK(w != NULL, "%s: %s", path, err.msg);
+    if (!w)
+        return;
+    ew_camera v[EW_MAX_VIEWS];
+    int nv = ew_benchmark_views(w, v);
+    CHECK(nv == 5, "%d views", nv);
+    for (int k = 0; k < nv && k < 4; k++)
+        CHECK(cam_is(&v[k], 0, 0, 22, 0, 90.0f * (float)k, 0), "start view %d", k);
+    if (nv == 5)
+        CHECK(cam_is(&v[4], 0, 0, 0, 0, 0, 0), "intermission: %g %g %g / %g %g %g", v[4].origin[0],
+              v[4].origin[1], v[4].origin[2], v[4].angles[0], v[4].angles[1], v[4].angles[2]);
+    ew_scene *s = ew_scene_from_map(w, NULL, NULL, &err);
+    CHECK(s != NULL, "scene: %s", err.msg);
+    if (s) {
+        int ents = -1, unknown = -1, missing = -1;
+        ew_scene_counts(s, &ents, &unknown, &missing);
+        /* three items without a game directory and a door naming no submodel */
+        CHECK(ents == 0 && unknown == 0 && missing == 4, "scene: %d entities, %d unknown, %d missing",
+              ents, unknown, missing);
+        ew_scene_free(s);
+    }
+    ew_world_free(w);
+}
+
 static void test_view_set(void) {
     ew_camera v[EW_MAX_VIEWS + 8];
     const char *text =
@@ -164,7 +264,7 @@ static void test_view_set(void) {
         "{ \"classname\" \"info_intermissionx\" \"origin\" \"0 0 0\" }\n"
         "{ \"classname\" \"xinfo_player_start\" \"origin\" \"0 0 0\" }\n"
         "{ \"origin\" \"0 0 0\" }\n";
-    int n = ew_view_set_from_entities(text, v, EW_MAX_VIEWS);
+    int n = ew_benchmark_views_from_entities(text, v, EW_MAX_VIEWS);
     CHECK(n == 10, "got %d views", n);
     if (n == 10) {
         CHECK(cam_is(&v[0], 100, -200, 46, 0, 90, 0), "v0");
@@ -178,10 +278,10 @@ static void test_view_set(void) {
     }
 
     /* max smaller than one player's four views cuts mid-player. */
-    CHECK(ew_view_set_from_entities(text, v, 2) == 2, "max 2");
-    CHECK(ew_view_set_from_entities(text, v, 0) == 0, "max 0");
-    CHECK(ew_view_set_from_entities(NULL, v, 4) == 0, "NULL text");
-    CHECK(ew_view_set_from_entities("", v, 4) == 0, "no entities");
+    CHECK(ew_benchmark_views_from_entities(text, v, 2) == 2, "max 2");
+    CHECK(ew_benchmark_views_from_entities(text, v, 0) == 0, "max 0");
+    CHECK(ew_benchmark_views_from_entities(NULL, v, 4) == 0, "NULL text");
+    CHECK(ew_benchmark_views_from_entities("", v, 4) == 0, "no entities");
 
     /* Nine players make 36 views: only the first 32 are kept, in order. */
     char big[4096] = "";
@@ -194,7 +294,7 @@ static void test_view_set(void) {
     }
     for (int i = 0; i < EW_MAX_VIEWS + 8; i++)
         v[i].fov = -1;
-    n = ew_view_set_from_entities(big, v, EW_MAX_VIEWS);
+    n = ew_benchmark_views_from_entities(big, v, EW_MAX_VIEWS);
     CHECK(n == EW_MAX_VIEWS, "got %d views from 9 players", n);
     CHECK(cam_is(&v[31], 70, 0, 22, 0, 7 + 270, 0), "v31");
     CHECK(v[32].fov == -1, "wrote past max");
@@ -205,7 +305,7 @@ static void test_view_set(void) {
         "{ \"classname\" \"info_intermission\" \"origin\" \"1 1 1\" }\n"
         "{ \"classname\" \"info_player_start\" \"origin\" \"0 0 0\" \n"
         "{ \"classname\" \"info_intermission\" }\n";
-    CHECK(ew_view_set_from_entities(broken, v, EW_MAX_VIEWS) == 5, "damaged lump");
+    CHECK(ew_benchmark_views_from_entities(broken, v, EW_MAX_VIEWS) == 5, "damaged lump");
 }
 
 /* Reads the entity lump straight from a BSP29 header (independent of the
@@ -260,7 +360,7 @@ static void test_real_maps(void) {
         ew_camera direct[EW_MAX_VIEWS];
         char *text = bsp_entities(ew_t_shared(rel));
         CHECK(text != NULL, "%s: cannot read the entity lump", maps[i].map);
-        int n = ew_view_set_from_entities(text, direct, EW_MAX_VIEWS);
+        int n = ew_benchmark_views_from_entities(text, direct, EW_MAX_VIEWS);
         free(text);
         CHECK(n == maps[i].views, "%s: %d views, want %d", maps[i].map, n, maps[i].views);
 
@@ -274,8 +374,8 @@ static void test_real_maps(void) {
         CHECK(w != NULL, "%s: %s", maps[i].map, err.msg);
         if (w) {
             ew_camera v[EW_MAX_VIEWS];
-            int m = ew_view_set(w, v);
-            CHECK(m == n, "%s: ew_view_set %d, direct %d", maps[i].map, m, n);
+            int m = ew_benchmark_views(w, v);
+            CHECK(m == n, "%s: ew_benchmark_views %d, direct %d", maps[i].map, m, n);
             for (int k = 0; k < m && k < n; k++)
                 CHECK(cam_is(&v[k], direct[k].origin[0], direct[k].origin[1], direct[k].origin[2],
                              direct[k].angles[0], direct[k].angles[1], direct[k].angles[2]),
@@ -290,6 +390,8 @@ int main(void) {
     test_tokenizer();
     test_malformed();
     test_fuzz();
+    test_checked_numbers();
+    test_regression_map();
     test_view_set();
     test_real_maps();
     return ew_t_finish();

@@ -37,7 +37,7 @@ int main(void) {
         int rc;
         if (ew_t_load_map(maps[mi], &a) < 0) continue;
         ew_camera views[EW_MAX_VIEWS];
-        int nv = ew_view_set(a.world, views);
+        int nv = ew_benchmark_views(a.world, views);
         CHECK(nv > 0, "%s has no views", maps[mi]);
         ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
         CHECK(r != NULL, "%s", err.msg);

@@ -36,7 +36,7 @@ static void compare_views(const char *name, const ew_assets *a, ew_scene *sc, in
           "%s: %d threads", name, threads);
     ew_set_scene(lazy, sc), ew_set_scene(full, sc);
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_view_set(a->world, views);
+    int nv = ew_benchmark_views(a->world, views);
     CHECK(nv > 0, "%s: no views", name);
     long drawn = 0;
     for (int v = 0; v < nv; v++) {
@@ -73,7 +73,7 @@ static void compare_views(const char *name, const ew_assets *a, ew_scene *sc, in
 static void check_map(const char *name, ew_assets *a, ew_scene *sc) {
     float center[3] = {0, 0, 0};
     ew_camera views[EW_MAX_VIEWS];
-    if (ew_view_set(a->world, views) > 0)
+    if (ew_benchmark_views(a->world, views) > 0)
         for (int k = 0; k < 3; k++) center[k] = views[0].origin[k];
     /* Particles all around the first view's eye: z-filled one square at a time. */
     CHECK(ew_scene_add_particles(sc, 3000, center, 400, 7) == 3000, "%s: particles", name);
@@ -85,7 +85,7 @@ static void check_map(const char *name, ew_assets *a, ew_scene *sc) {
     int spr = ew_scene_load_model(sc, "progs/s_explod.spr", data, size, &err);
     CHECK(spr >= 0, "%s: sprite: %s", name, err.msg);
     free(data);
-    int nv = ew_view_set(a->world, views);
+    int nv = ew_benchmark_views(a->world, views);
     for (int v = 0; v < nv && spr >= 0; v++) {
         ew_view vw;
         ew_view_setup(&vw, &views[v], W, H);
@@ -118,7 +118,7 @@ static void check_box_light(void) {
     CHECK(box >= 0, "b_bh25.bsp: %s", err.msg);
     free(data);
     ew_camera views[EW_MAX_VIEWS];
-    ew_view_set(a.world, views);
+    ew_benchmark_views(a.world, views);
     ew_view vw;
     ew_view_setup(&vw, &views[0], W, H);
     float at[3];

@@ -16,7 +16,7 @@ enum { FMT_29, FMT_BSP2, FMT_2PSB };
 
 #define HEADER_SIZE (4 + EW_NUM_LUMPS * 8)
 /* The renderer clips polygons in buffers of 256 vertices (EW_MAX_POLY in
- * ew_render.h; clipping adds up to 4), so every face it is given fits;
+ * world/view.h; clipping adds up to 4), so every face it is given fits;
  * Quake's own tools stop far below. */
 #define MAX_FACE_EDGES 248
 #define MAX_TEX_SIZE 4096

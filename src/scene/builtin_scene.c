@@ -2,7 +2,7 @@
  * The built-in scene's moving things, made in memory like its world:
  *   - the door: the entity lump's func_door (submodel *1), spawned by
  *     ew_scene_from_map like any map's brush entities;
- *   - lantern bearers (builtin_model.c's MDL image): two floating by the
+ *   - lantern bearers (src/mapgen/mdl_writer.c's MDL): two floating by the
  *     courtyard's east wall on either side of the corridor, where the demo
  *     view (view 0) looks, turned towards the player start (the right one
  *     in the wall's shadow); a third on the platform for the other views;
@@ -12,7 +12,7 @@
  *     from it, with a spray where they fall back.
  * Everything is fixed, so every call makes the same scene.
  */
-#include "scene/builtin.h"
+#include "mapgen/mapgen.h"
 #include "scene/scene.h"
 #include "raster/alias.h"
 #include "ew_util.h"

@@ -1,7 +1,7 @@
 /* Scenes: the entities of a map (or of a program) drawn over its world.
  * Models are loaded once per scene and shared by the entities using them. */
 #include "scene.h"
-#include "entities.h"
+#include "asset/entity_lump.h"
 #include "renderer.h"
 #include "ew_util.h"
 #include "raster/alias.h"
@@ -212,22 +212,22 @@ ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data
     char worldtype = 'w';
     for (int i = 0; i < ents.count; i++) {
         const char *cls = ew_entity_get(&ents.ents[i], "classname");
-        const char *wt = ew_entity_get(&ents.ents[i], "worldtype");
-        if (cls && strcmp(cls, "worldspawn") == 0 && wt) worldtype = wt[0] == '1' ? 'm' : wt[0] == '2' ? 'b' : 'w';
+        if (cls && strcmp(cls, "worldspawn") == 0 && ew_entity_get(&ents.ents[i], "worldtype")) {
+            int wt = ew_entity_int(&ents.ents[i], "worldtype", 0);
+            worldtype = wt == 1 ? 'm' : wt == 2 ? 'b' : 'w';
+        }
     }
     for (int i = 0; i < ents.count; i++) {
         const ew_entity *e = &ents.ents[i];
         const char *cls = ew_entity_get(e, "classname");
         const char *model = ew_entity_get(e, "model");
         if (!cls || strcmp(cls, "worldspawn") == 0) continue;
-        float origin[3] = {0, 0, 0}, angles[3] = {0, 0, 0}, flags = 0;
+        float origin[3] = {0, 0, 0}, angles[3] = {0, 0, 0};
         ew_entity_floats(e, "origin", origin, 3);
-        ew_entity_floats(e, "spawnflags", &flags, 1);
         if (model && model[0] == '*') {
             /* A brush entity's "angle" is its direction of travel, not a turn. */
-            char *end;
-            long sub = strtol(model + 1, &end, 10);
-            if (*end || sub <= 0 || sub >= w->nummodels || ew_scene_add_brush(s, (int)sub, origin, angles) < 0)
+            int sub = ew_entity_submodel(e);
+            if (sub <= 0 || sub >= w->nummodels || ew_scene_add_brush(s, sub, origin, angles) < 0)
                 s->missing++;
             continue;
         }
@@ -239,7 +239,7 @@ ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data
             continue;
         }
         const char *pattern = cm->model;
-        int sf = (int)flags;
+        int sf = ew_entity_int(e, "spawnflags", 0);
         if ((sf & 2) && cm->model_mega) pattern = cm->model_mega;
         else if ((sf & 1) && cm->model_big) pattern = cm->model_big;
         char path[64];

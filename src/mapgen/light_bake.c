@@ -1,9 +1,9 @@
 /*
- * Built-in scene: light map samples (with shadows found by walking the
+ * Map generator: light map samples (with shadows found by walking the
  * cells a light ray crosses, so they match the geometry exactly) and the
  * potentially visible set (a conservative portal flow over the leaves).
  */
-#include "scene/builtin.h"
+#include "mapgen_internal.h"
 
 #include <math.h>
 #include <stdlib.h>

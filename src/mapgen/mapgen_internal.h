@@ -1,23 +1,11 @@
 /*
- * The built-in scene (internal).  A small level described as a grid of
- * 16-unit cells is turned into a complete BSP29 image (exact axial BSP,
- * merged faces without T-junctions, procedural textures, light maps, PVS)
- * plus a palette and colormap.  ew_assets_builtin loads that image through
- * ew_world_load like any map, so the demo exercises the real pipeline.
+ * Shared between the map generator's own files (the .c files of src/mapgen);
+ * the generator's interface is mapgen.h.
  */
-#ifndef EW_SCENE_BUILTIN_H
-#define EW_SCENE_BUILTIN_H
+#ifndef EW_MAPGEN_INTERNAL_H
+#define EW_MAPGEN_INTERNAL_H
 
-#include "edgewise.h"
-#include <stddef.h>
-#include <stdint.h>
-
-/* Generates the scene: a malloc'd BSP29 image (caller frees), the palette
- * and the colormap.  Deterministic: every call gives the same bytes. */
-int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
-                        uint8_t colormap[EW_COLORMAP_SIZE], ew_error *err);
-
-/* ---- shared between src/scene/builtin_*.c ------------------------------- */
+#include "mapgen.h"
 
 #define BI_CELL 16  /* cell edge in world units */
 
@@ -28,16 +16,6 @@ enum { BI_EMPTY, BI_SOLID, BI_WATER, BI_SKY, BI_NUM_KINDS };
  * the cell, for its sides and for the ceiling under it. */
 enum { BI_M_BRICK, BI_M_STONE, BI_M_METAL, BI_M_WOOD, BI_M_PLATFORM,
        BI_M_BUTTON, BI_M_TILE, BI_NUM_MATERIALS };
-
-/* Textures, in the order of the textures lump. */
-enum { BI_T_BRICK, BI_T_METAL, BI_T_FLOOR, BI_T_STONE, BI_T_WOOD, BI_T_WATER,
-       BI_T_SKY, BI_T_BUTTON0, BI_T_BUTTON1, BI_T_DOOR, BI_NUM_TEXTURES };
-
-/* Colour ramps of the palette: index ramp * 16 + shade (0 dark .. 15
- * bright); 224..255 are fullbrights (BI_FB_*) that light leaves alone. */
-enum { BI_R_GREY, BI_R_BROWN, BI_R_TAN, BI_R_RED, BI_R_RUST, BI_R_OLIVE, BI_R_GREEN,
-       BI_R_TEAL, BI_R_BLUE, BI_R_STEEL, BI_R_PURPLE, BI_R_GOLD, BI_R_FLESH, BI_R_STONE };
-enum { BI_FB_YELLOW = 224, BI_FB_RED = 232, BI_FB_GREEN = 240, BI_FB_BLUE = 248, BI_FB_WHITE = 254 };
 
 typedef struct bi_grid {
     int      n[3];     /* cells along x, y, z */
@@ -101,7 +79,7 @@ void bi_put_u16(bi_buf *b, uint16_t v);
 void bi_put_f32(bi_buf *b, float v);
 void bi_put_u8(bi_buf *b, uint8_t v);
 
-/* builtin_tex.c: palette, colormap and the textures lump. */
+/* textures.c: palette, colormap and the textures lump. */
 void bi_make_palette(uint8_t palette[768]);
 void bi_make_colormap(const uint8_t palette[768], uint8_t colormap[EW_COLORMAP_SIZE]);
 int  bi_write_textures(const uint8_t palette[768], bi_buf *lump);
@@ -112,10 +90,8 @@ void bi_texture_size(int tex, int *w, int *h);
  * of a lattice point to [0,1). */
 double bi_fbm(double u, double v, int period, int octaves, uint32_t seed);
 double bi_rnd01(uint32_t x, uint32_t y, uint32_t seed);
-/* Palette index of a ramp and a shade (clamped to 0..15). */
-uint8_t bi_px(int ramp, double shade);
 
-/* builtin_light.c: light and visibility.
+/* light_bake.c: light and visibility.
  * Line of sight through the grid: walks the cells the segment a->b passes
  * through and returns the kind of the first cell that blocks (solid or
  * sky; leaving the grid counts as solid), or -1 if the segment is clear. */
@@ -130,20 +106,7 @@ int bi_light_point(const bi_scene *s, const float p[3], const float n[3]);
 int bi_compute_pvs(int nleaves, const int (*lo)[3], const int (*hi)[3], const uint8_t *open,
                    uint8_t *vis);
 
-/* builtin_bsp.c: builds the BSP image of a scene into out. */
+/* bsp_writer.c: builds the BSP image of a scene into out. */
 int bi_build_bsp(const bi_scene *s, const uint8_t palette[768], bi_buf *out, ew_error *err);
-
-/* builtin_model.c: the scene's triangle model, a hooded lantern bearer
- * floating over the floor, as an MDL version 6 image (malloc'd, caller
- * frees; deterministic).  One 128x64 skin, one frame: a group of
- * BI_MODEL_POSES poses, BI_MODEL_INTERVAL seconds each, so it animates by
- * time.  Model space: x forward, y left, z up, the origin under its feet;
- * the lantern it holds is at bi_model_lantern (pose 0, before bobbing). */
-#define BI_MODEL_POSES 8
-#define BI_MODEL_INTERVAL 0.15f
-#define BI_MODEL_SKIN_W 128
-#define BI_MODEL_SKIN_H 64
-extern const float bi_model_lantern[3];
-int bi_model_generate(uint8_t **mdl, size_t *size, ew_error *err);
 
 #endif

@@ -12,12 +12,13 @@
  *     a window looking back into the courtyard.
  *   - a plank door (submodel *1, a func_door) standing half open in the
  *     corridor's mouth, slid aside into the wall.
- * The grid is turned into a real BSP29 image (builtin_bsp.c) and loaded
- * through ew_world_load like any map.  The moving things drawn over it
- * (the door's entity, a triangle model, particles, a dynamic light) are
- * ew_scene_builtin's (builtin_scene.c).
+ * The grid is turned into a real BSP29 image (bsp_writer.c), which
+ * ew_assets_builtin (src/asset/assets.c) loads through ew_world_load like
+ * any map.  The moving things drawn over it (the door's entity, a triangle
+ * model, particles, a dynamic light) are ew_scene_builtin's
+ * (src/scene/builtin_scene.c).
  */
-#include "scene/builtin.h"
+#include "mapgen_internal.h"
 #include "ew_util.h"
 
 #include <stdio.h>
@@ -207,14 +208,4 @@ int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
     }
     *bsp = out.data, *bsp_size = out.len;
     return 0;
-}
-
-int ew_assets_builtin(ew_assets *out, ew_error *err) {
-    memset(out, 0, sizeof *out);
-    uint8_t *bsp;
-    size_t size;
-    if (ew_builtin_generate(&bsp, &size, out->palette, out->colormap, err)) return -1;
-    out->world = ew_world_load(bsp, size, "builtin", err);
-    free(bsp);
-    return out->world ? 0 : -1;
 }

@@ -1,5 +1,5 @@
 /*
- * Built-in scene: from a cell grid to a BSP29 image.
+ * Map generator: from a cell grid to a BSP29 image.
  *
  * 1. The tree: a box region of cells is split at a grid plane until it holds
  *    one kind of cell; each leaf is then an exact box (convex by
@@ -22,7 +22,7 @@
  *    into the world's leaves; they never join the world's polygons).
  * 5. Light maps, PVS, and the lumps in file order.
  */
-#include "scene/builtin.h"
+#include "mapgen_internal.h"
 #include "ew_util.h"
 #include "ew_world.h"
 

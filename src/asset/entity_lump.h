@@ -10,8 +10,8 @@
  * Parsing stops at the first syntax error and keeps every entity closed
  * before it, so a damaged lump still yields what it can.
  */
-#ifndef EW_ENTITIES_H
-#define EW_ENTITIES_H
+#ifndef EW_ENTITY_LUMP_H
+#define EW_ENTITY_LUMP_H
 
 #include "edgewise.h"
 #include <stddef.h>
@@ -43,13 +43,30 @@ void ew_entities_free(ew_entities *e);
  * does), or NULL. */
 const char *ew_entity_get(const ew_entity *e, const char *key);
 
+/* Numbers.  Every number taken from an entity lump goes through
+ * ew_entity_number, the one checked conversion: a value like "1e30",
+ * "nan" or "inf" must not reach a float-to-int cast or a camera (undefined
+ * behaviour, or a poisoned frame), so anything not finite or outside the
+ * range the caller can hold is refused and the caller uses its fallback.
+ *
+ * Reads one number (strtod's syntax, leading blanks skipped) at s and sets
+ * *end past it.  Returns 1 with *out set if it is finite and within
+ * [lo, hi]; 0 if a number was read but refused (*out untouched); -1 if
+ * there is no number at s (*end = s). */
+int ew_entity_number(const char *s, const char **end, double lo, double hi, double *out);
+
 /* Reads up to n numbers separated by blanks from the value of key into v.
- * Missing, malformed or non-finite components are 0; returns how many
- * numbers were read (0 if the key is absent). */
+ * Missing, malformed, non-finite or beyond-float components are 0; returns
+ * how many numbers were read (0 if the key is absent). */
 int ew_entity_floats(const ew_entity *e, const char *key, float *v, int n);
 
-/* The view set of ../shared/BENCHMARK.md from entity text: at most max
- * cameras (fov 90, time 0) written to views; returns the count. */
-int ew_view_set_from_entities(const char *text, ew_camera *views, int max);
+/* The first number of the value of key as an int (truncated toward zero),
+ * or fallback if the key is absent, holds no number, or the number is not
+ * finite or outside int's range ("spawnflags" "1e30"). */
+int ew_entity_int(const ew_entity *e, const char *key, int fallback);
+
+/* The submodel an entity's "model" "*N" names: N >= 1, or -1 if the key is
+ * absent or not a '*' followed by exactly a positive int. */
+int ew_entity_submodel(const ew_entity *e);
 
 #endif

@@ -1,5 +1,5 @@
-/* The entity lump tokenizer (see entities.h). */
-#include "entities.h"
+/* The entity lump tokenizer and its number conversion (see entity_lump.h). */
+#include "entity_lump.h"
 #include "ew_util.h"
 
 #include <float.h>
@@ -184,6 +184,18 @@ const char *ew_entity_get(const ew_entity *e, const char *key) {
     return NULL;
 }
 
+int ew_entity_number(const char *s, const char **end, double lo, double hi, double *out) {
+    char *e;
+    double d = strtod(s, &e);
+    *end = e;
+    if (e == s)
+        return -1;
+    if (!isfinite(d) || d < lo || d > hi)
+        return 0;
+    *out = d;
+    return 1;
+}
+
 int ew_entity_floats(const ew_entity *e, const char *key, float *v, int n) {
     for (int i = 0; i < n; i++)
         v[i] = 0;
@@ -192,51 +204,29 @@ int ew_entity_floats(const ew_entity *e, const char *key, float *v, int n) {
         return 0;
     int got = 0;
     while (got < n) {
-        char *end;
-        double d = strtod(s, &end);
-        if (end == s)
+        double d = 0;
+        if (ew_entity_number(s, &s, -FLT_MAX, FLT_MAX, &d) < 0)
             break;
-        /* A camera built from inf or 1e300 would only poison the renderer. */
-        v[got++] = isfinite(d) && fabs(d) <= FLT_MAX ? (float)d : 0.0f;
-        s = end;
+        /* refused (inf, 1e300): 0, a camera built from it would only
+         * poison the renderer */
+        v[got++] = (float)d;
     }
     return got;
 }
 
-int ew_view_set_from_entities(const char *text, ew_camera *views, int max) {
-    if (!text || !views || max <= 0)
-        return 0;
-    ew_entities ents;
-    ew_entities_parse(text, strlen(text), &ents, NULL);  /* keep what parsed */
-    int n = 0;
-    for (int i = 0; i < ents.count && n < max; i++) {
-        const ew_entity *e = &ents.ents[i];
-        const char *cls = ew_entity_get(e, "classname");
-        if (!cls)
-            continue;
-        float origin[3], a[3];
-        if (strncmp(cls, "info_player", 11) == 0) {
-            ew_entity_floats(e, "origin", origin, 3);
-            ew_entity_floats(e, "angle", a, 1);
-            for (int k = 0; k < 4 && n < max; k++) {
-                ew_camera *c = &views[n++];
-                memset(c, 0, sizeof *c);
-                c->origin[0] = origin[0];
-                c->origin[1] = origin[1];
-                c->origin[2] = origin[2] + 22.0f;   /* eye height */
-                c->angles[1] = a[0] + 90.0f * (float)k;
-                c->fov = 90.0f;
-            }
-        } else if (strcmp(cls, "info_intermission") == 0) {
-            ew_entity_floats(e, "origin", origin, 3);
-            ew_entity_floats(e, "mangle", a, 3);
-            ew_camera *c = &views[n++];
-            memset(c, 0, sizeof *c);
-            memcpy(c->origin, origin, sizeof origin);
-            memcpy(c->angles, a, sizeof a);
-            c->fov = 90.0f;
-        }
-    }
-    ew_entities_free(&ents);
-    return n;
+int ew_entity_int(const ew_entity *e, const char *key, int fallback) {
+    const char *s = ew_entity_get(e, key);
+    double d;
+    if (!s || ew_entity_number(s, &s, INT_MIN, INT_MAX, &d) != 1)
+        return fallback;
+    return (int)d;
+}
+
+int ew_entity_submodel(const ew_entity *e) {
+    const char *s = ew_entity_get(e, "model");
+    double d;
+    if (!s || s[0] != '*' || ew_entity_number(s + 1, &s, 1, INT_MAX, &d) != 1 || *s ||
+        d != floor(d))
+        return -1;
+    return (int)d;
 }

@@ -1,5 +1,5 @@
 /*
- * Built-in scene: palette, colormap and procedural textures.
+ * Map generator: palette, colormap and procedural textures.
  *
  * The palette is laid out like Quake's: 14 ramps of 16 shades (dark to
  * bright) and 32 fullbright colours at 224..255 that lighting leaves alone.
@@ -8,7 +8,7 @@
  * nearest non-fullbright colour.  Everything is seeded, so the output is
  * the same on every run.
  */
-#include "scene/builtin.h"
+#include "mapgen_internal.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /*
- * Built-in scene: its triangle model, made in memory and written as an MDL
- * version 6 image (the format src/asset/mdl.c reads).
+ * Map generator: the built-in scene's triangle model, made in memory and
+ * written as an MDL version 6 image (the format src/asset/mdl.c reads).
  *
  * A hooded lantern bearer floating over the floor: a robed body revolved
  * from a profile (16 segments round, closed by a vertex at each pole), two
@@ -22,7 +22,7 @@
  * picks a pose by time: the figure bobs, the chest breathes, the hem
  * ripples round, the hood's tip sways and the lantern turns.
  */
-#include "scene/builtin.h"
+#include "mapgen_internal.h"
 #include "ew_util.h"
 
 #include <math.h>

@@ -1,0 +1,49 @@
+/*
+ * The map generator (src/mapgen/): a small map compiler.  A level described
+ * as a grid of 16-unit cells is turned into a complete BSP29 image (exact
+ * axial BSP, merged faces without T-junctions, procedural textures, light
+ * maps, PVS) plus a palette and colormap; it also writes the triangle model
+ * (MDL) that the built-in scene places over that world.  This header is
+ * what the library (ew_assets_builtin, ew_scene_builtin) and the tests use;
+ * mapgen_internal.h is shared between the generator's own files only.
+ */
+#ifndef EW_MAPGEN_H
+#define EW_MAPGEN_H
+
+#include "edgewise.h"
+#include <stddef.h>
+#include <stdint.h>
+
+/* Generates the built-in level (builtin_level.c): a malloc'd BSP29 image
+ * (caller frees), the palette and the colormap.  Deterministic: every call
+ * gives the same bytes. */
+int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
+                        uint8_t colormap[EW_COLORMAP_SIZE], ew_error *err);
+
+/* Textures, in the order of the textures lump. */
+enum { BI_T_BRICK, BI_T_METAL, BI_T_FLOOR, BI_T_STONE, BI_T_WOOD, BI_T_WATER,
+       BI_T_SKY, BI_T_BUTTON0, BI_T_BUTTON1, BI_T_DOOR, BI_NUM_TEXTURES };
+
+/* Colour ramps of the palette: index ramp * 16 + shade (0 dark .. 15
+ * bright); 224..255 are fullbrights (BI_FB_*) that light leaves alone. */
+enum { BI_R_GREY, BI_R_BROWN, BI_R_TAN, BI_R_RED, BI_R_RUST, BI_R_OLIVE, BI_R_GREEN,
+       BI_R_TEAL, BI_R_BLUE, BI_R_STEEL, BI_R_PURPLE, BI_R_GOLD, BI_R_FLESH, BI_R_STONE };
+enum { BI_FB_YELLOW = 224, BI_FB_RED = 232, BI_FB_GREEN = 240, BI_FB_BLUE = 248, BI_FB_WHITE = 254 };
+
+/* Palette index of a ramp and a shade (clamped to 0..15). */
+uint8_t bi_px(int ramp, double shade);
+
+/* The built-in scene's triangle model (mdl_writer.c), a hooded lantern bearer
+ * floating over the floor, as an MDL version 6 image (malloc'd, caller
+ * frees; deterministic).  One 128x64 skin, one frame: a group of
+ * BI_MODEL_POSES poses, BI_MODEL_INTERVAL seconds each, so it animates by
+ * time.  Model space: x forward, y left, z up, the origin under its feet;
+ * the lantern it holds is at bi_model_lantern (pose 0, before bobbing). */
+#define BI_MODEL_POSES 8
+#define BI_MODEL_INTERVAL 0.15f
+#define BI_MODEL_SKIN_W 128
+#define BI_MODEL_SKIN_H 64
+extern const float bi_model_lantern[3];
+int bi_model_generate(uint8_t **mdl, size_t *size, ew_error *err);
+
+#endif
