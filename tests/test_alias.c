@@ -32,9 +32,12 @@ static int rndi(int lo, int hi) { return lo + (int)(rnd() % (uint32_t)(hi - lo +
 static uint8_t test_skin[16 * 16];
 static uint8_t test_cmap[64 * 256];
 
+static ew_target test_target;
+
 static void init_araster(ew_araster *ra, uint8_t *frame, float *zbuf) {
     memset(ra, 0, sizeof *ra);
-    ra->frame = frame, ra->zbuf = zbuf, ra->pitch = BW;
+    test_target = (ew_target){frame, zbuf, BW, BH, BW, 1};
+    ra->target = &test_target;
     ra->x0 = 0, ra->y0 = 0, ra->x1 = BW, ra->y1 = BH;
     ra->skin = test_skin, ra->skinw = 16, ra->skinh = 16;
     ra->colormap = test_cmap;

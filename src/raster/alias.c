@@ -95,15 +95,15 @@ static void draw_span(ew_araster *ra, int y, int xs, int xe, const ew_avert *top
     fix_run(&t, &dt, n, (ra->skinh << 16) - 1);
     fix_run(&l, &dl, n, (63 << 8) + 255);
 
-    float *zr = ra->zbuf + (size_t)y * ra->pitch;
-    uint8_t *fr = ra->frame + (size_t)y * ra->pitch;
+    float *zr = ew_target_z(ra->target, 0, y);
+    uint8_t *fr = ew_target_at(ra->target, 0, y);
     const uint8_t *skin = ra->skin, *cmap = ra->colormap;
     int sw = ra->skinw;
     long count = 0;
     for (int x = xs; x < xe; x++) {
         if (zi >= zr[x]) {
             zr[x] = zi;
-            fr[x] = cmap[(l & 0x3F00) + skin[(t >> 16) * sw + (s >> 16)]];
+            ew_put8(&fr[x], cmap[(l & 0x3F00) + skin[(t >> 16) * sw + (s >> 16)]]);
             count++;
         }
         zi += dzi;
@@ -397,7 +397,7 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
 
     ew_araster ra;
     memset(&ra, 0, sizeof ra);
-    ra.frame = r->target.pixels, ra.zbuf = r->target.zbuf, ra.pitch = r->target.width;
+    ra.target = &r->target;
     ra.x0 = 0, ra.y0 = rows->y0, ra.x1 = r->target.width, ra.y1 = rows->y1;
     ra.skin = m->skinpixels + (size_t)image * m->skinwidth * m->skinheight;
     ra.skinw = m->skinwidth, ra.skinh = m->skinheight;

@@ -84,9 +84,7 @@ typedef struct ew_avert {
 
 /* What a triangle is drawn into and with. */
 typedef struct ew_araster {
-    uint8_t       *frame;
-    float         *zbuf;
-    int            pitch;               /* pixels per row of frame and zbuf */
+    const ew_target *target;            /* the frame and its z-buffer */
     int            x0, y0, x1, y1;      /* clip rectangle [x0, x1) x [y0, y1) */
     const uint8_t *skin;                /* skinw * skinh palette indices */
     int            skinw, skinh;

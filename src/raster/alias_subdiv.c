@@ -38,10 +38,10 @@ static inline void plot(ew_araster *ra, const ew_avert *p) {
         }
         return;
     }
-    size_t o = (size_t)p->y * ra->pitch + p->x;
-    if (p->zi >= ra->zbuf[o]) {
-        ra->zbuf[o] = p->zi;
-        ra->frame[o] = c;
+    float *z = ew_target_z(ra->target, p->x, p->y);
+    if (p->zi >= *z) {
+        *z = p->zi;
+        ew_put8(ew_target_at(ra->target, p->x, p->y), c);
         ra->pixels++;
     }
 }
@@ -100,7 +100,7 @@ void ew_alias_tile_begin(ew_araster *ra, int x0, int y0, int w, int h, void *mem
     for (int y = 0; y < h; y++) {
         float *tz = ra->tile_z + (size_t)y * w;
         if (y0 + y >= ra->y0 && y0 + y < ra->y1)
-            memcpy(tz, ra->zbuf + (size_t)(y0 + y) * ra->pitch + x0, sizeof(float) * (size_t)w);
+            memcpy(tz, ew_target_z(ra->target, x0, y0 + y), sizeof(float) * (size_t)w);
         else
             for (int x = 0; x < w; x++) tz[x] = FLT_MAX;
     }
@@ -113,11 +113,12 @@ void ew_alias_tile_end(ew_araster *ra) {
     for (int y = 0; y < ra->th; y++) {
         const uint8_t *f = ra->tile_f + (size_t)y * ra->tw, *c = ra->tile_c + (size_t)y * ra->tw;
         const float *z = ra->tile_z + (size_t)y * ra->tw;
-        size_t o = (size_t)(ra->ty0 + y) * ra->pitch + ra->tx0;
+        float *zr = ew_target_z(ra->target, ra->tx0, ra->ty0 + y);
+        uint8_t *fr = ew_target_at(ra->target, ra->tx0, ra->ty0 + y);
         for (int x = 0; x < ra->tw; x++)
             if (f[x]) {
-                ra->zbuf[o + x] = z[x];
-                ra->frame[o + x] = c[x];
+                zr[x] = z[x];
+                ew_put8(&fr[x], c[x]);
                 n++;
             }
     }

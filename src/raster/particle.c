@@ -38,12 +38,12 @@ void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const e
         uint8_t color = p[i].color;
         ew_zfill_rect(&r->zf, x0, y0, x1, y1);
         for (int y = y0; y < y1; y++) {
-            float *zr = r->target.zbuf + (size_t)y * r->target.width;
-            uint8_t *fr = r->target.pixels + (size_t)y * r->target.width;
+            float *zr = ew_target_z(&r->target, 0, y);
+            uint8_t *fr = ew_target_at(&r->target, 0, y);
             for (int x = x0; x < x1; x++) {
                 if (zi >= zr[x]) {
                     zr[x] = zi;
-                    fr[x] = color;
+                    ew_put8(&fr[x], color);
                     pixels++;
                 }
             }

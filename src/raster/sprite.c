@@ -141,8 +141,8 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     int pw = pic->width, ph = pic->height;
     long count = 0;
     for (int y = y0; y < y1; y++) {
-        float *zr = r->target.zbuf + (size_t)y * r->target.width;
-        uint8_t *fr = r->target.pixels + (size_t)y * r->target.width;
+        float *zr = ew_target_z(&r->target, 0, y);
+        uint8_t *fr = ew_target_at(&r->target, 0, y);
         float fy = (float)y;
         for (int x = x0; x < x1; x++) {
             float fx = (float)x;
@@ -155,7 +155,7 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
             uint8_t c = pic->pixels[(int)b * pw + (int)a];
             if (c == 255) continue;
             zr[x] = zi;
-            fr[x] = c;
+            ew_put8(&fr[x], c);
             count++;
         }
     }
