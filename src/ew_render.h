@@ -147,6 +147,7 @@ struct ew_renderer {
     int      subdiv_shift;                   /* perspective divide every 1 << shift px */
     int      alias_raster;                   /* ew_alias_raster */
     float    alias_threshold;                /* auto: subdivide below this screen height */
+    int      hsr;                            /* ew_hsr_method (EW_HSR_REFERENCE: not wired yet) */
     int      lightstyle[64];
 
     /* per-world marks, compared against framecount */

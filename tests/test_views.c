@@ -270,7 +270,7 @@ static void test_real_maps(void) {
         ew_error err = { "" };
         ew_world *w = NULL;
         if (ew_read_file(ew_t_shared(rel), &data, &size, &err) == 0)
-            w = ew_world_load(data, size, rel, &err);
+            w = ew_world_create(data, size, rel, &err);
         CHECK(w != NULL, "%s: %s", maps[i].map, err.msg);
         if (w) {
             ew_camera v[EW_MAX_VIEWS];
@@ -280,7 +280,7 @@ static void test_real_maps(void) {
                 CHECK(cam_is(&v[k], direct[k].origin[0], direct[k].origin[1], direct[k].origin[2],
                              direct[k].angles[0], direct[k].angles[1], direct[k].angles[2]),
                       "%s: view %d differs", maps[i].map, k);
-            ew_world_free(w);
+            ew_world_destroy(w);
         }
         free(data);
     }

@@ -40,8 +40,12 @@ static int parse_colormap(const uint8_t *d, size_t s, const char *f, uint8_t *ou
     return ew_colormap_parse(d, s, f, out, e);
 }
 
-int ew_assets_load(const char *map, const char *data_dir, ew_assets *out, ew_error *err) {
-    memset(out, 0, sizeof *out);
+ew_assets *ew_assets_create(const char *map, const char *data_dir, ew_error *err) {
+    ew_assets *out = calloc(1, sizeof *out);
+    if (!out) {
+        ew_fail(err, "%s: out of memory", map);
+        return NULL;
+    }
     ew_fs *fs = NULL;
     uint8_t *bsp = NULL;
     size_t bsp_size = 0;
@@ -58,10 +62,10 @@ int ew_assets_load(const char *map, const char *data_dir, ew_assets *out, ew_err
         }
         snprintf(bsp_name, sizeof bsp_name, "maps/%s.bsp", map);
     }
-    if (data_dir && *data_dir && !(fs = ew_fs_open(data_dir, err))) goto fail;
+    if (data_dir && *data_dir && !(fs = ew_fs_create(data_dir, err))) goto fail;
     if (!direct && ew_fs_load(fs, bsp_name, &bsp, &bsp_size, err) != 0) goto fail;
 
-    if (!(out->world = ew_world_load(bsp, bsp_size, bsp_name, err))) goto fail;
+    if (!(out->world = ew_world_create(bsp, bsp_size, bsp_name, err))) goto fail;
     free(bsp);
     bsp = NULL;
     const char *base = strrchr(bsp_name, '/');
@@ -89,17 +93,17 @@ int ew_assets_load(const char *map, const char *data_dir, ew_assets *out, ew_err
         snprintf(path, sizeof path, "%s/../gfx/colormap.lmp", dir);
         if (load_lmp(NULL, path, parse_colormap, out->colormap, err) != 0) goto fail;
     }
-    ew_fs_close(fs);
-    return 0;
+    ew_fs_destroy(fs);
+    return out;
 fail:
     free(bsp);
-    ew_fs_close(fs);
-    ew_assets_free(out);
-    return -1;
+    ew_fs_destroy(fs);
+    ew_assets_destroy(out);
+    return NULL;
 }
 
-void ew_assets_free(ew_assets *a) {
+void ew_assets_destroy(ew_assets *a) {
     if (!a) return;
-    ew_world_free(a->world);
-    a->world = NULL;
+    ew_world_destroy(a->world);
+    free(a);
 }

@@ -13,9 +13,9 @@
  *   - a plank door (submodel *1, a func_door) standing half open in the
  *     corridor's mouth, slid aside into the wall.
  * The grid is turned into a real BSP29 image (builtin_bsp.c) and loaded
- * through ew_world_load like any map.  The moving things drawn over it
+ * through ew_world_create like any map.  The moving things drawn over it
  * (the door's entity, a triangle model, particles, a dynamic light) are
- * ew_scene_builtin's (builtin_scene.c).
+ * ew_scene_create_builtin's (builtin_scene.c).
  */
 #include "scene/builtin.h"
 #include "ew_util.h"
@@ -209,12 +209,23 @@ int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
     return 0;
 }
 
-int ew_assets_builtin(ew_assets *out, ew_error *err) {
-    memset(out, 0, sizeof *out);
+ew_assets *ew_assets_create_builtin(ew_error *err) {
+    ew_assets *out = calloc(1, sizeof *out);
+    if (!out) {
+        ew_fail(err, "builtin: out of memory");
+        return NULL;
+    }
     uint8_t *bsp;
     size_t size;
-    if (ew_builtin_generate(&bsp, &size, out->palette, out->colormap, err)) return -1;
-    out->world = ew_world_load(bsp, size, "builtin", err);
+    if (ew_builtin_generate(&bsp, &size, out->palette, out->colormap, err)) {
+        free(out);
+        return NULL;
+    }
+    out->world = ew_world_create(bsp, size, "builtin", err);
     free(bsp);
-    return out->world ? 0 : -1;
+    if (!out->world) {
+        free(out);
+        return NULL;
+    }
+    return out;
 }

@@ -2,8 +2,8 @@
  * The built-in scene (internal).  A small level described as a grid of
  * 16-unit cells is turned into a complete BSP29 image (exact axial BSP,
  * merged faces without T-junctions, procedural textures, light maps, PVS)
- * plus a palette and colormap.  ew_assets_builtin loads that image through
- * ew_world_load like any map, so the demo exercises the real pipeline.
+ * plus a palette and colormap.  ew_assets_create_builtin loads that image through
+ * ew_world_create like any map, so the demo exercises the real pipeline.
  */
 #ifndef EW_SCENE_BUILTIN_H
 #define EW_SCENE_BUILTIN_H
