@@ -17,6 +17,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "edgewise.h"
+#include "edgewise_tools.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -541,17 +542,12 @@ static int bench_floor(const bench_opts *o, FILE *json) {
     return 0;
 }
 
-/* Loads one map: 0, or -1 with the error printed. */
-static int bench_load(const bench_opts *o, const char *map, ew_assets *a) {
+/* Loads one map, or NULL with the error printed. */
+static ew_assets *bench_load(const bench_opts *o, const char *map) {
     ew_error err = { "" };
-    memset(a, 0, sizeof *a);
-    int rc = is_builtin(map) ? ew_assets_builtin(a, &err) : ew_assets_load(map, o->data, a, &err);
-    if (rc < 0 || !a->world) {
-        error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
-        ew_assets_free(a);
-        return -1;
-    }
-    return 0;
+    ew_assets *a = is_builtin(map) ? ew_assets_create_builtin(&err) : ew_assets_create(map, o->data, &err);
+    if (!a) error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
+    return a;
 }
 
 /* One map at one size and thread count; returns 0 or 1 (error printed).
@@ -571,7 +567,9 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->passes = o->passes;
 
     ew_error err = { "" };
-    ew_renderer *rd = ew_renderer_create(a->world, a->palette, a->colormap, w, h, &err);
+    ew_renderer *rd = ew_renderer_create(&(ew_renderer_desc){
+            .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = w, .height = h, .threads = 1 }, &err);
     if (!rd) {
         error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
         return 1;
@@ -582,7 +580,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     int used = ew_set_threads(rd, threads);
     if (used < 0) {
         error_line("bench: out of memory for %d threads at %dx%d", r->threads, w, h);
-        ew_renderer_free(rd);
+        ew_renderer_destroy(rd);
         return 1;
     }
     r->threads = used;
@@ -641,7 +639,7 @@ done:
     free(frames);
     free(scratch);
     free(stats);
-    ew_renderer_free(rd);
+    ew_renderer_destroy(rd);
     return rc;
 }
 
@@ -674,13 +672,13 @@ int cmd_bench(int argc, char **argv) {
         if (o.table)
             print_table_header();
         for (int m = 0; m < o.nmaps && !rc; m++) {
-            ew_assets a;
-            if (bench_load(&o, o.maps[m], &a) < 0) {
+            ew_assets *a = bench_load(&o, o.maps[m]);
+            if (!a) {
                 rc = 1;
                 break;
             }
             ew_camera views[EW_MAX_VIEWS];
-            int nviews = ew_benchmark_views(a.world, views);
+            int nviews = ew_benchmark_views(a->world, views);
             const void *scene = NULL;
 #ifndef EW_BENCH_NO_SCENE
             /* The map's entities, as the game shows it; the built-in scene's
@@ -688,8 +686,8 @@ int cmd_bench(int argc, char **argv) {
             ew_scene *sc = NULL;
             if (!o.no_entities && nviews > 0) {
                 ew_error err = { "" };
-                sc = is_builtin(o.maps[m]) ? ew_scene_builtin(a.world, &err)
-                                           : ew_scene_from_map(a.world, o.maps[m], o.data, &err);
+                sc = is_builtin(o.maps[m]) ? ew_scene_create_builtin(a->world, &err)
+                                           : ew_scene_create_from_map(a->world, o.maps[m], o.data, &err);
                 if (!sc) {
                     error_line("%s", err.msg[0] ? err.msg : "cannot load the map's entities");
                     rc = 1;
@@ -705,7 +703,7 @@ int cmd_bench(int argc, char **argv) {
             for (int s = 0; s < o.nsizes && !rc; s++)
                 for (int t = 0; t < o.nthreads && !rc; t++) {
                     row r;
-                    rc = bench_row(&o, o.maps[m], &a, scene, views, nviews, o.sizes[s][0],
+                    rc = bench_row(&o, o.maps[m], a, scene, views, nviews, o.sizes[s][0],
                                    o.sizes[s][1], o.threads[t], &fc, &r);
                     if (rc)
                         break;
@@ -720,9 +718,9 @@ int cmd_bench(int argc, char **argv) {
                     }
                 }
 #ifndef EW_BENCH_NO_SCENE
-            ew_scene_free(sc);
+            ew_scene_destroy(sc);
 #endif
-            ew_assets_free(&a);
+            ew_assets_destroy(a);
         }
     }
     progress_clear();

@@ -20,6 +20,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "edgewise.h"
+#include "edgewise_tools.h"
 #include "renderer.h"  /* the world's leaves and the renderer's budgets */
 #include "ew_util.h"    /* ew_now_ms */
 
@@ -307,22 +308,22 @@ int cmd_soak(int argc, char **argv) {
     int pr = parse(argc, argv, &o);
     if (pr != 0) return pr > 0 ? 0 : 2;
 
-    ew_assets a;
     ew_error err = {""};
-    memset(&a, 0, sizeof a);
-    int rc = is_builtin(o.map) ? ew_assets_builtin(&a, &err) : ew_assets_load(o.map, o.data, &a, &err);
-    if (rc < 0 || !a.world) {
+    ew_assets *a = is_builtin(o.map) ? ew_assets_create_builtin(&err) : ew_assets_create(o.map, o.data, &err);
+    int rc = 0;
+    if (!a) {
         error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
         return 1;
     }
-    const ew_world *w = a.world;
-    ew_renderer *r = ew_renderer_create(w, a.palette, a.colormap, o.width, o.height, &err);
+    const ew_world *w = a->world;
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = w, .palette = a->palette,
+            .colormap = a->colormap, .width = o.width, .height = o.height, .threads = 1 }, &err);
     int nopen = 0, *open_leaves = world_open_leaves(w, &nopen);
     if (!r || !open_leaves || ew_set_threads(r, o.threads) < 0) {
         error_line("%s", r ? "soak: out of memory" : err.msg);
-        ew_renderer_free(r);
+        ew_renderer_destroy(r);
         free(open_leaves);
-        ew_assets_free(&a);
+        ew_assets_destroy(a);
         return 1;
     }
     ew_camera views[EW_MAX_VIEWS];
@@ -410,9 +411,9 @@ int cmd_soak(int argc, char **argv) {
 
     for (long i = 0; i < anomalies.count && i < MAX_LISTED; i++)
         error_line("soak: frame %ld: %s", anomalies.list[i].frame, anomalies.list[i].what);
-    ew_renderer_free(r);
+    ew_renderer_destroy(r);
     free(open_leaves);
-    ew_assets_free(&a);
+    ew_assets_destroy(a);
     if (fflush(stdout) != 0) {
         error_line("stdout: %s", strerror(errno));
         return 1;

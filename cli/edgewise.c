@@ -22,8 +22,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define EW_CLI_VERSION "0.1.0"
-
 /* Which view of the built-in scene `edgewise demo` shows. */
 #define EW_DEMO_VIEW 0
 
@@ -413,16 +411,12 @@ void map_basename(const char *map, char *out, size_t size) {
     snprintf(out, size, "%.*s", (int)n, b);
 }
 
-static int load(const options *o, ew_assets *a) {
+static ew_assets *load(const options *o) {
     ew_error err = { "" };
-    memset(a, 0, sizeof *a);
-    int rc = is_builtin(o->map) ? ew_assets_builtin(a, &err)
-                                : ew_assets_load(o->map, o->data, a, &err);
-    if (rc < 0 || !a->world) {
-        error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
-        return -1;
-    }
-    return 0;
+    ew_assets *a = is_builtin(o->map) ? ew_assets_create_builtin(&err)
+                                      : ew_assets_create(o->map, o->data, &err);
+    if (!a) error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
+    return a;
 }
 
 /* Writes s as a JSON string. */
@@ -500,8 +494,8 @@ static void print_stats(const char *name, const options *o, int view, const ew_c
 /* ---- commands -------------------------------------------------------------- */
 
 static int cmd_render(options *o, int default_view, const char *default_out) {
-    ew_assets a;
-    if (load(o, &a) < 0)
+    ew_assets *a = load(o);
+    if (!a)
         return 1;
 
     char name[256];
@@ -519,7 +513,7 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
         cam.fov = 90;
     } else {
         ew_camera views[EW_MAX_VIEWS];
-        int n = ew_benchmark_views(a.world, views);
+        int n = ew_benchmark_views(a->world, views);
         view = (o->given & O_VIEW) ? o->view : default_view;
         if (n == 0) {
             error_line("%s: no views (no info_player* or info_intermission entity); "
@@ -548,7 +542,8 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
     else
         snprintf(out, sizeof out, "%s_free.png", name);
 
-    r = ew_renderer_create(a.world, a.palette, a.colormap, o->width, o->height, &err);
+    r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = o->width, .height = o->height, .threads = 1 }, &err);
     if (!r) {
         error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
         goto done;
@@ -562,9 +557,9 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
     /* The moving things: the map's entities (or the built-in scene's),
      * plus lights and particles asked for on the command line. */
     if (!(o->given & O_NOENT) || o->ndlights || o->particles) {
-        scene = (o->given & O_NOENT) ? ew_scene_create(a.world, &err)
-                : is_builtin(o->map)  ? ew_scene_builtin(a.world, &err)
-                                      : ew_scene_from_map(a.world, o->map, o->data, &err);
+        scene = (o->given & O_NOENT) ? ew_scene_create(a->world, &err)
+                : is_builtin(o->map)  ? ew_scene_create_builtin(a->world, &err)
+                                      : ew_scene_create_from_map(a->world, o->map, o->data, &err);
         if (!scene) {
             error_line("%s", err.msg[0] ? err.msg : "cannot make the scene");
             goto done;
@@ -592,7 +587,7 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
                    cam.angles[1], cam.angles[2], cam.fov);
         goto done;
     }
-    if (ew_write_png(out, pixels, o->width, o->height, a.palette, &err) < 0) {
+    if (ew_write_png(out, pixels, o->width, o->height, a->palette, &err) < 0) {
         error_line("%s", err.msg);
         goto done;
     }
@@ -601,9 +596,9 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
     fprintf(stderr, "wrote %s (%dx%d)\n", out, o->width, o->height);
     rc = 0;
 done:
-    ew_renderer_free(r);
-    ew_scene_free(scene);
-    ew_assets_free(&a);
+    ew_renderer_destroy(r);
+    ew_scene_destroy(scene);
+    ew_assets_destroy(a);
     if (fflush(stdout) != 0 && rc == 0) {
         error_line("stdout: %s", strerror(errno));
         rc = 1;
@@ -612,15 +607,15 @@ done:
 }
 
 static int cmd_views(options *o) {
-    ew_assets a;
-    if (load(o, &a) < 0)
+    ew_assets *a = load(o);
+    if (!a)
         return 1;
     ew_camera views[EW_MAX_VIEWS];
-    int n = ew_benchmark_views(a.world, views);
+    int n = ew_benchmark_views(a->world, views);
     for (int i = 0; i < n; i++)
         printf("%d %g %g %g %g %g %g\n", i, views[i].origin[0], views[i].origin[1],
                views[i].origin[2], views[i].angles[0], views[i].angles[1], views[i].angles[2]);
-    ew_assets_free(&a);
+    ew_assets_destroy(a);
     if (fflush(stdout) != 0) {
         error_line("stdout: %s", strerror(errno));
         return 1;
@@ -629,12 +624,12 @@ static int cmd_views(options *o) {
 }
 
 static int cmd_info(options *o) {
-    ew_assets a;
-    if (load(o, &a) < 0)
+    ew_assets *a = load(o);
+    if (!a)
         return 1;
     ew_world_info info;
     memset(&info, 0, sizeof info);
-    ew_world_get_info(a.world, &info);
+    ew_world_get_info(a->world, &info);
     char version[sizeof info.version + 1];
     snprintf(version, sizeof version, "%.*s", (int)sizeof info.version, info.version);
 
@@ -651,7 +646,7 @@ static int cmd_info(options *o) {
     printf("faces     %d\n", info.faces);
     printf("leaves    %d\n", info.leaves);
     printf("nodes     %d\n", info.nodes);
-    ew_assets_free(&a);
+    ew_assets_destroy(a);
     if (fflush(stdout) != 0) {
         error_line("stdout: %s", strerror(errno));
         return 1;
@@ -670,7 +665,7 @@ int main(int argc, char **argv) {
         return 0;
     }
     if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
-        printf("edgewise %s\n", EW_CLI_VERSION);
+        printf("edgewise %s\n", ew_version());
         return 0;
     }
 

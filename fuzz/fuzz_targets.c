@@ -12,6 +12,7 @@
 #include "seed_files.h"
 
 #include "edgewise.h"
+#include "edgewise_tools.h"
 #include "ew_world.h"
 
 #include <stdio.h>
@@ -128,7 +129,7 @@ static uint8_t *copy_with_magic(const uint8_t *data, size_t size, const uint8_t 
 
 static int load_world(const uint8_t *data, size_t size) {
     ew_error err = {""};
-    ew_world *w = ew_world_load(data, size, "fuzz.bsp", &err);
+    ew_world *w = ew_world_create(data, size, "fuzz.bsp", &err);
     if (!w) return rejected(&err);
     check_world(w);
     ew_world_info info;
@@ -139,9 +140,9 @@ static int load_world(const uint8_t *data, size_t size) {
     (void)strlen(ew_world_entities(w));
     /* The entity lump read as a map's scene is (no game directory, so no
      * model files): every number in it goes through the parser's checks. */
-    ew_scene *sc = ew_scene_from_map(w, NULL, NULL, &err);
-    ew_scene_free(sc);
-    ew_world_free(w);
+    ew_scene *sc = ew_scene_create_from_map(w, NULL, NULL, &err);
+    ew_scene_destroy(sc);
+    ew_world_destroy(w);
     return 0;
 }
 
@@ -204,11 +205,12 @@ int ew_fuzz_render(const uint8_t *data, size_t size) {
     if (!have_tables) make_tables(palette, colormap), have_tables = 1;
 
     ew_error err = {""};
-    ew_world *w = ew_world_load(data, size, "fuzz.bsp", &err);
+    ew_world *w = ew_world_create(data, size, "fuzz.bsp", &err);
     if (!w) return rejected(&err);
-    ew_renderer *r = ew_renderer_create(w, palette, colormap, 320, 200, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = w, .palette = palette,
+            .colormap = colormap, .width = 320, .height = 200, .threads = 1 }, &err);
     if (!r) {
-        ew_world_free(w);
+        ew_world_destroy(w);
         return rejected(&err);
     }
     ew_camera views[EW_MAX_VIEWS], cam;
@@ -236,9 +238,9 @@ int ew_fuzz_render(const uint8_t *data, size_t size) {
                 st.pixels_written, st.pixels_covered);
         abort();
     }
-    ew_renderer_free(r);
-    ew_scene_free(sc);
-    ew_world_free(w);
+    ew_renderer_destroy(r);
+    ew_scene_destroy(sc);
+    ew_world_destroy(w);
     return rc == 0 ? 0 : 1;
 }
 
@@ -253,13 +255,14 @@ static void render_model(const uint8_t *data, size_t size, const char *name) {
     if (!room) {
         ew_seed_buf b = {0};
         ew_seed_room(&b);
-        room = ew_world_load(b.d, b.len, "room.bsp", &err);
+        room = ew_world_create(b.d, b.len, "room.bsp", &err);
         free(b.d);
         make_tables(palette, colormap);
         if (!room) broken("the seed room does not load", 0);
     }
     ew_scene *s = ew_scene_create(room, &err);
-    ew_renderer *r = ew_renderer_create(room, palette, colormap, 320, 200, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = room, .palette = palette,
+            .colormap = colormap, .width = 320, .height = 200, .threads = 1 }, &err);
     int m = s ? ew_scene_load_model(s, name, data, size, &err) : -1;
     if (r && m >= 0) {
         /* the seed room's player start: (0, 0, 22) looking along yaw 30 */
@@ -274,8 +277,8 @@ static void render_model(const uint8_t *data, size_t size, const char *name) {
         cam.time = 7.5;
         ew_render(r, &cam, &st);
     }
-    ew_renderer_free(r);
-    ew_scene_free(s);
+    ew_renderer_destroy(r);
+    ew_scene_destroy(s);
 }
 
 int ew_fuzz_mdl(const uint8_t *data, size_t size) {

@@ -57,22 +57,22 @@ int main(int argc, char **argv) {
 
     /* Every seed must load, or the fuzzer starts from rejected inputs. */
     ew_error err = {""};
-    ew_world *w = ew_world_load(room.d, room.len, "room.bsp", &err);
+    ew_world *w = ew_world_create(room.d, room.len, "room.bsp", &err);
     if (!w) {
         fprintf(stderr, "make_seeds: the room does not load: %s\n", err.msg);
         return 1;
     }
-    ew_world_free(w);
+    ew_world_destroy(w);
     write_file(dir, "bsp29", "room.bsp", room.d, room.len);
     write_file(dir, "render", "room.bsp", room.d, room.len);
     for (int bsp2 = 0; bsp2 < 2; bsp2++) {
         conv.len = 0;
         if (ew_seed_convert29(room.d, room.len, bsp2, &conv) != 0 ||
-            !(w = ew_world_load(conv.d, conv.len, "room2.bsp", &err))) {
+            !(w = ew_world_create(conv.d, conv.len, "room2.bsp", &err))) {
             fprintf(stderr, "make_seeds: room conversion failed: %s\n", err.msg);
             return 1;
         }
-        ew_world_free(w);
+        ew_world_destroy(w);
         const char *name = bsp2 ? "room_bsp2.bsp" : "room_2psb.bsp";
         write_file(dir, "bsp2", name, conv.d, conv.len);
         write_file(dir, "render", name, conv.d, conv.len);

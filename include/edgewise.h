@@ -3,17 +3,27 @@
  *
  * One header, documented where each thing is declared.  The flow is:
  *
- *   ew_fs      *fs    = ew_fs_open("id1", &err);               game directory + paks
- *   ew_assets   a;    ew_assets_load(fs, "e1m1", &a, &err);    map + palette + colormap
- *   ew_renderer *r    = ew_renderer_create(a.world, a.palette, a.colormap, 640, 480, &err);
- *   ew_camera   cam   = {{x,y,z}, {pitch,yaw,roll}, 90, 0};
- *   ew_render(r, &cam, &stats);                                 8-bit frame + z-buffer
- *   ew_write_png("out.png", ew_frame_pixels(r), 640, 480, a.palette, &err);
+ *   ew_error     err;
+ *   ew_fs       *fs = ew_fs_create("id1", &err);            game directory + paks
+ *   ew_assets   *a  = ew_assets_create("e1m1", "id1", &err); map + palette + colormap
+ *   ew_renderer *r  = ew_renderer_create(&(ew_renderer_desc){
+ *                         .world = a->world, .palette = a->palette,
+ *                         .colormap = a->colormap,           every other field: 0 = default
+ *                         .width = 640, .height = 480}, &err);
+ *   ew_camera    cam = {{x,y,z}, {pitch,yaw,roll}, 90, 0};
+ *   ew_render(r, &cam, &stats);                               8-bit frame + z-buffer
+ *   ew_write_png("out.png", ew_frame_pixels(r), 640, 480, a->palette, &err);
+ *   ew_renderer_destroy(r);  ew_assets_destroy(a);  ew_fs_destroy(fs);
  *
+ * Everything the caller gets a pointer to comes from an ew_*_create and goes
+ * back through the matching ew_*_destroy (which accepts NULL).
  * Every function that can fail takes an ew_error * and fills it with one
  * line naming the file and the problem; it then returns NULL or -1.
  * Nothing here keeps global state: a world is read-only once loaded and can
  * be shared; a renderer owns all per-frame state.
+ *
+ * Test and measurement calls (face ids, the reference renderer, full z-fill,
+ * PNG reading, PAK parsing) are in edgewise_tools.h.
  */
 #ifndef EDGEWISE_H
 #define EDGEWISE_H
@@ -21,9 +31,30 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* The version; CMakeLists.txt's project(edgewise VERSION ...) must agree
+ * (test_api checks). */
+#define EW_VERSION_MAJOR 0
+#define EW_VERSION_MINOR 3
+#define EW_VERSION_PATCH 0
+#define EW_VERSION "0.3.0"
+
+/* Every public function is declared EW_API: extern, and with
+ * EW_SHARED_LIBRARY or EW_BUILD defined also exported from a shared
+ * library (default visibility).  Define EW_API yourself to override. */
+#ifndef EW_API
+#if (defined(EW_SHARED_LIBRARY) || defined(EW_BUILD)) && defined(__GNUC__)
+#define EW_API extern __attribute__((visibility("default")))
+#else
+#define EW_API extern
+#endif
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* "0.3.0": EW_VERSION of the library that was linked. */
+EW_API const char *ew_version(void);
 
 /* ---- errors ------------------------------------------------------------ */
 
@@ -36,44 +67,35 @@ typedef struct ew_error {
 /* ---- raw files and game directories ------------------------------------ */
 
 /* Reads a whole file into a malloc'd buffer (caller frees). */
-int ew_read_file(const char *path, uint8_t **data, size_t *size, ew_error *err);
+EW_API int ew_read_file(const char *path, uint8_t **data, size_t *size, ew_error *err);
 
 /* A Quake game directory: loose files win over paks, later paks
  * (pak1.pak over pak0.pak) win over earlier ones, as Quake searches. */
 typedef struct ew_fs ew_fs;
 
-ew_fs *ew_fs_open(const char *dir, ew_error *err);
-void   ew_fs_close(ew_fs *fs);
+EW_API ew_fs *ew_fs_create(const char *dir, ew_error *err);
+EW_API void   ew_fs_destroy(ew_fs *fs);
 /* Loads "maps/e1m1.bsp" (a path relative to the game directory).
  * Returns 0, or -1 with err set (not found, truncated pak entry, I/O). */
-int    ew_fs_load(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
-                  ew_error *err);
-
-/* PAK archive directory, validated against the archive's size.
- * Entries point into the caller's buffer. */
-typedef struct ew_pak_entry {
-    char     name[57];
-    uint32_t offset, size;
-} ew_pak_entry;
-int ew_pak_parse(const uint8_t *data, size_t size, const char *filename,
-                 ew_pak_entry **entries, int *count, ew_error *err);
+EW_API int    ew_fs_load(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
+                         ew_error *err);
 
 /* palette.lmp: 256 RGB triples (768 bytes). colormap.lmp: 64 light rows of
  * 256 colours (row 0 brightest, row 63 black); extra trailing bytes ok. */
 #define EW_COLORMAP_SIZE (64 * 256)
-int ew_palette_parse(const uint8_t *data, size_t size, const char *filename,
-                     uint8_t palette[768], ew_error *err);
-int ew_colormap_parse(const uint8_t *data, size_t size, const char *filename,
-                      uint8_t colormap[EW_COLORMAP_SIZE], ew_error *err);
+EW_API int ew_palette_parse(const uint8_t *data, size_t size, const char *filename,
+                            uint8_t palette[768], ew_error *err);
+EW_API int ew_colormap_parse(const uint8_t *data, size_t size, const char *filename,
+                             uint8_t colormap[EW_COLORMAP_SIZE], ew_error *err);
 
 /* ---- worlds ------------------------------------------------------------ */
 
 /* A loaded BSP (version 29, BSP2 or 2PSB), validated and read-only. */
 typedef struct ew_world ew_world;
 
-ew_world *ew_world_load(const uint8_t *data, size_t size, const char *filename,
-                        ew_error *err);
-void      ew_world_free(ew_world *w);
+EW_API ew_world *ew_world_create(const uint8_t *data, size_t size, const char *filename,
+                               ew_error *err);
+EW_API void      ew_world_destroy(ew_world *w);
 
 /* What `edgewise info` prints. */
 typedef struct ew_lump_info {
@@ -86,8 +108,8 @@ typedef struct ew_world_info {
     ew_lump_info lumps[15];
     int          models, textures, textures_missing, faces, leaves, nodes;
 } ew_world_info;
-void        ew_world_get_info(const ew_world *w, ew_world_info *info);
-const char *ew_world_entities(const ew_world *w);
+EW_API void        ew_world_get_info(const ew_world *w, ew_world_info *info);
+EW_API const char *ew_world_entities(const ew_world *w);
 
 /* ---- the view set (../shared/BENCHMARK.md) ------------------------------ */
 
@@ -102,10 +124,11 @@ typedef struct ew_camera {
 /* The benchmark's view set (../shared/BENCHMARK.md): fills up to
  * EW_MAX_VIEWS cameras from the entity lump (four per player start, one per
  * intermission); returns the count (0 if the map has neither). */
-int ew_benchmark_views(const ew_world *w, ew_camera views[EW_MAX_VIEWS]);
+EW_API int ew_benchmark_views(const ew_world *w, ew_camera views[EW_MAX_VIEWS]);
 
 /* ---- everything needed to render one map -------------------------------- */
 
+/* Heap object (ew_assets_create / ew_assets_destroy); read its fields. */
 typedef struct ew_assets {
     ew_world *world;
     uint8_t   palette[768];
@@ -114,25 +137,64 @@ typedef struct ew_assets {
 
 /* MAP is a path to a .bsp (palette/colormap from ../gfx/ beside it, or from
  * data_dir if given) or a map name looked up in the game directory data_dir
- * as maps/NAME.bsp.  Returns 0 or -1. */
-int  ew_assets_load(const char *map, const char *data_dir, ew_assets *out,
-                    ew_error *err);
+ * as maps/NAME.bsp.  Returns the assets, or NULL with err set. */
+EW_API ew_assets *ew_assets_create(const char *map, const char *data_dir, ew_error *err);
 /* The built-in scene: a world the project generates itself (geometry,
  * procedural textures, palette, colormap, light maps, PVS), written as a
- * BSP29 image and loaded through ew_world_load like any map. */
-int  ew_assets_builtin(ew_assets *out, ew_error *err);
-void ew_assets_free(ew_assets *a);
+ * BSP29 image and loaded through ew_world_create like any map. */
+EW_API ew_assets *ew_assets_create_builtin(ew_error *err);
+/* Frees the assets and their world (NULL: nothing). */
+EW_API void       ew_assets_destroy(ew_assets *a);
 
 /* ---- the renderer ------------------------------------------------------- */
 
 typedef struct ew_renderer ew_renderer;
 
-/* Frame sizes from 320x200 up to 7680x4320. The world, palette and colormap
- * must outlive the renderer. */
-ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
-                                const uint8_t colormap[EW_COLORMAP_SIZE],
-                                int width, int height, ew_error *err);
-void         ew_renderer_free(ew_renderer *r);
+/* Largest thread count a renderer uses. */
+#define EW_MAX_THREADS 16
+
+/* Pixel format of the frame. */
+typedef enum ew_color_mode {
+    EW_COLOR_8BIT = 0   /* palette indices (ew_frame_pixels); the only mode today */
+} ew_color_mode;
+
+/* Hidden-surface removal for the world. */
+typedef enum ew_hsr_method {
+    EW_HSR_EDGE = 0,     /* the global edge list, as Quake (the default) */
+    EW_HSR_REFERENCE     /* every visible face z-buffered per pixel (slow; for checking).
+                          * Accepted and kept; until it is wired into ew_render,
+                          * frames are still drawn with the edge list. */
+} ew_hsr_method;
+
+/* How alias (triangle) models are rasterized: affine triangles with
+ * Gouraud shading, Carmack's recursive subdivision (for small models), or
+ * automatic choice by the model's projected size (subdivision when its
+ * screen height is below a threshold).  Default: auto, 40 pixels. */
+typedef enum ew_alias_raster { EW_ALIAS_AUTO, EW_ALIAS_AFFINE, EW_ALIAS_SUBDIV } ew_alias_raster;
+
+/* What ew_renderer_create makes.  Zero-initialise it and set what you need:
+ * every field left 0 takes its default. */
+typedef struct ew_renderer_desc {
+    const ew_world *world;            /* required; must outlive the renderer */
+    const uint8_t  *palette;          /* 768 bytes, required; must outlive the renderer */
+    const uint8_t  *colormap;         /* EW_COLORMAP_SIZE bytes, required; likewise */
+    int   width, height;              /* 0: 640x480; 320x200 .. 7680x4320 */
+    int   threads;                    /* 0: one per core (at most EW_MAX_THREADS) */
+    int   subdivision;                /* 0: 16 (a divide every 16 pixels); 1,2,4,8,16,32 */
+    int   cache_mb;                   /* 0: automatic (16 bytes a pixel, 16..512 MiB) */
+    ew_color_mode color;              /* 0: EW_COLOR_8BIT (the only mode today) */
+    ew_hsr_method hsr;                /* 0: EW_HSR_EDGE (global edge list); EW_HSR_REFERENCE: per-pixel z-buffer */
+    ew_alias_raster alias_raster;     /* 0: EW_ALIAS_AUTO */
+    float alias_threshold;            /* 0: 40 pixels */
+} ew_renderer_desc;
+
+/* A renderer for desc's world, or NULL with one error line (a missing
+ * world/palette/colormap, a size outside 320x200..7680x4320 or given in
+ * one dimension only, negative threads, cache_mb outside 0..65536, a subdivision not a
+ * power of two up to 32, an unknown enum value, a negative or non-finite
+ * threshold, out of memory).  The setters below change things later. */
+EW_API ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err);
+EW_API void         ew_renderer_destroy(ew_renderer *r);
 
 /* Per-frame counters (`edgewise render --stats`). */
 typedef struct ew_stats {
@@ -160,56 +222,36 @@ typedef struct ew_stats {
 
 /* Renders one frame of the world into the renderer's 8-bit frame buffer and
  * 1/z buffer.  stats may be NULL.  Returns 0 or -1 (bad camera). */
-int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats);
+EW_API int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats);
 
-int            ew_frame_width(const ew_renderer *r);
-int            ew_frame_height(const ew_renderer *r);
-const uint8_t *ew_frame_pixels(const ew_renderer *r);   /* width*height, row-major */
+EW_API int            ew_frame_width(const ew_renderer *r);
+EW_API int            ew_frame_height(const ew_renderer *r);
+EW_API const uint8_t *ew_frame_pixels(const ew_renderer *r);   /* width*height, row-major */
 /* The frame's 1/z per pixel (larger is nearer; 0 where nothing was drawn):
  * the world's, and the moving things' where they won.  Moving things are
  * the only readers during a frame, so ew_render z-fills the world only
  * under them (deferred z-fill) and this call fills in the rest, once per
  * frame, the first time it is asked for. */
-const float   *ew_frame_zbuffer(ew_renderer *r);
-/* Z-fill under every world span as it is drawn (1), as the original
- * renderer did, or only where moving things need it (0, the default).
- * The frame and ew_frame_zbuffer are the same either way; 1 is slower
- * and exists to measure what deferring saves. */
-void           ew_set_full_zfill(ew_renderer *r, int on);
+EW_API const float   *ew_frame_zbuffer(ew_renderer *r);
 
 /* Threads that render bands of each frame (0 = one per core, at most 16).
  * Returns the count in use, or -1 when out of memory. */
-int ew_set_threads(ew_renderer *r, int n);
-int ew_get_threads(const ew_renderer *r);
+EW_API int ew_set_threads(ew_renderer *r, int n);
+EW_API int ew_get_threads(const ew_renderer *r);
 
 /* Light style values (256 = normal, twice that = double bright). Default:
  * 256 for every style, which is what the reference renders show. */
-void ew_set_lightstyle(ew_renderer *r, int style, int value);
+EW_API void ew_set_lightstyle(ew_renderer *r, int style, int value);
 
 /* Perspective-correct divide every `pixels` pixels along a span (1, 2, 4,
  * 8, 16 or 32; default 16, as the original), affine in between.  1 makes
  * texturing exact, for measuring what the approximation changes.
  * Returns 0, or -1 for another value. */
-int ew_set_subdivision(ew_renderer *r, int pixels);
+EW_API int ew_set_subdivision(ew_renderer *r, int pixels);
 
-/* How alias (triangle) models are rasterized: affine triangles with
- * Gouraud shading, Carmack's recursive subdivision (for small models), or
- * automatic choice by the model's projected size (subdivision when its
- * screen height is below threshold_px).  Default: auto, 40 pixels. */
-typedef enum ew_alias_raster { EW_ALIAS_AUTO, EW_ALIAS_AFFINE, EW_ALIAS_SUBDIV } ew_alias_raster;
-void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float threshold_px);
-
-/* Test/verification hook: when enabled, the next frames also record the
- * face index that won each pixel (-1 where nothing was drawn). */
-void       ew_enable_face_ids(ew_renderer *r, int on);
-const int *ew_frame_face_ids(const ew_renderer *r);
-
-/* The reference path, independent of the edge list: every visible face of
- * the same frame rasterized with a per-pixel z-buffer from its plane
- * equation, textured and lit from the same surfaces.  Writes width*height
- * palette indices and (if face_ids != NULL) the winning face per pixel. */
-int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels,
-                        int *face_ids, ew_error *err);
+/* Alias model rasterizer and auto threshold (threshold_px <= 0 keeps the
+ * current one); see ew_alias_raster. */
+EW_API void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float threshold_px);
 
 /* ---- moving things ------------------------------------------------------ */
 
@@ -219,45 +261,53 @@ int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels,
  * over the z-filled world. */
 typedef struct ew_scene ew_scene;
 
-ew_scene *ew_scene_create(const ew_world *w, ew_error *err);
+EW_API ew_scene *ew_scene_create(const ew_world *w, ew_error *err);
 /* Every entity of the map: brush models by "model" "*N", and known
  * classnames' models found in the game directory (data_dir, else the folder
  * above the map's own folder).  Unknown classnames and missing model files
  * are counted (ew_scene_counts), not errors. */
-ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data_dir,
-                            ew_error *err);
+EW_API ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map,
+                                          const char *data_dir, ew_error *err);
 /* The built-in scene's own moving things (made in memory like its world):
  * its door, a triangle model, particles and a dynamic light. */
-ew_scene *ew_scene_builtin(const ew_world *w, ew_error *err);
-void ew_scene_free(ew_scene *s);
+EW_API ew_scene *ew_scene_create_builtin(const ew_world *w, ew_error *err);
+EW_API void ew_scene_destroy(ew_scene *s);
 /* Adds world submodel N (1..) at an offset and rotation; entity index or -1. */
-int  ew_scene_add_brush(ew_scene *s, int submodel, const float origin[3], const float angles[3]);
+EW_API int  ew_scene_add_brush(ew_scene *s, int submodel, const float origin[3],
+                               const float angles[3]);
 /* Loads an alias model (MDL), sprite (SPR) or item box (BSP) from memory
  * for entities to use; returns its model index (the same index again for
  * the same name), or -1 with err set. */
-int  ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size_t size,
-                         ew_error *err);
+EW_API int  ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size_t size,
+                                ew_error *err);
 /* An entity using model (an index from ew_scene_load_model) at origin with
  * Quake angles (pitch yaw roll), frame and skin; entity index or -1. */
-int  ew_scene_add_entity(ew_scene *s, int model, const float origin[3], const float angles[3],
-                         int frame, int skin);
+EW_API int  ew_scene_add_entity(ew_scene *s, int model, const float origin[3],
+                                const float angles[3], int frame, int skin);
 /* n particles in a deterministic cloud (same seed, same cloud). */
-int  ew_scene_add_particles(ew_scene *s, int n, const float center[3], float radius, uint32_t seed);
+EW_API int  ew_scene_add_particles(ew_scene *s, int n, const float center[3], float radius,
+                                   uint32_t seed);
 /* A dynamic light: adds light within radius to the surfaces it reaches. */
-int  ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius);
-void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing);
+EW_API int  ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius);
+EW_API void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing);
 /* The scene ew_render draws with the world (NULL: world only).  It must
  * outlive its use by the renderer. */
-void ew_set_scene(ew_renderer *r, const ew_scene *s);
+EW_API void ew_set_scene(ew_renderer *r, const ew_scene *s);
 
 /* ---- output --------------------------------------------------------------*/
 
 /* Expands 8-bit pixels through the palette and writes an RGB PNG. */
-int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
-                 const uint8_t palette[768], ew_error *err);
-/* Reads an RGB/RGBA/gray PNG to malloc'd RGB8 (used by the fidelity tests). */
-int ew_read_png_rgb(const char *path, uint8_t **rgb, int *width, int *height,
-                    ew_error *err);
+EW_API int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
+                        const uint8_t palette[768], ew_error *err);
+
+/* Palette to 32-bit pixels for a display: out[i] holds colour i as the
+ * bytes R, G, B, A in memory order (A = 255), whatever the machine's byte
+ * order, i.e. SDL_PIXELFORMAT_RGBA32 / GL_RGBA + GL_UNSIGNED_BYTE. */
+EW_API void ew_palette_rgba(const uint8_t palette[768], uint32_t out[256]);
+/* out[i] = table[pixels[i]] for n pixels (e.g. a frame through the table
+ * of ew_palette_rgba). */
+EW_API void ew_pixels_to_rgba(const uint8_t *pixels, size_t n, const uint32_t table[256],
+                              uint32_t *out);
 
 #ifdef __cplusplus
 }

@@ -3,6 +3,7 @@
 #define EW_UTIL_H
 
 #include "edgewise.h"
+#include "edgewise_tools.h"  /* internal code sees the test calls too */
 #include <stdint.h>
 #include <string.h>
 

@@ -16,30 +16,56 @@
 #define EW_MAX_W 7680
 #define EW_MAX_H 4320
 
-ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
-                                const uint8_t colormap[EW_COLORMAP_SIZE], int width, int height,
-                                ew_error *err) {
-    if (!w || !palette || !colormap) {
-        ew_fail(err, "renderer: no world, palette or colormap");
-        return NULL;
-    }
-    if (width < EW_MIN_W || height < EW_MIN_H || width > EW_MAX_W || height > EW_MAX_H) {
-        ew_fail(err, "renderer: frame size %dx%d outside %dx%d..%dx%d", width, height, EW_MIN_W,
-                EW_MIN_H, EW_MAX_W, EW_MAX_H);
-        return NULL;
-    }
+/* Checks desc and fills in its defaults; 0, or -1 with err set. */
+static int resolve_desc(const ew_renderer_desc *in, ew_renderer_desc *d, ew_error *err) {
+    if (!in) return ew_fail(err, "renderer: no description");
+    *d = *in;
+    if (!d->world || !d->palette || !d->colormap)
+        return ew_fail(err, "renderer: no world, palette or colormap");
+    if (!d->width && !d->height) d->width = 640, d->height = 480;
+    if (d->width < EW_MIN_W || d->height < EW_MIN_H || d->width > EW_MAX_W || d->height > EW_MAX_H)
+        return ew_fail(err, "renderer: frame size %dx%d outside %dx%d..%dx%d", d->width, d->height,
+                       EW_MIN_W, EW_MIN_H, EW_MAX_W, EW_MAX_H);
+    if (d->threads < 0)
+        return ew_fail(err, "renderer: threads %d (0 for one per core, else 1..)", d->threads);
+    if (!d->subdivision) d->subdivision = 16;
+    int pow2 = 0;
+    for (int shift = 0; shift <= 5; shift++) pow2 |= d->subdivision == 1 << shift;
+    if (!pow2)
+        return ew_fail(err, "renderer: subdivision %d (1, 2, 4, 8, 16 or 32)", d->subdivision);
+    if (d->cache_mb < 0 || d->cache_mb > 65536)
+        return ew_fail(err, "renderer: cache_mb %d (0 for automatic, else 1..65536)", d->cache_mb);
+    if (d->color != EW_COLOR_8BIT)
+        return ew_fail(err, "renderer: unknown colour mode %d", (int)d->color);
+    if (d->hsr != EW_HSR_EDGE && d->hsr != EW_HSR_REFERENCE)
+        return ew_fail(err, "renderer: unknown hidden-surface method %d", (int)d->hsr);
+    if (d->alias_raster != EW_ALIAS_AUTO && d->alias_raster != EW_ALIAS_AFFINE &&
+        d->alias_raster != EW_ALIAS_SUBDIV)
+        return ew_fail(err, "renderer: unknown alias rasterizer %d", (int)d->alias_raster);
+    if (!(d->alias_threshold >= 0 && d->alias_threshold < 1e6f))
+        return ew_fail(err, "renderer: alias threshold %g (0 for 40 pixels)", (double)d->alias_threshold);
+    if (!d->alias_threshold) d->alias_threshold = 40;
+    return 0;
+}
+
+ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
+    ew_renderer_desc d = { 0 };
+    if (resolve_desc(desc, &d, err) < 0) return NULL;
+    const ew_world *w = d.world;
+    int width = d.width, height = d.height;
     /* Aligned: the scheduler's counters sit on cache lines of their own. */
     ew_renderer *r = aligned_alloc(_Alignof(ew_renderer), (sizeof(ew_renderer) + 63) / 64 * 64);
     if (!r) goto oom;
     memset(r, 0, sizeof *r);
-    r->world = w, r->palette = palette, r->colormap = colormap;
-    r->target.width = width, r->target.height = height;
+    r->world = w, r->palette = d.palette, r->colormap = d.colormap;
     for (int i = 0; i < 64; i++) r->cfg.lightstyle[i] = 256;  /* normal light */
-    r->cfg.subdiv_shift = 4;                                   /* a divide every 16 pixels */
-    r->cfg.alias_raster = EW_ALIAS_AUTO;
-    r->cfg.alias_threshold = 40;
-    r->cfg.hsr = &ew_hsr_edge;
-    r->target.pitch = width, r->target.bpp = 1;  /* 8-bit palette indices */
+    ew_set_subdivision(r, d.subdivision);                      /* checked: 1..32, a power of two */
+    r->cfg.alias_raster = d.alias_raster;
+    r->cfg.alias_threshold = d.alias_threshold;
+    r->cfg.hsr = d.hsr == EW_HSR_REFERENCE ? &ew_hsr_reference : &ew_hsr_edge;
+    /* The frame target: 8-bit palette indices, rows one after another. */
+    r->target.width = width, r->target.height = height;
+    r->target.pitch = width, r->target.bpp = 1;
     r->draw.target = r->zf.target = &r->target;
     r->draw.view = &r->view;
 
@@ -90,16 +116,18 @@ ew_renderer *ew_renderer_create(const ew_world *w, const uint8_t palette[768],
         !r->lit.grad_list)
         goto oom;
     r->zf.draw = r->lit.surf_draw;
-    if (ew_set_threads(r, 1) < 0) goto oom;
+    if (ew_set_threads(r, d.threads) < 0) goto oom;
     /* The cache holds many frames' worth of surfaces at this size, so a
-     * walk through a level rebuilds little (16 bytes a pixel, 16..512 MiB). */
+     * walk through a level rebuilds little (16 bytes a pixel, 16..512 MiB),
+     * unless the caller chose a size. */
     size_t budget = (size_t)px * 16;
     if (budget < ((size_t)16 << 20)) budget = (size_t)16 << 20;
     if (budget > ((size_t)512 << 20)) budget = (size_t)512 << 20;
+    if (d.cache_mb) budget = (size_t)d.cache_mb << 20;
     if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
     return r;
 oom:
-    ew_renderer_free(r);
+    ew_renderer_destroy(r);
     ew_fail(err, "renderer: out of memory for a %dx%d frame", width, height);
     return NULL;
 }
@@ -151,7 +179,7 @@ int ew_set_threads(ew_renderer *r, int n) {
 
 int ew_get_threads(const ew_renderer *r) { return r->sched.nthreads; }
 
-void ew_renderer_free(ew_renderer *r) {
+void ew_renderer_destroy(ew_renderer *r) {
     if (!r) return;
     ew_cache_free(&r->lit.cache);
     free_bands(r);

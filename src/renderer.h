@@ -33,7 +33,7 @@ typedef struct ew_config {
     float alias_threshold;           /* auto: subdivide below this screen height */
     int   lightstyle[64];
     int   face_ids_on;               /* test hook: record the face of each pixel */
-    const ew_hsr_method *hsr;        /* hidden-surface method */
+    const ew_hsr *hsr;          /* hidden-surface method */
 } ew_config;
 
 /* Bands of the frame: several per thread, taken in turn by whichever

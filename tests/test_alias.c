@@ -244,7 +244,7 @@ static void test_mesh_fill(void) {
 /* ---- through the pipeline ------------------------------------------------ */
 
 typedef struct scene {
-    ew_assets a;
+    ew_assets *a;
     ew_renderer *r;
 } scene;
 
@@ -573,10 +573,11 @@ int main(void) {
     test_cross_culls();
     test_mesh_fill();
 
-    scene sc;
+    scene sc = { NULL, NULL };
     ew_error err;
-    CHECK(ew_assets_builtin(&sc.a, &err) == 0, "%s", err.msg);
-    sc.r = ew_renderer_create(sc.a.world, sc.a.palette, sc.a.colormap, 320, 200, &err);
+    CHECK((sc.a = ew_assets_create_builtin(&err)) != NULL, "%s", err.msg);
+    if (sc.a) sc.r = ew_renderer_create(&(ew_renderer_desc){ .world = sc.a->world, .palette = sc.a->palette,
+            .colormap = sc.a->colormap, .width = 320, .height = 200, .threads = 1 }, &err);
     CHECK(sc.r != NULL, "%s", err.msg);
     if (sc.r) {
         test_subdiv_sphere(sc.r);
@@ -584,8 +585,8 @@ int main(void) {
         test_clipping_and_auto(sc.r);
         test_cull_counts(sc.r);
         test_sprites_particles(sc.r);
-        ew_renderer_free(sc.r);
+        ew_renderer_destroy(sc.r);
     }
-    ew_assets_free(&sc.a);
+    ew_assets_destroy(sc.a);
     return ew_t_finish();
 }

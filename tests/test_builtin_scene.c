@@ -635,7 +635,7 @@ int main(void) {
 
     check_header(a, na);
     check_palette_colormap();
-    ew_world *w = ew_world_load(a, na, "builtin", &err);
+    ew_world *w = ew_world_create(a, na, "builtin", &err);
     CHECK(w != NULL, "load: %s", err.msg);
     free(a);
     if (w) {
@@ -650,15 +650,15 @@ int main(void) {
         check_pvs(w);
         check_views(w);
         check_submodels(w);
-        ew_world_free(w);
+        ew_world_destroy(w);
     }
 
     check_model();
 
-    ew_assets as;
-    CHECK(ew_assets_builtin(&as, &err) == 0 && as.world, "ew_assets_builtin: %s", err.msg);
-    CHECK(!memcmp(as.palette, pal, sizeof pal) && !memcmp(as.colormap, cmap, sizeof cmap),
+    ew_assets *as = NULL;
+    CHECK((as = ew_assets_create_builtin(&err)) != NULL && as->world, "ew_assets_create_builtin: %s", err.msg);
+    CHECK(!memcmp(as->palette, pal, sizeof pal) && !memcmp(as->colormap, cmap, sizeof cmap),
           "assets palette/colormap differ from the generated ones");
-    ew_assets_free(&as);
+    ew_assets_destroy(as);
     return ew_t_finish();
 }

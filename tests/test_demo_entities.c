@@ -1,11 +1,12 @@
 /* The built-in scene's moving things in the demo picture (view 0, what
- * `make demo` draws): ew_scene_builtin spawns the door and adds the lantern
+ * `make demo` draws): ew_scene_create_builtin spawns the door and adds the lantern
  * bearers, the dynamic light and the fountain; view 0 shows all of them.
  * Each is checked against the same view rendered without the scene: the
  * door's pixels are its own and nearer than what it hides, the model and
  * the particles change their areas, and the light only brightens the
  * world around it.  Also: the frame stays fully covered once, the scene is
  * the same every time, and time animates the model. */
+#include "edgewise_tools.h"
 #include "util.h"
 #include "renderer.h"
 #include "mapgen.h"
@@ -43,26 +44,27 @@ static long differ(const uint8_t *a, const uint8_t *b, int x0, int y0, int x1, i
 
 int main(void) {
     ew_error err;
-    ew_assets a;
-    CHECK(ew_assets_builtin(&a, &err) == 0, "%s", err.msg);
-    if (!a.world) return ew_t_finish();
+    ew_assets *a = NULL;
+    CHECK((a = ew_assets_create_builtin(&err)) != NULL, "%s", err.msg);
+    if (!a) return ew_t_finish();
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_benchmark_views(a.world, views);
+    int nv = ew_benchmark_views(a->world, views);
     CHECK(nv >= 1, "no views");
-    ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
     CHECK(r != NULL, "%s", err.msg);
-    ew_scene *s = ew_scene_builtin(a.world, &err);
-    CHECK(s != NULL, "ew_scene_builtin: %s", err.msg);
+    ew_scene *s = ew_scene_create_builtin(a->world, &err);
+    CHECK(s != NULL, "ew_scene_create_builtin: %s", err.msg);
     if (!r || !s || nv < 1) {
-        ew_scene_free(s), ew_renderer_free(r), ew_assets_free(&a);
+        ew_scene_destroy(s), ew_renderer_destroy(r), ew_assets_destroy(a);
         return ew_t_finish();
     }
     int ents = 0, unknown = -1, missing = -1;
     ew_scene_counts(s, &ents, &unknown, &missing);
     CHECK(ents >= 2 && unknown == 0 && missing == 0, "scene: %d entities, %d unknown, %d missing", ents, unknown,
           missing);
-    CHECK(a.world->nummodels == 2, "the world has %d models", a.world->nummodels);
-    const ew_model *door = &a.world->models[a.world->nummodels > 1 ? 1 : 0];
+    CHECK(a->world->nummodels == 2, "the world has %d models", a->world->nummodels);
+    const ew_model *door = &a->world->models[a->world->nummodels > 1 ? 1 : 0];
 
     /* the world alone */
     ew_camera cam = views[0];
@@ -149,7 +151,7 @@ int main(void) {
                 int i = yy * W + xx;
                 int on_door = ids[i] >= door->firstface && ids[i] < door->firstface + door->numfaces;
                 if (z1[i] != z0[i] || on_door) continue;
-                long d = luma(a.palette, px1[i]) - luma(a.palette, px0[i]);
+                long d = luma(a->palette, px1[i]) - luma(a->palette, px0[i]);
                 brighter += d > 0, darker += d < -60;
             }
         printf("light %d at (%d, %d): %ld world pixels brighter, %ld darker\n", l, x, y, brighter, darker);
@@ -165,14 +167,14 @@ int main(void) {
     CHECK(drops > 200, "%ld fountain pixels", drops);
 
     /* The same scene every time, drawn the same. */
-    ew_scene *s2 = ew_scene_builtin(a.world, &err);
+    ew_scene *s2 = ew_scene_create_builtin(a->world, &err);
     CHECK(s2 != NULL, "%s", err.msg);
     if (s2) {
         ew_set_scene(r, s2);
         ew_render(r, &cam, NULL);
-        CHECK(!memcmp(px1, ew_frame_pixels(r), W * H), "a second ew_scene_builtin draws differently");
+        CHECK(!memcmp(px1, ew_frame_pixels(r), W * H), "a second ew_scene_create_builtin draws differently");
         ew_set_scene(r, s);
-        ew_scene_free(s2);
+        ew_scene_destroy(s2);
     }
 
     /* Time animates the model: another pose 0.3 s later. */
@@ -188,8 +190,8 @@ int main(void) {
 
     ew_set_scene(r, NULL);
     free(px0), free(px1), free(z0), free(ids);
-    ew_scene_free(s);
-    ew_renderer_free(r);
-    ew_assets_free(&a);
+    ew_scene_destroy(s);
+    ew_renderer_destroy(r);
+    ew_assets_destroy(a);
     return ew_t_finish();
 }

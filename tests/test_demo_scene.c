@@ -2,6 +2,7 @@
  * needing nothing outside the repository: every view fully written once,
  * sky, liquid and lit walls all present, agreement with the reference path,
  * animated textures move with time. */
+#include "edgewise_tools.h"
 #include "util.h"
 #include "renderer.h"
 
@@ -13,12 +14,14 @@
 
 int main(void) {
     ew_error err;
-    ew_assets a;
-    CHECK(ew_assets_builtin(&a, &err) == 0, "%s", err.msg);
+    ew_assets *a = NULL;
+    CHECK((a = ew_assets_create_builtin(&err)) != NULL, "%s", err.msg);
+    if (!a) return ew_t_finish();
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_benchmark_views(a.world, views);
+    int nv = ew_benchmark_views(a->world, views);
     CHECK(nv >= 4, "built-in scene has %d views", nv);
-    ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
     CHECK(r != NULL, "%s", err.msg);
     if (!r) return ew_t_finish();
     ew_enable_face_ids(r, 1);
@@ -36,7 +39,7 @@ int main(void) {
         CHECK(distinct >= 40, "view %d uses only %d colours", v, distinct);
         memcpy(ids, ew_frame_face_ids(r), sizeof(int) * W * H);
         for (int i = 0; i < W * H; i++) {
-            const ew_face *f = &a.world->faces[ids[i]];
+            const ew_face *f = &a->world->faces[ids[i]];
             sky_px += (f->flags & EW_SURF_SKY) != 0;
             water_px += (f->flags & EW_SURF_TURB) != 0;
         }
@@ -50,8 +53,8 @@ int main(void) {
     /* View 0 (the README picture): the sky is at the top, the floor at the bottom. */
     ew_render(r, &views[0], NULL);
     const int *fid = ew_frame_face_ids(r);
-    CHECK(a.world->faces[fid[W / 2]].flags & EW_SURF_SKY, "top centre of view 0 is not sky");
-    const ew_plane *floor = &a.world->planes[a.world->faces[fid[(H - 1) * W + W / 2]].plane];
+    CHECK(a->world->faces[fid[W / 2]].flags & EW_SURF_SKY, "top centre of view 0 is not sky");
+    const ew_plane *floor = &a->world->planes[a->world->faces[fid[(H - 1) * W + W / 2]].plane];
     CHECK(floor->normal[2] > 0.99f, "bottom centre of view 0 is not a floor");
 
     /* Time moves the sky, the liquid and the animated button somewhere. */
@@ -69,7 +72,7 @@ int main(void) {
     CHECK(changed > 1000, "only %ld pixels changed with time", changed);
 
     free(ids), free(ref);
-    ew_renderer_free(r);
-    ew_assets_free(&a);
+    ew_renderer_destroy(r);
+    ew_assets_destroy(a);
     return ew_t_finish();
 }

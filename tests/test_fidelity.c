@@ -3,6 +3,7 @@
  * (../shared/reference/winquake).  Compares the mean colour of every 8x8
  * block; a block "differs" when a channel is off by more than 12 levels.
  * At most 10% of blocks may differ on any view. */
+#include "edgewise_tools.h"
 #include "util.h"
 
 #include <stdlib.h>
@@ -41,13 +42,15 @@ int main(void) {
     uint8_t *rgb = malloc((size_t)W * H * 3);
     double overall_worst = 0;
     for (int mi = 0; mi < 4; mi++) {
-        ew_assets a;
+        ew_assets *a = NULL;
         char path[256];
         int rc;
-        if (ew_t_load_map(maps[mi], &a) < 0) continue;
+        if (!(a = ew_t_load_map(maps[mi]))) continue;
         ew_camera views[EW_MAX_VIEWS];
-        int nv = ew_benchmark_views(a.world, views);
-        ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
+        int nv = ew_benchmark_views(a->world, views);
+        ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){
+                .world = a->world, .palette = a->palette,
+                .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
         CHECK(r != NULL, "%s", err.msg);
         double sum = 0, worst = 0;
         int worst_view = -1, compared = 0;
@@ -61,7 +64,7 @@ int main(void) {
             if (rc) continue;
             CHECK(ew_render(r, &views[v], NULL) == 0, "%s view %d", maps[mi], v);
             const uint8_t *px = ew_frame_pixels(r);
-            for (size_t i = 0; i < (size_t)W * H; i++) memcpy(rgb + i * 3, a.palette + px[i] * 3, 3);
+            for (size_t i = 0; i < (size_t)W * H; i++) memcpy(rgb + i * 3, a->palette + px[i] * 3, 3);
             double d = block_diff(rgb, ref);
             CHECK(d <= 0.10, "%s view %d: %.1f%% of 8x8 blocks differ (limit 10%%)", maps[mi], v, d * 100);
             if (getenv("EW_VERBOSE")) printf("  %s v%d: %.2f%%\n", maps[mi], v, d * 100);
@@ -73,8 +76,8 @@ int main(void) {
         printf("fidelity %-6s views %2d  mean %.2f%%  worst %.2f%% (view %d) of 8x8 blocks differ\n",
                maps[mi], compared, compared ? 100 * sum / compared : 0, 100 * worst, worst_view);
         if (worst > overall_worst) overall_worst = worst;
-        ew_renderer_free(r);
-        ew_assets_free(&a);
+        ew_renderer_destroy(r);
+        ew_assets_destroy(a);
     }
     printf("fidelity worst view overall: %.2f%%\n", overall_worst * 100);
     free(rgb);

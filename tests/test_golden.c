@@ -74,26 +74,29 @@ int main(void) {
     }
     long frames = 0, differ = 0, missing = 0;
     for (size_t m = 0; m < sizeof maps / sizeof *maps; m++) {
-        ew_assets a;
+        ew_assets *a = NULL;
         ew_error err;
         ew_scene *sc = NULL;
         if (!strcmp(maps[m], "builtin")) {
-            CHECK(ew_assets_builtin(&a, &err) == 0, "builtin: %s", err.msg);
-            sc = ew_scene_builtin(a.world, &err);
+            CHECK((a = ew_assets_create_builtin(&err)) != NULL, "builtin: %s", err.msg);
+            if (!a) continue;
+            sc = ew_scene_create_builtin(a->world, &err);
         } else {
-            if (ew_t_load_map(maps[m], &a) < 0) continue;
+            if (!(a = ew_t_load_map(maps[m]))) continue;
             char rel[256];
             snprintf(rel, sizeof rel, "data/librequake/maps/%s.bsp", maps[m]);
-            sc = ew_scene_from_map(a.world, ew_t_shared(rel), NULL, &err);
+            sc = ew_scene_create_from_map(a->world, ew_t_shared(rel), NULL, &err);
         }
         CHECK(sc != NULL, "%s: scene: %s", maps[m], err.msg);
         ew_camera views[EW_MAX_VIEWS];
-        int nv = ew_benchmark_views(a.world, views);
+        int nv = ew_benchmark_views(a->world, views);
         CHECK(nv > 0, "%s: no views", maps[m]);
         for (size_t s = 0; s < sizeof sizes / sizeof *sizes; s++) {
             int w = sizes[s][0], h = sizes[s][1];
             for (int threads = 1; threads <= 2; threads++) {
-                ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, w, h, &err);
+                ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){
+                        .world = a->world, .palette = a->palette,
+                        .colormap = a->colormap, .width = w, .height = h, .threads = 1 }, &err);
                 CHECK(r != NULL, "%s: %s", maps[m], err.msg);
                 if (!r) continue;
                 CHECK(ew_set_threads(r, threads) == threads, "%s: %d threads", maps[m], threads);
@@ -116,11 +119,11 @@ int main(void) {
                               threads);
                     }
                 }
-                ew_renderer_free(r);
+                ew_renderer_destroy(r);
             }
         }
-        ew_scene_free(sc);
-        ew_assets_free(&a);
+        ew_scene_destroy(sc);
+        ew_assets_destroy(a);
     }
     if (out) fclose(out);
     printf("%ld frames, %ld differ from the list, %ld not in it\n", frames, differ, missing);

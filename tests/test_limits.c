@@ -42,7 +42,7 @@ static uint8_t *replace_lump(const ew_seed_buf *bsp, int i, const uint8_t *data,
 /* Loads d; returns the world or NULL, and checks the error mentions want. */
 static ew_world *load(const uint8_t *d, size_t n, const char *want) {
     ew_error err = {""};
-    ew_world *w = ew_world_load(d, n, "limits.bsp", &err);
+    ew_world *w = ew_world_create(d, n, "limits.bsp", &err);
     if (want) {
         CHECK(!w, "accepted a file that should fail with '%s'", want);
         CHECK(strstr(err.msg, want) != NULL, "error '%s' lacks '%s'", err.msg, want);
@@ -54,19 +54,20 @@ static ew_world *load(const uint8_t *d, size_t n, const char *want) {
 
 static void render_ok(const ew_world *w, const char *what) {
     ew_error err = {""};
-    ew_renderer *r = ew_renderer_create(w, palette, colormap, 320, 200, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = w, .palette = palette,
+            .colormap = colormap, .width = 320, .height = 200, .threads = 1 }, &err);
     CHECK(r != NULL, "%s: %s", what, err.msg);
     if (!r) return;
     ew_camera views[EW_MAX_VIEWS];
     int n = ew_benchmark_views(w, views);
     for (int i = 0; i < n; i++) CHECK(ew_render(r, &views[i], NULL) == 0, "%s: view %d", what, i);
-    ew_renderer_free(r);
+    ew_renderer_destroy(r);
 }
 
 static void loader_limits(const ew_seed_buf *room) {
     ew_world *w = load(room->d, room->len, NULL);
     if (w) render_ok(w, "room");
-    ew_world_free(w);
+    ew_world_destroy(w);
 
     /* The floor's t axis zeroed: extent 0, a surface without texels. */
     uint8_t *d = malloc(room->len);
@@ -105,7 +106,7 @@ static void loader_limits(const ew_seed_buf *room) {
     for (int i = 1; i < ROOM_SLOTS; i++) wr32(tex + 4 + 4 * i, 0xFFFFFFFFu);
     memmove(tex + 4 + 4 * ROOM_SLOTS, mt, 40 + PIXELS);
     d = replace_lump(room, EW_LUMP_TEXTURES, tex, 4 + 4 * ROOM_SLOTS + 40 + PIXELS, &n);
-    ew_world_free(load(d, n, NULL));
+    ew_world_destroy(load(d, n, NULL));
     free(d);
     free(tex);
 
@@ -116,7 +117,7 @@ static void loader_limits(const ew_seed_buf *room) {
         d = replace_lump(room, EW_LUMP_VISIBILITY, rows[i], (uint32_t)(1 + i), &n);
         w = load(d, n, NULL);
         if (w) render_ok(w, "short PVS row");
-        ew_world_free(w);
+        ew_world_destroy(w);
         free(d);
     }
 }
@@ -137,7 +138,8 @@ static void deep_tree(void) {
     ew_world *w = load(d, n, NULL);
     free(d);
     if (!w) return;
-    ew_renderer *r = ew_renderer_create(w, palette, colormap, 320, 200, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = w, .palette = palette,
+            .colormap = colormap, .width = 320, .height = 200, .threads = 1 }, &err);
     ew_scene *s = ew_scene_create(w, &err);
     CHECK(r && s && ew_scene_add_brush(s, 1, NULL, NULL) >= 0, "scene: %s", err.msg);
     if (r && s) {
@@ -147,16 +149,17 @@ static void deep_tree(void) {
         CHECK(ew_render(r, &cam, &st) == 0, "render");
         CHECK(st.dropped > 0, "fragments past the depth limit not counted (dropped %d)", st.dropped);
     }
-    ew_renderer_free(r);
-    ew_scene_free(s);
-    ew_world_free(w);
+    ew_renderer_destroy(r);
+    ew_scene_destroy(s);
+    ew_world_destroy(w);
 }
 
 /* The cache may pass its budget only by this frame's surfaces, and never
  * hold more than twice it; what would pass that is refused and counted. */
 static void cache_cap(const ew_world *w, const char *name) {
     ew_error err = {""};
-    ew_renderer *r = ew_renderer_create(w, palette, colormap, 640, 400, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = w, .palette = palette,
+            .colormap = colormap, .width = 640, .height = 400, .threads = 1 }, &err);
     CHECK(r != NULL, "%s: %s", name, err.msg);
     if (!r) return;
     ew_camera views[EW_MAX_VIEWS];
@@ -177,7 +180,7 @@ static void cache_cap(const ew_world *w, const char *name) {
         ew_render(r, &views[i], &st);
         CHECK(st.dropped == 0, "%s: view %d: dropped %d with the normal budget", name, i, st.dropped);
     }
-    ew_renderer_free(r);
+    ew_renderer_destroy(r);
 }
 
 int main(void) {
@@ -189,18 +192,18 @@ int main(void) {
     free(room.d);
     deep_tree();
 
-    ew_assets a;
+    ew_assets *a = NULL;
     ew_error err = {""};
-    if (ew_assets_builtin(&a, &err) == 0) {
-        cache_cap(a.world, "builtin");
-        ew_assets_free(&a);
+    if ((a = ew_assets_create_builtin(&err)) != NULL) {
+        cache_cap(a->world, "builtin");
+        ew_assets_destroy(a);
     } else {
         CHECK(0, "builtin: %s", err.msg);
     }
     if (ew_t_have_shared("data/librequake/maps/e1m1.bsp") &&
-        ew_assets_load("e1m1", ew_t_shared("data/librequake"), &a, &err) == 0) {
-        cache_cap(a.world, "e1m1");
-        ew_assets_free(&a);
+        (a = ew_assets_create("e1m1", ew_t_shared("data/librequake"), &err)) != NULL) {
+        cache_cap(a->world, "e1m1");
+        ew_assets_destroy(a);
     }
     return ew_t_finish();
 }

@@ -7,6 +7,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "ew_util.h"
 #include "ew_world.h"
+#include "edgewise_tools.h"
 #include "util.h"
 
 #include <math.h>
@@ -316,9 +317,9 @@ static int mentions(const ew_error *err, const char *s) { return s && strstr(err
 static void expect_bad(const uint8_t *img, size_t size, const char *file, const char *want,
                        const char *what) {
     ew_error err = {{0}};
-    ew_world *w = ew_world_load(img, size, file, &err);
+    ew_world *w = ew_world_create(img, size, file, &err);
     CHECK(w == NULL, "%s: loaded a corrupt image", what);
-    ew_world_free(w);
+    ew_world_destroy(w);
     CHECK(err.msg[0] && mentions(&err, file), "%s: message does not name %s: '%s'", what, file, err.msg);
     if (want) CHECK(mentions(&err, want), "%s: message lacks '%s': '%s'", what, want, err.msg);
 }
@@ -415,7 +416,7 @@ static void test_tiny_ok(void) {
     size_t size;
     uint8_t *img = build_tiny(0, &size);
     ew_error err = {{0}};
-    ew_world *w = ew_world_load(img, size, "some/dir/tiny.bsp", &err);
+    ew_world *w = ew_world_create(img, size, "some/dir/tiny.bsp", &err);
     CHECK(w != NULL, "tiny map did not load: %s", err.msg);
     if (!w) {
         free(img);
@@ -527,21 +528,21 @@ static void test_tiny_ok(void) {
     for (int v = 0; v < 2; v++) {
         size_t n2;
         uint8_t *img2 = convert(img, size, v, &n2);
-        ew_world *w2 = ew_world_load(img2, n2, "tiny2.bsp", &err);
+        ew_world *w2 = ew_world_create(img2, n2, "tiny2.bsp", &err);
         CHECK(w2 != NULL, "tiny %s did not load: %s", v ? "2PSB" : "BSP2", err.msg);
         if (w2) {
             CHECK(!strcmp(w2->version, v ? "2PSB" : "BSP2"), "version %s", w2->version);
             CHECK(same_world(w, w2), "tiny %s differs from BSP29", w2->version);
         }
-        ew_world_free(w2);
+        ew_world_destroy(w2);
         free(img2);
     }
-    ew_world_free(w);
+    ew_world_destroy(w);
     free(img);
 
     /* No textures lump: everything uses the placeholder. */
     img = build_tiny(TINY_NO_TEXTURES | TINY_NO_VIS, &size);
-    w = ew_world_load(img, size, "bare.bsp", &err);
+    w = ew_world_create(img, size, "bare.bsp", &err);
     CHECK(w != NULL, "map without textures/vis did not load: %s", err.msg);
     if (w) {
         CHECK(w->numtextures == 1 && w->textures_missing == 0 && w->texinfo[5].texture == 0 &&
@@ -554,7 +555,7 @@ static void test_tiny_ok(void) {
         CHECK(info2.textures == 0, "info textures %d", info2.textures);
         check_invariants(w, "bare");
     }
-    ew_world_free(w);
+    ew_world_destroy(w);
     free(img);
 }
 
@@ -697,9 +698,9 @@ static void test_tiny_corrupt(void) {
     for (size_t n = 0; n < size; n++) {
         ew_error err = {{0}};
         uint8_t *c = dup_bytes(img, n);  /* exact-size copy so ASan sees overreads */
-        ew_world *w = ew_world_load(c, n, F, &err);
+        ew_world *w = ew_world_create(c, n, F, &err);
         if (w || !mentions(&err, F)) prefix_fail++;
-        ew_world_free(w);
+        ew_world_destroy(w);
         free(c);
     }
     CHECK(prefix_fail == 0, "%d of %zu prefixes of the tiny map were accepted or unnamed", prefix_fail, size);
@@ -733,9 +734,9 @@ static void test_tiny_corrupt(void) {
         for (size_t n = 0; n < n2; n++) {
             ew_error err = {{0}};
             uint8_t *cut = dup_bytes(b2, n);
-            ew_world *w = ew_world_load(cut, n, "big.bsp", &err);
+            ew_world *w = ew_world_create(cut, n, "big.bsp", &err);
             if (w || !mentions(&err, "big.bsp")) bad++;
-            ew_world_free(w);
+            ew_world_destroy(w);
             free(cut);
         }
         CHECK(bad == 0, "%d prefixes of the %s tiny map were accepted", bad, v ? "2PSB" : "BSP2");
@@ -759,14 +760,14 @@ static void fuzz(const uint8_t *img, size_t size, const char *file, int rounds, 
             c[at] = (r & 1) ? (uint8_t)(s >> 24) : (uint8_t)(c[at] ^ (1u << ((s >> 16) & 7)));
         }
         ew_error err = {{0}};
-        ew_world *w = ew_world_load(c, size, file, &err);
+        ew_world *w = ew_world_create(c, size, file, &err);
         if (w) {
             loaded++;
             if (r % 16 == 0) check_invariants(w, file);
         } else if (!mentions(&err, file)) {
             unnamed++;
         }
-        ew_world_free(w);
+        ew_world_destroy(w);
         free(c);
     }
     CHECK(unnamed == 0, "%s: %d fuzzed rejections did not name the file", file, unnamed);
@@ -799,7 +800,7 @@ static void test_real_maps(void) {
         ew_error err = {{0}};
         CHECK(ew_read_file(path, &data, &size, &err) == 0, "%s", err.msg);
         if (!data) continue;
-        ew_world *w = ew_world_load(data, size, path, &err);
+        ew_world *w = ew_world_create(data, size, path, &err);
         CHECK(w != NULL, "%s did not load: %s", real_maps[m].name, err.msg);
         if (w) {
             ew_world_info in;
@@ -850,10 +851,10 @@ static void test_real_maps(void) {
             for (int v = 0; v < 2; v++) {
                 size_t n2;
                 uint8_t *b2 = convert(data, size, v, &n2);
-                ew_world *w2 = ew_world_load(b2, n2, "conv.bsp", &err);
+                ew_world *w2 = ew_world_create(b2, n2, "conv.bsp", &err);
                 CHECK(w2 != NULL, "%s as %s: %s", real_maps[m].name, v ? "2PSB" : "BSP2", err.msg);
                 if (w2) CHECK(same_world(w, w2), "%s as %s differs", real_maps[m].name, w2->version);
-                ew_world_free(w2);
+                ew_world_destroy(w2);
                 /* and damage the converted image */
                 uint8_t *c = dup_bytes(b2, n2);
                 p_i32(rec(c, EW_LUMP_NODES, 10, v ? 32 : 44) + 4, 10);  /* node 10 -> itself */
@@ -880,10 +881,10 @@ static void test_real_maps(void) {
                 size_t n = k < 20 ? (size_t)k * 7 : (end - 1) * (size_t)(k - 20) / 20;
                 if (k == 40) n = end - 1;
                 uint8_t *cut = dup_bytes(data, n);
-                ew_world *wc = ew_world_load(cut, n, path, &err);
+                ew_world *wc = ew_world_create(cut, n, path, &err);
                 if (wc || !mentions(&err, path)) bad++;
                 tried++;
-                ew_world_free(wc);
+                ew_world_destroy(wc);
                 free(cut);
             }
             CHECK(bad == 0, "%s: %d of %d prefixes accepted", real_maps[m].name, bad, tried);
@@ -904,7 +905,7 @@ static void test_real_maps(void) {
             expect_bad(c, size, "e1m1.bsp", "lighting", "e1m1 lighting lump past end");
             free(c);
         }
-        ew_world_free(w);
+        ew_world_destroy(w);
         free(data);
     }
 }
@@ -1082,8 +1083,8 @@ static void test_fs_and_assets(void) {
     write_pak("game/pak1.pak", p1, 3);
     write_pak("game/pak3.pak", p3, 1);
     write_file("game/c.txt", "loose-c", 7);
-    ew_fs *fs = ew_fs_open(tmp_path("game"), &err);
-    CHECK(fs != NULL, "ew_fs_open: %s", err.msg);
+    ew_fs *fs = ew_fs_create(tmp_path("game"), &err);
+    CHECK(fs != NULL, "ew_fs_create: %s", err.msg);
     if (fs) {
         expect_load(fs, "a.txt", "pak0-a");
         expect_load(fs, "b.txt", "pak1-b");
@@ -1093,17 +1094,17 @@ static void test_fs_and_assets(void) {
         CHECK(rc == -1 && mentions(&err, "d.txt not found") && mentions(&err, "2 paks") &&
                   mentions(&err, tmp_path("game")),
               "not found: '%s'", err.msg);
-        ew_fs_close(fs);
+        ew_fs_destroy(fs);
     }
-    CHECK(ew_fs_open(tmp_path("game/c.txt"), &err) == NULL && mentions(&err, "not a directory"),
+    CHECK(ew_fs_create(tmp_path("game/c.txt"), &err) == NULL && mentions(&err, "not a directory"),
           "fs on a file: '%s'", err.msg);
-    CHECK(ew_fs_open(tmp_path("nodir"), &err) == NULL && mentions(&err, "nodir"), "fs on nothing: '%s'",
+    CHECK(ew_fs_create(tmp_path("nodir"), &err) == NULL && mentions(&err, "nodir"), "fs on nothing: '%s'",
           err.msg);
 
     /* a broken pak makes the directory unusable, naming the pak */
     make_dir("broken");
     write_file("broken/pak0.pak", "PACK\x0c\0\0\0\x40\0\0\0", 12);
-    CHECK(ew_fs_open(tmp_path("broken"), &err) == NULL && mentions(&err, "pak0.pak"),
+    CHECK(ew_fs_create(tmp_path("broken"), &err) == NULL && mentions(&err, "pak0.pak"),
           "broken pak: '%s'", err.msg);
 
     /* assets: by name through the game directory, by path with ../gfx */
@@ -1133,46 +1134,45 @@ static void test_fs_and_assets(void) {
         free(b.p);
     }
 
-    ew_assets a;
-    CHECK(ew_assets_load("tiny", tmp_path("game"), &a, &err) == 0, "assets by name: %s", err.msg);
-    if (a.world) {
-        CHECK(!strcmp(a.world->name, "tiny.bsp") && a.world->numfaces == 6, "assets world '%s'", a.world->name);
-        CHECK(!memcmp(a.palette, pal, 768) && !memcmp(a.colormap, cmap, EW_COLORMAP_SIZE), "assets tables");
-        ew_assets_free(&a);
-        CHECK(a.world == NULL, "ew_assets_free clears the world");
+    ew_assets *a = NULL;
+    CHECK((a = ew_assets_create("tiny", tmp_path("game"), &err)) != NULL, "assets by name: %s", err.msg);
+    if (a) {
+        CHECK(!strcmp(a->world->name, "tiny.bsp") && a->world->numfaces == 6, "assets world '%s'", a->world->name);
+        CHECK(!memcmp(a->palette, pal, 768) && !memcmp(a->colormap, cmap, EW_COLORMAP_SIZE), "assets tables");
+        ew_assets_destroy(a);
+        ew_assets_destroy(NULL);  /* accepted, as free(NULL) */
     }
-    CHECK(ew_assets_load("inpak", tmp_path("game"), &a, &err) == 0 && a.world &&
-              !strcmp(a.world->name, "inpak.bsp"),
+    CHECK((a = ew_assets_create("inpak", tmp_path("game"), &err)) != NULL && a->world &&
+              !strcmp(a->world->name, "inpak.bsp"),
           "assets from pak: %s", err.msg);
-    ew_assets_free(&a);
-    CHECK(ew_assets_load(tmp_path("game/maps/tiny.bsp"), NULL, &a, &err) == 0 &&
-              !memcmp(a.palette, pal, 768),
+    ew_assets_destroy(a);
+    CHECK((a = ew_assets_create(tmp_path("game/maps/tiny.bsp"), NULL, &err)) != NULL &&
+              !memcmp(a->palette, pal, 768),
           "assets by path: %s", err.msg);
-    ew_assets_free(&a);
-    CHECK(ew_assets_load(tmp_path("game/maps/tiny.bsp"), tmp_path("game"), &a, &err) == 0,
+    ew_assets_destroy(a);
+    CHECK((a = ew_assets_create(tmp_path("game/maps/tiny.bsp"), tmp_path("game"), &err)) != NULL,
           "assets by path with data dir: %s", err.msg);
-    ew_assets_free(&a);
-    CHECK(ew_assets_load("tiny", NULL, &a, &err) == -1 && mentions(&err, "tiny: not a .bsp file and no --data"),
+    ew_assets_destroy(a);
+    CHECK((a = ew_assets_create("tiny", NULL, &err)) == NULL && mentions(&err, "tiny: not a .bsp file and no --data"),
           "assets without data dir: '%s'", err.msg);
-    CHECK(ew_assets_load("nosuch", tmp_path("game"), &a, &err) == -1 &&
-              mentions(&err, "maps/nosuch.bsp not found") && a.world == NULL,
+    CHECK((a = ew_assets_create("nosuch", tmp_path("game"), &err)) == NULL &&
+              mentions(&err, "maps/nosuch.bsp not found"),
           "assets missing map: '%s'", err.msg);
-    CHECK(ew_assets_load(tmp_path("game/maps/none.bsp"), NULL, &a, &err) == -1 && mentions(&err, "none.bsp"),
+    CHECK((a = ew_assets_create(tmp_path("game/maps/none.bsp"), NULL, &err)) == NULL && mentions(&err, "none.bsp"),
           "assets missing bsp: '%s'", err.msg);
 
     /* short palette / colormap through the whole path */
     write_file("game/gfx/palette.lmp", pal, 767);
-    CHECK(ew_assets_load("tiny", tmp_path("game"), &a, &err) == -1 && mentions(&err, "palette.lmp") &&
-              a.world == NULL,
+    CHECK((a = ew_assets_create("tiny", tmp_path("game"), &err)) == NULL && mentions(&err, "palette.lmp"),
           "short palette: '%s'", err.msg);
     write_file("game/gfx/palette.lmp", pal, 768);
     write_file("game/gfx/colormap.lmp", cmap, 100);
-    CHECK(ew_assets_load(tmp_path("game/maps/tiny.bsp"), NULL, &a, &err) == -1 &&
-              mentions(&err, "colormap.lmp") && a.world == NULL,
+    CHECK((a = ew_assets_create(tmp_path("game/maps/tiny.bsp"), NULL, &err)) == NULL &&
+              mentions(&err, "colormap.lmp"),
           "short colormap: '%s'", err.msg);
     /* a corrupt map through assets names the map */
     write_file("game/maps/tiny.bsp", tiny, tsize / 2);
-    CHECK(ew_assets_load("tiny", tmp_path("game"), &a, &err) == -1 && mentions(&err, "maps/tiny.bsp"),
+    CHECK((a = ew_assets_create("tiny", tmp_path("game"), &err)) == NULL && mentions(&err, "maps/tiny.bsp"),
           "corrupt map via assets: '%s'", err.msg);
     free(tiny);
 
@@ -1216,17 +1216,17 @@ static void test_lmp(void) {
                   ew_colormap_parse(d, n, cp, cmap, &err) == 0,
               "real colormap: %s", err.msg);
         free(d);
-        /* the real map through ew_assets_load: by path and by name */
-        ew_assets a;
+        /* the real map through ew_assets_create: by path and by name */
+        ew_assets *a = NULL;
         const char *map = ew_t_shared("data/librequake/maps/e1m1.bsp");
-        CHECK(ew_assets_load(map, NULL, &a, &err) == 0 && a.world &&
-                  !strcmp(a.world->name, "e1m1.bsp") && !memcmp(a.palette, pal, 768),
+        CHECK((a = ew_assets_create(map, NULL, &err)) != NULL && a->world &&
+                  !strcmp(a->world->name, "e1m1.bsp") && !memcmp(a->palette, pal, 768),
               "real e1m1 by path: %s", err.msg);
-        ew_assets_free(&a);
-        CHECK(ew_assets_load("start", ew_t_shared("data/librequake"), &a, &err) == 0 && a.world &&
-                  !memcmp(a.colormap, cmap, EW_COLORMAP_SIZE),
+        ew_assets_destroy(a);
+        CHECK((a = ew_assets_create("start", ew_t_shared("data/librequake"), &err)) != NULL && a->world &&
+                  !memcmp(a->colormap, cmap, EW_COLORMAP_SIZE),
               "real start by name: %s", err.msg);
-        ew_assets_free(&a);
+        ew_assets_destroy(a);
     }
 }
 

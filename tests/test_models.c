@@ -339,15 +339,15 @@ static void test_in_frame(void) {
         CHECK(0, "data/librequake/maps/e1m1.bsp not found (set EW_SHARED)");
         return;
     }
-    ew_assets a;
     ew_error err;
-    int rc = ew_assets_load(ew_t_shared("data/librequake/maps/e1m1.bsp"), NULL, &a, &err);
-    CHECK(rc == 0, "%s", err.msg);
-    if (rc) return;
-    ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, 640, 480, &err);
+    ew_assets *a = ew_assets_create(ew_t_shared("data/librequake/maps/e1m1.bsp"), NULL, &err);
+    CHECK(a != NULL, "%s", err.msg);
+    if (!a) return;
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = 640, .height = 480, .threads = 1 }, &err);
     CHECK(r != NULL, "%s", err.msg);
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_benchmark_views(a.world, views);
+    int nv = ew_benchmark_views(a->world, views);
     CHECK(nv > 0, "no views");
     ew_mdl *soldier = load_mdl("data/librequake/progs/soldier.mdl");
     ew_spr *explod = load_spr("data/librequake/progs/s_explod.spr");
@@ -397,7 +397,7 @@ static void test_in_frame(void) {
             CHECK(r->stats.alias_tris_subdiv == 0, "%s: %d subdivided", names[mi], r->stats.alias_tris_subdiv);
         printf("soldier %s: %d triangles, %ld pixels\n", names[mi], r->stats.alias_tris, n);
         if (mi == 0 && getenv("EW_MODELS_PNG")) {
-            ew_write_png(getenv("EW_MODELS_PNG"), r->target.pixels, r->target.width, r->target.height, a.palette, &err);
+            ew_write_png(getenv("EW_MODELS_PNG"), r->target.pixels, r->target.width, r->target.height, a->palette, &err);
         }
     }
     /* The same soldier behind the camera: culled, nothing changes. */
@@ -455,8 +455,8 @@ static void test_in_frame(void) {
 done:
     ew_mdl_free(soldier);
     ew_spr_free(explod);
-    ew_renderer_free(r);
-    ew_assets_free(&a);
+    ew_renderer_destroy(r);
+    ew_assets_destroy(a);
 }
 
 int main(void) {

@@ -19,20 +19,22 @@ int main(void) {
         return 1;
     }
     ew_error err;
-    ew_assets a;
-    int rc = ew_assets_load(ew_t_shared("data/librequake/maps/e1m1.bsp"), NULL, &a, &err);
-    CHECK(rc == 0, "%s", err.msg);
-    if (rc) return ew_t_finish();
+    ew_assets *a = ew_assets_create(ew_t_shared("data/librequake/maps/e1m1.bsp"), NULL, &err);
+    CHECK(a != NULL, "%s", err.msg);
+    if (!a) return ew_t_finish();
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_benchmark_views(a.world, views);
+    int nv = ew_benchmark_views(a->world, views);
     CHECK(nv == 29, "e1m1 has %d views", nv);
 
     /* Sizes outside 320x200..7680x4320 are refused with a message. */
-    CHECK(ew_renderer_create(a.world, a.palette, a.colormap, 100, 100, &err) == NULL &&
+    CHECK(ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = 100, .height = 100, .threads = 1 }, &err) == NULL &&
               strstr(err.msg, "100x100"), "tiny frame: %s", err.msg);
-    CHECK(ew_renderer_create(a.world, a.palette, a.colormap, 8000, 5000, &err) == NULL, "huge frame");
+    CHECK(ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = 8000, .height = 5000, .threads = 1 }, &err) == NULL, "huge frame");
 
-    ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, 320, 200, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = 320, .height = 200, .threads = 1 }, &err);
     CHECK(r != NULL, "%s", err.msg);
     if (!r) return ew_t_finish();
     long n = 320 * 200;
@@ -56,7 +58,7 @@ int main(void) {
     /* A light style change rebuilds exactly the surfaces that use it. */
     int uses0 = 0;
     for (int i = 0; i < r->el.nsurfs; i++) {
-        const ew_face *f = &a.world->faces[r->el.surfs[i].face < 0 ? 0 : r->el.surfs[i].face];
+        const ew_face *f = &a->world->faces[r->el.surfs[i].face < 0 ? 0 : r->el.surfs[i].face];
         if (r->el.surfs[i].face >= 0 && f->lightofs >= 0 && !(f->flags & (EW_SURF_SKY | EW_SURF_TURB)))
             for (int k = 0; k < 4; k++) uses0 += f->styles[k] == 0;
     }
@@ -66,7 +68,7 @@ int main(void) {
           "style 0 doubled: rebuilt %d of %d", s2.surfaces_built, s1.surfaces_built);
     long brighter = 0;
     for (long i = 0; i < n; i++) {
-        const uint8_t *p0 = a.palette + first[i] * 3, *p1 = a.palette + ew_frame_pixels(r)[i] * 3;
+        const uint8_t *p0 = a->palette + first[i] * 3, *p1 = a->palette + ew_frame_pixels(r)[i] * 3;
         brighter += p1[0] + p1[1] + p1[2] > p0[0] + p0[1] + p0[2];
     }
     CHECK(brighter > n / 4, "double light brightened only %ld pixels", brighter);
@@ -116,14 +118,18 @@ int main(void) {
     out.origin[0] = out.origin[1] = out.origin[2] = 30000;
     ew_stats so;
     CHECK(ew_render(r, &out, &so) == 0 && so.overdraw <= 1.0, "outside the map");
-    ew_renderer_free(r);
+    ew_renderer_destroy(r);
 
     /* No resolution ceiling: 7680x4320 renders every pixel once, and seen at
      * 1/8 scale (mean colour of each 8x8 block) it is the 960x540 frame: the
      * fixed-point formats hold at the largest size.  Checked on several views. */
     const int big_w = 7680, big_h = 4320, small_w = 960, small_h = 540;
-    ew_renderer *big = ew_renderer_create(a.world, a.palette, a.colormap, big_w, big_h, &err);
-    ew_renderer *small = ew_renderer_create(a.world, a.palette, a.colormap, small_w, small_h, &err);
+    ew_renderer *big = ew_renderer_create(&(ew_renderer_desc){
+            .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = big_w, .height = big_h, .threads = 1 }, &err);
+    ew_renderer *small = ew_renderer_create(&(ew_renderer_desc){
+            .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = small_w, .height = small_h, .threads = 1 }, &err);
     CHECK(big && small, "%s", err.msg);
     int check_views[3] = {0, 8, 12};
     for (int k = 0; big && small && k < 3; k++) {
@@ -141,8 +147,8 @@ int main(void) {
                 for (int y = 0; y < 8; y++)
                     for (int x = 0; x < 8; x++)
                         for (int ch = 0; ch < 3; ch++)
-                            sum[ch] += a.palette[bp[(size_t)(by * 8 + y) * big_w + bx * 8 + x] * 3 + ch];
-                const uint8_t *q = a.palette + sp[by * small_w + bx] * 3;
+                            sum[ch] += a->palette[bp[(size_t)(by * 8 + y) * big_w + bx * 8 + x] * 3 + ch];
+                const uint8_t *q = a->palette + sp[by * small_w + bx] * 3;
                 int bad = 0;
                 for (int ch = 0; ch < 3; ch++) bad |= abs(sum[ch] / 64 - q[ch]) > 40;
                 off += bad;
@@ -155,9 +161,9 @@ int main(void) {
         printf("7680x4320 view %d at 1/8 scale vs 960x540: %.2f%% of pixels off by > 40 levels\n",
                check_views[k], 100 * frac);
     }
-    ew_renderer_free(big);
-    ew_renderer_free(small);
+    ew_renderer_destroy(big);
+    ew_renderer_destroy(small);
     free(first);
-    ew_assets_free(&a);
+    ew_assets_destroy(a);
     return ew_t_finish();
 }

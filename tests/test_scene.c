@@ -2,6 +2,7 @@
  * (doors occlude, zero overdraw kept, agreement with the reference path
  * extended to them) and dynamic lights (exactly the faces in reach are
  * rebuilt, the rest stay cached). */
+#include "edgewise_tools.h"
 #include "util.h"
 #include "renderer.h"
 
@@ -20,18 +21,19 @@ static void agreement(const char *map, double limit) {
     char path[256];
     ew_error err;
     snprintf(path, sizeof path, "data/librequake/maps/%s.bsp", map);
-    ew_assets a;
-    if (ew_assets_load(ew_t_shared(path), NULL, &a, &err) != 0) {
+    ew_assets *a = ew_assets_create(ew_t_shared(path), NULL, &err);
+    if (!a) {
         CHECK(0, "%s", err.msg);
         return;
     }
-    ew_scene *sc = ew_scene_from_map(a.world, ew_t_shared(path), NULL, &err);
+    ew_scene *sc = ew_scene_create_from_map(a->world, ew_t_shared(path), NULL, &err);
     CHECK(sc != NULL, "%s", err.msg);
-    ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
     ew_set_scene(r, sc);
     ew_enable_face_ids(r, 1);
     ew_camera views[EW_MAX_VIEWS];
-    int nv = ew_benchmark_views(a.world, views), sub_pixels = 0;
+    int nv = ew_benchmark_views(a->world, views), sub_pixels = 0;
     int *ids = malloc(sizeof(int) * W * H), *ref = malloc(sizeof(int) * W * H);
     uint8_t *px = malloc(W * H), *ref_px = malloc(W * H);
     double worst = 1, sum = 0, worst_col = 1;
@@ -56,7 +58,7 @@ static void agreement(const char *map, double limit) {
         for (int i = 0; i < W * H; i++) {
             same += ids[i] == ref[i];
             same_col += px[i] == ref_px[i];
-            sub_pixels += is_submodel_face(a.world, ids[i]);
+            sub_pixels += is_submodel_face(a->world, ids[i]);
         }
         double ag = (double)same / (W * H), agc = (double)same_col / (W * H);
         CHECK(ag >= limit, "%s view %d with entities: %.2f%% agree with the reference", map, v, 100 * ag);
@@ -71,9 +73,9 @@ static void agreement(const char *map, double limit) {
            "brush-model pixels %d, entities drawn %d, alias triangles %d\n",
            map, nv, 100 * sum / nv, 100 * worst, 100 * worst_col, sub_pixels, drawn, tris);
     free(ids), free(ref), free(px), free(ref_px);
-    ew_renderer_free(r);
-    ew_scene_free(sc);
-    ew_assets_free(&a);
+    ew_renderer_destroy(r);
+    ew_scene_destroy(sc);
+    ew_assets_destroy(a);
 }
 
 int main(void) {
@@ -85,13 +87,15 @@ int main(void) {
     agreement("start", 0.98);
 
     ew_error err;
-    ew_assets a;
+    ew_assets *a = NULL;
     const char *path = ew_t_shared("data/librequake/maps/e1m1.bsp");
-    CHECK(ew_assets_load(path, NULL, &a, &err) == 0, "%s", err.msg);
+    CHECK((a = ew_assets_create(path, NULL, &err)) != NULL, "%s", err.msg);
+    if (!a) return ew_t_finish();
     ew_camera views[EW_MAX_VIEWS];
-    ew_benchmark_views(a.world, views);
-    ew_scene *sc = ew_scene_from_map(a.world, path, NULL, &err);
-    ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
+    ew_benchmark_views(a->world, views);
+    ew_scene *sc = ew_scene_create_from_map(a->world, path, NULL, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
     ew_enable_face_ids(r, 1);
     int *world_ids = malloc(sizeof(int) * W * H);
     float *world_z = malloc(sizeof(float) * W * H);
@@ -106,9 +110,9 @@ int main(void) {
     ew_render(r, &views[0], &st);
     long door = 0, nearer = 0;
     for (int i = 0; i < W * H; i++)
-        if (is_submodel_face(a.world, ew_frame_face_ids(r)[i])) {
+        if (is_submodel_face(a->world, ew_frame_face_ids(r)[i])) {
             door++;
-            nearer += ew_frame_zbuffer(r)[i] > world_z[i] && !is_submodel_face(a.world, world_ids[i]);
+            nearer += ew_frame_zbuffer(r)[i] > world_z[i] && !is_submodel_face(a->world, world_ids[i]);
         }
     CHECK(door > W * H / 10 && nearer == door, "door covers %ld px, %ld of them in front of the world", door, nearer);
     CHECK(st.overdraw == 1.0 && st.pixels_covered == st.pixels, "door view overdraw %g", st.overdraw);
@@ -131,7 +135,7 @@ int main(void) {
     long in_front = sm.alias_pixels;
     CHECK(in_front > 500 && sm.alias_tris > 0, "soldier in front: %ld pixels, %d triangles", in_front, sm.alias_tris);
     /* Move it behind the door: same frustum, hidden by the door's z. */
-    ew_scene *hidden = ew_scene_from_map(a.world, path, NULL, &err);
+    ew_scene *hidden = ew_scene_create_from_map(a->world, path, NULL, &err);
     CHECK(ew_read_file(ew_t_shared("data/librequake/progs/soldier.mdl"), &mdl_data, &mdl_size, &err) == 0, "%s", err.msg);
     int s2 = ew_scene_load_model(hidden, "progs/soldier.mdl", mdl_data, mdl_size, &err);
     free(mdl_data);
@@ -143,12 +147,12 @@ int main(void) {
     printf("soldier: %ld pixels in front of the door; behind it %ld pixels, %d triangles tested "
            "(entities drawn %d, culled %d)\n", in_front, sm.alias_pixels, sm.alias_tris,
            sm.entities_drawn, sm.entities_culled);
-    ew_scene_free(hidden);
+    ew_scene_destroy(hidden);
     ew_set_scene(r, sc);
 
     /* A door pushed into a wall is cut by the world BSP: still one write per pixel. */
-    ew_scene *moved = ew_scene_create(a.world, &err);
-    for (int sub = 1; sub < a.world->nummodels; sub++) {
+    ew_scene *moved = ew_scene_create(a->world, &err);
+    for (int sub = 1; sub < a->world->nummodels; sub++) {
         float off[3] = {(float)(sub % 3) * 40 - 40, (float)(sub % 5) * 20 - 40, 0}, ang[3] = {0, (float)(sub * 7 % 30), 0};
         ew_scene_add_brush(moved, sub, off, ang);
     }
@@ -176,18 +180,18 @@ int main(void) {
     const ew_cached_surf **seen = calloc((size_t)r->el.nsurfs, sizeof *seen);
     for (int s = 1; s < r->el.nsurfs; s++) {
         int fi = r->el.surfs[s].face;
-        const ew_face *f = &a.world->faces[fi];
+        const ew_face *f = &a->world->faces[fi];
         if (f->flags & (EW_SURF_SKY | EW_SURF_TURB) || !r->lit.surf_cache[s]) continue;
         int dup = 0;
         for (int k = 0; k < drawn && !dup; k++) dup = seen[k] == r->lit.surf_cache[s];
         if (dup) continue;
         seen[drawn] = r->lit.surf_cache[s];
         drawn++;
-        const ew_plane *pl = &a.world->planes[f->plane];
+        const ew_plane *pl = &a->world->planes[f->plane];
         float d = fabsf(at[0] * pl->normal[0] + at[1] * pl->normal[1] + at[2] * pl->normal[2] - pl->dist);
         float closest = 1e30f;
         for (int k = 0; k < f->numedges; k++) {
-            const float *p = a.world->verts[ew_face_vertex(a.world, f, k)];
+            const float *p = a->world->verts[ew_face_vertex(a->world, f, k)];
             float dx = p[0] - at[0], dy = p[1] - at[1], dz = p[2] - at[2];
             float dist = sqrtf(dx * dx + dy * dy + dz * dz);
             if (dist < closest) closest = dist;
@@ -237,9 +241,9 @@ int main(void) {
     free(one);
 
     free(world_ids), free(world_z), free((void *)seen);
-    ew_renderer_free(r);
-    ew_scene_free(sc);
-    ew_scene_free(moved);
-    ew_assets_free(&a);
+    ew_renderer_destroy(r);
+    ew_scene_destroy(sc);
+    ew_scene_destroy(moved);
+    ew_assets_destroy(a);
     return ew_t_finish();
 }

@@ -226,7 +226,7 @@ static void test_regression_map(void) {
     ew_error err = { "" };
     ew_world *w = NULL;
     if (ew_read_file(path, &data, &size, &err) == 0)
-        w = ew_world_load(data, size, "entity_number_overflow.bin", &err);
+        w = ew_world_create(data, size, "entity_number_overflow.bin", &err);
     free(data);
     CHECK(w != NULL, "%s: %s", path, err.msg);
     if (!w)
@@ -239,7 +239,7 @@ static void test_regression_map(void) {
     if (nv == 5)
         CHECK(cam_is(&v[4], 0, 0, 0, 0, 0, 0), "intermission: %g %g %g / %g %g %g", v[4].origin[0],
               v[4].origin[1], v[4].origin[2], v[4].angles[0], v[4].angles[1], v[4].angles[2]);
-    ew_scene *s = ew_scene_from_map(w, NULL, NULL, &err);
+    ew_scene *s = ew_scene_create_from_map(w, NULL, NULL, &err);
     CHECK(s != NULL, "scene: %s", err.msg);
     if (s) {
         int ents = -1, unknown = -1, missing = -1;
@@ -247,9 +247,9 @@ static void test_regression_map(void) {
         /* three items without a game directory and a door naming no submodel */
         CHECK(ents == 0 && unknown == 0 && missing == 4, "scene: %d entities, %d unknown, %d missing",
               ents, unknown, missing);
-        ew_scene_free(s);
+        ew_scene_destroy(s);
     }
-    ew_world_free(w);
+    ew_world_destroy(w);
 }
 
 static void test_view_set(void) {
@@ -370,7 +370,7 @@ static void test_real_maps(void) {
         ew_error err = { "" };
         ew_world *w = NULL;
         if (ew_read_file(ew_t_shared(rel), &data, &size, &err) == 0)
-            w = ew_world_load(data, size, rel, &err);
+            w = ew_world_create(data, size, rel, &err);
         CHECK(w != NULL, "%s: %s", maps[i].map, err.msg);
         if (w) {
             ew_camera v[EW_MAX_VIEWS];
@@ -380,7 +380,7 @@ static void test_real_maps(void) {
                 CHECK(cam_is(&v[k], direct[k].origin[0], direct[k].origin[1], direct[k].origin[2],
                              direct[k].angles[0], direct[k].angles[1], direct[k].angles[2]),
                       "%s: view %d differs", maps[i].map, k);
-            ew_world_free(w);
+            ew_world_destroy(w);
         }
         free(data);
     }

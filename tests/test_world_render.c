@@ -7,6 +7,7 @@
  *     with the default divide every 16 pixels the colour agreement is
  *     printed: the affine steps in between shift texel edges a little;
  *   - overdraw is exactly 1.0, every pixel is written, nothing dropped. */
+#include "edgewise_tools.h"
 #include "util.h"
 
 #include <stdlib.h>
@@ -33,13 +34,15 @@ int main(void) {
     uint8_t *ref_px = malloc(W * H), *px16 = malloc(W * H), *px1 = malloc(W * H);
     double worst_all = 1;
     for (int mi = 0; mi < 3; mi++) {
-        ew_assets a;
+        ew_assets *a = NULL;
         int rc;
-        if (ew_t_load_map(maps[mi], &a) < 0) continue;
+        if (!(a = ew_t_load_map(maps[mi]))) continue;
         ew_camera views[EW_MAX_VIEWS];
-        int nv = ew_benchmark_views(a.world, views);
+        int nv = ew_benchmark_views(a->world, views);
         CHECK(nv > 0, "%s has no views", maps[mi]);
-        ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
+        ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){
+                .world = a->world, .palette = a->palette,
+                .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
         CHECK(r != NULL, "%s", err.msg);
         if (!r) continue;
         ew_enable_face_ids(r, 1);
@@ -90,8 +93,8 @@ int main(void) {
                maps[mi], nv, 100 * face.sum / nv, 100 * face.worst, face.worst_view,
                100 * exact.sum / nv, 100 * exact.worst, 100 * col16.sum / nv, 100 * col16.worst);
         if (face.worst < worst_all) worst_all = face.worst;
-        ew_renderer_free(r);
-        ew_assets_free(&a);
+        ew_renderer_destroy(r);
+        ew_assets_destroy(a);
     }
     printf("agreement worst view overall (visible surfaces): %.3f%%\n", 100 * worst_all);
     free(ref_ids), free(ids), free(ref_px), free(px16), free(px1);

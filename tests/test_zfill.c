@@ -7,6 +7,7 @@
  * and the deferred frame must really have left most of the z-buffer alone.
  * Also the item boxes' kept surfaces: a light style change must relight
  * them, and changing it back must give the first picture again. */
+#include "edgewise_tools.h"
 #include "util.h"
 #include "renderer.h"
 
@@ -24,11 +25,15 @@ typedef struct totals {
 
 static void compare_views(const char *name, const ew_assets *a, ew_scene *sc, int threads, totals *t) {
     ew_error err;
-    ew_renderer *lazy = ew_renderer_create(a->world, a->palette, a->colormap, W, H, &err);
-    ew_renderer *full = ew_renderer_create(a->world, a->palette, a->colormap, W, H, &err);
+    ew_renderer *lazy = ew_renderer_create(&(ew_renderer_desc){
+            .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
+    ew_renderer *full = ew_renderer_create(&(ew_renderer_desc){
+            .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
     CHECK(lazy && full, "%s: %s", name, err.msg);
     if (!lazy || !full) {
-        ew_renderer_free(lazy), ew_renderer_free(full);
+        ew_renderer_destroy(lazy), ew_renderer_destroy(full);
         return;
     }
     ew_set_full_zfill(full, 1);
@@ -67,7 +72,7 @@ static void compare_views(const char *name, const ew_assets *a, ew_scene *sc, in
     ew_set_threads(lazy, threads == 1 ? 2 : 1);
     CHECK(memcmp(ew_frame_zbuffer(lazy), ew_frame_zbuffer(full), sizeof(float) * W * H) == 0,
           "%s: z-buffer after ew_set_threads differs from full z-fill", name);
-    ew_renderer_free(lazy), ew_renderer_free(full);
+    ew_renderer_destroy(lazy), ew_renderer_destroy(full);
 }
 
 static void check_map(const char *name, ew_assets *a, ew_scene *sc) {
@@ -106,26 +111,27 @@ static void check_map(const char *name, ew_assets *a, ew_scene *sc) {
 /* A health box straight ahead of start's first view, drawn under three
  * values of light style 0. */
 static void check_box_light(void) {
-    ew_assets a;
-    if (ew_t_load_map("start", &a) < 0) return;
+    ew_assets *a = ew_t_load_map("start");
+    if (!a) return;
     ew_error err;
     uint8_t *data;
     size_t size;
-    ew_scene *sc = ew_scene_create(a.world, &err);
+    ew_scene *sc = ew_scene_create(a->world, &err);
     CHECK(sc != NULL, "empty scene: %s", err.msg);
     CHECK(ew_read_file(ew_t_shared("data/librequake/maps/b_bh25.bsp"), &data, &size, &err) == 0, "%s", err.msg);
     int box = sc ? ew_scene_load_model(sc, "maps/b_bh25.bsp", data, size, &err) : -1;
     CHECK(box >= 0, "b_bh25.bsp: %s", err.msg);
     free(data);
     ew_camera views[EW_MAX_VIEWS];
-    ew_benchmark_views(a.world, views);
+    ew_benchmark_views(a->world, views);
     ew_view vw;
     ew_view_setup(&vw, &views[0], W, H);
     float at[3];
     for (int k = 0; k < 3; k++) at[k] = vw.origin[k] + vw.forward[k] * 60;
     at[2] -= 16;
     if (box >= 0) ew_scene_add_entity(sc, box, at, NULL, 0, 0);
-    ew_renderer *r = ew_renderer_create(a.world, a.palette, a.colormap, W, H, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
     CHECK(r != NULL, "%s", err.msg);
     if (r && box >= 0) {
         uint8_t *lit = malloc(W * H), *dark = malloc(W * H), *plain = malloc(W * H);
@@ -154,9 +160,9 @@ static void check_box_light(void) {
         CHECK(again == 0, "%ld box pixels differ after style 0 came back", again);
         free(lit), free(dark), free(plain);
     }
-    ew_renderer_free(r);
-    ew_scene_free(sc);
-    ew_assets_free(&a);
+    ew_renderer_destroy(r);
+    ew_scene_destroy(sc);
+    ew_assets_destroy(a);
 }
 
 int main(void) {
@@ -164,26 +170,26 @@ int main(void) {
     ew_error err;
     const char *maps[] = {"e1m1", "lqdm7"};
     for (int m = 0; m < 2; m++) {
-        ew_assets a;
-        if (ew_t_load_map(maps[m], &a) < 0) continue;
+        ew_assets *a = ew_t_load_map(maps[m]);
+        if (!a) continue;
         char path[512];
         snprintf(path, sizeof path, "%s", ew_t_shared("data/librequake/maps/"));
         size_t len = strlen(path);
         snprintf(path + len, sizeof path - len, "%s.bsp", maps[m]);
-        ew_scene *sc = ew_scene_from_map(a.world, path, NULL, &err);
+        ew_scene *sc = ew_scene_create_from_map(a->world, path, NULL, &err);
         CHECK(sc != NULL, "%s: %s", maps[m], err.msg);
-        if (sc) check_map(maps[m], &a, sc);
-        ew_scene_free(sc);
-        ew_assets_free(&a);
+        if (sc) check_map(maps[m], a, sc);
+        ew_scene_destroy(sc);
+        ew_assets_destroy(a);
     }
-    ew_assets b;
-    CHECK(ew_assets_builtin(&b, &err) == 0, "%s", err.msg);
-    if (b.world) {
-        ew_scene *sc = ew_scene_builtin(b.world, &err);
+    ew_assets *b = NULL;
+    CHECK((b = ew_assets_create_builtin(&err)) != NULL, "%s", err.msg);
+    if (b) {
+        ew_scene *sc = ew_scene_create_builtin(b->world, &err);
         CHECK(sc != NULL, "builtin scene: %s", err.msg);
-        if (sc) check_map("builtin", &b, sc);
-        ew_scene_free(sc);
-        ew_assets_free(&b);
+        if (sc) check_map("builtin", b, sc);
+        ew_scene_destroy(sc);
+        ew_assets_destroy(b);
     }
     return ew_t_finish();
 }

@@ -30,13 +30,13 @@ const char *ew_t_shared_abs(const char *rel) {
     return out;
 }
 
-int ew_t_load_map(const char *name, ew_assets *a) {
+ew_assets *ew_t_load_map(const char *name) {
     char rel[256];
     ew_error err;
     snprintf(rel, sizeof rel, "data/librequake/maps/%s.bsp", name);
-    int rc = ew_assets_load(ew_t_shared(rel), NULL, a, &err);
-    CHECK(rc == 0, "%s", err.msg);
-    return rc;
+    ew_assets *a = ew_assets_create(ew_t_shared(rel), NULL, &err);
+    CHECK(a != NULL, "%s", err.msg);
+    return a;
 }
 
 int ew_t_finish(void) {

@@ -27,8 +27,9 @@ int ew_t_have_shared(const char *rel);
 /* ew_t_shared made absolute, for a command run in another folder; static buffer. */
 const char *ew_t_shared_abs(const char *rel);
 /* Loads ../shared/data/librequake/maps/NAME.bsp with its palette and
- * colormap; 0, or -1 after a failed CHECK naming the problem. */
-int ew_t_load_map(const char *name, ew_assets *a);
+ * colormap (free with ew_assets_destroy); NULL after a failed CHECK
+ * naming the problem. */
+ew_assets *ew_t_load_map(const char *name);
 /* Prints "N passed, N failed" and returns the process exit code. */
 int ew_t_finish(void);
 

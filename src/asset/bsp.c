@@ -772,7 +772,7 @@ done:
 
 /* ---- public ------------------------------------------------------------ */
 
-void ew_world_free(ew_world *w) {
+void ew_world_destroy(ew_world *w) {
     if (!w) return;
     free(w->planes);
     free(w->verts);
@@ -792,7 +792,7 @@ void ew_world_free(ew_world *w) {
     free(w);
 }
 
-ew_world *ew_world_load(const uint8_t *data, size_t size, const char *filename, ew_error *err) {
+ew_world *ew_world_create(const uint8_t *data, size_t size, const char *filename, ew_error *err) {
     ctx c = {.data = data, .size = size, .file = filename, .err = err};
     if (!data) size = c.size = 0;
     ew_world *w = calloc(1, sizeof *w);
@@ -809,7 +809,7 @@ ew_world *ew_world_load(const uint8_t *data, size_t size, const char *filename, 
         copy_bytes(&c, EW_LUMP_VISIBILITY, &w->visdata, &w->vissize) || load_textures(&c, w) ||
         load_texinfo(&c, w) || load_faces(&c, w) || load_marksurfaces(&c, w) ||
         load_leafs(&c, w) || load_nodes(&c, w) || load_models(&c, w) || link_parents(&c, w)) {
-        ew_world_free(w);
+        ew_world_destroy(w);
         return NULL;
     }
     return w;

@@ -44,7 +44,7 @@ static char *join(const char *dir, const char *name) {
     return p;
 }
 
-void ew_fs_close(ew_fs *fs) {
+void ew_fs_destroy(ew_fs *fs) {
     if (!fs) return;
     for (int i = 0; i < fs->npaks; i++) {
         free(fs->paks[i].path);
@@ -56,7 +56,7 @@ void ew_fs_close(ew_fs *fs) {
     free(fs);
 }
 
-ew_fs *ew_fs_open(const char *dir, ew_error *err) {
+ew_fs *ew_fs_create(const char *dir, ew_error *err) {
     struct stat st;
     if (stat(dir, &st) != 0) {
         ew_fail(err, "%s: cannot open: %s", dir, strerror(errno));
@@ -100,7 +100,7 @@ ew_fs *ew_fs_open(const char *dir, ew_error *err) {
     }
     return fs;
 fail:
-    ew_fs_close(fs);
+    ew_fs_destroy(fs);
     return NULL;
 }
 

@@ -6,7 +6,7 @@
  * the back end to draw (hsr/edge_scan.c: Quake's global edge list) or
  * straight into pixels (hsr/reference.c: a per-pixel z-buffer the tests
  * trust).  A new method (beam tree, span list, painter's order...) is a new
- * file here with its own ew_hsr_method. */
+ * file here with its own ew_hsr. */
 #ifndef EW_HSR_H
 #define EW_HSR_H
 
@@ -15,7 +15,7 @@
 typedef struct ew_renderer ew_renderer;
 typedef struct ew_band ew_band;
 
-typedef struct ew_hsr_method {
+typedef struct ew_hsr {
     const char *name;
     /* A frame starts (serial, after the view and the PVS are set). */
     void (*begin)(ew_renderer *r);
@@ -29,10 +29,10 @@ typedef struct ew_hsr_method {
     /* Resolves rows [b->y0, b->y1): spans into b, or pixels into the frame
      * (parallel: one band per call, bands never share rows). */
     void (*resolve)(ew_renderer *r, ew_band *b);
-} ew_hsr_method;
+} ew_hsr;
 
-extern const ew_hsr_method ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */
-extern const ew_hsr_method ew_hsr_reference;  /* hsr/reference.c */
+extern const ew_hsr ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */
+extern const ew_hsr ew_hsr_reference;  /* hsr/reference.c */
 
 /* ---- the global edge list (built by world/edges.c, scanned by edge_scan.c) ---- */
 typedef struct ew_edge {

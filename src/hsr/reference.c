@@ -86,13 +86,13 @@ static void ref_resolve(ew_renderer *r, ew_band *b) {
     }
 }
 
-const ew_hsr_method ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve};
+const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve};
 
 /* Renders the frame with the reference method (the moving things drawn
  * over its z-buffer as over the edge list's), then copies it out. */
 int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, int *face_ids,
                         ew_error *err) {
-    const ew_hsr_method *was = r->cfg.hsr;
+    const ew_hsr *was = r->cfg.hsr;
     r->cfg.hsr = &ew_hsr_reference;
     r->ref.ids = face_ids;
     int rc = ew_render(r, cam, NULL);

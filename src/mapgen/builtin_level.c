@@ -13,9 +13,9 @@
  *   - a plank door (submodel *1, a func_door) standing half open in the
  *     corridor's mouth, slid aside into the wall.
  * The grid is turned into a real BSP29 image (bsp_writer.c), which
- * ew_assets_builtin (src/asset/assets.c) loads through ew_world_load like
+ * ew_assets_create_builtin (src/asset/assets.c) loads through ew_world_create like
  * any map.  The moving things drawn over it (the door's entity, a triangle
- * model, particles, a dynamic light) are ew_scene_builtin's
+ * model, particles, a dynamic light) are ew_scene_create_builtin's
  * (src/scene/builtin_scene.c).
  */
 #include "mapgen_internal.h"

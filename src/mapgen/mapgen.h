@@ -4,7 +4,7 @@
  * axial BSP, merged faces without T-junctions, procedural textures, light
  * maps, PVS) plus a palette and colormap; it also writes the triangle model
  * (MDL) that the built-in scene places over that world.  This header is
- * what the library (ew_assets_builtin, ew_scene_builtin) and the tests use;
+ * what the library (ew_assets_create_builtin, ew_scene_create_builtin) and the tests use;
  * mapgen_internal.h is shared between the generator's own files only.
  */
 #ifndef EW_MAPGEN_H

@@ -1,7 +1,7 @@
 /*
  * The built-in scene's moving things, made in memory like its world:
  *   - the door: the entity lump's func_door (submodel *1), spawned by
- *     ew_scene_from_map like any map's brush entities;
+ *     ew_scene_create_from_map like any map's brush entities;
  *   - lantern bearers (src/mapgen/mdl_writer.c's MDL): two floating by the
  *     courtyard's east wall on either side of the corridor, where the demo
  *     view (view 0) looks, turned towards the player start (the right one
@@ -91,8 +91,8 @@ static void lantern_at(const placed *b, float out[3]) {
     out[2] = b->origin[2] + l[2];
 }
 
-ew_scene *ew_scene_builtin(const ew_world *w, ew_error *err) {
-    ew_scene *s = ew_scene_from_map(w, NULL, NULL, err);
+ew_scene *ew_scene_create_builtin(const ew_world *w, ew_error *err) {
+    ew_scene *s = ew_scene_create_from_map(w, NULL, NULL, err);
     if (!s) return NULL;
     uint8_t *mdl;
     size_t size;
@@ -120,6 +120,6 @@ ew_scene *ew_scene_builtin(const ew_world *w, ew_error *err) {
 oom:
     ew_fail(err, "builtin scene: out of memory");
 fail:
-    ew_scene_free(s);
+    ew_scene_destroy(s);
     return NULL;
 }

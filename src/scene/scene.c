@@ -20,13 +20,13 @@ ew_scene *ew_scene_create(const ew_world *w, ew_error *err) {
     return s;
 }
 
-void ew_scene_free(ew_scene *s) {
+void ew_scene_destroy(ew_scene *s) {
     if (!s) return;
     for (int i = 0; i < s->nmodels; i++) {
         ew_scene_model *m = &s->models[i];
         if (m->kind == EW_MODEL_ALIAS) ew_mdl_free(m->data);
         else if (m->kind == EW_MODEL_SPRITE) ew_spr_free(m->data);
-        else if (m->kind == EW_MODEL_BOX) ew_world_free(m->data);
+        else if (m->kind == EW_MODEL_BOX) ew_world_destroy(m->data);
     }
     free(s->ents);
     free(s->models);
@@ -44,7 +44,7 @@ int ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size
     } else if (size >= 4 && memcmp(data, "IDSP", 4) == 0) {
         kind = EW_MODEL_SPRITE, model = ew_spr_load(data, size, name, err);
     } else {
-        kind = EW_MODEL_BOX, model = ew_world_load(data, size, name, err);
+        kind = EW_MODEL_BOX, model = ew_world_create(data, size, name, err);
     }
     if (!model) return -1;
     if (s->nmodels == s->cap_models) {
@@ -53,7 +53,7 @@ int ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size
         if (!m) {
             if (kind == EW_MODEL_ALIAS) ew_mdl_free(model);
             else if (kind == EW_MODEL_SPRITE) ew_spr_free(model);
-            else ew_world_free(model);
+            else ew_world_destroy(model);
             return ew_fail(err, "%s: out of memory", name);
         }
         s->models = m, s->cap_models = cap;
@@ -185,7 +185,7 @@ static int invisible_class(const char *c) {
 /* The game directory of a map: data_dir, or the folder above maps/NAME.bsp. */
 static ew_fs *open_game_dir(const char *map, const char *data_dir) {
     ew_error err;
-    if (data_dir) return ew_fs_open(data_dir, &err);
+    if (data_dir) return ew_fs_create(data_dir, &err);
     if (!map) return NULL;  /* a world made in memory has no game directory */
     char dir[1024];
     snprintf(dir, sizeof dir, "%s", map ? map : "");
@@ -198,10 +198,10 @@ static ew_fs *open_game_dir(const char *map, const char *data_dir) {
         if (n + 4 >= sizeof dir) return NULL;
         memcpy(dir + n, "/..", 4);
     }
-    return ew_fs_open(dir, &err);
+    return ew_fs_create(dir, &err);
 }
 
-ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data_dir, ew_error *err) {
+ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const char *data_dir, ew_error *err) {
     ew_scene *s = ew_scene_create(w, err);
     if (!s) return NULL;
     const char *text = ew_world_entities(w);
@@ -255,7 +255,7 @@ ew_scene *ew_scene_from_map(const ew_world *w, const char *map, const char *data
         }
         if (mi < 0 || ew_scene_add_entity(s, mi, origin, angles, 0, cm->skin) < 0) s->missing++;
     }
-    ew_fs_close(fs);
+    ew_fs_destroy(fs);
     ew_entities_free(&ents);
     return s;
 }

@@ -1,0 +1,63 @@
+/*
+ * edgewise_tools.h - test and measurement calls of edgewise.
+ *
+ * What the tests, the fuzz targets and `edgewise bench` use to check and
+ * measure the renderer, kept out of edgewise.h so that an application sees
+ * only what it needs.  Same rules as edgewise.h (which this includes):
+ * failures fill an ew_error and return NULL or -1; every function is EW_API.
+ *
+ *   ew_enable_face_ids(r, 1);                     record the face of each pixel
+ *   ew_render(r, &cam, NULL);
+ *   const int *ids = ew_frame_face_ids(r);        width*height face indices
+ *   ew_render_reference(r, &cam, pixels, ref_ids, &err);   the same frame, z-buffered
+ */
+#ifndef EDGEWISE_TOOLS_H
+#define EDGEWISE_TOOLS_H
+
+#include "edgewise.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- checking the edge list -------------------------------------------- */
+
+/* When enabled, the next frames also record the face index that won each
+ * pixel (-1 where nothing was drawn); NULL until then. */
+EW_API void       ew_enable_face_ids(ew_renderer *r, int on);
+EW_API const int *ew_frame_face_ids(const ew_renderer *r);
+
+/* The reference path, independent of the edge list: every visible face of
+ * the same frame rasterized with a per-pixel z-buffer from its plane
+ * equation, textured and lit from the same surfaces.  Writes width*height
+ * palette indices and (if face_ids != NULL) the winning face per pixel. */
+EW_API int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels,
+                               int *face_ids, ew_error *err);
+
+/* ---- measuring ---------------------------------------------------------- */
+
+/* Z-fill under every world span as it is drawn (1), as the original
+ * renderer did, or only where moving things need it (0, the default).
+ * The frame and ew_frame_zbuffer are the same either way; 1 is slower
+ * and exists to measure what deferring saves. */
+EW_API void ew_set_full_zfill(ew_renderer *r, int on);
+
+/* ---- files --------------------------------------------------------------- */
+
+/* Reads an RGB/RGBA/gray PNG to malloc'd RGB8 (used by the fidelity tests). */
+EW_API int ew_read_png_rgb(const char *path, uint8_t **rgb, int *width, int *height,
+                           ew_error *err);
+
+/* PAK archive directory, validated against the archive's size.
+ * Entries point into the caller's buffer; *entries is malloc'd. */
+typedef struct ew_pak_entry {
+    char     name[57];
+    uint32_t offset, size;
+} ew_pak_entry;
+EW_API int ew_pak_parse(const uint8_t *data, size_t size, const char *filename,
+                        ew_pak_entry **entries, int *count, ew_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
