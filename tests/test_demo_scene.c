@@ -38,7 +38,15 @@ int main(void) {
         for (int i = 0; i < 256; i++) distinct += used[i];
         CHECK(distinct >= 40, "view %d uses only %d colours", v, distinct);
         memcpy(ids, ew_frame_face_ids(r), sizeof(int) * W * H);
+        /* Every pixel was covered by a world surface, so every id is a face. */
+        long bad_ids = 0;
+        int first_bad = -1;
+        for (int i = 0; i < W * H; i++)
+            if ((ids[i] < 0 || ids[i] >= a->world->numfaces) && !bad_ids++) first_bad = i;
+        CHECK(bad_ids == 0, "view %d: %ld pixels without a face id, first (%d, %d) id %d", v, bad_ids,
+              first_bad % W, first_bad / W, first_bad >= 0 ? ids[first_bad] : 0);
         for (int i = 0; i < W * H; i++) {
+            if (ids[i] < 0 || ids[i] >= a->world->numfaces) continue;
             const ew_face *f = &a->world->faces[ids[i]];
             sky_px += (f->flags & EW_SURF_SKY) != 0;
             water_px += (f->flags & EW_SURF_TURB) != 0;
@@ -53,9 +61,14 @@ int main(void) {
     /* View 0 (the README picture): the sky is at the top, the floor at the bottom. */
     ew_render(r, &views[0], NULL);
     const int *fid = ew_frame_face_ids(r);
-    CHECK(a->world->faces[fid[W / 2]].flags & EW_SURF_SKY, "top centre of view 0 is not sky");
-    const ew_plane *floor = &a->world->planes[a->world->faces[fid[(H - 1) * W + W / 2]].plane];
-    CHECK(floor->normal[2] > 0.99f, "bottom centre of view 0 is not a floor");
+    int top = fid[W / 2], bottom = fid[(H - 1) * W + W / 2];
+    CHECK(top >= 0 && top < a->world->numfaces && bottom >= 0 && bottom < a->world->numfaces,
+          "view 0: face ids %d at the top centre, %d at the bottom centre", top, bottom);
+    if (top >= 0 && top < a->world->numfaces && bottom >= 0 && bottom < a->world->numfaces) {
+        CHECK(a->world->faces[top].flags & EW_SURF_SKY, "top centre of view 0 is not sky");
+        const ew_plane *floor = &a->world->planes[a->world->faces[bottom].plane];
+        CHECK(floor->normal[2] > 0.99f, "bottom centre of view 0 is not a floor");
+    }
 
     /* Time moves the sky, the liquid and the animated button somewhere. */
     long changed = 0;

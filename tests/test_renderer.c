@@ -13,6 +13,71 @@ static long count_diff(const uint8_t *a, const uint8_t *b, long n) {
     return d;
 }
 
+/* Whether face f's light map uses light style `style`. */
+static int face_uses_style(const ew_face *f, int style) {
+    for (int k = 0; k < 4 && f->styles[k] != 255; k++)
+        if (f->styles[k] == style) return 1;
+    return 0;
+}
+
+/* The distinct lit surfaces (cache entries) of the last frame's surfaces
+ * that won spans, into out (room for r->el.nsurfs); their count. */
+static int frame_entries(const ew_renderer *r, ew_cached_surf **out) {
+    int n = 0;
+    for (int s = 1; s < r->el.nsurfs; s++) {
+        ew_cached_surf *e = r->lit.surf_cache[s];
+        int seen = !e;
+        for (int i = 0; i < n && !seen; i++) seen = out[i] == e;
+        if (!seen) out[n++] = e;
+    }
+    return n;
+}
+
+/* Sets light style `style` to value and renders view c again (the view of
+ * the last frame): exactly the visible lit surfaces whose face uses that
+ * style must be rebuilt, and no other.  Seen twice: the frame's list of
+ * surfaces to build, and one texel of every lit surface of the previous
+ * frame poisoned before the render (a surface not rebuilt keeps it; then
+ * restored).  Returns the number rebuilt, -1 on a failed check. */
+static int check_style_rebuilds(ew_renderer *r, const ew_camera *c, int style, int value, ew_stats *st) {
+    const ew_world *w = r->world;
+    ew_cached_surf **prev = malloc(sizeof *prev * (size_t)r->el.max_surfs);
+    ew_cached_surf **cur = malloc(sizeof *cur * (size_t)r->el.max_surfs);
+    uint8_t *saved = malloc((size_t)r->el.max_surfs);
+    int np = frame_entries(r, prev), ok = 1;
+    for (int i = 0; i < np; i++) saved[i] = prev[i]->pixels[0], prev[i]->pixels[0] ^= 0x5A;
+    ew_set_lightstyle(r, style, value);
+    CHECK(ew_render(r, c, st) == 0, "render");
+    int nc = frame_entries(r, cur), expected = 0;
+    /* The same view: the same lit surfaces, all still in the cache. */
+    int same = nc == np;
+    for (int i = 0; i < nc && same; i++) same = cur[i] == prev[i];
+    CHECK(same, "style %d: the same view used %d lit surfaces, then %d", style, np, nc);
+    if (!same) ok = 0;
+    int wrong_list = 0, wrong_built = 0, first_list = -1, first_built = -1;
+    for (int i = 0; same && i < nc; i++) {
+        ew_cached_surf *e = cur[i];
+        int uses = face_uses_style(&w->faces[e->face], style), listed = 0;
+        expected += uses;
+        for (int k = 0; k < r->lit.nbuild; k++) listed += r->lit.to_build[k] == e;
+        int kept = e->pixels[0] == (uint8_t)(saved[i] ^ 0x5A);
+        if (listed != uses && !wrong_list++) first_list = e->face;
+        if (!uses && !kept && !wrong_built++) first_built = e->face;
+        if (kept) e->pixels[0] = saved[i];
+    }
+    CHECK(wrong_list == 0, "style %d: %d lit surfaces (first: face %d) listed to build %s", style, wrong_list,
+          first_list, "though their use of the style says otherwise");
+    CHECK(wrong_built == 0, "style %d: %d lit surfaces not using it were rebuilt (first: face %d)", style,
+          wrong_built, first_built);
+    if (wrong_list || wrong_built) ok = 0;
+    CHECK(st->surfaces_built == expected && r->lit.nbuild == expected,
+          "style %d set to %d: built %d (listed %d), expected exactly the %d visible lit surfaces using it",
+          style, value, st->surfaces_built, r->lit.nbuild, expected);
+    if (st->surfaces_built != expected || r->lit.nbuild != expected) ok = 0;
+    free(prev), free(cur), free(saved);
+    return ok ? expected : -1;
+}
+
 int main(void) {
     if (!ew_t_have_shared("data/librequake/maps/e1m1.bsp")) {
         fprintf(stderr, "../shared/data/librequake not found (set EW_SHARED)\n");
@@ -55,15 +120,23 @@ int main(void) {
     /* Neighbouring faces share emitted edges. */
     CHECK(s1.edges_cached > 0 && s1.edges > 0, "edges %d, reused %d", s1.edges, s1.edges_cached);
 
-    /* A light style change rebuilds exactly the surfaces that use it. */
-    int uses0 = 0;
-    for (int i = 0; i < r->el.nsurfs; i++) {
-        const ew_face *f = &a->world->faces[r->el.surfs[i].face < 0 ? 0 : r->el.surfs[i].face];
-        if (r->el.surfs[i].face >= 0 && f->lightofs >= 0 && !(f->flags & (EW_SURF_SKY | EW_SURF_TURB)))
-            for (int k = 0; k < 4; k++) uses0 += f->styles[k] == 0;
+    /* A light style change rebuilds exactly the surfaces that use it: a
+     * style no visible face uses rebuilds none, style 0 exactly its own. */
+    int unused = -1;
+    for (int st = 63; st > 0 && unused < 0; st--) {
+        int used = 0;
+        for (int f = 0; f < a->world->numfaces && !used; f++) used = face_uses_style(&a->world->faces[f], st);
+        if (!used) unused = st;
     }
-    ew_set_lightstyle(r, 0, 512);
-    CHECK(ew_render(r, &views[0], &s2) == 0, "render");
+    CHECK(unused > 0, "e1m1 uses every light style");
+    int was = unused > 0 ? r->cfg.lightstyle[unused] : 0;
+    if (unused > 0) {
+        CHECK(check_style_rebuilds(r, &views[0], unused, 512, &s2) == 0, "unused style %d rebuilt %d",
+              unused, s2.surfaces_built);
+        ew_set_lightstyle(r, unused, was);
+    }
+    int uses0 = check_style_rebuilds(r, &views[0], 0, 512, &s2);
+    printf("style 0 doubled: rebuilt %d of %d lit surfaces\n", uses0, s1.surfaces_built);
     CHECK(s2.surfaces_built > 0 && s2.surfaces_built <= s1.surfaces_built && uses0 > 0,
           "style 0 doubled: rebuilt %d of %d", s2.surfaces_built, s1.surfaces_built);
     long brighter = 0;
@@ -73,6 +146,29 @@ int main(void) {
     }
     CHECK(brighter > n / 4, "double light brightened only %ld pixels", brighter);
     ew_set_lightstyle(r, 0, 256);
+
+    /* A switchable style (lights in e1m1 use styles 1..63): the first view
+     * showing one rebuilds only the surfaces using it, not its neighbours. */
+    int sv = -1, style = -1, nlit = 0;
+    ew_cached_surf **ents = malloc(sizeof *ents * (size_t)r->el.max_surfs);
+    for (int v = 0; v < nv && sv < 0; v++) {
+        CHECK(ew_render(r, &views[v], NULL) == 0, "view %d", v);
+        nlit = frame_entries(r, ents);
+        for (int i = 0; i < nlit && sv < 0; i++) {
+            const ew_face *f = &a->world->faces[ents[i]->face];
+            for (int k = 0; k < 4 && f->styles[k] != 255 && sv < 0; k++)
+                if (f->styles[k] != 0) sv = v, style = f->styles[k];
+        }
+    }
+    free(ents);
+    CHECK(sv >= 0, "no view of e1m1 shows a switchable light style");
+    if (sv >= 0) {
+        int old = r->cfg.lightstyle[style];
+        int n_style = check_style_rebuilds(r, &views[sv], style, old / 2, &s2);
+        printf("view %d, style %d halved: rebuilt %d of %d lit surfaces\n", sv, style, n_style, nlit);
+        CHECK(n_style > 0 && n_style < nlit, "view %d style %d: rebuilt %d of %d", sv, style, n_style, nlit);
+        ew_set_lightstyle(r, style, old);
+    }
 
     /* Every view: counters sane, all pixels written exactly once. */
     for (int v = 0; v < nv; v++) {
