@@ -8,6 +8,7 @@
 typedef struct ew_renderer ew_renderer;
 
 /* ---- surface cache (light/cache.c) ---- */
+/* An entry and its pixels are one block carved from the cache's slabs. */
 typedef struct ew_cached_surf {
     struct ew_cached_surf *lru_prev, *lru_next;
     int      face, mip, texture;
@@ -15,13 +16,21 @@ typedef struct ew_cached_surf {
     unsigned dlights;    /* dynamic lights it was built with */
     int      width, height;
     int      last_frame;
-    uint8_t *pixels;
+    uint8_t *pixels;     /* right after the entry, in the same block */
 } ew_cached_surf;
 
+#define EW_CACHE_BINS 240
+typedef struct ew_cache_block ew_cache_block;
+typedef struct ew_cache_slab  ew_cache_slab;
 typedef struct ew_surf_cache {
     ew_cached_surf **slot;        /* numfaces * 4 (per mip) */
     ew_cached_surf  *lru_head, *lru_tail;
-    size_t bytes, budget;
+    size_t bytes, budget;         /* pixels held, and the budget for them */
+    /* The arena: slabs allocated on demand (about budget / 4 each), free
+     * blocks kept by size class and merged with free neighbours. */
+    ew_cache_slab  *slabs;
+    size_t          slab_bytes, used_bytes;   /* slabs' total, blocks in use */
+    ew_cache_block *bins[EW_CACHE_BINS];
 } ew_surf_cache;
 
 int  ew_cache_init(ew_surf_cache *c, int numfaces, size_t budget);
