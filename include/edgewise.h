@@ -109,6 +109,11 @@ typedef struct ew_world_info {
     int          models, textures, textures_missing, faces, leaves, nodes;
 } ew_world_info;
 EW_API void        ew_world_get_info(const ew_world *w, ew_world_info *info);
+/* Warnings met while loading: optional data that was malformed (a
+ * worldspawn key, a fence texture without holes) and replaced by a sane
+ * default, one line each naming the file and the problem.  i from 0; NULL
+ * past the last. */
+EW_API const char *ew_world_warning(const ew_world *w, int i);
 EW_API const char *ew_world_entities(const ew_world *w);
 
 /* ---- the view set (../shared/BENCHMARK.md) ------------------------------ */
@@ -161,9 +166,8 @@ typedef enum ew_color_mode {
 /* Hidden-surface removal for the world. */
 typedef enum ew_hsr_method {
     EW_HSR_EDGE = 0,     /* the global edge list, as Quake (the default) */
-    EW_HSR_REFERENCE     /* every visible face z-buffered per pixel (slow; for checking).
-                          * Accepted and kept; until it is wired into ew_render,
-                          * frames are still drawn with the edge list. */
+    EW_HSR_REFERENCE     /* every visible face z-buffered per pixel, a divide per
+                          * pixel (slow and simple: the tests trust it) */
 } ew_hsr_method;
 
 /* How alias (triangle) models are rasterized: affine triangles with
@@ -186,6 +190,7 @@ typedef struct ew_renderer_desc {
     ew_hsr_method hsr;                /* 0: EW_HSR_EDGE (global edge list); EW_HSR_REFERENCE: per-pixel z-buffer */
     ew_alias_raster alias_raster;     /* 0: EW_ALIAS_AUTO */
     float alias_threshold;            /* 0: 40 pixels */
+    int   classic;                    /* 0: what today's maps ask for; 1: the 1996 look (ew_set_classic) */
 } ew_renderer_desc;
 
 /* A renderer for desc's world, or NULL with one error line (a missing
@@ -217,6 +222,12 @@ typedef struct ew_stats {
     long   alias_pixels;        /* alias/sprite pixels that passed the z test */
     int    particles;           /* particles drawn */
     int    surfaces_rebuilt_by_dlights;
+    /* see-through surfaces, fog and the underwater view (none in classic mode) */
+    int    seethrough_surfaces; /* fence and translucent polygons drawn after the world */
+    long   fence_pixels;        /* pixels written by fence textures (holes skip) */
+    long   translucent_pixels;  /* pixels blended by translucent surfaces */
+    long   fog_pixels;          /* pixels fogged */
+    int    underwater;          /* the eye is in a liquid: view warped and tinted */
     double ms_front, ms_scan, ms_draw, ms_models, ms_total;
 } ew_stats;
 
@@ -253,6 +264,40 @@ EW_API int ew_set_subdivision(ew_renderer *r, int pixels);
  * current one); see ew_alias_raster. */
 EW_API void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float threshold_px);
 
+/* The hidden-surface method of the next frames (ew_hsr_method). */
+EW_API void ew_set_hsr(ew_renderer *r, ew_hsr_method method);
+
+/* ---- see-through surfaces, fog, the underwater view ----------------------
+ * What today's maps ask for, on by default:
+ *   - fence textures ('{' names): palette index 255 is a hole showing what
+ *     is behind (world and moving things), drawn after the moving things
+ *     with a z test and an alpha test;
+ *   - translucent liquids (worldspawn _wateralpha, _slimealpha, _lavaalpha,
+ *     _telealpha) and brush entities with an "alpha" key: blended over what
+ *     is behind them, back to front, after the fences; in 8-bit through
+ *     tables of the nearest palette colour of each blend (one per alpha);
+ *   - fog (worldspawn "fog" "density r g b", as today's source ports):
+ *     colour c at view depth z becomes mix(fog, c, f), f = exp(-(density *
+ *     z / 64)^2); the sky is fogged half way; in 8-bit through a table of the
+ *     nearest palette colour per fog level;
+ *   - the underwater view: with the eye in a water, slime or lava leaf the
+ *     frame is warped by sines that drift with time and tinted with the
+ *     liquid's colour, as the original did. */
+
+/* The 1996 look: every item above off (fence holes painted in the key
+ * colour, liquids opaque, no fog, no warp): the frames the WinQuake
+ * fidelity tests check.  Default 0. */
+EW_API void ew_set_classic(ew_renderer *r, int on);
+/* Liquid opacity: alpha in (0, 1] for every liquid, or < 0 (the default)
+ * for what the map asks (1 where it asks nothing).  At 1 liquids are
+ * opaque and drawn by the edge list. */
+EW_API void ew_set_liquid_alpha(ew_renderer *r, float alpha);
+/* Fog: density >= 0 and a colour (0..1 each) replace the map's; density 0
+ * is no fog; density < 0 (the default) takes the map's worldspawn "fog". */
+EW_API void ew_set_fog(ew_renderer *r, float density, float red, float green, float blue);
+/* The underwater warp and tint (default on). */
+EW_API void ew_set_waterwarp(ew_renderer *r, int on);
+
 /* ---- moving things ------------------------------------------------------ */
 
 /* A scene: entities drawn over a world.  Brush models (doors, lifts,
@@ -284,12 +329,19 @@ EW_API int  ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *da
  * Quake angles (pitch yaw roll), frame and skin; entity index or -1. */
 EW_API int  ew_scene_add_entity(ew_scene *s, int model, const float origin[3],
                                 const float angles[3], int frame, int skin);
+/* A brush entity's opacity, in (0, 1] (1: opaque, the default); 0 or -1
+ * for an unknown entity or a value outside that range. */
+EW_API int  ew_scene_set_alpha(ew_scene *s, int entity, float alpha);
 /* n particles in a deterministic cloud (same seed, same cloud). */
 EW_API int  ew_scene_add_particles(ew_scene *s, int n, const float center[3], float radius,
                                    uint32_t seed);
 /* A dynamic light: adds light within radius to the surfaces it reaches. */
 EW_API int  ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius);
 EW_API void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing);
+/* Warnings met while making the scene from a map's entities (a brush
+ * entity's "alpha" that is not a number from 0 to 1, ...), one line each;
+ * i from 0, NULL past the last. */
+EW_API const char *ew_scene_warning(const ew_scene *s, int i);
 /* The scene ew_render draws with the world (NULL: world only).  It must
  * outlive its use by the renderer. */
 EW_API void ew_set_scene(ew_renderer *r, const ew_scene *s);

@@ -43,8 +43,12 @@ typedef struct ew_plane {
     int   type;      /* 0..2 axial x/y/z, else 3..5 */
 } ew_plane;
 
+/* Liquids, by texture name ("*lava...", "*slime...", "*tele...", other '*'). */
+enum { EW_LIQUID_NONE, EW_LIQUID_WATER, EW_LIQUID_SLIME, EW_LIQUID_LAVA, EW_LIQUID_TELE, EW_NUM_LIQUIDS };
+
 typedef struct ew_texture {
     char     name[16];
+    int      liquid;            /* EW_LIQUID_* ('*' textures), else EW_LIQUID_NONE */
     int      width, height;     /* mip 0 size; >= 8, multiples of 8 */
     const uint8_t *mip[4];      /* pixel data of each mip level */
     int      flags;             /* EW_SURF_SKY / TURB / FENCE / MISSING */
@@ -120,6 +124,16 @@ struct ew_world {
     int         textures_missing;
 
     uint8_t    *texpixels;    /* owned pixel storage behind ew_texture.mip */
+
+    /* What the map's worldspawn asks for (asset/worldspawn.c), checked:
+     * a malformed key leaves its default and adds a warning. */
+    struct {
+        float liquid_alpha[EW_NUM_LIQUIDS];  /* per EW_LIQUID_*: 1 = opaque (the default) */
+        float fog_density;                   /* 0: no fog */
+        float fog_rgb[3];                    /* 0..1 */
+    } worldspawn;
+    char      **warnings;     /* ew_world_warning */
+    int         nwarnings;
 };
 
 /* Vertex index of the i-th corner of face f. */

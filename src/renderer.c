@@ -63,6 +63,9 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->cfg.alias_raster = d.alias_raster;
     r->cfg.alias_threshold = d.alias_threshold;
     r->cfg.hsr = d.hsr == EW_HSR_REFERENCE ? &ew_hsr_reference : &ew_hsr_edge;
+    r->cfg.classic = d.classic != 0;
+    r->cfg.liquid_alpha = -1, r->cfg.fog_density = -1;  /* the map's */
+    r->cfg.waterwarp = 1;
     /* The frame target: 8-bit palette indices, rows one after another. */
     r->target.width = width, r->target.height = height;
     r->target.pitch = width, r->target.bpp = 1;
@@ -99,7 +102,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->lit.maxlm = maxlm;
     r->el.max_spans = max_spans;
     r->lit.surf_cache = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs);
-    r->lit.to_build = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs);
+    /* the edge list's surfaces and as many see-through ones (world/divert.c) */
+    r->lit.to_build = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs * 2);
     r->sched.row_cost = malloc(sizeof(float) * (size_t)height);
     r->zf.row_band = calloc((size_t)height, sizeof(int32_t));
     r->zf.row_span0 = calloc((size_t)height, sizeof(int32_t));
@@ -116,6 +120,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
         !r->lit.grad_list)
         goto oom;
     r->zf.draw = r->lit.surf_draw;
+    ew_fog_levels(&r->draw.fog);
+    if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
     if (ew_set_threads(r, d.threads) < 0) goto oom;
     /* The cache holds many frames' worth of surfaces at this size, so a
      * walk through a level rebuilds little (16 bytes a pixel, 16..512 MiB),
@@ -194,6 +200,8 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
     free(r->el.edges), free(r->el.new_edges), free(r->el.surfs), free(r->lit.blocklights);
     free(r->ref.polys);
+    free(r->see.polys), free(r->see.order), free(r->warp_copy);
+    ew_blend_free(&r->blend);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
     free(r);
 }
@@ -220,6 +228,28 @@ int ew_set_subdivision(ew_renderer *r, int pixels) {
             return 0;
         }
     return -1;
+}
+
+void ew_set_hsr(ew_renderer *r, ew_hsr_method method) {
+    r->cfg.hsr = method == EW_HSR_REFERENCE ? &ew_hsr_reference : &ew_hsr_edge;
+}
+
+void ew_set_classic(ew_renderer *r, int on) { r->cfg.classic = on != 0; }
+void ew_set_waterwarp(ew_renderer *r, int on) { r->cfg.waterwarp = on != 0; }
+
+void ew_set_liquid_alpha(ew_renderer *r, float alpha) {
+    r->cfg.liquid_alpha = alpha < 0 ? -1 : alpha > 1 ? 1 : alpha > 0.01f ? alpha : 0.01f;  /* NaN: the map's */
+    if (!(alpha == alpha)) r->cfg.liquid_alpha = -1;
+}
+
+void ew_set_fog(ew_renderer *r, float density, float red, float green, float blue) {
+    if (!(density >= 0) || !(density < 1e6f)) {  /* negative or NaN: the map's */
+        r->cfg.fog_density = -1;
+        return;
+    }
+    r->cfg.fog_density = density;
+    const float c[3] = {red, green, blue};
+    for (int k = 0; k < 3; k++) r->cfg.fog_rgb[k] = c[k] >= 0 ? (c[k] <= 1 ? c[k] : 1) : 0;
 }
 
 void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float threshold_px) {
@@ -259,7 +289,8 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->draw.sky_scroll = ew_sky_scroll(r->view.time);
     r->draw.subdiv_shift = r->cfg.subdiv_shift;
     r->cfg.hsr->begin(r);
-    ew_pvs_mark(r);
+    r->see.n = 0;
+    r->eye_contents = r->world->leaves[ew_pvs_mark(r)].contents;
     return 0;
 }
 
@@ -363,6 +394,14 @@ static void job_build(void *ctx, int thread) {
     }
 }
 
+/* The underwater warp, band by band, from the copy of the whole frame. */
+static void job_warp(void *ctx, int thread) {
+    (void)thread;
+    ew_renderer *r = ctx;
+    for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;)
+        ew_warp_rows(r, r->sched.bands[i].y0, r->sched.bands[i].y1);
+}
+
 /* A band's world, then the moving things in its rows: its z-fill is done
  * by then, and no other band touches those rows. */
 static void job_draw(void *ctx, int thread) {
@@ -373,9 +412,10 @@ static void job_draw(void *ctx, int thread) {
         ew_band *b = &r->sched.bands[i];
         ew_draw_spans(&r->draw, b, r->lit.surf_draw, r->zf.all);
         account_spans(b);
+        if (r->cfg.face_ids_on) record_face_ids(r, b);  /* before the passes, which may win pixels */
         double t1 = ew_now_ms();
         memset(&b->model_stats, 0, sizeof b->model_stats);
-        ew_rows rows = {b->y0, b->y1, &b->model_stats, i == 0};
+        ew_rows rows = {b->y0, b->y1, &b->model_stats, i == 0, b};
         ew_passes_draw(r, &rows);
         b->model_ms = ew_now_ms() - t1;
         b->ms += ew_now_ms() - t0;
@@ -442,6 +482,10 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     atomic_store(&r->sched.next_band, 0);
     ew_pool_run(r->sched.pool, job_draw, r);
     r->sched.bands_sized_for = r->sched.nbands;
+    if (ew_warp_begin(r)) {
+        atomic_store(&r->sched.next_band, 0);
+        ew_pool_run(r->sched.pool, job_warp, r);
+    }
     double t3 = ew_now_ms();
     if (r->ents.scene) ew_scene_counts(r->ents.scene, NULL, &r->stats.entities_unknown, &r->stats.models_missing);
 
@@ -458,9 +502,10 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         st->entities_drawn += m->entities_drawn, st->entities_culled += m->entities_culled;
         st->alias_tris += m->alias_tris, st->alias_tris_subdiv += m->alias_tris_subdiv;
         st->alias_pixels += m->alias_pixels, st->particles += m->particles;
+        st->fence_pixels += m->fence_pixels, st->translucent_pixels += m->translucent_pixels;
+        st->fog_pixels += m->fog_pixels;
         models_ms += b->model_ms;
         st->pixels_written += b->written, st->pixels_covered += b->covered;
-        if (r->cfg.face_ids_on) record_face_ids(r, b);
     }
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
     /* Models are drawn inside the bands' draw step; ms_models is their

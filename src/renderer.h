@@ -19,6 +19,7 @@
 #include "hsr/hsr.h"
 #include "light/light.h"
 #include "pool.h"
+#include "raster/blend.h"
 #include "raster/raster.h"
 #include "raster/zfill.h"
 #include "scene/passes.h"
@@ -33,6 +34,11 @@ typedef struct ew_config {
     float alias_threshold;           /* auto: subdivide below this screen height */
     int   lightstyle[64];
     int   face_ids_on;               /* test hook: record the face of each pixel */
+    /* see-through surfaces, fog, underwater view (ew_set_classic ...) */
+    int   classic;                   /* 1: all of them off, the 1996 look */
+    float liquid_alpha;              /* < 0: the map's */
+    float fog_density, fog_rgb[3];   /* density < 0: the map's */
+    int   waterwarp;
     const ew_hsr *hsr;          /* hidden-surface method */
 } ew_config;
 
@@ -77,6 +83,22 @@ typedef struct ew_ents {
     int          *alias_list; int nalias;       /* visible alias entities, the parallel work */
 } ew_ents;
 
+/* See-through polygons of this frame (world/divert.c collects them from the
+ * front end, raster/seethrough.c draws them): fences first, then the
+ * translucent ones back to front. */
+enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
+typedef struct ew_see_poly {
+    ew_zpoly       p;           /* clipped and projected */
+    ew_zpoly_look  look;        /* its texels and how it is drawn */
+    int            face, key, kind;
+    float          alpha;
+} ew_see_poly;
+typedef struct ew_see {
+    ew_see_poly *polys; int n, cap;
+    int         *order;  int cap_order;  /* fences, then translucent far to near */
+    int          n_drawn, nfences;       /* in order[]: all, and the fences among them */
+} ew_see;
+
 /* The reference method's frame: the polygons it fills band by band. */
 typedef struct ew_ref_poly ew_ref_poly;
 typedef struct ew_ref {
@@ -98,6 +120,11 @@ struct ew_renderer {
     ew_lit      lit;
     ew_ents     ents;
     ew_ref      ref;
+    ew_see      see;
+    ew_blend    blend;                           /* 8-bit blend, fog and tint tables */
+    int         eye_contents;                    /* EW_CONTENTS_* of the eye's leaf this frame */
+    uint8_t    *warp_copy;                       /* the underwater warp's source frame and shifts */
+    const uint8_t *warp_tint;                    /* and its tint table this frame */
     ew_sched    sched;
     int        *face_ids;                        /* test hook: per pixel, or NULL */
 };

@@ -50,7 +50,7 @@ int main(void) {
         int nv = ew_benchmark_views(a->world, views);
         ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){
                 .world = a->world, .palette = a->palette,
-                .colormap = a->colormap, .width = W, .height = H, .threads = 1 }, &err);
+                .colormap = a->colormap, .width = W, .height = H, .threads = 1, .classic = 1 }, &err);
         CHECK(r != NULL, "%s", err.msg);
         double sum = 0, worst = 0;
         int worst_view = -1, compared = 0;

@@ -96,7 +96,7 @@ int main(void) {
             for (int threads = 1; threads <= 2; threads++) {
                 ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){
                         .world = a->world, .palette = a->palette,
-                        .colormap = a->colormap, .width = w, .height = h, .threads = 1 }, &err);
+                        .colormap = a->colormap, .width = w, .height = h, .threads = 1, .classic = 1 }, &err);
                 CHECK(r != NULL, "%s: %s", maps[m], err.msg);
                 if (!r) continue;
                 CHECK(ew_set_threads(r, threads) == threads, "%s: %d threads", maps[m], threads);

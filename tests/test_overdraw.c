@@ -180,7 +180,7 @@ static void check_map(const char *map, const int *view_list, int nviews, int big
     ew_camera views[EW_MAX_VIEWS];
     int nv = ew_benchmark_views(a->world, views);
     ew_error err;
-    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette, .colormap = a->colormap, .width = 320, .height = 200, .threads = 1}, &err);
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette, .colormap = a->colormap, .width = 320, .height = 200, .threads = 1, .classic = 1}, &err);
     CHECK(r != NULL, "%s: %s", map, err.msg);
     char what[96];
     for (int threads = 1; r && threads <= 2; threads++) {
@@ -196,7 +196,7 @@ static void check_map(const char *map, const int *view_list, int nviews, int big
     /* A surface cache too small for the frame: the surfaces it refuses are
      * drawn flat (black), through the flat drawer. */
     ew_renderer_destroy(r);
-    ew_renderer *tight = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette, .colormap = a->colormap, .width = 320, .height = 200, .threads = 1}, &err);
+    ew_renderer *tight = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette, .colormap = a->colormap, .width = 320, .height = 200, .threads = 1, .classic = 1}, &err);
     CHECK(tight != NULL, "%s: %s", map, err.msg);
     if (tight && nviews > 0) {
         tight->lit.cache.budget = 16384;
@@ -205,7 +205,7 @@ static void check_map(const char *map, const int *view_list, int nviews, int big
     }
     ew_renderer_destroy(tight);
     if (big_view >= 0 && big_view < nv) {
-        ew_renderer *big = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette, .colormap = a->colormap, .width = 1920, .height = 1080, .threads = 1}, &err);
+        ew_renderer *big = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette, .colormap = a->colormap, .width = 1920, .height = 1080, .threads = 1, .classic = 1}, &err);
         CHECK(big != NULL, "%s: %s", map, err.msg);
         if (big) {
             CHECK(ew_set_threads(big, 2) == 2, "%s: 2 threads at 1920x1080", map);

@@ -9,6 +9,7 @@
  *   - overdraw is exactly 1.0, every pixel is written, nothing dropped. */
 #include "edgewise_tools.h"
 #include "util.h"
+#include "ew_world.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -65,8 +66,17 @@ int main(void) {
             CHECK(ew_set_subdivision(r, 1) == 0, "subdivision 1");
             CHECK(ew_render(r, &views[v], NULL) == 0, "%s view %d", maps[mi], v);
             memcpy(px1, ew_frame_pixels(r), W * H);  /* the reference reuses the frame */
-            CHECK(memcmp(ids, ew_frame_face_ids(r), sizeof(int) * W * H) == 0,
-                  "%s view %d: subdivision changed the visible surfaces", maps[mi], v);
+            /* Only where a fence texture's holes and bars fall may it differ:
+             * which texel is a hole moves with the texture mapping. */
+            const int *ids1 = ew_frame_face_ids(r);
+            long changed = 0;
+            for (int i = 0; i < W * H; i++) {
+                int fence = (ids[i] >= 0 && (a->world->faces[ids[i]].flags & EW_SURF_FENCE)) ||
+                            (ids1[i] >= 0 && (a->world->faces[ids1[i]].flags & EW_SURF_FENCE));
+                changed += ids[i] != ids1[i] && !fence;
+            }
+            CHECK(changed == 0, "%s view %d: subdivision changed the visible surfaces at %ld pixels (not fences)",
+                  maps[mi], v, changed);
 
             rc = ew_render_reference(r, &views[v], ref_px, ref_ids, &err);
             CHECK(rc == 0, "%s", err.msg);

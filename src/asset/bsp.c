@@ -812,6 +812,7 @@ ew_world *ew_world_create(const uint8_t *data, size_t size, const char *filename
         ew_world_destroy(w);
         return NULL;
     }
+    for (int i = 0; i < EW_NUM_LIQUIDS; i++) w->worldspawn.liquid_alpha[i] = 1;  /* opaque unless the map asks */
     return w;
 }
 

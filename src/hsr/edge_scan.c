@@ -204,4 +204,4 @@ static void edge_begin(ew_renderer *r) {
 
 static void edge_resolve(ew_renderer *r, ew_band *b) { ew_scan_band(&r->el, r->target.width, b); }
 
-const ew_hsr ew_hsr_edge = {"edge", edge_begin, ew_emit_face, ew_emit_poly, edge_resolve};
+const ew_hsr ew_hsr_edge = {"edge", edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0};

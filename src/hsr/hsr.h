@@ -29,6 +29,9 @@ typedef struct ew_hsr {
     /* Resolves rows [b->y0, b->y1): spans into b, or pixels into the frame
      * (parallel: one band per call, bands never share rows). */
     void (*resolve)(ew_renderer *r, ew_band *b);
+    /* 1: fence faces go to face/poly too and their holes are the method's
+     * business (the reference); 0: they go to the see-through pass. */
+    int fences;
 } ew_hsr;
 
 extern const ew_hsr ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */

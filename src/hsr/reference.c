@@ -41,7 +41,9 @@ static void ref_poly(ew_renderer *r, float (*in)[3], int n, int fi, const ew_vie
     ew_ref_poly *rp = &ref->polys[ref->npolys];
     if (!ew_zpoly_project(&r->view, in, n, &rp->p)) return;
     rp->face = fi;
-    rp->look = (ew_zpoly_look){w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0, 0};  /* exact */
+    /* exact; a fence's holes are alpha-tested per pixel like the rest */
+    rp->look = (ew_zpoly_look){w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0, 0,
+                               (f->flags & EW_SURF_FENCE) && !r->cfg.classic ? EW_ZP_FENCE : EW_ZP_OPAQUE, NULL};
     if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
         int build;
         rp->look.mip = ew_face_mip(&r->view, w, f, rp->p.nearzi);
@@ -86,7 +88,7 @@ static void ref_resolve(ew_renderer *r, ew_band *b) {
     }
 }
 
-const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve};
+const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve, 1};
 
 /* Renders the frame with the reference method (the moving things drawn
  * over its z-buffer as over the edge list's), then copies it out. */

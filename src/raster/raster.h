@@ -31,6 +31,25 @@ typedef struct ew_surf_draw {
     const ew_texture *tex;    /* sky and liquids */
 } ew_surf_draw;
 
+/* Fog by depth in an 8-bit frame: colour c at 1/z zi becomes
+ * table[ew_fog_level(f, zi) * 256 + c] (raster/fog.c). */
+#define EW_FOG_QMAX   8.0f    /* (density z / 64)^2 past which fog is whole */
+#define EW_FOG_QSCALE 512.0f
+#define EW_FOG_QSTEPS 4096    /* QMAX * QSCALE */
+typedef struct ew_fog {
+    const uint8_t *table;     /* EW_FOG_LEVELS x 256 (raster/blend.h), NULL: no fog */
+    float   w;                /* (density / 64)^2, so q = w / zi^2 = (density z / 64)^2 */
+    int     sky_level;        /* the sky is fogged half way, as the ports do */
+    uint8_t level[EW_FOG_QSTEPS + 1];  /* q -> level of 1 - exp(-q) */
+} ew_fog;
+/* Fills the level table (once, at the renderer's creation). */
+void ew_fog_levels(ew_fog *f);
+static inline int ew_fog_level(const ew_fog *f, float zi) {
+    float q = f->w / (zi * zi);
+    if (!(q < EW_FOG_QMAX)) return f->level[EW_FOG_QSTEPS];
+    return f->level[(int)(q * EW_FOG_QSCALE)];
+}
+
 /* What the span drawers read, set once per frame. */
 typedef struct ew_span_ctx {
     const ew_target *target;
@@ -38,6 +57,7 @@ typedef struct ew_span_ctx {
     const ew_view *view;           /* the sky's rays */
     float          sky_scroll;     /* sky layers' offset for this frame's time */
     int32_t        turb[128];      /* liquid warp for this frame's time */
+    ew_fog         fog;            /* this frame's fog (table NULL: none) */
 } ew_span_ctx;
 
 /* raster/span.c, sky.c, turb.c: one span of each kind.  A band draws its
@@ -66,6 +86,7 @@ typedef struct ew_rows {
     int       y0, y1;      /* [y0, y1) */
     ew_stats *stats;
     int       first;       /* the band that counts per-model figures (triangles, entities) */
+    const ew_band *band;   /* the band of these rows (its spans), or NULL */
 } ew_rows;
 
 /* raster/zpoly.c: the z-buffered polygon fill (reference path, item boxes) */
@@ -83,9 +104,17 @@ typedef struct ew_zpoly_look {
     const ew_texture *tex;          /* sky and liquids */
     const uint8_t    *surf;         /* lit surface (others) */
     int               surf_width, mip;
-    int               stepped;      /* lit surfaces: a divide every 16 pixels as world
-                                       spans (ew_stepper), not at every pixel */
+    int               stepped;      /* lit surfaces and liquids: a divide every 16 pixels as
+                                       world spans (ew_stepper), not at every pixel */
+    int               mode;         /* EW_ZP_* */
+    const uint8_t    *blend;        /* EW_ZP_BLEND: [src * 256 + dst] */
 } ew_zpoly_look;
+enum {
+    EW_ZP_OPAQUE,   /* z-tested, z-written (the default) */
+    EW_ZP_FENCE,    /* the same, but texel 255 is a hole: nothing written there */
+    EW_ZP_BLEND     /* z-tested, blended over what is there through look->blend, fogged at
+                       its own depth first; no z written */
+};
 /* Clips (whole frustum) and projects a world-space polygon; 0 if nothing is left. */
 int  ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p);
 /* Fills it into the target where nearer, within rows [y0, y1); ids[pixel]

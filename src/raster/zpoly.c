@@ -76,6 +76,50 @@ static long stepped_row(const ew_span_ctx *c, const ew_gradients *g, const ew_zp
     return won;
 }
 
+/* Pixels xa..xb of row y of a see-through polygon (fence or blend), its
+ * texels fetched like the opaque paths' (stepped or exact); returns the
+ * pixels written. */
+static long see_row(const ew_span_ctx *c, const ew_gradients *g, const ew_zpoly_look *look, int *ids,
+                    int id, int xa, int xb, int y) {
+    const ew_target *tg = c->target;
+    const ew_face *f = look->face;
+    int turb = (f->flags & EW_SURF_TURB) != 0;
+    if (!turb && !look->surf) return 0;
+    float zrow = g->zi_v * (float)y + g->zi_0;
+    float *zr = ew_target_z(tg, 0, y);
+    uint8_t *dst = ew_target_at(tg, 0, y);
+    const ew_fog *fog = look->mode == EW_ZP_BLEND && c->fog.table ? &c->fog : NULL;
+    long won = 0;
+    ew_stepper st = {0};
+    int32_t s = 0, t = 0, ds = 0, dt = 0;
+    int left = 0;
+    if (look->stepped) ew_step_begin(&st, g, c->subdiv_shift, xa, y, xb - xa + 1);
+    for (int x = xa; x <= xb; x++, s += ds, t += dt, left--) {
+        if (look->stepped) {
+            if (left == 0) left = ew_step_next(&st, &s, &t, &ds, &dt);
+        } else {
+            float z = 65536.0f / (g->zi_u * (float)x + zrow), fx = (float)x, fy = (float)y;
+            s = ew_tex_fix((g->s_u * fx + (g->s_v * fy + g->s_0)) * z, g->s_adjust, 0, g->s_max);
+            t = ew_tex_fix((g->t_u * fx + (g->t_v * fy + g->t_0)) * z, g->t_adjust, 0, g->t_max);
+        }
+        float zi = g->zi_u * (float)x + zrow;
+        if (zi <= zr[x]) continue;
+        uint8_t px = turb ? ew_turb_texel(c->turb, look->tex, s, t)
+                          : look->surf[((uint32_t)t >> 16) * (uint32_t)look->surf_width + ((uint32_t)s >> 16)];
+        if (look->mode == EW_ZP_FENCE) {
+            if (px == 255) continue;  /* a hole */
+            zr[x] = zi;
+            if (ids) ids[(size_t)y * tg->width + x] = id;
+            ew_put8(dst + x, px);
+        } else {
+            if (fog) px = fog->table[ew_fog_level(fog, zi) * 256 + px];
+            ew_put8(dst + x, look->blend[px * 256 + dst[x]]);
+        }
+        won++;
+    }
+    return won;
+}
+
 long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,
                    int y0, int y1) {
     const ew_face *f = look->face;
@@ -111,6 +155,10 @@ long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look 
         int xa = (int)ceil(xlo), xb = (int)floor(xhi);
         if (xa < p->x0) xa = p->x0;
         if (xb > p->x1) xb = p->x1;
+        if (look->mode != EW_ZP_OPAQUE) {
+            if (xb >= xa) won += see_row(c, &g, look, ids, id, xa, xb, y);
+            continue;
+        }
         if (look->stepped && look->surf && !(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
             if (xb >= xa) won += stepped_row(c, &g, look, ids, id, xa, xb, y);
             continue;

@@ -6,8 +6,14 @@
 static const ew_pass passes[] = {
     /* alias models, sprites, item boxes, particles */
     {"models", ew_prepare_entities, ew_pose_alias, ew_draw_models},
-    /* next: fences and translucent surfaces (back to front), then fog */
+    /* fence textures: holes show the world and the models behind */
+    {"fences", ew_see_prepare, NULL, ew_draw_fences},
+    /* fog over everything opaque, by its depth */
+    {"fog", ew_fog_prepare, NULL, ew_draw_fog},
+    /* translucent surfaces, far to near, each fogged at its own depth */
+    {"translucent", NULL, NULL, ew_draw_translucent},
 };
+/* After the bands: the underwater warp and tint (raster/warp.c, ew_render). */
 enum { NPASSES = sizeof passes / sizeof *passes };
 _Static_assert(NPASSES <= sizeof ((ew_sched *)0)->pass_items / sizeof(int), "room for every pass's work");
 

@@ -33,4 +33,22 @@ void ew_passes_draw(ew_renderer *r, const ew_rows *rows);
 void ew_draw_models(ew_renderer *r, const ew_rows *rows);
 void ew_pose_alias(ew_renderer *r, int item);
 
+/* raster/seethrough.c: fence textures (alpha-tested, z-written), then
+ * translucent surfaces (blended far to near, no z), as the front end
+ * collected them (world/divert.c). */
+int  ew_see_prepare(ew_renderer *r);
+void ew_draw_fences(ew_renderer *r, const ew_rows *rows);
+void ew_draw_translucent(ew_renderer *r, const ew_rows *rows);
+
+/* raster/fog.c: fog over what is opaque by its depth (the translucent
+ * surfaces fog their own texels as they blend). */
+int  ew_fog_prepare(ew_renderer *r);
+void ew_draw_fog(ew_renderer *r, const ew_rows *rows);
+
+/* raster/warp.c: the underwater view, after every band is drawn (it reads
+ * rows of other bands): the frame warped and tinted by the liquid the eye
+ * is in.  ew_warp_begin (serial) returns 0 when there is nothing to do. */
+int  ew_warp_begin(ew_renderer *r);
+void ew_warp_rows(ew_renderer *r, int y0, int y1);
+
 #endif

@@ -82,12 +82,19 @@ int ew_scene_add_entity(ew_scene *s, int model, const float origin[3], const flo
         e->angles[k] = angles ? angles[k] : 0;
     }
     e->frame = frame, e->skin = skin;
+    e->alpha = 1;
     return s->nents++;
 }
 
 int ew_scene_add_brush(ew_scene *s, int submodel, const float origin[3], const float angles[3]) {
     if (submodel <= 0 || submodel >= s->world->nummodels) return -1;
     return ew_scene_add_entity(s, -1 - submodel, origin, angles, 0, 0);
+}
+
+int ew_scene_set_alpha(ew_scene *s, int entity, float alpha) {
+    if (!s || entity < 0 || entity >= s->nents || !(alpha > 0 && alpha <= 1)) return -1;
+    s->ents[entity].alpha = alpha;
+    return 0;
 }
 
 int ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius) {

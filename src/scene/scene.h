@@ -16,6 +16,7 @@ typedef struct ew_scene_entity {
     int   model;     /* >= 0: scene model; < 0: world submodel -1 - model (doors...) */
     float origin[3], angles[3];
     int   frame, skin;
+    float alpha;     /* brush entities: opacity, 1 = opaque (the "alpha" key; 0 there means 1) */
 } ew_scene_entity;
 
 typedef struct ew_dlight {
@@ -34,6 +35,8 @@ struct ew_scene {
     struct ew_particle *particles; int nparticles;
     int              unknown;   /* entities whose classname has no known model */
     int              missing;   /* entities whose model file was not found */
+    char           **warnings;  /* ew_scene_warning */
+    int              nwarnings;
 };
 
 #endif

@@ -22,6 +22,8 @@ typedef struct split_ctx {
     int            face;
     float          normal[3]; /* the face's outward normal in world space */
     int            handed;    /* fragments handed to the hidden-surface method */
+    int            kind;      /* EW_SEE_*: where its fragments go */
+    float          alpha;
 } split_ctx;
 
 static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
@@ -34,7 +36,10 @@ static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
     if (node < 0) {
         int li = -1 - node;
         if (r->marks.leaf_keyframe[li] == r->marks.framecount && w->leaves[li].contents != EW_CONTENTS_SOLID) {
-            r->cfg.hsr->poly(r, p, n, c->face, c->view, r->marks.leaf_key[li]);
+            if (ew_see_to_hsr(r, c->kind))
+                r->cfg.hsr->poly(r, p, n, c->face, c->view, r->marks.leaf_key[li]);
+            else
+                ew_see_add(r, p, n, c->face, c->view, r->marks.leaf_key[li], c->kind, c->alpha);
             c->handed++;
         }
         return;
@@ -77,7 +82,18 @@ static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
     if (nb >= 3) split(c, b, nb, nd->children[1], depth + 1);
 }
 
-void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx) {
+/* A face is drawn if any fragment of it lands in a visited leaf. */
+static int split_face(ew_renderer *r, int fi, const ew_view *mv, const float normal[3], float (*p)[3], int n,
+                      float entity_alpha) {
+    split_ctx c = {r, mv, fi, {normal[0], normal[1], normal[2]}, 0, 0, 1};
+    c.kind = ew_see_kind(r, &r->world->faces[fi], entity_alpha, &c.alpha);
+    split(&c, p, n, r->world->models[0].headnode, 0);
+    return c.handed > 0;
+}
+
+/* Every camera-facing face of every brush entity in the frustum, moved into
+ * world space and split down the world BSP. */
+void ew_walk_brush_models(ew_renderer *r) {
     const struct ew_scene *sc = r->ents.scene;
     if (!sc) return;
     const ew_world *w = r->world;
@@ -117,20 +133,11 @@ void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx) {
                 for (int k = 0; k < 3; k++)
                     p[v][k] = e->origin[k] + ax[k][0] * q[0] + ax[k][1] * q[1] + ax[k][2] * q[2];
             }
-            drawn += fn(r, ctx, fi, mv, normal, p, f->numedges);
+            drawn += split_face(r, fi, mv, normal, p, f->numedges, e->alpha);
         }
         if (drawn) r->stats.entities_drawn++;
         else r->stats.entities_culled++;
     }
 }
 
-/* A face is drawn if any fragment of it lands in a visited leaf. */
-static int split_face(ew_renderer *r, void *ctx, int fi, const ew_view *mv,
-                      const float normal[3], float (*p)[3], int n) {
-    (void)ctx;
-    split_ctx c = {r, mv, fi, {normal[0], normal[1], normal[2]}, 0};
-    split(&c, p, n, r->world->models[0].headnode, 0);
-    return c.handed > 0;
-}
 
-void ew_walk_brush_models(ew_renderer *r) { ew_for_brush_faces(r, split_face, NULL); }

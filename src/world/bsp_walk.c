@@ -48,7 +48,18 @@ static void walk(ew_renderer *r, int n, int clipflags, int depth, int *key) {
         if (r->marks.face_frame[fi] != r->marks.framecount) continue;
         if (((f->flags & EW_SURF_PLANEBACK) != 0) != want_back) continue;
         if (d == 0) continue;  /* edge-on */
-        r->cfg.hsr->face(r, fi, clipflags, *key);
+        float alpha;
+        int kind = ew_see_kind(r, f, 1, &alpha);
+        if (ew_see_to_hsr(r, kind)) {
+            r->cfg.hsr->face(r, fi, clipflags, *key);
+        } else if (f->numedges <= EW_MAX_POLY - 8) {
+            float p[EW_MAX_POLY][3];
+            for (int k = 0; k < f->numedges; k++) {
+                const float *q = w->verts[ew_face_vertex(w, f, k)];
+                p[k][0] = q[0], p[k][1] = q[1], p[k][2] = q[2];
+            }
+            ew_see_add(r, p, f->numedges, fi, &r->view, *key, kind, alpha);
+        }
     }
     (*key)++;
 

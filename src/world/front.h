@@ -35,12 +35,18 @@ int  ew_box_in_pvs(const ew_renderer *r, const float lo[3], const float hi[3]);
 /* world/bmodel.c: brush model entities, split into the world's leaves and
  * handed to the hidden-surface method with their leaf's BSP key. */
 void ew_walk_brush_models(ew_renderer *r);
-/* Calls fn for every camera-facing face of every brush entity in the
- * frustum, with the polygon moved into world space, the face's world
- * normal and the camera in model space; fn returns 1 if it drew anything. */
-typedef int (*ew_brush_face_fn)(ew_renderer *r, void *ctx, int face, const ew_view *model_view,
-                                const float normal[3], float (*poly)[3], int n);
-void ew_for_brush_faces(ew_renderer *r, ew_brush_face_fn fn, void *ctx);
+
+/* world/divert.c: faces that are not opaque (fence textures, translucent
+ * liquids and brush entities) go to the see-through pass instead of the
+ * hidden-surface method.  ew_see_kind: EW_SEE_OPAQUE, _FENCE or _BLEND (with
+ * *alpha) for face f of the world (entity_alpha 1 for the world itself). */
+int  ew_see_kind(const ew_renderer *r, const ew_face *f, float entity_alpha, float *alpha);
+/* 1 if a face of that kind goes to the hidden-surface method. */
+int  ew_see_to_hsr(const ew_renderer *r, int kind);
+/* Adds face fi's world-space polygon (seen through v, the camera in the
+ * face's space) to the see-through list with its BSP key. */
+void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind,
+                float alpha);
 
 /* world/entities.c: once per frame before the bands draw (serial): which
  * entities the PVS and the frustum let through, and the light on each, so

@@ -1,0 +1,117 @@
+/* Blend, fog and tint tables for 8-bit frames (raster/blend.h). */
+#include "raster/blend.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CHOICES 224  /* 224..255: fullbrights and the key colour, never a result */
+
+static int nearest_exact(const uint8_t *pal, int r, int g, int b) {
+    int best = 0, bestd = 1 << 30;
+    for (int i = 0; i < CHOICES; i++) {
+        int dr = pal[i * 3] - r, dg = pal[i * 3 + 1] - g, db = pal[i * 3 + 2] - b;
+        int d = dr * dr + dg * dg + db * db;
+        if (d < bestd) bestd = d, best = i;
+    }
+    return best;
+}
+
+int ew_blend_init(ew_blend *b, const uint8_t palette[768]) {
+    memset(b, 0, sizeof *b);
+    b->palette = palette;
+    b->fog_rgb[0] = -1;  /* no fog table yet */
+    b->tint_amount = -1; /* nor a tint */
+    return 0;
+}
+
+void ew_blend_free(ew_blend *b) {
+    free(b->nearest);
+    for (int i = 0; i <= EW_BLEND_LEVELS; i++) free(b->alpha[i]);
+    free(b->fog);
+    memset(b, 0, sizeof *b);
+}
+
+/* The RGB cube (5 bits a channel), filled from the exact search at each
+ * cell's centre: blends then cost three shifts and one lookup to map back. */
+static int build_cube(ew_blend *b) {
+    if (b->nearest) return 0;
+    uint8_t *c = malloc(32 * 32 * 32);
+    if (!c) return -1;
+    for (int r = 0; r < 32; r++)
+        for (int g = 0; g < 32; g++)
+            for (int bl = 0; bl < 32; bl++)
+                c[(r << 10) | (g << 5) | bl] = (uint8_t)nearest_exact(b->palette, r * 8 + 4, g * 8 + 4, bl * 8 + 4);
+    b->nearest = c;
+    return 0;
+}
+
+uint8_t ew_blend_nearest(const ew_blend *b, int r, int g, int bl) {
+    return (uint8_t)nearest_exact(b->palette, r, g, bl);
+}
+
+int ew_blend_level(float alpha) {
+    int l = (int)lrintf(alpha * EW_BLEND_LEVELS);
+    return l < 1 ? 1 : l > EW_BLEND_LEVELS ? EW_BLEND_LEVELS : l;
+}
+
+const uint8_t *ew_blend_alpha(ew_blend *b, int level) {
+    if (level < 1) level = 1;
+    if (level > EW_BLEND_LEVELS) level = EW_BLEND_LEVELS;
+    if (b->alpha[level]) return b->alpha[level];
+    if (build_cube(b) < 0) return NULL;
+    uint8_t *t = malloc(256 * 256);
+    if (!t) return NULL;
+    const uint8_t *p = b->palette;
+    int a = level, na = EW_BLEND_LEVELS - level;
+    for (int s = 0; s < 256; s++)
+        for (int d = 0; d < 256; d++) {
+            int r = (p[s * 3] * a + p[d * 3] * na) / EW_BLEND_LEVELS;
+            int g = (p[s * 3 + 1] * a + p[d * 3 + 1] * na) / EW_BLEND_LEVELS;
+            int bl = (p[s * 3 + 2] * a + p[d * 3 + 2] * na) / EW_BLEND_LEVELS;
+            t[s * 256 + d] = b->nearest[((r >> 3) << 10) | ((g >> 3) << 5) | (bl >> 3)];
+        }
+    /* Opaque is exact: no colour changes at level 16. */
+    if (level == EW_BLEND_LEVELS)
+        for (int s = 0; s < 256; s++) memset(t + s * 256, s, 256);
+    b->alpha[level] = t;
+    return t;
+}
+
+const uint8_t *ew_blend_fog(ew_blend *b, const float rgb[3]) {
+    if (b->fog && memcmp(rgb, b->fog_rgb, sizeof b->fog_rgb) == 0) return b->fog;
+    uint8_t *t = b->fog ? b->fog : malloc(EW_FOG_LEVELS * 256);
+    if (!t) return NULL;
+    const uint8_t *p = b->palette;
+    float fr = rgb[0] * 255, fg = rgb[1] * 255, fb = rgb[2] * 255;
+    for (int k = 0; k < EW_FOG_LEVELS; k++) {
+        float f = (float)k / (EW_FOG_LEVELS - 1);
+        for (int c = 0; c < 256; c++) {
+            if (k == 0) {  /* no fog: the colour itself, fullbrights included */
+                t[c] = (uint8_t)c;
+                continue;
+            }
+            int r = (int)lrintf(p[c * 3] + (fr - p[c * 3]) * f);
+            int g = (int)lrintf(p[c * 3 + 1] + (fg - p[c * 3 + 1]) * f);
+            int bl = (int)lrintf(p[c * 3 + 2] + (fb - p[c * 3 + 2]) * f);
+            t[k * 256 + c] = (uint8_t)nearest_exact(p, r, g, bl);
+        }
+    }
+    memcpy(b->fog_rgb, rgb, sizeof b->fog_rgb);
+    b->fog = t;
+    return t;
+}
+
+const uint8_t *ew_blend_tint(ew_blend *b, const int rgb[3], int amount) {
+    if (b->tint_amount == amount && memcmp(rgb, b->tint_rgb, sizeof b->tint_rgb) == 0) return b->tint;
+    const uint8_t *p = b->palette;
+    for (int c = 0; c < 256; c++) {
+        int r = p[c * 3] + (rgb[0] - p[c * 3]) * amount / 256;
+        int g = p[c * 3 + 1] + (rgb[1] - p[c * 3 + 1]) * amount / 256;
+        int bl = p[c * 3 + 2] + (rgb[2] - p[c * 3 + 2]) * amount / 256;
+        b->tint[c] = amount ? (uint8_t)nearest_exact(p, r, g, bl) : (uint8_t)c;
+    }
+    memcpy(b->tint_rgb, rgb, sizeof b->tint_rgb);
+    b->tint_amount = amount;
+    return b->tint;
+}

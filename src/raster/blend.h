@@ -1,0 +1,42 @@
+/* Colour arithmetic in 8-bit frames (internal, raster/blend.c).  A paletted
+ * frame cannot hold a blend or a fogged colour, so each is mapped back to
+ * the nearest palette colour through tables built once per palette (and per
+ * alpha or fog colour), the way the software renderers of the time did
+ * translucency: a lookup per pixel, no dithering noise, and the frame keeps
+ * its palette.  Fullbright colours (224..254) and the key colour 255 are
+ * never chosen as results: a blend must not glow or punch a hole. */
+#ifndef EW_RASTER_BLEND_H
+#define EW_RASTER_BLEND_H
+
+#include <stdint.h>
+
+#define EW_BLEND_LEVELS 16   /* alpha quantized to 1/16 */
+#define EW_FOG_LEVELS   64   /* fog amount quantized to 1/64 */
+
+typedef struct ew_blend {
+    const uint8_t *palette;                  /* the palette the tables are for */
+    uint8_t  *nearest;                       /* 32x32x32 RGB cube -> palette index */
+    uint8_t  *alpha[EW_BLEND_LEVELS + 1];    /* [level][src * 256 + dst], built on first use */
+    uint8_t  *fog;                           /* [level * 256 + colour] for fog_rgb */
+    float     fog_rgb[3];
+    uint8_t   tint[256];                     /* the underwater tint for tint_rgb/tint_amount */
+    int       tint_rgb[3], tint_amount;      /* tint[] is valid for these (amount 0: none built) */
+} ew_blend;
+
+/* Starts empty (tables are built on first use); 0, or -1 out of memory. */
+int  ew_blend_init(ew_blend *b, const uint8_t palette[768]);
+void ew_blend_free(ew_blend *b);
+/* The nearest non-fullbright palette colour to (r, g, b), 0..255 each. */
+uint8_t ew_blend_nearest(const ew_blend *b, int r, int g, int bl);
+/* The alpha level of an opacity in (0, 1]: 1..EW_BLEND_LEVELS. */
+int  ew_blend_level(float alpha);
+/* The table of level (src over dst at level / EW_BLEND_LEVELS): built if
+ * needed (serial: before the bands draw); NULL out of memory. */
+const uint8_t *ew_blend_alpha(ew_blend *b, int level);
+/* Fog tables for colour rgb (0..1): [k * 256 + c] is colour c fogged by
+ * k / (EW_FOG_LEVELS - 1).  Rebuilt when the colour changes; NULL out of memory. */
+const uint8_t *ew_blend_fog(ew_blend *b, const float rgb[3]);
+/* tint[c]: colour c moved amount/256 of the way to rgb (0..255). */
+const uint8_t *ew_blend_tint(ew_blend *b, const int rgb[3], int amount);
+
+#endif

@@ -1,0 +1,92 @@
+/* The see-through pass: fence textures and translucent surfaces, which the
+ * front end kept out of the hidden-surface method (world/divert.c), drawn
+ * over the world and the moving things with a z test against what is there.
+ * Fences first, in any order: their texels write z, their holes (index
+ * 255) nothing, so a monster behind a grate shows through the gaps and a
+ * monster in front of it hides it.  Then translucent surfaces, far to near
+ * in BSP order, each blended over what is there and writing no z (a monster
+ * under water shows, tinted by it). */
+#include "renderer.h"
+
+#include <stdlib.h>
+
+/* Fences first; translucent ones far to near: larger BSP key first (keys
+ * grow from front to back), then the farther nearest point. */
+static const ew_see_poly *sort_base;
+static int by_order(const void *pa, const void *pb) {
+    const ew_see_poly *a = &sort_base[*(const int *)pa], *b = &sort_base[*(const int *)pb];
+    if ((a->kind == EW_SEE_FENCE) != (b->kind == EW_SEE_FENCE)) return a->kind == EW_SEE_FENCE ? -1 : 1;
+    if (a->key != b->key) return a->key > b->key ? -1 : 1;
+    if (a->p.nearzi != b->p.nearzi) return a->p.nearzi < b->p.nearzi ? -1 : 1;
+    return *(const int *)pa - *(const int *)pb;  /* stable: the order they came in */
+}
+
+int ew_see_prepare(ew_renderer *r) {
+    ew_see *see = &r->see;
+    const ew_world *w = r->world;
+    see->nfences = 0;
+    r->stats.seethrough_surfaces = 0;
+    if (see->n == 0) return 0;
+    if (see->n > see->cap_order) {
+        int *o = realloc(see->order, sizeof *o * (size_t)see->cap);
+        if (!o) {
+            r->stats.dropped += see->n;
+            see->n = 0;
+            return 0;
+        }
+        see->order = o, see->cap_order = see->cap;
+    }
+    int n = 0;
+    for (int i = 0; i < see->n; i++) {
+        ew_see_poly *sp = &see->polys[i];
+        const ew_face *f = &w->faces[sp->face];
+        ew_zpoly_look *look = &sp->look;
+        look->tex = ew_face_texture(w, f, r->view.time);
+        look->mode = sp->kind == EW_SEE_FENCE ? EW_ZP_FENCE : EW_ZP_BLEND;
+        if (sp->kind == EW_SEE_BLEND && !(look->blend = ew_blend_alpha(&r->blend, ew_blend_level(sp->alpha)))) {
+            r->stats.dropped++;
+            continue;
+        }
+        if (!(f->flags & EW_SURF_TURB)) {  /* a lit surface, through the cache like the world's */
+            int build;
+            look->mip = ew_face_mip(&r->view, w, f, sp->p.nearzi);
+            ew_cached_surf *e = ew_cache_lookup(r, sp->face, look->mip, &build);
+            if (!e) {
+                r->stats.dropped++;
+                continue;
+            }
+            if (build) r->lit.to_build[r->lit.nbuild++] = e;  /* built with the world's */
+            look->surf = e->pixels, look->surf_width = e->width;
+        }
+        see->order[n++] = i;
+        see->nfences += sp->kind == EW_SEE_FENCE;
+    }
+    sort_base = see->polys;  /* serial: no other thread sorts */
+    qsort(see->order, (size_t)n, sizeof *see->order, by_order);
+    see->n_drawn = n;
+    r->stats.seethrough_surfaces = n;
+    return 0;
+}
+
+static void draw_range(ew_renderer *r, const ew_rows *rows, int from, int to, long *count) {
+    const ew_see *see = &r->see;
+    long px = 0;
+    for (int k = from; k < to; k++) {
+        const ew_see_poly *sp = &see->polys[see->order[k]];
+        const ew_zpoly *p = &sp->p;
+        if (p->y1 < rows->y0 || p->y0 >= rows->y1) continue;  /* another band's rows */
+        ew_zfill_rect(&r->zf, p->x0, p->y0 > rows->y0 ? p->y0 : rows->y0, p->x1 + 1,
+                      p->y1 + 1 < rows->y1 ? p->y1 + 1 : rows->y1);
+        px += ew_zpoly_fill(&r->draw, p, &sp->look, r->cfg.face_ids_on ? r->face_ids : NULL, sp->face, rows->y0,
+                            rows->y1);
+    }
+    *count += px;
+}
+
+void ew_draw_fences(ew_renderer *r, const ew_rows *rows) {
+    draw_range(r, rows, 0, r->see.nfences, &rows->stats->fence_pixels);
+}
+
+void ew_draw_translucent(ew_renderer *r, const ew_rows *rows) {
+    draw_range(r, rows, r->see.nfences, r->see.n_drawn, &rows->stats->translucent_pixels);
+}
