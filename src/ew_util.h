@@ -32,6 +32,12 @@ static inline float ew_f32(const uint8_t *p) {
 
 double ew_now_ms(void);  /* monotonic clock */
 
+/* Warning lists (a world's, a scene's): appends one formatted line (at most
+ * 64 kept; out of memory drops it); frees a list. */
+#define EW_MAX_WARNINGS 64
+void ew_warn(char ***list, int *n, const char *fmt, ...) EW_PRINTF(3, 4);
+void ew_warn_free(char **list, int n);
+
 /* Names in maps and paks compare without regard to ASCII case, as the game did. */
 static inline int ew_lower(int c) { return c >= 'A' && c <= 'Z' ? c + 32 : c; }
 static inline int ew_same_name(const char *a, const char *b) {

@@ -772,8 +772,13 @@ done:
 
 /* ---- public ------------------------------------------------------------ */
 
+const char *ew_world_warning(const ew_world *w, int i) {
+    return w && i >= 0 && i < w->nwarnings ? w->warnings[i] : NULL;
+}
+
 void ew_world_destroy(ew_world *w) {
     if (!w) return;
+    ew_warn_free(w->warnings, w->nwarnings);
     free(w->planes);
     free(w->verts);
     free(w->edges);

@@ -31,7 +31,12 @@ void ew_scene_destroy(ew_scene *s) {
     free(s->ents);
     free(s->models);
     free(s->particles);
+    ew_warn_free(s->warnings, s->nwarnings);
     free(s);
+}
+
+const char *ew_scene_warning(const ew_scene *s, int i) {
+    return s && i >= 0 && i < s->nwarnings ? s->warnings[i] : NULL;
 }
 
 int ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size_t size, ew_error *err) {
