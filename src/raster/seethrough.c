@@ -24,7 +24,7 @@ static int by_order(const void *pa, const void *pb) {
 int ew_see_prepare(ew_renderer *r) {
     ew_see *see = &r->see;
     const ew_world *w = r->world;
-    see->nfences = 0;
+    see->nfences = see->n_drawn = 0;
     r->stats.seethrough_surfaces = 0;
     if (see->n == 0) return 0;
     if (see->n > see->cap_order) {
