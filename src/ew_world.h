@@ -66,6 +66,17 @@ typedef struct ew_texinfo {
     float mipadjust;   /* texture scale factor used in mip selection */
 } ew_texinfo;
 
+/* A face's light map where it is not Quake's (one sample every 16 texels
+ * from texturemins, (extents >> 4) + 1 a side): BSPX LMSHIFT (1 << shift
+ * texels a sample) or DECOUPLED_LM (its own size and projection).  Light
+ * sample (u, v) of texture point (s, t): u = st_to_lm[0] . (s, t, 1),
+ * v = st_to_lm[1] . (s, t, 1), in samples from the map's first. */
+typedef struct ew_facelm {
+    int   width, height;     /* samples a side */
+    int   lightofs;          /* first sample (byte offset into lighting), -1 none */
+    float st_to_lm[2][3];
+} ew_facelm;
+
 typedef struct ew_face {
     int     plane;
     int     firstedge, numedges;  /* into surfedges, numedges >= 3 */
@@ -119,6 +130,10 @@ struct ew_world {
     ew_leaf    *leaves;       int numleaves;
     ew_model   *models;       int nummodels;
     uint8_t    *lighting;     int lightsize;
+    /* Coloured light (3 bytes a sample, the same samples as lighting): from
+     * a .lit file beside the map or the BSPX RGBLIGHTING lump; NULL if none. */
+    uint8_t    *rgblight;
+    ew_facelm  *facelm;       /* numfaces (BSPX LMSHIFT / DECOUPLED_LM), or NULL: Quake's */
     uint8_t    *visdata;      int vissize;
     char       *entities;     /* NUL-terminated copy */
     int         textures_missing;
