@@ -160,7 +160,8 @@ typedef struct ew_renderer ew_renderer;
 
 /* Pixel format of the frame. */
 typedef enum ew_color_mode {
-    EW_COLOR_8BIT = 0   /* palette indices (ew_frame_pixels); the only mode today */
+    EW_COLOR_8BIT = 0,  /* palette indices (ew_frame_pixels): the software look */
+    EW_COLOR_TRUE       /* 32-bit pixels (ew_frame_rgba): surfaces lit in RGB */
 } ew_color_mode;
 
 /* Hidden-surface removal for the world. */
@@ -186,7 +187,7 @@ typedef struct ew_renderer_desc {
     int   threads;                    /* 0: one per core (at most EW_MAX_THREADS) */
     int   subdivision;                /* 0: 16 (a divide every 16 pixels); 1,2,4,8,16,32 */
     int   cache_mb;                   /* 0: automatic (16 bytes a pixel, 16..512 MiB) */
-    ew_color_mode color;              /* 0: EW_COLOR_8BIT (the only mode today) */
+    ew_color_mode color;              /* 0: EW_COLOR_8BIT; EW_COLOR_TRUE */
     ew_hsr_method hsr;                /* 0: EW_HSR_EDGE (global edge list); EW_HSR_REFERENCE: per-pixel z-buffer */
     ew_alias_raster alias_raster;     /* 0: EW_ALIAS_AUTO */
     float alias_threshold;            /* 0: 40 pixels */
@@ -237,7 +238,12 @@ EW_API int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats);
 
 EW_API int            ew_frame_width(const ew_renderer *r);
 EW_API int            ew_frame_height(const ew_renderer *r);
-EW_API const uint8_t *ew_frame_pixels(const ew_renderer *r);   /* width*height, row-major */
+/* The frame: 8-bit palette indices (width*height, row-major), or NULL in
+ * true colour; ew_frame_rgba the other way round: 32-bit pixels, the bytes
+ * R, G, B, A in memory (as ew_palette_rgba). */
+EW_API const uint8_t  *ew_frame_pixels(const ew_renderer *r);
+EW_API const uint32_t *ew_frame_rgba(const ew_renderer *r);
+EW_API ew_color_mode   ew_frame_color(const ew_renderer *r);
 /* The frame's 1/z per pixel (larger is nearer; 0 where nothing was drawn):
  * the world's, and the moving things' where they won.  Moving things are
  * the only readers during a frame, so ew_render z-fills the world only
@@ -263,6 +269,14 @@ EW_API int ew_set_subdivision(ew_renderer *r, int pixels);
 /* Alias model rasterizer and auto threshold (threshold_px <= 0 keeps the
  * current one); see ew_alias_raster. */
 EW_API void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float threshold_px);
+
+/* Coloured light: a map's .lit file or BSPX RGBLIGHTING lump is used when
+ * there is one (on, the default); off lights with the monochrome lump. */
+EW_API void ew_set_lit(ew_renderer *r, int on);
+/* 8-bit frames with coloured light: each lit texel is the nearest palette
+ * colour of its RGB; on adds a 4x4 ordered dither before the choice
+ * (default off). */
+EW_API void ew_set_dither(ew_renderer *r, int on);
 
 /* The hidden-surface method of the next frames (ew_hsr_method). */
 EW_API void ew_set_hsr(ew_renderer *r, ew_hsr_method method);
@@ -335,8 +349,11 @@ EW_API int  ew_scene_set_alpha(ew_scene *s, int entity, float alpha);
 /* n particles in a deterministic cloud (same seed, same cloud). */
 EW_API int  ew_scene_add_particles(ew_scene *s, int n, const float center[3], float radius,
                                    uint32_t seed);
-/* A dynamic light: adds light within radius to the surfaces it reaches. */
+/* A dynamic light: adds light within radius to the surfaces it reaches;
+ * white, or the colour given (0..1 each; coloured in true colour and in
+ * 8-bit frames with coloured light). */
 EW_API int  ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius);
+EW_API int  ew_scene_add_dlight_rgb(ew_scene *s, const float origin[3], float radius, const float color[3]);
 EW_API void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing);
 /* Warnings met while making the scene from a map's entities (a brush
  * entity's "alpha" that is not a number from 0 to 1, ...), one line each;
@@ -348,9 +365,13 @@ EW_API void ew_set_scene(ew_renderer *r, const ew_scene *s);
 
 /* ---- output --------------------------------------------------------------*/
 
-/* Expands 8-bit pixels through the palette and writes an RGB PNG. */
+/* Writes 8-bit pixels as an indexed PNG (the palette and one byte a pixel). */
 EW_API int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
                         const uint8_t palette[768], ew_error *err);
+/* Writes 32-bit pixels (R, G, B, A bytes, as ew_frame_rgba) as an RGB PNG. */
+EW_API int ew_write_png_rgba(const char *path, const uint32_t *pixels, int width, int height, ew_error *err);
+/* The frame of a renderer (either colour mode) as a PNG. */
+EW_API int ew_write_frame_png(const ew_renderer *r, const char *path, ew_error *err);
 
 /* Palette to 32-bit pixels for a display: out[i] holds colour i as the
  * bytes R, G, B, A in memory order (A = 255), whatever the machine's byte

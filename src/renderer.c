@@ -35,7 +35,7 @@ static int resolve_desc(const ew_renderer_desc *in, ew_renderer_desc *d, ew_erro
         return ew_fail(err, "renderer: subdivision %d (1, 2, 4, 8, 16 or 32)", d->subdivision);
     if (d->cache_mb < 0 || d->cache_mb > 65536)
         return ew_fail(err, "renderer: cache_mb %d (0 for automatic, else 1..65536)", d->cache_mb);
-    if (d->color != EW_COLOR_8BIT)
+    if (d->color != EW_COLOR_8BIT && d->color != EW_COLOR_TRUE)
         return ew_fail(err, "renderer: unknown colour mode %d", (int)d->color);
     if (d->hsr != EW_HSR_EDGE && d->hsr != EW_HSR_REFERENCE)
         return ew_fail(err, "renderer: unknown hidden-surface method %d", (int)d->hsr);
@@ -66,9 +66,13 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->cfg.classic = d.classic != 0;
     r->cfg.liquid_alpha = -1, r->cfg.fog_density = -1;  /* the map's */
     r->cfg.waterwarp = 1;
-    /* The frame target: 8-bit palette indices, rows one after another. */
+    /* The frame target: 8-bit palette indices or 32-bit pixels, rows one
+     * after another. */
     r->target.width = width, r->target.height = height;
-    r->target.pitch = width, r->target.bpp = 1;
+    r->target.bpp = d.color == EW_COLOR_TRUE ? 4 : 1;
+    r->target.pitch = width * r->target.bpp;
+    r->cfg.use_lit = 1;
+    ew_lightcurve_fit(&r->lit.curve, d.palette, d.colormap);
     r->draw.target = r->zf.target = &r->target;
     r->draw.view = &r->view;
 
@@ -81,10 +85,10 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
 
     int maxlm = 1;
     for (int i = 0; i < w->numfaces; i++) {
-        int n = ((w->faces[i].extents[0] >> 4) + 1) * ((w->faces[i].extents[1] >> 4) + 1);
+        int n = ew_face_samples(w, &w->faces[i]);
         if (!(w->faces[i].flags & (EW_SURF_SKY | EW_SURF_TURB)) && n > maxlm) maxlm = n;
     }
-    r->target.pixels = malloc((size_t)px);
+    r->target.pixels = malloc((size_t)px * (size_t)r->target.bpp);
     r->target.zbuf = malloc(sizeof(float) * (size_t)px);
     r->marks.leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
     r->marks.node_frame = calloc((size_t)w->numnodes + 1, sizeof(int));
@@ -129,8 +133,10 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     size_t budget = (size_t)px * 16;
     if (budget < ((size_t)16 << 20)) budget = (size_t)16 << 20;
     if (budget > ((size_t)512 << 20)) budget = (size_t)512 << 20;
+    budget *= (size_t)r->target.bpp;  /* true colour: 4 bytes a texel, as many surfaces */
     if (d.cache_mb) budget = (size_t)d.cache_mb << 20;
     if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
+    r->lit.cache.bpp = r->target.bpp;
     return r;
 oom:
     ew_renderer_destroy(r);
@@ -171,7 +177,7 @@ int ew_set_threads(ew_renderer *r, int n) {
     if (nb > r->target.height / 8) nb = r->target.height / 8;
     /* Aligned like ew_band, so no two bands' counters share a cache line. */
     r->sched.bands = aligned_alloc(_Alignof(ew_band), sizeof(ew_band) * (size_t)nb);
-    r->lit.blocklights = malloc(sizeof(int) * (size_t)r->lit.maxlm * n);
+    r->lit.blocklights = malloc(sizeof(int) * 3 * (size_t)r->lit.maxlm * n);  /* RGB */
     if (!r->sched.bands || !r->lit.blocklights) return -1;
     memset(r->sched.bands, 0, sizeof(ew_band) * (size_t)nb);
     r->zf.bands = r->sched.bands;
@@ -208,7 +214,31 @@ void ew_renderer_destroy(ew_renderer *r) {
 
 int ew_frame_width(const ew_renderer *r) { return r->target.width; }
 int ew_frame_height(const ew_renderer *r) { return r->target.height; }
-const uint8_t *ew_frame_pixels(const ew_renderer *r) { return r->target.pixels; }
+const uint8_t *ew_frame_pixels(const ew_renderer *r) { return r->target.bpp == 1 ? r->target.pixels : NULL; }
+const uint32_t *ew_frame_rgba(const ew_renderer *r) {
+    return r->target.bpp == 4 ? (const uint32_t *)(const void *)r->target.pixels : NULL;
+}
+ew_color_mode ew_frame_color(const ew_renderer *r) { return r->target.bpp == 4 ? EW_COLOR_TRUE : EW_COLOR_8BIT; }
+
+int ew_write_frame_png(const ew_renderer *r, const char *path, ew_error *err) {
+    if (r->target.bpp == 4)
+        return ew_write_png_rgba(path, ew_frame_rgba(r), r->target.width, r->target.height, err);
+    return ew_write_png(path, r->target.pixels, r->target.width, r->target.height, r->palette, err);
+}
+
+/* Surfaces built with the old setting are rebuilt (their cache entries
+ * no longer match). */
+static void relight(ew_renderer *r) { r->lit.cache.gen++; }
+void ew_set_lit(ew_renderer *r, int on) {
+    if (r->cfg.use_lit != (on != 0)) r->cfg.use_lit = on != 0, relight(r);
+}
+void ew_set_dither(ew_renderer *r, int on) {
+    if (r->cfg.dither != (on != 0)) r->cfg.dither = on != 0, relight(r);
+}
+
+int ew_use_rgb_light(const ew_renderer *r, const ew_world *w) {
+    return w == r->world && w->rgblight && r->cfg.use_lit && !r->cfg.classic;
+}
 const float *ew_frame_zbuffer(ew_renderer *r) {
     ew_zfill_rect(&r->zf, 0, 0, r->target.width, r->target.height);  /* the rest of the world's 1/z */
     return r->target.zbuf;
@@ -234,7 +264,9 @@ void ew_set_hsr(ew_renderer *r, ew_hsr_method method) {
     r->cfg.hsr = method == EW_HSR_REFERENCE ? &ew_hsr_reference : &ew_hsr_edge;
 }
 
-void ew_set_classic(ew_renderer *r, int on) { r->cfg.classic = on != 0; }
+void ew_set_classic(ew_renderer *r, int on) {
+    if (r->cfg.classic != (on != 0)) r->cfg.classic = on != 0, relight(r);  /* .lit off in classic */
+}
 void ew_set_waterwarp(ew_renderer *r, int on) { r->cfg.waterwarp = on != 0; }
 
 void ew_set_liquid_alpha(ew_renderer *r, float alpha) {
@@ -288,6 +320,9 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     ew_turb_table(r->draw.turb, cam->time);
     r->draw.sky_scroll = ew_sky_scroll(r->view.time);
     r->draw.subdiv_shift = r->cfg.subdiv_shift;
+    r->draw.rgba = r->lit.curve.rgba;
+    /* 8-bit coloured light needs the nearest-colour cube (built once). */
+    if (!r->lit.nearest && r->target.bpp == 1 && ew_use_rgb_light(r, r->world)) r->lit.nearest = ew_blend_cube(&r->blend);
     r->cfg.hsr->begin(r);
     r->see.n = 0;
     r->eye_contents = r->world->leaves[ew_pvs_mark(r)].contents;
@@ -377,7 +412,7 @@ static void job_scan(void *ctx, int thread) {
 static void job_build(void *ctx, int thread) {
     ew_renderer *r = ctx;
     const ew_world *w = r->world;
-    int *scratch = r->lit.blocklights + (size_t)r->lit.maxlm * thread;
+    int *scratch = r->lit.blocklights + (size_t)r->lit.maxlm * 3 * thread;
     for (int k; (k = atomic_fetch_add(&r->sched.next_build, 1)) < r->lit.nbuild;)
         ew_cache_build(r, r->lit.to_build[k], scratch);
     ew_passes_work(r);  /* e.g. alias models posed once for every band */

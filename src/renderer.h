@@ -39,6 +39,7 @@ typedef struct ew_config {
     float liquid_alpha;              /* < 0: the map's */
     float fog_density, fog_rgb[3];   /* density < 0: the map's */
     int   waterwarp;
+    int   use_lit, dither;           /* coloured light on; 8-bit coloured light dithered */
     const ew_hsr *hsr;          /* hidden-surface method */
 } ew_config;
 
@@ -68,7 +69,9 @@ typedef struct ew_lit {
     ew_cached_surf **to_build;  int nbuild;
     int             *grad_list; int ngrad;       /* surfaces whose gradients are needed */
     int              maxlm;                      /* largest light map, in samples */
-    int             *blocklights;                /* building scratch, maxlm per thread */
+    int             *blocklights;                /* building scratch, maxlm * 3 per thread */
+    ew_lightcurve    curve;                      /* palette colour x light (light/curve.c) */
+    const uint8_t   *nearest;                    /* 8-bit coloured light: RGB cube -> index */
 } ew_lit;
 
 /* The scene drawn with the world, and what this frame knows of it. */

@@ -49,12 +49,11 @@ int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
         const ew_texture *tex = ew_face_texture(bw, f, r->view.time);
         if (bs->built && bs->tex == tex && memcmp(light, bs->light, sizeof light) == 0) continue;
         bs->built = 0;
-        int samples = ((f->extents[0] >> 4) + 1) * ((f->extents[1] >> 4) + 1);
-        int *scratch = malloc(sizeof(int) * (size_t)samples);
+        int *scratch = malloc(sizeof(int) * 3 * (size_t)ew_face_samples(bw, f));
         int ok = scratch != NULL;
         for (int mip = 0; mip < 4 && ok; mip++) {
             int w = f->extents[0] >> mip, h = f->extents[1] >> mip;
-            if (!bs->pixels[mip]) bs->pixels[mip] = malloc((size_t)w * h);
+            if (!bs->pixels[mip]) bs->pixels[mip] = malloc((size_t)w * h * (size_t)r->target.bpp);
             ok = bs->pixels[mip] != NULL;
             if (ok) ew_build_surface(r, bw, f, tex, mip, light, 0, bs->pixels[mip], scratch);
             bs->width[mip] = w;

@@ -146,6 +146,7 @@ int ew_cache_init(ew_surf_cache *c, int numfaces, size_t budget) {
     memset(c, 0, sizeof *c);
     c->slot = calloc((size_t)numfaces * 4 + 1, sizeof *c->slot);
     c->budget = budget;
+    c->bpp = 1;
     return c->slot ? 0 : -1;
 }
 
@@ -165,7 +166,7 @@ static void lru_push_front(ew_surf_cache *c, ew_cached_surf *e) {
 static void evict(ew_surf_cache *c, ew_cached_surf *e) {
     lru_unlink(c, e);
     c->slot[e->face * 4 + e->mip] = NULL;
-    c->bytes -= (size_t)e->width * e->height;
+    c->bytes -= (size_t)e->width * e->height * c->bpp;
     block_free(c, e);
 }
 
@@ -193,6 +194,7 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
     *build = 0;
     /* A dynamically lit surface is good only for the frame that built it. */
     if (e && e->texture == texture && memcmp(e->light, light, sizeof light) == 0 && e->dlights == dl &&
+        e->gen == c->gen &&
         (!dl || e->last_frame == r->marks.framecount)) {
         if (e->last_frame != r->marks.framecount) r->stats.surfaces_cached++;
         lru_unlink(c, e);
@@ -206,7 +208,7 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
         /* Stale: rebuilt in place (a face's size at a mip never changes,
          * but a block of the wrong size would be given back). */
         lru_unlink(c, e);
-        c->bytes -= (size_t)e->width * e->height;
+        c->bytes -= (size_t)e->width * e->height * c->bpp;
         old_dl = e->dlights;
         if (e->width != width || e->height != height) {
             c->slot[face * 4 + mip] = NULL;
@@ -218,7 +220,7 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
      * than the budget grows the cache; past twice the budget the surface
      * is refused (drawn flat, counted in dropped), so no map can make the
      * cache grow without bound. */
-    size_t need = (size_t)width * height;
+    size_t need = (size_t)width * height * c->bpp;
     while (c->bytes + need > c->budget && c->lru_tail && c->lru_tail->last_frame != r->marks.framecount)
         evict(c, c->lru_tail);
     if (c->bytes + need > 2 * c->budget) {
@@ -235,9 +237,9 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
         c->slot[face * 4 + mip] = e;
     }
     if (dl || old_dl) r->stats.surfaces_rebuilt_by_dlights++;
-    e->width = width, e->height = height, e->texture = texture, e->dlights = dl;
+    e->width = width, e->height = height, e->texture = texture, e->dlights = dl, e->gen = c->gen;
     memcpy(e->light, light, sizeof light);
-    c->bytes += (size_t)width * height;
+    c->bytes += need;
     lru_push_front(c, e);
     e->last_frame = r->marks.framecount;
     while (c->bytes > c->budget && c->lru_tail && c->lru_tail->last_frame != r->marks.framecount)

@@ -61,13 +61,26 @@ unsigned ew_face_dlights(const ew_renderer *r, int face) {
     return r->marks.face_dlframe[face] == r->marks.framecount ? r->marks.face_dlbits[face] : 0;
 }
 
-void ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *bl) {
+void ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *bl, int nc, int smax, int tmax,
+                    const float (*st_to_lm)[3]) {
     const struct ew_scene *sc = r->ents.scene;
     const ew_world *w = r->world;
     if (!sc || !bits) return;
     const ew_plane *pl = &w->planes[f->plane];
     const ew_texinfo *ti = &w->texinfo[f->texinfo];
-    int smax = (f->extents[0] >> 4) + 1, tmax = (f->extents[1] >> 4) + 1;
+    /* Texture position of sample (s, t), from texturemins: 16 s, 16 t on
+     * Quake's grid, else through the inverse of the layout's mapping. */
+    float inv[2][3] = {{16, 0, 0}, {0, 16, 0}};
+    if (st_to_lm) {
+        float a = st_to_lm[0][0], b = st_to_lm[0][1], c = st_to_lm[1][0], d = st_to_lm[1][1];
+        float det = a * d - b * c;
+        if (!(det > 1e-12f || det < -1e-12f)) return;
+        /* (S, T) = A^-1 ((u, v) - offset), made relative to texturemins */
+        inv[0][0] = d / det, inv[0][1] = -b / det;
+        inv[1][0] = -c / det, inv[1][1] = a / det;
+        inv[0][2] = -(inv[0][0] * st_to_lm[0][2] + inv[0][1] * st_to_lm[1][2]) - (float)f->texturemins[0];
+        inv[1][2] = -(inv[1][0] * st_to_lm[0][2] + inv[1][1] * st_to_lm[1][2]) - (float)f->texturemins[1];
+    }
     /* Texture axes are not unit length: measure distances in world units. */
     float ls = sqrtf(ti->vecs[0][0] * ti->vecs[0][0] + ti->vecs[0][1] * ti->vecs[0][1] + ti->vecs[0][2] * ti->vecs[0][2]);
     float lt = sqrtf(ti->vecs[1][0] * ti->vecs[1][0] + ti->vecs[1][1] * ti->vecs[1][1] + ti->vecs[1][2] * ti->vecs[1][2]);
@@ -86,12 +99,25 @@ void ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *
         for (int k = 0; k < 3; k++) imp[k] = o[k] - pl->normal[k] * dist;
         float is = imp[0] * ti->vecs[0][0] + imp[1] * ti->vecs[0][1] + imp[2] * ti->vecs[0][2] + ti->vecs[0][3] - f->texturemins[0];
         float it = imp[0] * ti->vecs[1][0] + imp[1] * ti->vecs[1][1] + imp[2] * ti->vecs[1][2] + ti->vecs[1][3] - f->texturemins[1];
+        const float *col = dl->color;
         for (int t = 0; t < tmax; t++) {
-            float dt = (it - t * 16) / lt;
             for (int s = 0; s < smax; s++) {
-                float ds = (is - s * 16) / ls;
+                float ds, dt;
+                if (!st_to_lm) {
+                    dt = (it - (float)(t * 16)) / lt, ds = (is - (float)(s * 16)) / ls;
+                } else {
+                    ds = (is - (inv[0][0] * (float)s + inv[0][1] * (float)t + inv[0][2])) / ls;
+                    dt = (it - (inv[1][0] * (float)s + inv[1][1] * (float)t + inv[1][2])) / lt;
+                }
                 float d = sqrtf(ds * ds + dt * dt);
-                if (d < rad) bl[t * smax + s] += (int)((rad - d) * 256);
+                if (d >= rad) continue;
+                int add = (int)((rad - d) * 256);
+                if (nc == 1) {
+                    bl[t * smax + s] += add;
+                } else {
+                    int *p = &bl[(t * smax + s) * 3];
+                    for (int k = 0; k < 3; k++) p[k] += (int)((float)add * col[k]);
+                }
             }
         }
     }

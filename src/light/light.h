@@ -14,6 +14,7 @@ typedef struct ew_cached_surf {
     int      face, mip, texture;
     int      light[4];   /* style values it was lit with */
     unsigned dlights;    /* dynamic lights it was built with */
+    unsigned gen;        /* the cache's gen when built */
     int      width, height;
     int      last_frame;
     uint8_t *pixels;     /* right after the entry, in the same block */
@@ -23,6 +24,8 @@ typedef struct ew_cached_surf {
 typedef struct ew_cache_block ew_cache_block;
 typedef struct ew_cache_slab  ew_cache_slab;
 typedef struct ew_surf_cache {
+    int bpp;                      /* bytes a texel: 1, or 4 in true colour */
+    unsigned gen;                 /* bumped when every surface must be rebuilt (a light setting) */
     ew_cached_surf **slot;        /* numfaces * 4 (per mip) */
     ew_cached_surf  *lru_head, *lru_tail;
     size_t bytes, budget;         /* pixels held, and the budget for them */
@@ -42,7 +45,24 @@ void ew_cache_free(ew_surf_cache *c);
 ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
 void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
 
+/* ---- the light curve (light/curve.c) ----
+ * Colour of palette index c under light row l (8.8, as the colormap's):
+ * palette[c] * curve[l >> 4] / 256 per channel, fitted to the colormap's
+ * rows (least squares over the non-fullbright colours, interpolated
+ * between rows); fullbright colours (unchanged in every row) stay unlit. */
+typedef struct ew_lightcurve {
+    const uint8_t *palette;
+    uint16_t       curve[1024];
+    uint8_t        fullbright[256];
+    uint32_t       rgba[256];     /* the palette as 32-bit pixels (ew_rgba) */
+} ew_lightcurve;
+void ew_lightcurve_fit(ew_lightcurve *lc, const uint8_t palette[768], const uint8_t *colormap);
+
 /* ---- lit surfaces (light/surface.c) ---- */
+/* Light samples of a face (its light map's size: Quake's grid or BSPX). */
+int  ew_face_samples(const ew_world *w, const ew_face *f);
+/* 1 if surfaces of world w are built from coloured light this frame. */
+int  ew_use_rgb_light(const ew_renderer *r, const ew_world *w);
 int  ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi);
 const ew_texture *ew_face_texture(const ew_world *w, const ew_face *f, double time);
 /* Builds face f of world w lit by style values light[] (and, for the
@@ -56,7 +76,11 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
  * face this frame (bit i = light i); adds them to a light map. */
 void     ew_mark_dlights(ew_renderer *r);
 unsigned ew_face_dlights(const ew_renderer *r, int face);
-void     ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *blocklights);
+/* Adds the lights in bits to a face's samples (smax x tmax, nc channels
+ * interleaved; st_to_lm NULL for Quake's 16-texel grid, else the BSPX
+ * layout's mapping of texture points to samples). */
+void     ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *blocklights, int nc,
+                        int smax, int tmax, const float (*st_to_lm)[3]);
 
 /* ---- light on moving things (light/lightpoint.c, light/model_light.c) ---- */
 /* The world's light level under point p (0..255). */

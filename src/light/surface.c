@@ -1,8 +1,18 @@
 /* Surface building: tile the face's texture (at the chosen mip level) into a
  * buffer the size of the face, lighting each texel from the face's light
- * map through the colormap.  Light samples sit every 16 texels and are
- * interpolated bilinearly between them; up to four light styles add up. */
+ * map.  Light samples sit every 16 texels (or where the map's BSPX layout
+ * puts them) and are interpolated bilinearly between them; up to four light
+ * styles add up.  One light value per texel and channel, in colormap rows
+ * (8.8), becomes the texel in one of three ways:
+ *   - 8-bit, white light: through the colormap, as the original;
+ *   - 8-bit, coloured light: the palette colour times the light curve per
+ *     channel, mapped to the nearest palette colour (ordered dither optional);
+ *   - true colour: the palette colour times the light curve per channel.
+ * The light curve is fitted to the colormap itself (light/curve.c), so white
+ * light in true colour looks like the 8-bit frame, only smoother. */
 #include "renderer.h"
+
+#include <string.h>
 
 int ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi) {
     float scale = nearzi * (v->xscale > v->yscale ? v->xscale : v->yscale) * w->texinfo[f->texinfo].mipadjust;
@@ -30,56 +40,221 @@ static int wrap(int x, int n) {
     return x < 0 ? x + n : x;
 }
 
+/* Where a face's light samples are: Quake's grid (every 16 texels from
+ * texturemins), or a BSPX layout (facelm). */
+typedef struct lm_layout {
+    int smax, tmax, lightofs;
+    int standard;                 /* Quake's grid: the exact fixed-point stepping */
+    const float (*st_to_lm)[3];   /* otherwise: texture point -> sample */
+} lm_layout;
+
+static lm_layout face_layout(const ew_world *w, const ew_face *f) {
+    lm_layout L = {(f->extents[0] >> 4) + 1, (f->extents[1] >> 4) + 1, f->lightofs, 1, NULL};
+    if (!w->facelm) return L;
+    const ew_facelm *lm = &w->facelm[f - w->faces];
+    /* A layout equal to Quake's (LMSHIFT 4) takes Quake's path, exactly. */
+    const float std[2][3] = {{1.0f / 16, 0, -(float)f->texturemins[0] / 16},
+                             {0, 1.0f / 16, -(float)f->texturemins[1] / 16}};
+    if (lm->width == L.smax && lm->height == L.tmax && memcmp(lm->st_to_lm, std, sizeof std) == 0) {
+        L.lightofs = lm->lightofs;
+        return L;
+    }
+    L.smax = lm->width, L.tmax = lm->height, L.lightofs = lm->lightofs;
+    L.standard = 0, L.st_to_lm = lm->st_to_lm;
+    return L;
+}
+
+int ew_face_samples(const ew_world *w, const ew_face *f) {
+    lm_layout L = face_layout(w, f);
+    return L.smax * L.tmax;
+}
+
+/* Light 0..255*256 (per sample, styles summed) becomes a colormap row in
+ * 8.8: bright maps to low rows; the top is held just short of the
+ * overbright end. */
+static inline int light_row(int bl) {
+    int t = (255 * 256 - bl) >> 2;
+    return t < (1 << 6) ? (1 << 6) : t;
+}
+
+/* The samples of a face, nc channels interleaved (1: white, 3: RGB), as
+ * colormap rows.  Returns 1 if every sample is grey (r = g = b). */
+static int gather(const ew_renderer *r, const ew_world *w, const ew_face *f, const lm_layout *L,
+                  const int light[4], unsigned dlights, int nc, int *bl) {
+    int size = L->smax * L->tmax, n = size * nc, grey = 1;
+    if (!w->lighting) {
+        for (int i = 0; i < n; i++) bl[i] = 32 << 8;  /* unlit map: colours as they are */
+        return 1;
+    }
+    /* Start dark; a face without a light map stays dark, as in Quake. */
+    for (int i = 0; i < n; i++) bl[i] = 0;
+    if (L->lightofs >= 0) {
+        if (nc == 1) {
+            const uint8_t *lm = w->lighting + L->lightofs;
+            for (int k = 0; k < 4 && f->styles[k] != 255; k++, lm += size)
+                for (int i = 0; i < size; i++) bl[i] += lm[i] * light[k];
+        } else {
+            const uint8_t *lm = w->rgblight + (size_t)L->lightofs * 3;
+            for (int k = 0; k < 4 && f->styles[k] != 255; k++, lm += (size_t)size * 3)
+                for (int i = 0; i < n; i++) bl[i] += lm[i] * light[k];
+        }
+    }
+    if (w == r->world) ew_add_dlights(r, f, dlights, bl, nc, L->smax, L->tmax, L->st_to_lm);
+    if (nc == 3)
+        for (int i = 0; i < size && grey; i++) grey = bl[i * 3] == bl[i * 3 + 1] && bl[i * 3] == bl[i * 3 + 2];
+    for (int i = 0; i < n; i++) bl[i] = light_row(bl[i]);
+    return grey;
+}
+
+/* How texels are made from the palette index and the light. */
+enum { OUT_CMAP, OUT_NEAREST, OUT_RGBA };
+
+typedef struct emitter {
+    int mode, nc;
+    const uint8_t *cmap;
+    const ew_lightcurve *lc;
+    const uint8_t *nearest;    /* OUT_NEAREST: the 32x32x32 cube */
+    int dither;
+} emitter;
+
+/* 4x4 ordered dither offsets, in 1/16 of a cube step (8 levels of 256). */
+static const int8_t bayer[4][4] = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}};
+
+/* Texel x of a row: palette index c, light rows l[0..nc-1]. */
+static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x, int dx, int dy, uint8_t c,
+                        const int *l) {
+    const ew_lightcurve *lc = e->lc;
+    if (e->mode == OUT_CMAP) {
+        out8[x] = e->cmap[(l[0] & 0xFF00) + c];
+        return;
+    }
+    int rgb[3];
+    if (lc->fullbright[c]) {
+        for (int k = 0; k < 3; k++) rgb[k] = lc->palette[c * 3 + k];
+    } else {
+        for (int k = 0; k < 3; k++) {
+            int v = (lc->palette[c * 3 + k] * lc->curve[l[e->nc == 3 ? k : 0] >> 4]) >> 8;
+            rgb[k] = v > 255 ? 255 : v;
+        }
+    }
+    if (e->mode == OUT_RGBA) {
+        out32[x] = ew_rgba(rgb[0], rgb[1], rgb[2]);
+        return;
+    }
+    if (lc->fullbright[c]) {
+        out8[x] = c;
+        return;
+    }
+    int d = e->dither ? bayer[dy & 3][dx & 3] / 2 - 4 : 0;  /* -4..3 of a step of 8 */
+    for (int k = 0; k < 3; k++) {
+        int v = rgb[k] + d;
+        rgb[k] = v < 0 ? 0 : v > 255 ? 255 : v;
+    }
+    out8[x] = e->nearest[((rgb[0] >> 3) << 10) | ((rgb[1] >> 3) << 5) | (rgb[2] >> 3)];
+}
+
 void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
                       const ew_texture *tex, int mip, const int light[4], unsigned dlights,
                       uint8_t *out, int *scratch) {
-    const uint8_t *cmap = r->colormap;
-    int smax = (f->extents[0] >> 4) + 1, tmax = (f->extents[1] >> 4) + 1;
+    lm_layout L = face_layout(w, f);
+    int truecolor = r->target.bpp == 4;
+    int rgb = ew_use_rgb_light(r, w);
     int *bl = scratch;
-    int size = smax * tmax;
-
-    if (!w->lighting) {
-        for (int i = 0; i < size; i++) bl[i] = 32 << 8;  /* unlit map: colours as they are */
-    } else {
-        /* Start dark; a face without a light map stays dark, as in Quake. */
-        for (int i = 0; i < size; i++) bl[i] = 0;
-        if (f->lightofs >= 0) {
-            const uint8_t *lm = w->lighting + f->lightofs;
-            for (int k = 0; k < 4 && f->styles[k] != 255; k++, lm += size)
-                for (int i = 0; i < size; i++) bl[i] += lm[i] * light[k];
-        }
-        if (w == r->world) ew_add_dlights(r, f, dlights, bl);
-        /* Light 0..255*256 becomes a colormap row in 8.8: bright maps to
-         * low rows; the top is held just short of the overbright end. */
-        for (int i = 0; i < size; i++) {
-            int t = (255 * 256 - bl[i]) >> 2;
-            bl[i] = t < (1 << 6) ? (1 << 6) : t;
-        }
+    int grey = gather(r, w, f, &L, light, dlights, rgb ? 3 : 1, bl);
+    int nc = rgb ? 3 : 1;
+    if (rgb && grey) {  /* white after all: one channel, so 8-bit takes the colormap path exactly */
+        for (int i = 0, n = L.smax * L.tmax; i < n; i++) bl[i] = bl[i * 3];
+        nc = 1;
     }
+    emitter e = {truecolor ? OUT_RGBA : nc == 3 ? OUT_NEAREST : OUT_CMAP, nc, r->colormap, &r->lit.curve,
+                 NULL, r->cfg.dither};
+    if (e.mode == OUT_NEAREST && !(e.nearest = r->lit.nearest)) e.mode = OUT_CMAP;  /* no table: white */
 
-    int bs = 16 >> mip, shift = 4 - mip;
     int tw = tex->width >> mip, th = tex->height >> mip;
     const uint8_t *tp = tex->mip[mip];
-    int width = f->extents[0] >> mip;
+    int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
     int s0 = wrap(f->texturemins[0] >> mip, tw), t0 = wrap(f->texturemins[1] >> mip, th);
+    uint32_t *out32 = (uint32_t *)(void *)out;
 
+    if (!L.standard) {
+        /* A BSPX layout: each texel's sample position through the face's
+         * own mapping, light interpolated bilinearly there. */
+        float step = (float)(1 << mip);
+        for (int y = 0; y < height; y++) {
+            const uint8_t *row = tp + ((t0 + y) % th) * tw;
+            uint8_t *d8 = out + (size_t)y * width;
+            uint32_t *d32 = out32 + (size_t)y * width;
+            float tt = (float)f->texturemins[1] + (float)y * step;
+            for (int x = 0; x < width; x++) {
+                float ss = (float)f->texturemins[0] + (float)x * step;
+                float u = L.st_to_lm[0][0] * ss + L.st_to_lm[0][1] * tt + L.st_to_lm[0][2];
+                float v = L.st_to_lm[1][0] * ss + L.st_to_lm[1][1] * tt + L.st_to_lm[1][2];
+                u = u < 0 ? 0 : u > (float)(L.smax - 1) ? (float)(L.smax - 1) : u;
+                v = v < 0 ? 0 : v > (float)(L.tmax - 1) ? (float)(L.tmax - 1) : v;
+                int iu = (int)u, iv = (int)v;
+                int iu1 = iu + 1 < L.smax ? iu + 1 : iu, iv1 = iv + 1 < L.tmax ? iv + 1 : iv;
+                float fu = u - (float)iu, fv = v - (float)iv;
+                int l[3];
+                for (int k = 0; k < nc; k++) {
+                    float a = (float)bl[(iv * L.smax + iu) * nc + k], b = (float)bl[(iv * L.smax + iu1) * nc + k];
+                    float c = (float)bl[(iv1 * L.smax + iu) * nc + k], d = (float)bl[(iv1 * L.smax + iu1) * nc + k];
+                    l[k] = (int)((a + (b - a) * fu) * (1 - fv) + (c + (d - c) * fu) * fv);
+                }
+                emit(&e, d8, d32, x, x, y, row[(s0 + x) % tw], l);
+            }
+        }
+        return;
+    }
+
+    int bs = 16 >> mip, shift = 4 - mip, smax = L.smax, tmax = L.tmax;
+    if (e.mode == OUT_CMAP) {  /* the original's path, kept tight */
+        const uint8_t *cmap = r->colormap;
+        for (int j = 0; j < tmax - 1; j++) {
+            for (int i = 0; i < smax - 1; i++) {
+                int l00 = bl[j * smax + i], l10 = bl[j * smax + i + 1];
+                int l01 = bl[(j + 1) * smax + i], l11 = bl[(j + 1) * smax + i + 1];
+                /* Stepped in fixed point from the right-hand sample leftwards, as
+                 * the original did: the same rounding gives the same light rings. */
+                int lstep = (l01 - l00) >> shift, rstep = (l11 - l10) >> shift;
+                int left = l00, right = l10;
+                for (int y = 0; y < bs; y++, left += lstep, right += rstep) {
+                    const uint8_t *row = tp + ((t0 + j * bs + y) % th) * tw;
+                    uint8_t *dst = out + (size_t)(j * bs + y) * width + i * bs;
+                    int step = (left - right) >> shift, l = right;
+                    int sx = (s0 + i * bs + bs - 1) % tw;
+                    for (int x = bs - 1; x >= 0; x--, l += step) {
+                        dst[x] = cmap[(l & 0xFF00) + row[sx]];
+                        if (--sx < 0) sx = tw - 1;
+                    }
+                }
+            }
+        }
+        return;
+    }
+    /* The same stepping per channel, each texel through the emitter. */
     for (int j = 0; j < tmax - 1; j++) {
         for (int i = 0; i < smax - 1; i++) {
-            int l00 = bl[j * smax + i], l10 = bl[j * smax + i + 1];
-            int l01 = bl[(j + 1) * smax + i], l11 = bl[(j + 1) * smax + i + 1];
-            /* Stepped in fixed point from the right-hand sample leftwards, as
-             * the original did: the same rounding gives the same light rings. */
-            int lstep = (l01 - l00) >> shift, rstep = (l11 - l10) >> shift;
-            int left = l00, right = l10;
-            for (int y = 0; y < bs; y++, left += lstep, right += rstep) {
-                const uint8_t *row = tp + ((t0 + j * bs + y) % th) * tw;
-                uint8_t *dst = out + (size_t)(j * bs + y) * width + i * bs;
-                int step = (left - right) >> shift, l = right;
+            int left[3], right[3], lstep[3], rstep[3];
+            for (int k = 0; k < nc; k++) {
+                int l00 = bl[(j * smax + i) * nc + k], l10 = bl[(j * smax + i + 1) * nc + k];
+                int l01 = bl[((j + 1) * smax + i) * nc + k], l11 = bl[((j + 1) * smax + i + 1) * nc + k];
+                lstep[k] = (l01 - l00) >> shift, rstep[k] = (l11 - l10) >> shift;
+                left[k] = l00, right[k] = l10;
+            }
+            for (int y = 0; y < bs; y++) {
+                int yy = j * bs + y;
+                const uint8_t *row = tp + ((t0 + yy) % th) * tw;
+                uint8_t *d8 = out + (size_t)yy * width + i * bs;
+                uint32_t *d32 = out32 + (size_t)yy * width + i * bs;
+                int l[3], step[3];
+                for (int k = 0; k < nc; k++) step[k] = (left[k] - right[k]) >> shift, l[k] = right[k];
                 int sx = (s0 + i * bs + bs - 1) % tw;
-                for (int x = bs - 1; x >= 0; x--, l += step) {
-                    dst[x] = cmap[(l & 0xFF00) + row[sx]];
+                for (int x = bs - 1; x >= 0; x--) {
+                    emit(&e, d8, d32, x, i * bs + x, yy, row[sx], l);
+                    for (int k = 0; k < nc; k++) l[k] += step[k];
                     if (--sx < 0) sx = tw - 1;
                 }
+                for (int k = 0; k < nc; k++) left[k] += lstep[k], right[k] += rstep[k];
             }
         }
     }

@@ -1,4 +1,5 @@
-/* PNG output (8-bit frames through the palette) and input (any PNG to RGB8). */
+/* PNG output (8-bit frames as indexed PNGs, true-colour frames as RGB) and
+ * input (any PNG to RGB8). */
 #define _POSIX_C_SOURCE 200809L
 #include "ew_util.h"
 
@@ -34,11 +35,13 @@ static void on_warning(png_structp png, png_const_charp msg) {
     (void)msg;
 }
 
-int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
-                 const uint8_t palette[768], ew_error *err) {
+/* One writer for both: palette != NULL writes pixels8 as an indexed PNG,
+ * else pixels32 (R, G, B, A bytes) as RGB. */
+static int write_png(const char *path, const uint8_t *pixels8, const uint32_t *pixels32, int width, int height,
+                     const uint8_t *palette, ew_error *err) {
     if (!path || !*path)
         return ew_fail(err, "(png): no output path");
-    if (!pixels || !palette)
+    if (palette ? !pixels8 : !pixels32)
         return ew_fail(err, "%s: cannot write: no pixels or palette", path);
     if (width <= 0 || height <= 0 || width > EW_PNG_MAX_SIDE || height > EW_PNG_MAX_SIDE)
         return ew_fail(err, "%s: cannot write: bad image size %dx%d", path, width, height);
@@ -81,14 +84,25 @@ int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
     if (!row)
         png_error(png, "out of memory");
     png_init_io(png, f);
-    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 8, PNG_COLOR_TYPE_RGB,
-                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 8,
+                 palette ? PNG_COLOR_TYPE_PALETTE : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (palette) {
+        png_color pal[256];
+        for (int i = 0; i < 256; i++)
+            pal[i].red = palette[i * 3], pal[i].green = palette[i * 3 + 1], pal[i].blue = palette[i * 3 + 2];
+        png_set_PLTE(png, info, pal, 256);
+    }
     png_write_info(png, info);
     for (int y = 0; y < height; y++) {
-        const uint8_t *src = pixels + (size_t)y * (size_t)width;
+        if (palette) {  /* indexed: the frame's own bytes, a third of RGB's */
+            png_write_row(png, (png_const_bytep)(pixels8 + (size_t)y * (size_t)width));
+            continue;
+        }
+        const uint32_t *src = pixels32 + (size_t)y * (size_t)width;
         uint8_t *dst = row;
         for (int x = 0; x < width; x++, dst += 3)
-            memcpy(dst, palette + 3 * src[x], 3);
+            memcpy(dst, &src[x], 3);  /* R, G, B bytes first in memory */
         png_write_row(png, row);
     }
     png_write_end(png, info);
@@ -105,6 +119,16 @@ int ew_write_png(const char *path, const uint8_t *pixels, int width, int height,
         return ew_fail(err, "%s: cannot write: %s", path, strerror(e));
     }
     return 0;
+}
+
+int ew_write_png(const char *path, const uint8_t *pixels, int width, int height, const uint8_t palette[768],
+                 ew_error *err) {
+    if (!palette) return ew_fail(err, "%s: cannot write: no pixels or palette", path && *path ? path : "(png)");
+    return write_png(path, pixels, NULL, width, height, palette, err);
+}
+
+int ew_write_png_rgba(const char *path, const uint32_t *pixels, int width, int height, ew_error *err) {
+    return write_png(path, NULL, pixels, width, height, NULL, err);
 }
 
 int ew_read_png_rgb(const char *path, uint8_t **rgb, int *width, int *height, ew_error *err) {

@@ -46,6 +46,8 @@ static int build_cube(ew_blend *b) {
     return 0;
 }
 
+const uint8_t *ew_blend_cube(ew_blend *b) { return build_cube(b) < 0 ? NULL : b->nearest; }
+
 uint8_t ew_blend_nearest(const ew_blend *b, int r, int g, int bl) {
     return (uint8_t)nearest_exact(b->palette, r, g, bl);
 }

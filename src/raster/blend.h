@@ -26,6 +26,9 @@ typedef struct ew_blend {
 /* Starts empty (tables are built on first use); 0, or -1 out of memory. */
 int  ew_blend_init(ew_blend *b, const uint8_t palette[768]);
 void ew_blend_free(ew_blend *b);
+/* The 32x32x32 cube of nearest colours (5 bits a channel): built on first
+ * use (serial); NULL out of memory. */
+const uint8_t *ew_blend_cube(ew_blend *b);
 /* The nearest non-fullbright palette colour to (r, g, b), 0..255 each. */
 uint8_t ew_blend_nearest(const ew_blend *b, int r, int g, int bl);
 /* The alpha level of an opacity in (0, 1]: 1..EW_BLEND_LEVELS. */

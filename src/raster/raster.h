@@ -58,6 +58,7 @@ typedef struct ew_span_ctx {
     float          sky_scroll;     /* sky layers' offset for this frame's time */
     int32_t        turb[128];      /* liquid warp for this frame's time */
     ew_fog         fog;            /* this frame's fog (table NULL: none) */
+    const uint32_t *rgba;          /* true colour: the palette as pixels (sky, liquids) */
 } ew_span_ctx;
 
 /* raster/span.c, sky.c, turb.c: one span of each kind.  A band draws its

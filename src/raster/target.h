@@ -10,6 +10,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 typedef struct ew_target {
     uint8_t *pixels;        /* height rows of pitch bytes */
@@ -29,5 +30,18 @@ static inline float *ew_target_z(const ew_target *t, int x, int y) {
 }
 /* The per-pixel store of the 8-bit writer. */
 static inline void ew_put8(uint8_t *dst, uint8_t index) { *dst = index; }
+/* A true-colour pixel: the bytes R, G, B, A (255) in memory, as
+ * ew_palette_rgba (so a frame goes to a display or a PNG as it is). */
+static inline uint32_t ew_rgba(int r, int g, int b) {
+    uint8_t px[4] = {(uint8_t)r, (uint8_t)g, (uint8_t)b, 255};
+    uint32_t v;
+    memcpy(&v, px, 4);
+    return v;
+}
+static inline void ew_rgba_split(uint32_t v, int rgb[3]) {
+    uint8_t px[4];
+    memcpy(px, &v, 4);
+    rgb[0] = px[0], rgb[1] = px[1], rgb[2] = px[2];
+}
 
 #endif

@@ -102,10 +102,18 @@ int ew_scene_set_alpha(ew_scene *s, int entity, float alpha) {
     return 0;
 }
 
+int ew_scene_add_dlight_rgb(ew_scene *s, const float origin[3], float radius, const float color[3]) {
+    int i = ew_scene_add_dlight(s, origin, radius);
+    if (i < 0 || !color) return i;
+    for (int k = 0; k < 3; k++)
+        s->dlights[i].color[k] = color[k] >= 0 ? (color[k] <= 1 ? color[k] : 1) : 0;  /* NaN: 0 */
+    return i;
+}
+
 int ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius) {
     if (s->ndlights >= EW_MAX_DLIGHTS || !(radius > 0) || radius > 1e5f) return -1;
     ew_dlight *d = &s->dlights[s->ndlights];
-    for (int k = 0; k < 3; k++) d->origin[k] = origin[k];
+    for (int k = 0; k < 3; k++) d->origin[k] = origin[k], d->color[k] = 1;
     d->radius = radius;
     return s->ndlights++;
 }

@@ -22,6 +22,7 @@ typedef struct ew_scene_entity {
 typedef struct ew_dlight {
     float origin[3];
     float radius;
+    float color[3];   /* 0..1 each; white (1, 1, 1) unless told */
 } ew_dlight;
 
 #define EW_MAX_DLIGHTS 32
