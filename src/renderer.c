@@ -71,6 +71,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->target.width = width, r->target.height = height;
     r->target.bpp = d.color == EW_COLOR_TRUE ? 4 : 1;
     r->target.pitch = width * r->target.bpp;
+    r->target.rgba = r->lit.curve.rgba;
     r->cfg.use_lit = 1;
     ew_lightcurve_fit(&r->lit.curve, d.palette, d.colormap);
     r->draw.target = r->zf.target = &r->target;

@@ -128,6 +128,7 @@ struct ew_renderer {
     int         eye_contents;                    /* EW_CONTENTS_* of the eye's leaf this frame */
     uint8_t    *warp_copy;                       /* the underwater warp's source frame and shifts */
     const uint8_t *warp_tint;                    /* and its tint table this frame */
+    int         warp_rgb[3], warp_amount;        /* true colour: the tint itself */
     ew_sched    sched;
     int        *face_ids;                        /* test hook: per pixel, or NULL */
 };

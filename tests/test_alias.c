@@ -36,7 +36,7 @@ static ew_target test_target;
 
 static void init_araster(ew_araster *ra, uint8_t *frame, float *zbuf) {
     memset(ra, 0, sizeof *ra);
-    test_target = (ew_target){frame, zbuf, BW, BH, BW, 1};
+    test_target = (ew_target){frame, zbuf, BW, BH, BW, 1, NULL};
     ra->target = &test_target;
     ra->x0 = 0, ra->y0 = 0, ra->x1 = BW, ra->y1 = BH;
     ra->skin = test_skin, ra->skinw = 16, ra->skinh = 16;

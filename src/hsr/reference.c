@@ -43,7 +43,7 @@ static void ref_poly(ew_renderer *r, float (*in)[3], int n, int fi, const ew_vie
     rp->face = fi;
     /* exact; a fence's holes are alpha-tested per pixel like the rest */
     rp->look = (ew_zpoly_look){w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0, 0,
-                               (f->flags & EW_SURF_FENCE) && !r->cfg.classic ? EW_ZP_FENCE : EW_ZP_OPAQUE, NULL};
+                               (f->flags & EW_SURF_FENCE) && !r->cfg.classic ? EW_ZP_FENCE : EW_ZP_OPAQUE, NULL, 256};
     if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
         int build;
         rp->look.mip = ew_face_mip(&r->view, w, f, rp->p.nearzi);
@@ -76,7 +76,8 @@ static void ref_resolve(ew_renderer *r, ew_band *b) {
     b->naet = 0;
     memset(b->has_spans, 0, (size_t)r->el.nsurfs);
     for (int y = b->y0; y < b->y1; y++) {
-        memset(ew_target_at(t, 0, y), 0, (size_t)t->width * (size_t)t->bpp);
+        uint8_t *row = ew_target_at(t, 0, y);
+        for (int x = 0; x < t->width; x++) ew_put_index(t, row, x, 0);  /* the background: black */
         float *z = ew_target_z(t, 0, y);
         for (int x = 0; x < t->width; x++) z[x] = 0;
         if (ids)
@@ -101,8 +102,9 @@ int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, i
     r->ref.ids = NULL;
     r->cfg.hsr = was;
     if (rc < 0) return ew_fail(err, "reference: bad camera");
-    if (pixels)
+    if (pixels)  /* palette indices, or 4-byte pixels in true colour */
         for (int y = 0; y < r->target.height; y++)
-            memcpy(pixels + (size_t)y * r->target.width, ew_target_at(&r->target, 0, y), (size_t)r->target.width);
+            memcpy(pixels + (size_t)y * r->target.width * r->target.bpp, ew_target_at(&r->target, 0, y),
+                   (size_t)r->target.width * r->target.bpp);
     return 0;
 }

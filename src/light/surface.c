@@ -111,6 +111,7 @@ enum { OUT_CMAP, OUT_NEAREST, OUT_RGBA };
 
 typedef struct emitter {
     int mode, nc;
+    int fence;                 /* true colour: index 255 is a hole (alpha 0) */
     const uint8_t *cmap;
     const ew_lightcurve *lc;
     const uint8_t *nearest;    /* OUT_NEAREST: the 32x32x32 cube */
@@ -138,7 +139,7 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
         }
     }
     if (e->mode == OUT_RGBA) {
-        out32[x] = ew_rgba(rgb[0], rgb[1], rgb[2]);
+        out32[x] = c == 255 && e->fence ? 0 : ew_rgba(rgb[0], rgb[1], rgb[2]);
         return;
     }
     if (lc->fullbright[c]) {
@@ -166,8 +167,8 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
         for (int i = 0, n = L.smax * L.tmax; i < n; i++) bl[i] = bl[i * 3];
         nc = 1;
     }
-    emitter e = {truecolor ? OUT_RGBA : nc == 3 ? OUT_NEAREST : OUT_CMAP, nc, r->colormap, &r->lit.curve,
-                 NULL, r->cfg.dither};
+    emitter e = {truecolor ? OUT_RGBA : nc == 3 ? OUT_NEAREST : OUT_CMAP, nc,
+                 (tex->flags & EW_SURF_FENCE) && !r->cfg.classic, r->colormap, &r->lit.curve, NULL, r->cfg.dither};
     if (e.mode == OUT_NEAREST && !(e.nearest = r->lit.nearest)) e.mode = OUT_CMAP;  /* no table: white */
 
     int tw = tex->width >> mip, th = tex->height >> mip;

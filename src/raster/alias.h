@@ -85,6 +85,7 @@ typedef struct ew_avert {
 /* What a triangle is drawn into and with. */
 typedef struct ew_araster {
     const ew_target *target;            /* the frame and its z-buffer */
+    const uint32_t  *rgba;              /* true colour: palette index -> pixel (tinted by the model's light) */
     int            x0, y0, x1, y1;      /* clip rectangle [x0, x1) x [y0, y1) */
     const uint8_t *skin;                /* skinw * skinh palette indices */
     int            skinw, skinh;
@@ -156,6 +157,7 @@ typedef struct ew_alias_xf {
     int32_t          smax, tmax;
     ew_view_planes_t cp;
     const ew_xvert  *xv;                       /* numverts of them */
+    const uint32_t  *rgba;                     /* true colour: its light's tint, or NULL (white) */
 } ew_alias_xf;
 int  ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
                         ew_xvert *xv);

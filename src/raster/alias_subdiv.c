@@ -41,7 +41,7 @@ static inline void plot(ew_araster *ra, const ew_avert *p) {
     float *z = ew_target_z(ra->target, p->x, p->y);
     if (p->zi >= *z) {
         *z = p->zi;
-        ew_put8(ew_target_at(ra->target, p->x, p->y), c);
+        ew_put_via(ra->target->bpp, ra->rgba, ew_target_at(ra->target, 0, p->y), p->x, c);
         ra->pixels++;
     }
 }
@@ -114,11 +114,11 @@ void ew_alias_tile_end(ew_araster *ra) {
         const uint8_t *f = ra->tile_f + (size_t)y * ra->tw, *c = ra->tile_c + (size_t)y * ra->tw;
         const float *z = ra->tile_z + (size_t)y * ra->tw;
         float *zr = ew_target_z(ra->target, ra->tx0, ra->ty0 + y);
-        uint8_t *fr = ew_target_at(ra->target, ra->tx0, ra->ty0 + y);
+        uint8_t *fr = ew_target_at(ra->target, ra->tx0, ra->ty0 + y);  /* column tx0 */
         for (int x = 0; x < ra->tw; x++)
             if (f[x]) {
                 zr[x] = z[x];
-                ew_put8(&fr[x], c[x]);
+                ew_put_via(ra->target->bpp, ra->rgba, fr, x, c[x]);
                 n++;
             }
     }

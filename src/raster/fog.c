@@ -23,7 +23,8 @@ int ew_fog_prepare(ew_renderer *r) {
     const float *rgb = r->cfg.fog_density >= 0 ? r->cfg.fog_rgb : r->world->worldspawn.fog_rgb;
     float d = r->cfg.fog_density >= 0 ? r->cfg.fog_density : r->world->worldspawn.fog_density;
     if (!(d > 0)) return 0;
-    if (!(fog->table = ew_blend_fog(&r->blend, rgb))) {
+    for (int k = 0; k < 3; k++) fog->rgb[k] = (int)(rgb[k] * 255 + 0.5f);
+    if (!(fog->table = ew_blend_fog(&r->blend, rgb))) {  /* the 8-bit tables; also "fog on" in true colour */
         r->stats.dropped++;
         return 0;
     }
@@ -31,11 +32,19 @@ int ew_fog_prepare(ew_renderer *r) {
     return 0;
 }
 
-/* Pixels [x0, x1) of row y by their depth (zi 0: nothing drawn there). */
-static long fog_run(const ew_fog *f, float *zr, uint8_t *px, int x0, int x1) {
+/* Pixel x of a row fogged by level k, in either pixel format. */
+static inline void fog_px(const ew_fog *f, int bpp, uint8_t *row, int x, int k) {
+    if (bpp == 1)
+        row[x] = f->table[k * 256 + row[x]];
+    else
+        ew_set32(row, x, ew_fog_rgba(f, k, ew_get32(row, x)));
+}
+
+/* Pixels [x0, x1) of a row by their depth (zi 0: nothing drawn there). */
+static long fog_run(const ew_fog *f, int bpp, float *zr, uint8_t *px, int x0, int x1) {
     long n = 0;
     for (int x = x0; x < x1; x++)
-        if (zr[x] > 0) px[x] = f->table[ew_fog_level(f, zr[x]) * 256 + px[x]], n++;
+        if (zr[x] > 0) fog_px(f, bpp, px, x, ew_fog_level(f, zr[x])), n++;
     return n;
 }
 
@@ -47,30 +56,30 @@ void ew_draw_fog(ew_renderer *r, const ew_rows *rows) {
     long n = 0;
     const ew_band *b = rows->band;
     if (!b || b->nspans == 0) {  /* no spans (the reference method): depth everywhere */
-        for (int y = rows->y0; y < rows->y1; y++) n += fog_run(fog, ew_target_z(t, 0, y), ew_target_at(t, 0, y), 0, t->width);
+        for (int y = rows->y0; y < rows->y1; y++)
+            n += fog_run(fog, t->bpp, ew_target_z(t, 0, y), ew_target_at(t, 0, y), 0, t->width);
         rows->stats->fog_pixels += n;
         return;
     }
     /* Span by span (they cover the band once): the sky's own pixels, where
      * nothing nearer was drawn over it, are found by their 1/z, recomputed
      * exactly as the z-fill wrote it, and take the sky's level. */
-    const uint8_t *sky = fog->table + fog->sky_level * 256;
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
         float *zr = ew_target_z(t, 0, sp->v);
         uint8_t *px = ew_target_at(t, 0, sp->v);
         const ew_surf_draw *d = &r->lit.surf_draw[sp->surf];
         if (d->kind != EW_DRAW_SKY) {
-            n += fog_run(fog, zr, px, sp->u, sp->u + sp->count);
+            n += fog_run(fog, t->bpp, zr, px, sp->u, sp->u + sp->count);
             continue;
         }
         const ew_gradients *g = &d->g;
         float zi = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, dz = g->zi_u;
         for (int x = sp->u; x < sp->u + sp->count; x++) {
             if (zr[x] == zi + (float)(x - sp->u) * dz)
-                px[x] = sky[px[x]];
+                fog_px(fog, t->bpp, px, x, fog->sky_level);
             else if (zr[x] > 0)
-                px[x] = fog->table[ew_fog_level(fog, zr[x]) * 256 + px[x]];
+                fog_px(fog, t->bpp, px, x, ew_fog_level(fog, zr[x]));
             n++;
         }
     }

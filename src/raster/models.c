@@ -34,7 +34,7 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
         if (!ew_zpoly_project(&r->view, p, f->numedges, &zp)) continue;
         in_view = 1;
         if (zp.y1 < rows->y0 || zp.y0 >= rows->y1) continue;  /* another band's rows */
-        ew_zpoly_look look = {bw, f, &mv, ew_face_texture(bw, f, r->view.time), NULL, 0, 0, 1, EW_ZP_OPAQUE, NULL};
+        ew_zpoly_look look = {bw, f, &mv, ew_face_texture(bw, f, r->view.time), NULL, 0, 0, 1, EW_ZP_OPAQUE, NULL, 256};
         if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
             const ew_box_surf *bs = surfs && i < surfs->nfaces ? &surfs->face[i] : NULL;
             if (!bs || !bs->built) {  /* no memory for it */

@@ -43,7 +43,7 @@ void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const e
             for (int x = x0; x < x1; x++) {
                 if (zi >= zr[x]) {
                     zr[x] = zi;
-                    ew_put8(&fr[x], color);
+                    ew_put_index(&r->target, fr, x, color);
                     pixels++;
                 }
             }

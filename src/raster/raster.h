@@ -6,6 +6,7 @@
 #define EW_RASTER_H
 
 #include "hsr/hsr.h"
+#include "raster/blend.h"
 #include "raster/target.h"
 
 /* Screen gradients of a face: s/z, t/z and 1/z are linear in screen space. */
@@ -40,6 +41,7 @@ typedef struct ew_fog {
     const uint8_t *table;     /* EW_FOG_LEVELS x 256 (raster/blend.h), NULL: no fog */
     float   w;                /* (density / 64)^2, so q = w / zi^2 = (density z / 64)^2 */
     int     sky_level;        /* the sky is fogged half way, as the ports do */
+    int     rgb[3];           /* true colour: the fog colour, 0..255 */
     uint8_t level[EW_FOG_QSTEPS + 1];  /* q -> level of 1 - exp(-q) */
 } ew_fog;
 /* Fills the level table (once, at the renderer's creation). */
@@ -48,6 +50,20 @@ static inline int ew_fog_level(const ew_fog *f, float zi) {
     float q = f->w / (zi * zi);
     if (!(q < EW_FOG_QMAX)) return f->level[EW_FOG_QSTEPS];
     return f->level[(int)(q * EW_FOG_QSCALE)];
+}
+/* A true-colour pixel fogged by level k, exactly (no palette). */
+static inline uint32_t ew_fog_rgba(const ew_fog *f, int k, uint32_t v) {
+    int c[3], a = k * 256 / (EW_FOG_LEVELS - 1);
+    ew_rgba_split(v, c);
+    for (int i = 0; i < 3; i++) c[i] += ((f->rgb[i] - c[i]) * a) >> 8;
+    return ew_rgba(c[0], c[1], c[2]);
+}
+/* src over dst at opacity a of 256. */
+static inline uint32_t ew_blend_rgba(uint32_t src, uint32_t dst, int a) {
+    int s[3], d[3];
+    ew_rgba_split(src, s), ew_rgba_split(dst, d);
+    for (int i = 0; i < 3; i++) d[i] += ((s[i] - d[i]) * a) >> 8;
+    return ew_rgba(d[0], d[1], d[2]);
 }
 
 /* What the span drawers read, set once per frame. */
@@ -108,7 +124,8 @@ typedef struct ew_zpoly_look {
     int               stepped;      /* lit surfaces and liquids: a divide every 16 pixels as
                                        world spans (ew_stepper), not at every pixel */
     int               mode;         /* EW_ZP_* */
-    const uint8_t    *blend;        /* EW_ZP_BLEND: [src * 256 + dst] */
+    const uint8_t    *blend;        /* EW_ZP_BLEND, 8-bit: [src * 256 + dst] */
+    int               alpha256;     /* EW_ZP_BLEND, true colour: opacity of 256 */
 } ew_zpoly_look;
 enum {
     EW_ZP_OPAQUE,   /* z-tested, z-written (the default) */

@@ -43,7 +43,9 @@ int ew_see_prepare(ew_renderer *r) {
         ew_zpoly_look *look = &sp->look;
         look->tex = ew_face_texture(w, f, r->view.time);
         look->mode = sp->kind == EW_SEE_FENCE ? EW_ZP_FENCE : EW_ZP_BLEND;
-        if (sp->kind == EW_SEE_BLEND && !(look->blend = ew_blend_alpha(&r->blend, ew_blend_level(sp->alpha)))) {
+        look->alpha256 = (int)(sp->alpha * 256 + 0.5f);
+        if (sp->kind == EW_SEE_BLEND && r->target.bpp == 1 &&
+            !(look->blend = ew_blend_alpha(&r->blend, ew_blend_level(sp->alpha)))) {
             r->stats.dropped++;
             continue;
         }

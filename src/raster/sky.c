@@ -63,7 +63,7 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
         sky_st(v, t, (float)(sp->u + i + step), (float)sp->v, &s1, &t1);
         if (!pow2) {
             float ds = (s1 - s0) / step, dt = (t1 - t0) / step;
-            for (int k = 0; k < n; k++) dst[i + k] = sky_texel(v, t, s0 + ds * k, t0 + dt * k);
+            for (int k = 0; k < n; k++) ew_put_index(c->target, dst, i + k, sky_texel(v, t, s0 + ds * k, t0 + dt * k));
         } else {
             /* 16.16 fixed point from the same floored start, two layers. */
             int32_t fs = (int32_t)floorf((s0 + 2 * scroll) * 65536.0f), ft = (int32_t)floorf((t0 + 2 * scroll) * 65536.0f);
@@ -72,9 +72,10 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
             unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
             for (int k = 0; k < n; k++) {
                 uint8_t px_front = px[(((unsigned)ft >> 16) & rm) * (unsigned)t->width + (((unsigned)fs >> 16) & hm)];
-                ew_put8(&dst[i + k], px_front ? px_front
-                                              : px[(((unsigned)bt >> 16) & rm) * (unsigned)t->width +
-                                                   (unsigned)half + (((unsigned)bs >> 16) & hm)]);
+                ew_put_index(c->target, dst, i + k,
+                             px_front ? px_front
+                                      : px[(((unsigned)bt >> 16) & rm) * (unsigned)t->width + (unsigned)half +
+                                           (((unsigned)bs >> 16) & hm)]);
                 fs += ds, ft += dt, bs += ds, bt += dt;
             }
         }

@@ -79,7 +79,36 @@ void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_dra
 }
 
 void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp) {
-    memset(ew_target_at(c->target, sp->u, sp->v), 0, (size_t)sp->count * (size_t)c->target->bpp);
+    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+    if (c->target->bpp == 1) {
+        memset(dst, 0, (size_t)sp->count);
+        return;
+    }
+    for (int x = 0; x < sp->count; x++) ew_put_index(c->target, dst, x, 0);
+}
+
+/* True colour: n texels of a 4-byte lit surface along the same line. */
+static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s, int32_t t,
+                               int32_t ds, int32_t dt, int n) {
+    const uint32_t *src = (const uint32_t *)(const void *)pixels;
+    uint32_t *out = (uint32_t *)(void *)dst;
+    for (int i = 0; i < n; i++) {
+        out[i] = src[((uint32_t)t >> 16) * pitch + ((uint32_t)s >> 16)];
+        s += ds;
+        t += dt;
+    }
+}
+
+static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
+    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+    ew_stepper st;
+    int32_t s, t, ds, dt;
+    int n;
+    ew_step_begin(&st, &d->g, c->subdiv_shift, sp->u, sp->v, sp->count);
+    while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
+        texel_run32(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n);
+        dst += (size_t)n * 4;
+    }
 }
 
 /* The band's spans in the order the scan made them, row by row: the frame
@@ -92,7 +121,10 @@ void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *d
         const ew_surf_draw *d = &draw[sp->surf];
         switch (d->kind) {
         case EW_DRAW_LIT:
-            ew_draw_lit_span(c, sp, d);
+            if (c->target->bpp == 1)
+                ew_draw_lit_span(c, sp, d);
+            else
+                draw_lit_span32(c, sp, d);
             break;
         case EW_DRAW_SKY:
             ew_draw_sky_span(c, sp, d->tex);

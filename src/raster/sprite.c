@@ -155,7 +155,7 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
             uint8_t c = pic->pixels[(int)b * pw + (int)a];
             if (c == 255) continue;
             zr[x] = zi;
-            ew_put8(&fr[x], c);
+            ew_put_index(&r->target, fr, x, c);
             count++;
         }
     }

@@ -17,7 +17,8 @@ typedef struct ew_target {
     float   *zbuf;          /* width * height 1/z values (larger is nearer, 0 is far) */
     int      width, height;
     int      pitch;         /* bytes from one row to the next */
-    int      bpp;           /* bytes per pixel: 1 (palette indices) */
+    int      bpp;           /* bytes per pixel: 1 (palette indices) or 4 (R, G, B, A bytes) */
+    const uint32_t *rgba;   /* the palette as 4-byte pixels (ew_rgba), for bpp 4 */
 } ew_target;
 
 /* First pixel of row y, column x. */
@@ -30,6 +31,36 @@ static inline float *ew_target_z(const ew_target *t, int x, int y) {
 }
 /* The per-pixel store of the 8-bit writer. */
 static inline void ew_put8(uint8_t *dst, uint8_t index) { *dst = index; }
+/* The two pixel writers: palette index c into pixel x of a row, through a
+ * table of 4-byte pixels in true colour (the target's, or a model's tinted one). */
+static inline void ew_put_via(int bpp, const uint32_t *rgba, uint8_t *row, int x, uint8_t c) {
+    if (bpp == 1)
+        row[x] = c;
+    else
+        memcpy(row + (size_t)x * 4, &rgba[c], 4);
+}
+static inline void ew_put_index(const ew_target *t, uint8_t *row, int x, uint8_t c) {
+    ew_put_via(t->bpp, t->rgba, row, x, c);
+}
+static inline uint32_t ew_get32(const uint8_t *row, int x) {
+    uint32_t v;
+    memcpy(&v, row + (size_t)x * 4, 4);
+    return v;
+}
+static inline void ew_set32(uint8_t *row, int x, uint32_t v) { memcpy(row + (size_t)x * 4, &v, 4); }
+/* Alpha 0: a fence texture's hole in a true-colour lit surface. */
+static inline int ew_rgba_clear(uint32_t v) {
+    uint8_t px[4];
+    memcpy(px, &v, 4);
+    return px[3] == 0;
+}
+/* Texel i of a lit surface (1 or 4 bytes a texel, as the target) into pixel x. */
+static inline void ew_put_texel(const ew_target *t, uint8_t *row, int x, const uint8_t *surf, size_t i) {
+    if (t->bpp == 1)
+        row[x] = surf[i];
+    else
+        memcpy(row + (size_t)x * 4, surf + i * 4, 4);
+}
 /* A true-colour pixel: the bytes R, G, B, A (255) in memory, as
  * ew_palette_rgba (so a frame goes to a display or a PNG as it is). */
 static inline uint32_t ew_rgba(int r, int g, int b) {

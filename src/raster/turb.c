@@ -33,9 +33,10 @@ void ew_draw_turb_span(const ew_span_ctx *c, const ew_span *sp, const ew_gradien
     int32_t s, tt, ds, dt;
     int n;
     ew_step_begin(&st, g, c->subdiv_shift, sp->u, sp->v, sp->count);
+    int x = 0;
     while ((n = ew_step_next(&st, &s, &tt, &ds, &dt)) > 0) {
         for (int i = 0; i < n; i++) {
-            ew_put8(dst++, turb_texel(c->turb, t, s, tt, wmask, hmask));
+            ew_put_index(c->target, dst, x++, turb_texel(c->turb, t, s, tt, wmask, hmask));
             s += ds;
             tt += dt;
         }

@@ -35,6 +35,8 @@ int ew_warp_begin(ew_renderer *r) {
     }
     int rgb[3], amount = tint_of(c, rgb);
     r->warp_tint = ew_blend_tint(&r->blend, rgb, amount);
+    for (int k = 0; k < 3; k++) r->warp_rgb[k] = rgb[k];
+    r->warp_amount = amount;
     memcpy(r->warp_copy, t->pixels, frame);
     /* Amplitude: 2.5 pixels at 320x200, in proportion above. */
     float amp = 2.5f * (float)t->height / 200.0f, tm = (float)r->view.time;
@@ -64,7 +66,15 @@ void ew_warp_rows(ew_renderer *r, int y0, int y1) {
             int sy = by + ys[x];
             sx = sx < 0 ? 0 : sx >= t->width ? t->width - 1 : sx;
             sy = sy < 0 ? 0 : sy >= t->height ? t->height - 1 : sy;
-            dst[x] = tint[r->warp_copy[(size_t)sy * t->pitch + sx]];
+            const uint8_t *src = r->warp_copy + (size_t)sy * t->pitch;
+            if (t->bpp == 1) {
+                dst[x] = tint[src[sx]];
+            } else {  /* the same shift towards the liquid's colour, exactly */
+                int c[3];
+                ew_rgba_split(ew_get32(src, sx), c);
+                for (int k = 0; k < 3; k++) c[k] += ((r->warp_rgb[k] - c[k]) * r->warp_amount) >> 8;
+                ew_set32(dst, x, ew_rgba(c[0], c[1], c[2]));
+            }
         }
     }
 }

@@ -70,7 +70,7 @@ static long stepped_row(const ew_span_ctx *c, const ew_gradients *g, const ew_zp
             tg->zbuf[o] = zi;
             won++;
             if (ids) ids[o] = id;
-            ew_put8(dst + x, look->surf[((uint32_t)t >> 16) * (uint32_t)look->surf_width + ((uint32_t)s >> 16)]);
+            ew_put_texel(tg, dst, x, look->surf, ((uint32_t)t >> 16) * (uint32_t)look->surf_width + ((uint32_t)s >> 16));
         }
     }
     return won;
@@ -83,7 +83,7 @@ static long see_row(const ew_span_ctx *c, const ew_gradients *g, const ew_zpoly_
                     int id, int xa, int xb, int y) {
     const ew_target *tg = c->target;
     const ew_face *f = look->face;
-    int turb = (f->flags & EW_SURF_TURB) != 0;
+    int turb = (f->flags & EW_SURF_TURB) != 0, fence = (f->flags & EW_SURF_FENCE) != 0;
     if (!turb && !look->surf) return 0;
     float zrow = g->zi_v * (float)y + g->zi_0;
     float *zr = ew_target_z(tg, 0, y);
@@ -104,16 +104,29 @@ static long see_row(const ew_span_ctx *c, const ew_gradients *g, const ew_zpoly_
         }
         float zi = g->zi_u * (float)x + zrow;
         if (zi <= zr[x]) continue;
-        uint8_t px = turb ? ew_turb_texel(c->turb, look->tex, s, t)
-                          : look->surf[((uint32_t)t >> 16) * (uint32_t)look->surf_width + ((uint32_t)s >> 16)];
-        if (look->mode == EW_ZP_FENCE) {
-            if (px == 255) continue;  /* a hole */
-            zr[x] = zi;
-            if (ids) ids[(size_t)y * tg->width + x] = id;
-            ew_put8(dst + x, px);
+        size_t ti = ((uint32_t)t >> 16) * (uint32_t)look->surf_width + ((uint32_t)s >> 16);
+        if (tg->bpp == 1) {
+            uint8_t px = turb ? ew_turb_texel(c->turb, look->tex, s, t) : look->surf[ti];
+            if (px == 255 && fence) continue;  /* a hole */
+            if (look->mode == EW_ZP_FENCE) {
+                zr[x] = zi;
+                if (ids) ids[(size_t)y * tg->width + x] = id;
+                dst[x] = px;
+            } else {
+                if (fog) px = fog->table[ew_fog_level(fog, zi) * 256 + px];
+                dst[x] = look->blend[px * 256 + dst[x]];
+            }
         } else {
-            if (fog) px = fog->table[ew_fog_level(fog, zi) * 256 + px];
-            ew_put8(dst + x, look->blend[px * 256 + dst[x]]);
+            uint32_t px = turb ? tg->rgba[ew_turb_texel(c->turb, look->tex, s, t)] : ew_get32(look->surf, (int)ti);
+            if (fence && ew_rgba_clear(px)) continue;  /* a hole */
+            if (look->mode == EW_ZP_FENCE) {
+                zr[x] = zi;
+                if (ids) ids[(size_t)y * tg->width + x] = id;
+                ew_set32(dst, x, px);
+            } else {
+                if (fog) px = ew_fog_rgba(fog, ew_fog_level(fog, zi), px);
+                ew_set32(dst, x, ew_blend_rgba(px, ew_get32(dst, x), look->alpha256));
+            }
         }
         won++;
     }
@@ -170,20 +183,21 @@ long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look 
             tg->zbuf[o] = zi;
             won++;
             if (ids) ids[o] = id;
-            uint8_t px;
+            uint8_t *row = ew_target_at(tg, 0, y);
             if (f->flags & EW_SURF_SKY) {
-                px = ew_sky_pixel(c->view, look->tex, (float)x, (float)y);
+                ew_put_index(tg, row, x, ew_sky_pixel(c->view, look->tex, (float)x, (float)y));
             } else {
                 float z = 65536.0f / zi;
                 float fx = (float)x, fy = (float)y;
                 int32_t s = ew_tex_fix((g.s_u * fx + (g.s_v * fy + g.s_0)) * z, g.s_adjust, 0, g.s_max);
                 int32_t t = ew_tex_fix((g.t_u * fx + (g.t_v * fy + g.t_0)) * z, g.t_adjust, 0, g.t_max);
                 if (f->flags & EW_SURF_TURB)
-                    px = ew_turb_texel(c->turb, look->tex, s, t);
+                    ew_put_index(tg, row, x, ew_turb_texel(c->turb, look->tex, s, t));
+                else if (look->surf)
+                    ew_put_texel(tg, row, x, look->surf, (size_t)((t >> 16) * look->surf_width + (s >> 16)));
                 else
-                    px = look->surf ? look->surf[(t >> 16) * look->surf_width + (s >> 16)] : 0;
+                    ew_put_index(tg, row, x, 0);
             }
-            ew_put8(ew_target_at(tg, x, y), px);
         }
     }
     return won;

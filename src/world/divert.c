@@ -47,6 +47,6 @@ void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view 
     ew_see_poly *sp = &see->polys[see->n];
     if (!ew_zpoly_project(&r->view, verts, n, &sp->p)) return;  /* outside the frustum */
     sp->face = fi, sp->key = key, sp->kind = kind, sp->alpha = alpha;
-    sp->look = (ew_zpoly_look){r->world, &r->world->faces[fi], v, NULL, NULL, 0, 0, 1, EW_ZP_OPAQUE, NULL};
+    sp->look = (ew_zpoly_look){r->world, &r->world->faces[fi], v, NULL, NULL, 0, 0, 1, EW_ZP_OPAQUE, NULL, 256};
     see->n++;
 }
