@@ -6,6 +6,7 @@
  */
 #include "ew_util.h"
 #include "ew_world.h"
+#include "worldspawn.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -228,6 +229,23 @@ static int texture_flags(const char *name) {
     return 0;
 }
 
+/* Which liquid a '*' texture is, by its name, as the ports tell them apart
+ * (for each liquid's worldspawn opacity): "*lava...", "*slime...",
+ * "*tele..." in any case, any other '*' name is water. */
+static int has_prefix(const char *name, const char *prefix) {
+    for (; *prefix; name++, prefix++)
+        if (ew_lower((unsigned char)*name) != *prefix) return 0;
+    return 1;
+}
+
+static int liquid_kind(const char *name) {
+    if (name[0] != '*') return EW_LIQUID_NONE;
+    if (has_prefix(name + 1, "lava")) return EW_LIQUID_LAVA;
+    if (has_prefix(name + 1, "slime")) return EW_LIQUID_SLIME;
+    if (has_prefix(name + 1, "tele")) return EW_LIQUID_TELE;
+    return EW_LIQUID_WATER;
+}
+
 /* Frame number of an animated name: 0..9 primary, 10..19 alternate
  * (+a..+j), -1 if the name does not animate. */
 static int anim_frame(const char *name) {
@@ -398,6 +416,7 @@ static int load_textures(ctx *c, ew_world *w) {
             t->width = t->height = PLACEHOLDER_SIZE;
             for (int k = 0; k < 4; k++) t->mip[k] = ph->mip[k];
             t->flags = texture_flags(t->name) | EW_SURF_MISSING;
+            t->liquid = liquid_kind(t->name);
             w->textures_missing++;
             continue;
         }
@@ -409,6 +428,13 @@ static int load_textures(ctx *c, ew_world *w) {
             px += msize;
         }
         t->flags = texture_flags(t->name);
+        t->liquid = liquid_kind(t->name);
+        /* A fence texture's holes are its index-255 pixels; without any it
+         * is simply drawn solid, but the map probably meant otherwise. */
+        if ((t->flags & EW_SURF_FENCE) && !memchr(t->mip[0], 255, (size_t)t->width * (size_t)t->height))
+            ew_warn(&w->warnings, &w->nwarnings,
+                    "%s: texture \"%s\" is a fence texture without see-through pixels (index 255); drawn solid",
+                    w->name, t->name);
     }
     free(ofs);
     return link_animations(c, w, n);
@@ -817,7 +843,7 @@ ew_world *ew_world_create(const uint8_t *data, size_t size, const char *filename
         ew_world_destroy(w);
         return NULL;
     }
-    for (int i = 0; i < EW_NUM_LIQUIDS; i++) w->worldspawn.liquid_alpha[i] = 1;  /* opaque unless the map asks */
+    ew_worldspawn_read(w);  /* opaque liquids and no fog unless the map asks */
     return w;
 }
 

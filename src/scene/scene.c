@@ -2,6 +2,7 @@
  * Models are loaded once per scene and shared by the entities using them. */
 #include "scene.h"
 #include "asset/entity_lump.h"
+#include "asset/worldspawn.h"
 #include "renderer.h"
 #include "ew_util.h"
 #include "raster/alias.h"
@@ -221,6 +222,26 @@ static ew_fs *open_game_dir(const char *map, const char *data_dir) {
     return ew_fs_create(dir, &err);
 }
 
+/* A brush entity's "alpha", as the ports read it (FitzQuake's per-entity
+ * alpha, kept by QuakeSpasm, vkQuake, Ironwail): absent or 0 = the default,
+ * opaque; (0, 1] = that opacity.  Not a number, NaN, inf, negative or
+ * above 1 is malformed here: one warning and opaque.  (The ports' own
+ * encoding would clamp above 1 to opaque too, so that case looks the same;
+ * a negative value, which FitzQuake documents as "invisible" for -1, is
+ * drawn rather than hidden, so a typo cannot make a door disappear.) */
+static void brush_alpha(ew_scene *s, const ew_entity *e, int index, const char *cls, int sub, int ent) {
+    const char *v = ew_entity_get(e, "alpha");
+    if (!v) return;
+    float a;
+    const char *problem;
+    if (ew_parse_opacity(v, &a, &problem)) {
+        s->ents[ent].alpha = a;
+        return;
+    }
+    ew_warn(&s->warnings, &s->nwarnings, "%s: entity %d (%.64s, model *%d) \"alpha\" \"%.100s\": %s; drawn opaque",
+            s->world->name, index, cls, sub, v, problem);
+}
+
 ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const char *data_dir, ew_error *err) {
     ew_scene *s = ew_scene_create(w, err);
     if (!s) return NULL;
@@ -246,9 +267,11 @@ ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const cha
         ew_entity_floats(e, "origin", origin, 3);
         if (model && model[0] == '*') {
             /* A brush entity's "angle" is its direction of travel, not a turn. */
-            int sub = ew_entity_submodel(e);
-            if (sub <= 0 || sub >= w->nummodels || ew_scene_add_brush(s, sub, origin, angles) < 0)
+            int sub = ew_entity_submodel(e), ent;
+            if (sub <= 0 || sub >= w->nummodels || (ent = ew_scene_add_brush(s, sub, origin, angles)) < 0)
                 s->missing++;
+            else
+                brush_alpha(s, e, i, cls, sub, ent);
             continue;
         }
         const class_model *cm = NULL;
