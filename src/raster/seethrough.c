@@ -42,6 +42,9 @@ int ew_see_prepare(ew_renderer *r) {
         const ew_face *f = &w->faces[sp->face];
         ew_zpoly_look *look = &sp->look;
         look->tex = ew_face_texture(w, f, r->view.time);
+        /* Less than half the finest 8-bit step: invisible (maps use a
+         * tiny "alpha" to hide a brush entity). */
+        if (sp->kind == EW_SEE_BLEND && sp->alpha < 0.5f / EW_BLEND_LEVELS) continue;
         look->mode = sp->kind == EW_SEE_FENCE ? EW_ZP_FENCE : EW_ZP_BLEND;
         look->alpha256 = (int)(sp->alpha * 256 + 0.5f);
         if (sp->kind == EW_SEE_BLEND && r->target.bpp == 1 &&

@@ -11,11 +11,12 @@
 int ew_see_kind(const ew_renderer *r, const ew_face *f, float entity_alpha, float *alpha) {
     *alpha = 1;
     if (r->cfg.classic || (f->flags & EW_SURF_SKY)) return EW_SEE_OPAQUE;
+    /* An entity's own alpha replaces its liquids' (as the ports do). */
     float a = entity_alpha;
-    if (f->flags & EW_SURF_TURB) {
+    if ((f->flags & EW_SURF_TURB) && entity_alpha >= 1) {
         const ew_world *w = r->world;
         const ew_texture *tex = &w->textures[w->texinfo[f->texinfo].texture];
-        a *= r->cfg.liquid_alpha >= 0 ? r->cfg.liquid_alpha : w->worldspawn.liquid_alpha[tex->liquid];
+        a = r->cfg.liquid_alpha >= 0 ? r->cfg.liquid_alpha : w->worldspawn.liquid_alpha[tex->liquid];
     }
     if (a < 1) {
         *alpha = a;
