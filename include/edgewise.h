@@ -302,7 +302,7 @@ EW_API void ew_set_hsr(ew_renderer *r, ew_hsr_method method);
  * colour, liquids opaque, no fog, no warp): the frames the WinQuake
  * fidelity tests check.  Default 0. */
 EW_API void ew_set_classic(ew_renderer *r, int on);
-/* Liquid opacity: alpha in (0, 1] for every liquid, or < 0 (the default)
+/* Liquid opacity: alpha in (0, 1] for every liquid (at least 1/16), or < 0 (the default)
  * for what the map asks (1 where it asks nothing).  At 1 liquids are
  * opaque and drawn by the edge list. */
 EW_API void ew_set_liquid_alpha(ew_renderer *r, float alpha);

@@ -271,7 +271,7 @@ void ew_set_classic(ew_renderer *r, int on) {
 void ew_set_waterwarp(ew_renderer *r, int on) { r->cfg.waterwarp = on != 0; }
 
 void ew_set_liquid_alpha(ew_renderer *r, float alpha) {
-    r->cfg.liquid_alpha = alpha < 0 ? -1 : alpha > 1 ? 1 : alpha > 0.01f ? alpha : 0.01f;  /* NaN: the map's */
+    r->cfg.liquid_alpha = alpha < 0 ? -1 : alpha > 1 ? 1 : alpha > 0.0625f ? alpha : 0.0625f;  /* NaN: the map's; the finest 8-bit step at least */
     if (!(alpha == alpha)) r->cfg.liquid_alpha = -1;
 }
 
