@@ -5,6 +5,8 @@
 #ifndef EW_CLI_H
 #define EW_CLI_H
 
+#include "edgewise.h"
+
 #include <stddef.h>
 #include <stdio.h>
 
@@ -27,6 +29,47 @@ void map_basename(const char *map, char *out, size_t size);
 /* A JSON string / number (null for inf and nan). */
 void json_string(FILE *f, const char *s);
 void json_number(FILE *f, double v);
+
+/* ---- what is drawn (cli/draw_options.c) --------------------------------------
+ * The options that change the picture, the same in render, demo, bench and
+ * soak: --no-entities, --alias-raster, --subdiv-threshold, --full-zfill,
+ * --classic, --wateralpha, --fog, --no-fog, --no-waterwarp, --hsr. */
+typedef struct draw_opts {
+    int    given;             /* bit per option seen */
+    int    no_entities, full_zfill, classic, no_waterwarp;
+    int    alias_raster;      /* ew_alias_raster */
+    double subdiv_threshold;  /* 0: the renderer's (40) */
+    double wateralpha;        /* < 0: the map's */
+    int    fog_mode;          /* 0: the map's, 1: --fog, 2: --no-fog */
+    double fog[4];            /* density, red, green, blue */
+    int    hsr;               /* ew_hsr_method */
+} draw_opts;
+
+/* The defaults: what the map asks for, drawn by the edge list. */
+void draw_opts_init(draw_opts *d);
+/* Tries argv[*i] as a drawing option ("--name", "--name=value" or "--name
+ * value", *i then moving past the value).  Returns 0 if it is not one, 1
+ * when consumed, -1 after printing one usage error line ("CMD: ..." for
+ * the option's form, "--name VALUE: ARG must be RULE" for a bad value). */
+int  draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i);
+/* The help lines of every drawing option (the rules the errors print). */
+void draw_opts_usage(FILE *f);
+/* Sets every drawing setting of r (defaults included) and its scene. */
+int  draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene);
+/* ,"entities":..,"alias_raster":..,"subdiv_threshold":..,"zfill":..,
+ * "classic":..,"wateralpha":..,"fog":..,"waterwarp":..,"hsr":.. for a JSON object. */
+void draw_opts_json(FILE *f, const draw_opts *d);
+/* The scene d asks for in *out: the map's entities (the built-in scene's
+ * for 'builtin'), an empty scene with --no-entities when need_scene, else
+ * NULL.  Prints its warnings unless quiet.  0, or -1 (error printed). */
+int  draw_opts_scene(const draw_opts *d, const ew_assets *a, const char *map, const char *data,
+                     int need_scene, int quiet, ew_scene **out);
+
+/* Loads MAP ('builtin' too) and prints its warnings unless quiet, one
+ * "edgewise: warning: ..." line each; NULL with the error printed. */
+ew_assets *load_map(const char *map, const char *data, int quiet);
+void print_world_warnings(const ew_world *w, int quiet);
+void print_scene_warnings(const ew_scene *s, int quiet);
 
 /* edgewise bench (cli/cmd_bench.c): argv[1] is "bench". */
 int cmd_bench(int argc, char **argv);

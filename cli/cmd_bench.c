@@ -2,7 +2,7 @@
  * edgewise bench: the benchmark protocol of ../shared/BENCHMARK.md.
  *
  *   edgewise bench MAP... [--data DIR] [--size WxH]... [--threads N]...
- *                  [--passes P] [--no-entities] [--table] [--out FILE.jsonl]
+ *                  [--passes P] [drawing options] [--table] [--out FILE.jsonl]
  *   edgewise bench --floor [--size WxH]... [--table] [--out FILE.jsonl]
  *
  * Per map, size and thread count: load the map, render the whole view set
@@ -53,12 +53,13 @@ static const char bench_usage[] =
     "  --size WxH        frame size; repeat for several (default 640x480)\n"
     "  --threads N       render threads, 0 = all cores; repeat for several (default 1)\n"
     "  --passes P        timed passes over the view set, 1 to 1000 (default 5)\n"
-    "  --no-entities     world only, no moving things\n"
-    "  --alias-raster M  triangle models: auto (default), affine or subdiv\n"
-    "  --full-zfill      z-fill under every world span (default: only under moving things)\n"
     "  --table           a human-readable table on stdout (JSON then only to --out)\n"
     "  --out FILE.jsonl  write the JSON lines to FILE instead of stdout\n"
     "  --floor           only measure the fill floor for each --size\n"
+    "  --quiet           no warning lines about the maps' optional data\n"
+    "\n"
+    "what is drawn (as in edgewise render):\n";
+static const char bench_usage_tail[] =
     "\n"
     "MAP is a .bsp path, a map name in --data, or 'builtin'.\n"
     "example:\n"
@@ -73,8 +74,8 @@ typedef struct bench_opts {
     int         threads[MAX_THREAD_COUNTS];
     int         nthreads;
     int         passes;
-    int         no_entities, table, floor_only, full_zfill;
-    int         alias_raster;   /* -1: the renderer's default (auto) */
+    int         table, floor_only, quiet;
+    draw_opts   draw;           /* what is drawn (cli/draw_options.c) */
 } bench_opts;
 
 /* ---- arguments ------------------------------------------------------------- */
@@ -100,18 +101,22 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             o->maps[o->nmaps++] = a;
             continue;
         }
+        int dr = draw_option(&o->draw, "bench", argc, argv, &i);
+        if (dr < 0)
+            return -1;
+        if (dr > 0)
+            continue;
         const char *eq = strchr(a, '=');
         size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
         char name[32];
         snprintf(name, sizeof name, "%.*s", (int)(nlen < sizeof name ? nlen : sizeof name - 1),
                  a);
-        int is_flag = strcmp(name, "--no-entities") == 0 || strcmp(name, "--table") == 0 ||
-                      strcmp(name, "--full-zfill") == 0 ||
+        int is_flag = strcmp(name, "--quiet") == 0 || strcmp(name, "--table") == 0 ||
                       strcmp(name, "--floor") == 0 || strcmp(name, "--help") == 0 ||
                       strcmp(name, "-h") == 0;
         int has_value = strcmp(name, "--data") == 0 || strcmp(name, "--size") == 0 ||
                         strcmp(name, "--threads") == 0 || strcmp(name, "--passes") == 0 ||
-                        strcmp(name, "--out") == 0 || strcmp(name, "--alias-raster") == 0;
+                        strcmp(name, "--out") == 0;
         if (!is_flag && !has_value) {
             error_line("bench: unknown option '%.*s' (see edgewise bench --help)", (int)nlen, a);
             return -1;
@@ -123,14 +128,14 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             }
             if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
                 fputs(bench_usage, stdout);
+                draw_opts_usage(stdout);
+                fputs(bench_usage_tail, stdout);
                 return 1;
             }
-            if (strcmp(name, "--no-entities") == 0)
-                o->no_entities = 1;
+            if (strcmp(name, "--quiet") == 0)
+                o->quiet = 1;
             else if (strcmp(name, "--table") == 0)
                 o->table = 1;
-            else if (strcmp(name, "--full-zfill") == 0)
-                o->full_zfill = 1;
             else
                 o->floor_only = 1;
             continue;
@@ -145,15 +150,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             return -1;
         }
         long l;
-        if (strcmp(name, "--alias-raster") == 0) {
-            if (strcmp(v, "auto") == 0) o->alias_raster = EW_ALIAS_AUTO;
-            else if (strcmp(v, "affine") == 0) o->alias_raster = EW_ALIAS_AFFINE;
-            else if (strcmp(v, "subdiv") == 0) o->alias_raster = EW_ALIAS_SUBDIV;
-            else {
-                error_line("bench: --alias-raster %s: expected auto, affine or subdiv", v);
-                return -1;
-            }
-        } else if (strcmp(name, "--data") == 0 || strcmp(name, "--out") == 0) {
+        if (strcmp(name, "--data") == 0 || strcmp(name, "--out") == 0) {
             const char **slot = name[2] == 'd' ? &o->data : &o->out;
             if (!*v) {
                 error_line("bench: %s: empty name", name);
@@ -202,7 +199,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
         error_line("bench: missing MAP (a .bsp path, a map name with --data, or 'builtin')");
         return -1;
     }
-    if (o->floor_only && (o->data || o->nthreads || passes_given || o->no_entities || o->full_zfill)) {
+    if (o->floor_only && (o->data || o->nthreads || passes_given || o->draw.given || o->quiet)) {
         error_line("bench: --floor takes only --size, --table and --out");
         return -1;
     }
@@ -356,10 +353,11 @@ static const struct counter_def {
     COUNTER(dropped), COUNTER(entities_drawn), COUNTER(entities_culled),
     COUNTER(entities_unknown), COUNTER(models_missing), COUNTER(alias_tris),
     COUNTER(alias_tris_subdiv), COUNTER(alias_pixels), COUNTER(particles),
-    COUNTER(surfaces_rebuilt_by_dlights),
+    COUNTER(surfaces_rebuilt_by_dlights), COUNTER(seethrough_surfaces), COUNTER(fence_pixels),
+    COUNTER(translucent_pixels), COUNTER(fog_pixels), COUNTER(underwater),
 };
 #undef COUNTER
-enum { NCOUNTERS = sizeof counter_defs / sizeof counter_defs[0] };
+enum { NCOUNTERS = sizeof counter_defs / sizeof counter_defs[0], C_SEETHROUGH = 19 };
 
 static double counter_value(const ew_stats *s, const struct counter_def *d) {
     const char *p = (const char *)s + d->offset;
@@ -374,8 +372,7 @@ typedef struct row {
     char   map[256];
     int    w, h, threads, threads_requested, threads_applied, views, passes, entities, max_view;
     int    slow_view;     /* the view with the highest median over the passes */
-    int    alias_raster;  /* -1 default (auto) */
-    int    full_zfill;
+    draw_opts draw;       /* what was drawn */
     double median, mean, p99, max, level, ns_per_pixel, floor_ms, floor_ratio;
     double view_level;    /* slow_view's median / median: level without one-off spikes */
     double stages[NSTAGES];        /* median per frame */
@@ -438,12 +435,11 @@ static void print_row_json(FILE *f, const row *r) {
     fputs("{\"map\":", f);
     json_string(f, r->map);
     fprintf(f, ",\"width\":%d,\"height\":%d,\"threads\":%d,\"threads_requested\":%d,"
-               "\"threads_applied\":%s,\"entities\":%s,\"views\":%d,\"passes\":%d",
+               "\"threads_applied\":%s,\"views\":%d,\"passes\":%d",
             r->w, r->h, r->threads, r->threads_requested, r->threads_applied ? "true" : "false",
-            r->entities ? "true" : "false", r->views, r->passes);
-    static const char *modes[] = { "auto", "affine", "subdiv" };
-    fprintf(f, ",\"alias_raster\":\"%s\",\"zfill\":\"%s\"", modes[r->alias_raster < 0 ? 0 : r->alias_raster],
-            r->full_zfill ? "full" : "deferred");
+            r->views, r->passes);
+    /* what was drawn: "entities", "alias_raster", "zfill", "classic", ... */
+    draw_opts_json(f, &r->draw);
     const char *names[] = { "median_ms", "mean_ms", "p99_ms", "max_ms" };
     const double vals[] = { r->median, r->mean, r->p99, r->max };
     for (int i = 0; i < 4; i++) {
@@ -474,19 +470,19 @@ static void print_row_json(FILE *f, const row *r) {
 }
 
 static void print_table_header(void) {
-    printf("%-10s %9s %3s %5s %8s %8s %8s %8s %4s %5s %5s %6s %7s %6s %7s %7s %7s %7s\n", "map",
+    printf("%-10s %9s %3s %5s %8s %8s %8s %8s %4s %5s %5s %6s %7s %6s %7s %7s %7s %7s %6s\n", "map",
            "size", "thr", "views", "median", "mean", "p99", "max", "@", "level", "vlev", "ns/px",
-           "floor", "xfloor", "front", "scan", "draw", "models");
+           "floor", "xfloor", "front", "scan", "draw", "models", "seethr");
 }
 
 static void print_table_row(const row *r) {
     char size[24];
     snprintf(size, sizeof size, "%dx%d", r->w, r->h);
     printf("%-10.10s %9s %3d %5d %8.3f %8.3f %8.3f %8.3f %4d %5.2f %5.2f %6.2f %7.3f %6.2f %7.3f "
-           "%7.3f %7.3f %7.3f\n",
+           "%7.3f %7.3f %7.3f %6.1f\n",
            r->map, size, r->threads, r->views, r->median, r->mean, r->p99, r->max, r->max_view,
            r->level, r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->stages[ST_FRONT],
-           r->stages[ST_SCAN], r->stages[ST_DRAW], r->stages[ST_MODELS]);
+           r->stages[ST_SCAN], r->stages[ST_DRAW], r->stages[ST_MODELS], r->counters[C_SEETHROUGH]);
 }
 
 /* A progress line on stderr, only for a person watching a terminal. */
@@ -543,18 +539,12 @@ static int bench_floor(const bench_opts *o, FILE *json) {
 }
 
 /* Loads one map, or NULL with the error printed. */
-static ew_assets *bench_load(const bench_opts *o, const char *map) {
-    ew_error err = { "" };
-    ew_assets *a = is_builtin(map) ? ew_assets_create_builtin(&err) : ew_assets_create(map, o->data, &err);
-    if (!a) error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
-    return a;
-}
+static ew_assets *bench_load(const bench_opts *o, const char *map) { return load_map(map, o->data, o->quiet); }
 
 /* One map at one size and thread count; returns 0 or 1 (error printed).
- * scene is an ew_scene or NULL (world only), untyped so the file still builds
- * against revisions from before the scene API (EW_BENCH_NO_SCENE). */
+ * scene is an ew_scene or NULL (world only). */
 static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
-                     const void *scene, const ew_camera *views, int nviews, int w, int h,
+                     const ew_scene *scene, const ew_camera *views, int nviews, int w, int h,
                      int threads, floor_cache *fc, row *r) {
     memset(r, 0, sizeof *r);
     map_basename(map, r->map, sizeof r->map);
@@ -586,15 +576,9 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->threads = used;
     r->threads_applied = 1;
 #endif
-    r->alias_raster = o->alias_raster;
-    if (o->alias_raster >= 0) ew_set_alias_raster(rd, (ew_alias_raster)o->alias_raster, 0);
-#ifndef EW_BENCH_NO_ZFILL
-    r->full_zfill = o->full_zfill;
-    ew_set_full_zfill(rd, o->full_zfill);
-#endif
-#ifndef EW_BENCH_NO_SCENE
-    ew_set_scene(rd, scene);
-#endif
+    r->draw = o->draw;
+    r->draw.no_entities = scene == NULL;
+    draw_opts_apply(&o->draw, rd, scene);
     size_t n = (size_t)nviews * (size_t)o->passes;
     double *frames = malloc(n * sizeof *frames), *scratch = malloc(n * sizeof *scratch);
     ew_stats *stats = calloc(n, sizeof *stats);
@@ -646,7 +630,7 @@ done:
 int cmd_bench(int argc, char **argv) {
     bench_opts o;
     memset(&o, 0, sizeof o);
-    o.alias_raster = -1;
+    draw_opts_init(&o.draw);
     int pr = bench_parse(argc, argv, &o);
     if (pr)
         return pr < 0 ? BENCH_EXIT_USAGE : 0;
@@ -679,22 +663,12 @@ int cmd_bench(int argc, char **argv) {
             }
             ew_camera views[EW_MAX_VIEWS];
             int nviews = ew_benchmark_views(a->world, views);
-            const void *scene = NULL;
-#ifndef EW_BENCH_NO_SCENE
             /* The map's entities, as the game shows it; the built-in scene's
              * own moving things for `builtin`. */
             ew_scene *sc = NULL;
-            if (!o.no_entities && nviews > 0) {
-                ew_error err = { "" };
-                sc = is_builtin(o.maps[m]) ? ew_scene_create_builtin(a->world, &err)
-                                           : ew_scene_create_from_map(a->world, o.maps[m], o.data, &err);
-                if (!sc) {
-                    error_line("%s", err.msg[0] ? err.msg : "cannot load the map's entities");
-                    rc = 1;
-                }
-            }
-            scene = sc;
-#endif
+            if (nviews > 0 && draw_opts_scene(&o.draw, a, o.maps[m], o.data, 0, o.quiet, &sc) < 0)
+                rc = 1;
+            const ew_scene *scene = sc;
             if (nviews == 0) {
                 error_line("%s: no views (no info_player* or info_intermission entity)",
                            o.maps[m]);
@@ -717,9 +691,7 @@ int cmd_bench(int argc, char **argv) {
                         fflush(stdout);
                     }
                 }
-#ifndef EW_BENCH_NO_SCENE
             ew_scene_destroy(sc);
-#endif
             ew_assets_destroy(a);
         }
     }

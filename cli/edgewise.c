@@ -34,7 +34,7 @@ enum { MIN_W = 320, MIN_H = 200, MAX_W = 7680, MAX_H = 4320 };
 #define MAX_COORD 1e6
 #define MAX_TIME 1e6
 
-static const char usage_text[] =
+static const char usage_head[] =
     "usage: edgewise COMMAND [ARGS]\n"
     "\n"
     "commands:\n"
@@ -60,15 +60,19 @@ static const char usage_text[] =
     "  --time T             seconds, for animated textures, sky and liquids (default 0)\n"
     "  --out FILE.png       output (default MAPNAME_vN.png, MAPNAME_free.png with --pos)\n"
     "  --stats              print the frame's counters and times as one JSON object\n"
-    "  --no-entities        the world only: no doors, monsters, items, flames\n"
     "  --dlight X,Y,Z,R     a dynamic light of radius R (repeatable, up to 32)\n"
     "  --particles N        a deterministic cloud of N particles in front of the camera\n"
-    "  --alias-raster MODE  triangle models: auto (default), affine or subdiv\n"
-    "  --subdiv-threshold PX  auto: subdivide models shorter than PX on screen (default 40)\n"
     "  --threads N          render bands of the frame on N threads (0 = all cores; default 1)\n"
+    "  --quiet              no warning lines about the map's optional data\n"
+    "\n"
+    "what is drawn (render, demo, bench and soak alike):\n";
+static const char usage_tail[] =
     "\n"
     "demo options: --size, --view, --fov, --time, --out (default demo.png), --stats,\n"
-    "  and the entity, light, particle, rasterizer and thread options of render\n"
+    "  --quiet, the light, particle and thread options of render and what is drawn\n"
+    "\n"
+    "Warnings about a map's optional data (a malformed worldspawn key, ...) go to\n"
+    "stderr as 'edgewise: warning: ...' lines in every command that loads a map.\n"
     "\n"
     "examples:\n"
     "  edgewise demo\n"
@@ -78,6 +82,12 @@ static const char usage_text[] =
 
 /* Prints one error line; control characters (from file names or arguments)
  * are replaced so the message stays one line. */
+static void print_usage(void) {
+    fputs(usage_head, stdout);
+    draw_opts_usage(stdout);
+    fputs(usage_tail, stdout);
+}
+
 void error_line(const char *fmt, ...) {
     char buf[1024];
     va_list ap;
@@ -95,11 +105,11 @@ void error_line(const char *fmt, ...) {
 enum {
     O_DATA = 1 << 0, O_SIZE = 1 << 1, O_VIEW = 1 << 2, O_POS = 1 << 3, O_ANGLES = 1 << 4,
     O_FOV = 1 << 5, O_TIME = 1 << 6, O_OUT = 1 << 7, O_STATS = 1 << 8, O_HELP = 1 << 9,
-    O_NOENT = 1 << 10, O_DLIGHT = 1 << 11, O_ARASTER = 1 << 12, O_SUBTHRESH = 1 << 13,
+    O_DRAW = 1 << 10, O_DLIGHT = 1 << 11, O_QUIET = 1 << 12,
     O_PARTICLES = 1 << 14, O_THREADS = 1 << 15
 };
-/* The options of the moving things and of threading, shared by render and demo. */
-#define O_SCENE (O_NOENT | O_DLIGHT | O_ARASTER | O_SUBTHRESH | O_PARTICLES | O_THREADS)
+/* What is drawn, lights, particles and threading, shared by render and demo. */
+#define O_SCENE (O_DRAW | O_DLIGHT | O_PARTICLES | O_THREADS | O_QUIET)
 #define MAX_CLI_DLIGHTS 32
 
 static const struct option_def {
@@ -111,8 +121,7 @@ static const struct option_def {
     { "--pos", O_POS, 1 },     { "--angles", O_ANGLES, 1 }, { "--fov", O_FOV, 1 },
     { "--time", O_TIME, 1 },   { "--out", O_OUT, 1 },   { "--stats", O_STATS, 0 },
     { "--help", O_HELP, 0 },   { "-h", O_HELP, 0 },
-    { "--no-entities", O_NOENT, 0 }, { "--dlight", O_DLIGHT, 1 },
-    { "--alias-raster", O_ARASTER, 1 }, { "--subdiv-threshold", O_SUBTHRESH, 1 },
+    { "--dlight", O_DLIGHT, 1 }, { "--quiet", O_QUIET, 0 },
     { "--particles", O_PARTICLES, 1 }, { "--threads", O_THREADS, 1 },
 };
 
@@ -124,8 +133,8 @@ typedef struct options {
     double      fov, time;
     float       dlights[MAX_CLI_DLIGHTS][4];  /* x, y, z, radius */
     int         ndlights;
-    int         alias_raster, particles, threads;
-    double      subdiv_threshold;
+    int         particles, threads;
+    draw_opts   draw;         /* what is drawn (cli/draw_options.c) */
 } options;
 
 /* strtol/strtod accept leading blanks; a command-line number should not. */
@@ -282,22 +291,6 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
         o->ndlights++;
         return 0;
     }
-    case O_ARASTER:
-        if (strcmp(v, "auto") == 0) o->alias_raster = EW_ALIAS_AUTO;
-        else if (strcmp(v, "affine") == 0) o->alias_raster = EW_ALIAS_AFFINE;
-        else if (strcmp(v, "subdiv") == 0) o->alias_raster = EW_ALIAS_SUBDIV;
-        else {
-            error_line("--alias-raster %s: expected auto, affine or subdiv", v);
-            return -1;
-        }
-        return 0;
-    case O_SUBTHRESH:
-        if (parse_double(v, &d) < 0 || !(d > 0 && d <= 10000)) {
-            error_line("--subdiv-threshold %s: expected pixels, from 0 to 10000", v);
-            return -1;
-        }
-        o->subdiv_threshold = d;
-        return 0;
     case O_PARTICLES:
         if (parse_long(v, &l) < 0 || l < 0 || l > 1000000) {
             error_line("--particles %s: expected a count from 0 to 1000000", v);
@@ -328,6 +321,18 @@ static int parse_args(int argc, char **argv, int first, const char *cmd, int all
             continue;
         }
         if (!only_positional && a[0] == '-' && a[1]) {
+            draw_opts scratch;
+            draw_opts_init(&scratch);
+            int at = i, dr = draw_option((allowed & O_DRAW) ? &o->draw : &scratch, cmd, argc, argv, &i);
+            if (dr < 0)
+                return -1;
+            if (dr > 0 && !(allowed & O_DRAW)) {
+                error_line("%s: option '%.*s' does not apply here (see edgewise --help)", cmd,
+                           (int)strcspn(argv[at], "="), argv[at]);
+                return -1;
+            }
+            if (dr > 0)
+                continue;
             const char *eq = strchr(a, '=');
             size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
             const struct option_def *def = NULL;
@@ -345,7 +350,7 @@ static int parse_args(int argc, char **argv, int first, const char *cmd, int all
                 return -1;
             }
             if (def->flag == O_HELP) {
-                fputs(usage_text, stdout);
+                print_usage();
                 return 1;
             }
             const char *value = NULL;
@@ -411,13 +416,7 @@ void map_basename(const char *map, char *out, size_t size) {
     snprintf(out, size, "%.*s", (int)n, b);
 }
 
-static ew_assets *load(const options *o) {
-    ew_error err = { "" };
-    ew_assets *a = is_builtin(o->map) ? ew_assets_create_builtin(&err)
-                                      : ew_assets_create(o->map, o->data, &err);
-    if (!a) error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
-    return a;
-}
+static ew_assets *load(const options *o) { return load_map(o->map, o->data, !!(o->given & O_QUIET)); }
 
 /* Writes s as a JSON string. */
 void json_string(FILE *f, const char *s) {
@@ -482,6 +481,12 @@ static void print_stats(const char *name, const options *o, int view, const ew_c
             s->entities_drawn, s->entities_culled, s->entities_unknown, s->models_missing,
             s->alias_tris, s->alias_tris_subdiv, s->alias_pixels, s->particles,
             s->surfaces_rebuilt_by_dlights);
+    fprintf(f,
+            ",\"seethrough_surfaces\":%d,\"fence_pixels\":%ld,\"translucent_pixels\":%ld,"
+            "\"fog_pixels\":%ld,\"underwater\":%s",
+            s->seethrough_surfaces, s->fence_pixels, s->translucent_pixels, s->fog_pixels,
+            s->underwater ? "true" : "false");
+    draw_opts_json(f, &o->draw);
     const char *ms_names[5] = { "ms_front", "ms_scan", "ms_draw", "ms_models", "ms_total" };
     const double ms[5] = { s->ms_front, s->ms_scan, s->ms_draw, s->ms_models, s->ms_total };
     for (int i = 0; i < 5; i++) {
@@ -552,18 +557,12 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
         error_line("--threads %d: out of memory", o->threads);
         goto done;
     }
-    if (o->given & (O_ARASTER | O_SUBTHRESH))
-        ew_set_alias_raster(r, (ew_alias_raster)o->alias_raster, (float)o->subdiv_threshold);
     /* The moving things: the map's entities (or the built-in scene's),
      * plus lights and particles asked for on the command line. */
-    if (!(o->given & O_NOENT) || o->ndlights || o->particles) {
-        scene = (o->given & O_NOENT) ? ew_scene_create(a->world, &err)
-                : is_builtin(o->map)  ? ew_scene_create_builtin(a->world, &err)
-                                      : ew_scene_create_from_map(a->world, o->map, o->data, &err);
-        if (!scene) {
-            error_line("%s", err.msg[0] ? err.msg : "cannot make the scene");
-            goto done;
-        }
+    if (draw_opts_scene(&o->draw, a, o->map, o->data, o->ndlights || o->particles,
+                        !!(o->given & O_QUIET), &scene) < 0)
+        goto done;
+    if (scene) {
         for (int i = 0; i < o->ndlights; i++) ew_scene_add_dlight(scene, o->dlights[i], o->dlights[i][3]);
         if (o->particles) {
             /* A cloud in front of the camera, the same every run. */
@@ -575,8 +574,8 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
             for (int k = 0; k < 3; k++) c[k] = cam.origin[k] + fwd[k] * 160;
             ew_scene_add_particles(scene, o->particles, c, 64, 1996);
         }
-        ew_set_scene(r, scene);
     }
+    draw_opts_apply(&o->draw, r, scene);
     ew_stats st;
     memset(&st, 0, sizeof st);
     const uint8_t *pixels;
@@ -661,7 +660,7 @@ int main(int argc, char **argv) {
     }
     const char *cmd = argv[1];
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
-        fputs(usage_text, stdout);
+        print_usage();
         return 0;
     }
     if (strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
@@ -674,6 +673,7 @@ int main(int argc, char **argv) {
     o.width = 640;
     o.height = 480;
     o.fov = 90;
+    draw_opts_init(&o.draw);
 
     int pr;
     if (strcmp(cmd, "render") == 0) {
@@ -690,11 +690,11 @@ int main(int argc, char **argv) {
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_render(&o, EW_DEMO_VIEW, "demo.png");
     }
     if (strcmp(cmd, "views") == 0) {
-        pr = parse_args(argc, argv, 2, cmd, O_DATA | O_HELP, 1, &o);
+        pr = parse_args(argc, argv, 2, cmd, O_DATA | O_HELP | O_QUIET, 1, &o);
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_views(&o);
     }
     if (strcmp(cmd, "info") == 0) {
-        pr = parse_args(argc, argv, 2, cmd, O_DATA | O_HELP, 1, &o);
+        pr = parse_args(argc, argv, 2, cmd, O_DATA | O_HELP | O_QUIET, 1, &o);
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_info(&o);
     }
     if (strcmp(cmd, "bench") == 0)

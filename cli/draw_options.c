@@ -1,0 +1,285 @@
+/*
+ * draw_options.c - the options that change what is drawn, parsed, checked,
+ * described and applied in one place for render, demo, bench and soak, so a
+ * picture `render` makes can be timed (bench) and soaked (soak) as it is.
+ *
+ * Each option has one rule, and the help line and the error message both
+ * print that same text.
+ */
+#include "cli.h"
+#include "edgewise.h"
+#include "edgewise_tools.h"  /* ew_set_full_zfill */
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum {
+    D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
+    D_NOWARP, D_HSR, D_COUNT
+};
+
+#define MAX_FOG_DENSITY 100.0
+
+static const struct draw_def {
+    const char *name;
+    const char *arg;   /* NULL: a flag */
+    const char *what;  /* what it does */
+    const char *rule;  /* the value's rule, printed as "ARG must be RULE" */
+} draw_defs[D_COUNT] = {
+    [D_NOENT] = { "--no-entities", NULL, "the world only: no doors, monsters, items, flames", NULL },
+    [D_ARASTER] = { "--alias-raster", "MODE", "how triangle models are drawn",
+                    "auto (by size, the default), affine or subdiv" },
+    [D_SUBTHRESH] = { "--subdiv-threshold", "PX", "auto: subdivide models shorter than PX on screen",
+                      "a number of pixels above 0, at most 10000 (default 40)" },
+    [D_FULLZ] = { "--full-zfill", NULL, "z-fill under every world span (default: only under moving things)",
+                  NULL },
+    [D_CLASSIC] = { "--classic", NULL,
+                    "the 1996 look: no see-through surfaces, fog or underwater warp", NULL },
+    [D_WATERALPHA] = { "--wateralpha", "A", "opacity of every liquid, whatever the map asks",
+                       "a number above 0, at most 1 (1 = opaque)" },
+    [D_FOG] = { "--fog", "D,R,G,B", "fog instead of the map's",
+                "a density from 0 to 100 (0 = none) and red, green, blue from 0 to 1, "
+                "e.g. 0.05,0.3,0.3,0.35" },
+    [D_NOFOG] = { "--no-fog", NULL, "no fog, whatever the map asks", NULL },
+    [D_NOWARP] = { "--no-waterwarp", NULL, "no underwater warp and tint", NULL },
+    [D_HSR] = { "--hsr", "METHOD", "hidden-surface removal",
+                "edge (the global edge list, the default) or reference (a z-buffer per pixel, slow)" },
+};
+
+/* The options --classic turns off, so they cannot go with it. */
+#define CLASSIC_CONFLICTS ((1 << D_WATERALPHA) | (1 << D_FOG) | (1 << D_NOFOG) | (1 << D_NOWARP))
+
+void draw_opts_init(draw_opts *d) {
+    memset(d, 0, sizeof *d);
+    d->alias_raster = EW_ALIAS_AUTO;
+    d->wateralpha = -1;
+    d->hsr = EW_HSR_EDGE;
+}
+
+void draw_opts_usage(FILE *f) {
+    for (int k = 0; k < D_COUNT; k++) {
+        const struct draw_def *o = &draw_defs[k];
+        char head[64];
+        snprintf(head, sizeof head, "%s%s%s", o->name, o->arg ? " " : "", o->arg ? o->arg : "");
+        if (o->rule)
+            fprintf(f, "  %-22s %s;\n  %-22s   %s must be %s\n", head, o->what, "", o->arg, o->rule);
+        else
+            fprintf(f, "  %-22s %s\n", head, o->what);
+    }
+}
+
+static int bad_value(int k, const char *v) {
+    error_line("%s %s: %s must be %s", draw_defs[k].name, v, draw_defs[k].arg, draw_defs[k].rule);
+    return -1;
+}
+
+/* A finite number, no blanks, nothing after it. */
+static int number(const char *s, const char **end_out, double *out) {
+    if (!*s || isspace((unsigned char)*s))
+        return -1;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (end == s || !isfinite(v))
+        return -1;
+    *out = v;
+    *end_out = end;
+    return 0;
+}
+
+static int whole_number(const char *s, double *out) {
+    const char *end;
+    return number(s, &end, out) == 0 && *end == '\0' ? 0 : -1;
+}
+
+static int set_value(draw_opts *d, int k, const char *v) {
+    double x;
+    switch (k) {
+    case D_ARASTER:
+        if (strcmp(v, "auto") == 0) d->alias_raster = EW_ALIAS_AUTO;
+        else if (strcmp(v, "affine") == 0) d->alias_raster = EW_ALIAS_AFFINE;
+        else if (strcmp(v, "subdiv") == 0) d->alias_raster = EW_ALIAS_SUBDIV;
+        else return bad_value(k, v);
+        return 0;
+    case D_SUBTHRESH:
+        if (whole_number(v, &x) < 0 || !(x > 0 && x <= 10000))
+            return bad_value(k, v);
+        d->subdiv_threshold = x;
+        return 0;
+    case D_WATERALPHA:
+        if (whole_number(v, &x) < 0 || !(x > 0 && x <= 1))
+            return bad_value(k, v);
+        d->wateralpha = x;
+        return 0;
+    case D_FOG: {
+        const char *p = v;
+        double f[4];
+        for (int i = 0; i < 4; i++) {
+            const char *end;
+            if (number(p, &end, &f[i]) < 0 || *end != (i < 3 ? ',' : '\0'))
+                return bad_value(k, v);
+            p = end + 1;
+        }
+        if (!(f[0] >= 0 && f[0] <= MAX_FOG_DENSITY))
+            return bad_value(k, v);
+        for (int i = 1; i < 4; i++)
+            if (!(f[i] >= 0 && f[i] <= 1))
+                return bad_value(k, v);
+        for (int i = 0; i < 4; i++) d->fog[i] = f[i];
+        return 0;
+    }
+    case D_HSR:
+        if (strcmp(v, "edge") == 0) d->hsr = EW_HSR_EDGE;
+        else if (strcmp(v, "reference") == 0) d->hsr = EW_HSR_REFERENCE;
+        else return bad_value(k, v);
+        return 0;
+    }
+    return 0;
+}
+
+int draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i) {
+    const char *a = argv[*i];
+    if (a[0] != '-' || a[1] != '-')
+        return 0;
+    const char *eq = strchr(a, '=');
+    size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
+    int k = 0;
+    while (k < D_COUNT && !(strlen(draw_defs[k].name) == nlen && strncmp(draw_defs[k].name, a, nlen) == 0))
+        k++;
+    if (k == D_COUNT)
+        return 0;
+    const struct draw_def *o = &draw_defs[k];
+    const char *v = NULL;
+    if (o->arg) {
+        if (eq)
+            v = eq + 1;
+        else if (*i + 1 < argc)
+            v = argv[++*i];
+        else {
+            error_line("%s: option '%s' needs a value", cmd, o->name);
+            return -1;
+        }
+        if (set_value(d, k, v) < 0)
+            return -1;
+    } else if (eq) {
+        error_line("%s: option '%s' takes no value", cmd, o->name);
+        return -1;
+    }
+    if (k == D_FOG || k == D_NOFOG) {
+        int other = k == D_FOG ? D_NOFOG : D_FOG;
+        if (d->given & (1 << other)) {
+            error_line("%s: --fog and --no-fog cannot be combined", cmd);
+            return -1;
+        }
+    }
+    if ((k == D_CLASSIC && (d->given & CLASSIC_CONFLICTS)) ||
+        (((1 << k) & CLASSIC_CONFLICTS) && (d->given & (1 << D_CLASSIC)))) {
+        error_line("%s: --classic turns off see-through surfaces, fog and the underwater warp: "
+                   "it cannot be combined with --wateralpha, --fog, --no-fog or --no-waterwarp", cmd);
+        return -1;
+    }
+    d->given |= 1 << k;
+    switch (k) {
+    case D_NOENT: d->no_entities = 1; break;
+    case D_FULLZ: d->full_zfill = 1; break;
+    case D_CLASSIC: d->classic = 1; break;
+    case D_NOFOG: d->fog_mode = 2; for (int c = 0; c < 4; c++) d->fog[c] = 0; break;
+    case D_FOG: d->fog_mode = 1; break;
+    case D_NOWARP: d->no_waterwarp = 1; break;
+    }
+    return 1;
+}
+
+int draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene) {
+    ew_set_alias_raster(r, (ew_alias_raster)d->alias_raster, (float)d->subdiv_threshold);
+    ew_set_full_zfill(r, d->full_zfill);
+    ew_set_classic(r, d->classic);
+    ew_set_liquid_alpha(r, (float)d->wateralpha);
+    if (d->fog_mode)
+        ew_set_fog(r, (float)d->fog[0], (float)d->fog[1], (float)d->fog[2], (float)d->fog[3]);
+    else
+        ew_set_fog(r, -1, 0, 0, 0);
+    ew_set_waterwarp(r, !d->no_waterwarp);
+    ew_set_hsr(r, (ew_hsr_method)d->hsr);
+    ew_set_scene(r, scene);
+    return 0;
+}
+
+void draw_opts_json(FILE *f, const draw_opts *d) {
+    static const char *const modes[] = { "auto", "affine", "subdiv" };
+    fprintf(f, ",\"entities\":%s,\"alias_raster\":\"%s\",\"subdiv_threshold\":",
+            d->no_entities ? "false" : "true", modes[d->alias_raster]);
+    json_number(f, d->subdiv_threshold > 0 ? d->subdiv_threshold : 40);
+    fprintf(f, ",\"zfill\":\"%s\",\"classic\":%s,\"wateralpha\":", d->full_zfill ? "full" : "deferred",
+            d->classic ? "true" : "false");
+    if (d->wateralpha > 0)
+        json_number(f, d->wateralpha);
+    else
+        fputs("null", f);   /* the map's */
+    fputs(",\"fog\":", f);
+    if (d->fog_mode) {
+        for (int i = 0; i < 4; i++) {
+            fputs(i ? "," : "[", f);
+            json_number(f, d->fog[i]);
+        }
+        fputc(']', f);
+    } else {
+        fputs("null", f);   /* the map's */
+    }
+    fprintf(f, ",\"waterwarp\":%s,\"hsr\":\"%s\"", d->no_waterwarp || d->classic ? "false" : "true",
+            d->hsr == EW_HSR_REFERENCE ? "reference" : "edge");
+}
+
+/* ---- loading, with the warnings ---------------------------------------- */
+
+static void warning_line(const char *msg) {
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", msg);
+    for (char *p = buf; *p; p++)
+        if ((unsigned char)*p < ' ' || *p == 0x7f)
+            *p = '?';
+    fprintf(stderr, "edgewise: warning: %s\n", buf);
+}
+
+void print_world_warnings(const ew_world *w, int quiet) {
+    const char *msg;
+    for (int i = 0; !quiet && (msg = ew_world_warning(w, i)) != NULL; i++)
+        warning_line(msg);
+}
+
+void print_scene_warnings(const ew_scene *s, int quiet) {
+    const char *msg;
+    for (int i = 0; !quiet && s && (msg = ew_scene_warning(s, i)) != NULL; i++)
+        warning_line(msg);
+}
+
+ew_assets *load_map(const char *map, const char *data, int quiet) {
+    ew_error err = { "" };
+    ew_assets *a = is_builtin(map) ? ew_assets_create_builtin(&err) : ew_assets_create(map, data, &err);
+    if (!a)
+        error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
+    else
+        print_world_warnings(a->world, quiet);
+    return a;
+}
+
+int draw_opts_scene(const draw_opts *d, const ew_assets *a, const char *map, const char *data,
+                    int need_scene, int quiet, ew_scene **out) {
+    ew_error err = { "" };
+    *out = NULL;
+    if (d->no_entities && !need_scene)
+        return 0;
+    ew_scene *s = d->no_entities    ? ew_scene_create(a->world, &err)
+                  : is_builtin(map) ? ew_scene_create_builtin(a->world, &err)
+                                    : ew_scene_create_from_map(a->world, map, data, &err);
+    if (!s) {
+        error_line("%s", err.msg[0] ? err.msg : "cannot make the scene");
+        return -1;
+    }
+    print_scene_warnings(s, quiet);
+    *out = s;
+    return 0;
+}
