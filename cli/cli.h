@@ -43,6 +43,8 @@ typedef struct draw_opts {
     int    fog_mode;          /* 0: the map's, 1: --fog, 2: --no-fog */
     double fog[4];            /* density, red, green, blue */
     int    hsr;               /* ew_hsr_method */
+    int    color;             /* ew_color_mode: chosen when the renderer is made */
+    int    no_lit, dither;
 } draw_opts;
 
 /* The defaults: what the map asks for, drawn by the edge list. */

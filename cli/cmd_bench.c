@@ -559,7 +559,8 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     ew_error err = { "" };
     ew_renderer *rd = ew_renderer_create(&(ew_renderer_desc){
             .world = a->world, .palette = a->palette,
-            .colormap = a->colormap, .width = w, .height = h, .threads = 1 }, &err);
+            .colormap = a->colormap, .width = w, .height = h, .threads = 1,
+            .color = (ew_color_mode)o->draw.color }, &err);
     if (!rd) {
         error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
         return 1;

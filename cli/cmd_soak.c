@@ -251,15 +251,14 @@ static int random_eye(const ew_world *w, const int *open_leaves, int nopen, uint
 static long cracks(ew_renderer *r, const ew_camera *cam, long *open_px) {
     size_t n = (size_t)ew_frame_width(r) * (size_t)ew_frame_height(r);
     int *edge_ids = malloc(sizeof(int) * n), *ref_ids = malloc(sizeof(int) * n);
-    uint8_t *ref_px = malloc(n);
     long missed = -1;
     ew_error err;
     ew_stats st;
-    if (edge_ids && ref_ids && ref_px) {
+    if (edge_ids && ref_ids) {
         ew_enable_face_ids(r, 1);
         if (ew_render(r, cam, &st) == 0 && ew_frame_face_ids(r)) {
             memcpy(edge_ids, ew_frame_face_ids(r), sizeof(int) * n);
-            if (ew_render_reference(r, cam, ref_px, ref_ids, &err) == 0) {
+            if (ew_render_reference(r, cam, NULL, ref_ids, &err) == 0) {
                 missed = *open_px = 0;
                 for (size_t i = 0; i < n; i++) {
                     missed += edge_ids[i] < 0 && ref_ids[i] >= 0;
@@ -269,7 +268,7 @@ static long cracks(ew_renderer *r, const ew_camera *cam, long *open_px) {
         }
         ew_enable_face_ids(r, 0);
     }
-    free(edge_ids), free(ref_ids), free(ref_px);
+    free(edge_ids), free(ref_ids);
     return missed;
 }
 
@@ -349,7 +348,8 @@ int cmd_soak(int argc, char **argv) {
     }
     const ew_world *w = a->world;
     ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = w, .palette = a->palette,
-            .colormap = a->colormap, .width = o.width, .height = o.height, .threads = 1 }, &err);
+            .colormap = a->colormap, .width = o.width, .height = o.height, .threads = 1,
+            .color = (ew_color_mode)o.draw.color }, &err);
     int nopen = 0, *open_leaves = world_open_leaves(w, &nopen);
     if (!r || !open_leaves || ew_set_threads(r, o.threads) < 0) {
         error_line("%s", r ? "soak: out of memory" : err.msg);

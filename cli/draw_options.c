@@ -18,7 +18,7 @@
 
 enum {
     D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
-    D_NOWARP, D_HSR, D_COUNT
+    D_NOWARP, D_HSR, D_COLOR, D_NOLIT, D_DITHER, D_COUNT
 };
 
 #define MAX_FOG_DENSITY 100.0
@@ -47,10 +47,15 @@ static const struct draw_def {
     [D_NOWARP] = { "--no-waterwarp", NULL, "no underwater warp and tint", NULL },
     [D_HSR] = { "--hsr", "METHOD", "hidden-surface removal",
                 "edge (the global edge list, the default) or reference (a z-buffer per pixel, slow)" },
+    [D_COLOR] = { "--color", "MODE", "pixel format of the frame",
+                  "8bit (palette indices, the software look; the default) or true (32-bit, light in RGB)" },
+    [D_NOLIT] = { "--no-lit", NULL, "ignore coloured light (.lit file, BSPX RGBLIGHTING): white light", NULL },
+    [D_DITHER] = { "--dither", NULL, "8-bit frames with coloured light: ordered dither before the nearest colour",
+                   NULL },
 };
 
 /* The options --classic turns off, so they cannot go with it. */
-#define CLASSIC_CONFLICTS ((1 << D_WATERALPHA) | (1 << D_FOG) | (1 << D_NOFOG) | (1 << D_NOWARP))
+#define CLASSIC_CONFLICTS ((1 << D_WATERALPHA) | (1 << D_FOG) | (1 << D_NOFOG) | (1 << D_NOWARP) | (1 << D_COLOR))
 
 void draw_opts_init(draw_opts *d) {
     memset(d, 0, sizeof *d);
@@ -131,6 +136,11 @@ static int set_value(draw_opts *d, int k, const char *v) {
         for (int i = 0; i < 4; i++) d->fog[i] = f[i];
         return 0;
     }
+    case D_COLOR:
+        if (strcmp(v, "8bit") == 0) d->color = EW_COLOR_8BIT;
+        else if (strcmp(v, "true") == 0) d->color = EW_COLOR_TRUE;
+        else return bad_value(k, v);
+        return 0;
     case D_HSR:
         if (strcmp(v, "edge") == 0) d->hsr = EW_HSR_EDGE;
         else if (strcmp(v, "reference") == 0) d->hsr = EW_HSR_REFERENCE;
@@ -177,8 +187,9 @@ int draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i) {
     }
     if ((k == D_CLASSIC && (d->given & CLASSIC_CONFLICTS)) ||
         (((1 << k) & CLASSIC_CONFLICTS) && (d->given & (1 << D_CLASSIC)))) {
-        error_line("%s: --classic turns off see-through surfaces, fog and the underwater warp: "
-                   "it cannot be combined with --wateralpha, --fog, --no-fog or --no-waterwarp", cmd);
+        error_line("%s: --classic is the 1996 look (8-bit, white light, no see-through surfaces, fog or "
+                   "underwater warp): it cannot be combined with --color, --wateralpha, --fog, --no-fog or "
+                   "--no-waterwarp", cmd);
         return -1;
     }
     d->given |= 1 << k;
@@ -189,6 +200,8 @@ int draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i) {
     case D_NOFOG: d->fog_mode = 2; for (int c = 0; c < 4; c++) d->fog[c] = 0; break;
     case D_FOG: d->fog_mode = 1; break;
     case D_NOWARP: d->no_waterwarp = 1; break;
+    case D_NOLIT: d->no_lit = 1; break;
+    case D_DITHER: d->dither = 1; break;
     }
     return 1;
 }
@@ -204,6 +217,8 @@ int draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene) {
         ew_set_fog(r, -1, 0, 0, 0);
     ew_set_waterwarp(r, !d->no_waterwarp);
     ew_set_hsr(r, (ew_hsr_method)d->hsr);
+    ew_set_lit(r, !d->no_lit);
+    ew_set_dither(r, d->dither);
     ew_set_scene(r, scene);
     return 0;
 }
@@ -231,6 +246,8 @@ void draw_opts_json(FILE *f, const draw_opts *d) {
     }
     fprintf(f, ",\"waterwarp\":%s,\"hsr\":\"%s\"", d->no_waterwarp || d->classic ? "false" : "true",
             d->hsr == EW_HSR_REFERENCE ? "reference" : "edge");
+    fprintf(f, ",\"color\":\"%s\",\"lit\":%s,\"dither\":%s", d->color == EW_COLOR_TRUE ? "true" : "8bit",
+            d->no_lit || d->classic ? "false" : "true", d->dither ? "true" : "false");
 }
 
 /* ---- loading, with the warnings ---------------------------------------- */

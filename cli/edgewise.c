@@ -548,7 +548,8 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
         snprintf(out, sizeof out, "%s_free.png", name);
 
     r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
-            .colormap = a->colormap, .width = o->width, .height = o->height, .threads = 1 }, &err);
+            .colormap = a->colormap, .width = o->width, .height = o->height, .threads = 1,
+            .color = (ew_color_mode)o->draw.color }, &err);
     if (!r) {
         error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
         goto done;
@@ -578,15 +579,14 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
     draw_opts_apply(&o->draw, r, scene);
     ew_stats st;
     memset(&st, 0, sizeof st);
-    const uint8_t *pixels;
-    if (ew_render(r, &cam, &st) < 0 || !(pixels = ew_frame_pixels(r)) ||
+    if (ew_render(r, &cam, &st) < 0 || !(ew_frame_pixels(r) || ew_frame_rgba(r)) ||
         ew_frame_width(r) != o->width || ew_frame_height(r) != o->height) {
         error_line("%s: cannot render this camera (origin %g,%g,%g angles %g,%g,%g fov %g)",
                    name, cam.origin[0], cam.origin[1], cam.origin[2], cam.angles[0],
                    cam.angles[1], cam.angles[2], cam.fov);
         goto done;
     }
-    if (ew_write_png(out, pixels, o->width, o->height, a->palette, &err) < 0) {
+    if (ew_write_frame_png(r, out, &err) < 0) {
         error_line("%s", err.msg);
         goto done;
     }

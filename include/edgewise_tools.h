@@ -29,8 +29,10 @@ EW_API const int *ew_frame_face_ids(const ew_renderer *r);
 
 /* The reference path, independent of the edge list: every visible face of
  * the same frame rasterized with a per-pixel z-buffer from its plane
- * equation, textured and lit from the same surfaces.  Writes width*height
- * palette indices and (if face_ids != NULL) the winning face per pixel. */
+ * equation, textured and lit from the same surfaces.  Writes the frame
+ * (if pixels != NULL: width*height palette indices, or 4-byte pixels in
+ * true colour, so 4 * width * height bytes) and (if face_ids != NULL) the
+ * winning face per pixel. */
 EW_API int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels,
                                int *face_ids, ew_error *err);
 

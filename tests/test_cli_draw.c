@@ -114,11 +114,14 @@ static void bad_values(void) {
         {{"--hsr", "beam"}, "--hsr beam: METHOD must be edge"},
         {{"--alias-raster", "fast"}, "--alias-raster fast: MODE must be auto"},
         {{"--subdiv-threshold", "0"}, "--subdiv-threshold 0: PX must be"},
-        {{"--classic", "--fog", "0,0,0,0"}, "--classic turns off"},
-        {{"--no-waterwarp", "--classic"}, "--classic turns off"},
+        {{"--classic", "--fog", "0,0,0,0"}, "--classic is the 1996 look"},
+        {{"--no-waterwarp", "--classic"}, "--classic is the 1996 look"},
         {{"--fog", "0,0,0,0", "--no-fog"}, "--fog and --no-fog cannot be combined"},
         {{"--classic=yes"}, "option '--classic' takes no value"},
         {{"--hsr"}, "option '--hsr' needs a value"},
+        {{"--color", "16bit"}, "--color 16bit: MODE must be 8bit"},
+        {{"--classic", "--color", "true"}, "--classic is the 1996 look"},
+        {{"--no-lit=1"}, "option '--no-lit' takes no value"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         char first[512] = "";
