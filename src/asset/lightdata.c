@@ -113,6 +113,7 @@ void ew_bspx_open(ew_bspx *x, const uint8_t *data, size_t size, const ew_lump_in
         pos = (end + 3) & ~(uint64_t)3;
     else
         return;  /* no BSPX: nothing to say */
+    x->present = 1;
 
     if (pos + 8 > size) {
         ew_warn(&w->warnings, &w->nwarnings, "%s: BSPX directory at offset %llu is truncated (file is %zu bytes); BSPX ignored",
@@ -180,6 +181,7 @@ const uint8_t *ew_bspx_find(const ew_bspx *x, const char *name, size_t *len) {
 
 int ew_bspx_moves_light(const ew_bspx *x) {
     size_t n;
+    if (x->present && !x->dir) return 1;
     return ew_bspx_find(x, "LMSHIFT", &n) || ew_bspx_find(x, "LMOFFSET", &n) ||
            ew_bspx_find(x, "DECOUPLED_LM", &n);
 }

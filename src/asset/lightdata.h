@@ -19,6 +19,7 @@ typedef struct ew_bspx {
     size_t         size;
     const uint8_t *dir;   /* first 32-byte entry */
     int            n;     /* entries */
+    int            present;  /* a 'BSPX' id was found (even if the directory was bad) */
 } ew_bspx;
 
 /* Looks for the directory right after the standard header (if no lump
@@ -32,7 +33,7 @@ void ew_bspx_open(ew_bspx *x, const uint8_t *data, size_t size, const ew_lump_in
 /* The named lump's bytes (len set), NULL if absent. */
 const uint8_t *ew_bspx_find(const ew_bspx *x, const char *name, size_t *len);
 /* 1 if the directory has a lump that moves face light maps (LMSHIFT,
- * LMOFFSET, DECOUPLED_LM): the loader then keeps a face whose Quake-layout
+ * LMOFFSET, DECOUPLED_LM), or a BSPX directory too broken to tell: the loader then keeps a face whose Quake-layout
  * light map does not fit in the lump (unlit) instead of refusing the map. */
 int ew_bspx_moves_light(const ew_bspx *x);
 /* RGBLIGHTING (after the lighting lump is loaded, before the faces): sets
