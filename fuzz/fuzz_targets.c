@@ -13,7 +13,10 @@
 
 #include "edgewise.h"
 #include "edgewise_tools.h"
+#include "ew_util.h"
 #include "ew_world.h"
+#include "light/light.h"
+#include "mapgen.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -309,11 +312,129 @@ int ew_fuzz_spr(const uint8_t *data, size_t size) {
 #endif
 }
 
+/* ---- light data (.lit, BSPX) ---- */
+
+/* What asset/lightdata.c promises about facelm and rgblight. */
+static void check_light(const ew_world *w) {
+    if (w->rgblight && !w->lighting) broken("rgblight without lighting", 0);
+    if (!w->facelm) return;
+    for (int i = 0; i < w->numfaces; i++) {
+        const ew_facelm *lm = &w->facelm[i];
+        for (int j = 0; j < 2; j++)
+            for (int k = 0; k < 3; k++)
+                if (!(lm->st_to_lm[j][k] > -1e30f && lm->st_to_lm[j][k] < 1e30f)) broken("facelm projection", i);
+        if (lm->lightofs < 0) continue;
+        int ns = 0;
+        while (ns < 4 && w->faces[i].styles[ns] != 255) ns++;
+        if (lm->width < 1 || lm->height < 1 || ns == 0 ||
+            lm->lightofs + (long long)lm->width * lm->height * ns > w->lightsize)
+            broken("facelm outside the light lump", i);
+    }
+}
+
+/* The light under models at the map's views and a grid of points. */
+static void probe_light(const ew_world *w) {
+    static uint8_t palette[768], colormap[EW_COLORMAP_SIZE];
+    static int have;
+    if (!have) make_tables(palette, colormap), have = 1;
+    ew_error err = {""};
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = w, .palette = palette,
+            .colormap = colormap, .width = 320, .height = 200, .threads = 1 }, &err);
+    if (!r) return;
+    for (int i = 0; i < 64; i++) {
+        float p[3] = {(float)(i % 8) * 130 + 8, (float)(i / 8) * 100 + 8, 120};
+        int rgb[3];
+        int v = ew_light_point_rgb(r, p, rgb);
+        if (v < 0 || v > 255 || rgb[0] < 0 || rgb[0] > 255 || rgb[1] < 0 || rgb[1] > 255 || rgb[2] < 0 || rgb[2] > 255)
+            broken("light point range", i);
+        ew_fuzz_sink += (unsigned)v + (unsigned)rgb[2];
+    }
+    ew_renderer_destroy(r);
+}
+
+int ew_fuzz_lit(const uint8_t *data, size_t size) {
+    static ew_world *w;
+    if (!w) {
+        uint8_t *bsp, palette[768], colormap[EW_COLORMAP_SIZE];
+        size_t n;
+        ew_error err = {""};
+        if (ew_builtin_generate(&bsp, &n, palette, colormap, &err)) broken("the built-in map", 0);
+        w = ew_world_create(bsp, n, "builtin.bsp", &err);
+        free(bsp);
+        if (!w) broken("the built-in map does not load", 0);
+    }
+    int rc = ew_world_attach_lit(w, data, size, "fuzz.lit");
+    if (rc == 0 && !w->rgblight) broken("attached without rgblight", 0);
+    if (rc != 0 && (w->rgblight || w->nwarnings != 1)) broken("ignored .lit without exactly one warning", 0);
+    check_light(w);
+    if (rc == 0) probe_light(w);
+    free(w->rgblight);
+    w->rgblight = NULL;
+    ew_warn_free(w->warnings, w->nwarnings);
+    w->warnings = NULL, w->nwarnings = 0;
+    return rc == 0 ? 0 : 1;
+}
+
+void ew_fuzz_bspx_options(int v, struct ew_mapgen_options *o) {
+    memset(o, 0, sizeof *o);
+    o->rgblighting = 1;
+    if (v == 1 || v == 2) o->lmshift_lumps = 1, o->lmshift = v == 1 ? 3 : 5;
+    if (v == 3) o->decoupled = 1, o->decoupled_units = 12;
+}
+
+static uint32_t ew_fuzz_le32(const uint8_t *p) {
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+size_t ew_fuzz_bspx_cut(const uint8_t *bsp, size_t size) {
+    size_t end = 0;
+    for (int i = 0; i < EW_NUM_LUMPS && 12 + 8 * (size_t)i <= size; i++) {
+        size_t e = (size_t)ew_fuzz_le32(bsp + 4 + 8 * i) + ew_fuzz_le32(bsp + 8 + 8 * i);
+        if (e > end) end = e;
+    }
+    return end;
+}
+
+int ew_fuzz_bspx(const uint8_t *data, size_t size) {
+    static uint8_t *base[4];
+    static size_t cut[4];
+    if (size < 1) return 1;
+    int v = data[0] & 3;
+    if (!base[v]) {
+        ew_mapgen_options o;
+        ew_fuzz_bspx_options(v, &o);
+        uint8_t *bsp, palette[768], colormap[EW_COLORMAP_SIZE];
+        size_t n;
+        ew_error err = {""};
+        if (ew_builtin_generate_ex(&o, &bsp, &n, palette, colormap, NULL, NULL, &err)) broken("a BSPX base map", v);
+        cut[v] = ew_fuzz_bspx_cut(bsp, n);
+        base[v] = bsp;
+    }
+    /* exactly the bytes of the file, so ASan sees any read past it */
+    size_t n = cut[v] + size - 1;
+    uint8_t *d = malloc(n ? n : 1);
+    if (!d) return 1;
+    memcpy(d, base[v], cut[v]);
+    memcpy(d + cut[v], data + 1, size - 1);
+    ew_error err = {""};
+    ew_world *w = ew_world_create(d, n, "fuzz.bsp", &err);
+    if (!w) {
+        free(d);
+        return rejected(&err);
+    }
+    check_world(w);
+    check_light(w);
+    probe_light(w);
+    ew_world_destroy(w);
+    free(d);
+    return 0;
+}
+
 ew_fuzz_fn ew_fuzz_target(const char *name) {
     static const struct { const char *name; ew_fuzz_fn fn; } targets[] = {
         {"pak", ew_fuzz_pak},     {"bsp29", ew_fuzz_bsp29}, {"bsp2", ew_fuzz_bsp2},
         {"lmp", ew_fuzz_lmp},     {"render", ew_fuzz_render}, {"mdl", ew_fuzz_mdl},
-        {"spr", ew_fuzz_spr},
+        {"spr", ew_fuzz_spr},     {"lit", ew_fuzz_lit},     {"bspx", ew_fuzz_bspx},
     };
     for (size_t i = 0; i < sizeof targets / sizeof targets[0]; i++)
         if (strcmp(targets[i].name, name) == 0) return targets[i].fn;

@@ -21,6 +21,18 @@ int ew_fuzz_lmp(const uint8_t *data, size_t size);
 int ew_fuzz_render(const uint8_t *data, size_t size);
 int ew_fuzz_mdl(const uint8_t *data, size_t size);
 int ew_fuzz_spr(const uint8_t *data, size_t size);
+/* A .lit image attached to the built-in map (plain, white light). */
+int ew_fuzz_lit(const uint8_t *data, size_t size);
+/* Byte 0 picks a base map written by the generator (0 RGBLIGHTING, 1
+ * LMSHIFT 3, 2 LMSHIFT 5, 3 DECOUPLED_LM; its standard lumps); the rest is
+ * the BSPX directory and lumps put after them. */
+int ew_fuzz_bspx(const uint8_t *data, size_t size);
+/* The generator's options for base map v of the BSPX target (0..3), and
+ * where its BSPX part starts in the generated image (make_seeds cuts the
+ * seeds there). */
+struct ew_mapgen_options;
+void   ew_fuzz_bspx_options(int v, struct ew_mapgen_options *o);
+size_t ew_fuzz_bspx_cut(const uint8_t *bsp, size_t size);
 
 /* 1 if the MDL/SPR loaders are part of this build (they are written
  * separately; until they exist those two targets reject everything). */

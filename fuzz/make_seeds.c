@@ -20,6 +20,7 @@
 #include "edgewise.h"
 #include "mapgen.h"
 #include "seed_files.h"
+#include "fuzz_targets.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -103,6 +104,45 @@ int main(int argc, char **argv) {
     b.len = 0;
     ew_seed_spr(&b);
     write_file(dir, "spr", "tiny.spr", b.d, b.len);
+
+    /* .lit: the built-in map's white and tinted light */
+    {
+        static const float tint[3 * EW_MAPGEN_MAX_LIGHTS] = {1, 0.3f, 0.2f, 0.2f, 0.4f, 1, 1, 1, 0.2f, 0.3f, 1, 0.3f,
+                                                             1, 0.6f, 0.3f, 0.5f, 0.5f, 1, 1, 0.2f, 1, 0.8f, 0.8f, 0.8f};
+        for (int k = 0; k < 2; k++) {
+            ew_mapgen_options o = {.lit = 1, .light_tint = k ? tint : NULL};
+            uint8_t *m = NULL, *lit = NULL;
+            size_t mn = 0, ln = 0;
+            if (ew_builtin_generate_ex(&o, &m, &mn, palette, colormap, &lit, &ln, &err) != 0 || ew_fuzz_lit(lit, ln) != 0) {
+                fprintf(stderr, "make_seeds: .lit seed: %s\n", err.msg);
+                return 1;
+            }
+            write_file(dir, "lit", k ? "tinted.lit" : "white.lit", lit, ln);
+            free(m), free(lit);
+        }
+    }
+    /* BSPX: a base-map byte and the part after the standard lumps */
+    for (int v = 0; v < 4; v++) {
+        ew_mapgen_options o;
+        ew_fuzz_bspx_options(v, &o);
+        uint8_t *m = NULL;
+        size_t mn = 0;
+        if (ew_builtin_generate_ex(&o, &m, &mn, palette, colormap, NULL, NULL, &err) != 0) {
+            fprintf(stderr, "make_seeds: BSPX seed: %s\n", err.msg);
+            return 1;
+        }
+        size_t cut = ew_fuzz_bspx_cut(m, mn);
+        uint8_t *seed = malloc(mn - cut + 1);
+        seed[0] = (uint8_t)v;
+        memcpy(seed + 1, m + cut, mn - cut);
+        if (ew_fuzz_bspx(seed, mn - cut + 1) != 0) {
+            fprintf(stderr, "make_seeds: BSPX seed %d does not load\n", v);
+            return 1;
+        }
+        static const char *const names[4] = {"rgb.bspx", "shift3.bspx", "shift5.bspx", "decoupled.bspx"};
+        write_file(dir, "bspx", names[v], seed, mn - cut + 1);
+        free(seed), free(m);
+    }
 
     for (int i = 2; i < argc; i++) {
         uint8_t *d;

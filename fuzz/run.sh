@@ -72,7 +72,7 @@ if [ $# -gt 0 ]; then
     targets=("$@")
 else
     targets=()
-    for t in pak bsp29 bsp2 lmp render mdl spr; do
+    for t in pak bsp29 bsp2 lmp render mdl spr lit bspx; do
         [ -x "$BUILD/fuzz/fuzz_$t" ] && targets+=("$t")
     done
 fi

@@ -114,6 +114,17 @@ EW_API void        ew_world_get_info(const ew_world *w, ew_world_info *info);
  * default, one line each naming the file and the problem.  i from 0; NULL
  * past the last. */
 EW_API const char *ew_world_warning(const ew_world *w, int i);
+/* Coloured light from a .lit file (data, size; filename names it in
+ * warnings): "QLIT", int32 version 1, then 3 bytes (r, g, b) for each byte
+ * of the map's light lump, so size = 8 + 3 x the light lump's size.  Returns
+ * 0 when attached (it replaces coloured light from a BSPX RGBLIGHTING lump:
+ * the .lit beside a map wins, as in today's ports); 1 when ignored, after
+ * adding one warning to the world (wrong size, bad magic, version other
+ * than 1, truncated, or a map without light): the map keeps its
+ * monochrome light.  ew_world_create reads the BSPX lumps RGBLIGHTING,
+ * LMSHIFT, LMOFFSET, LMSTYLE and DECOUPLED_LM itself (malformed ones are
+ * warnings too); ew_assets_create attaches maps/NAME.lit on its own. */
+EW_API int ew_world_attach_lit(ew_world *w, const uint8_t *data, size_t size, const char *filename);
 EW_API const char *ew_world_entities(const ew_world *w);
 
 /* ---- the view set (../shared/BENCHMARK.md) ------------------------------ */
@@ -142,7 +153,10 @@ typedef struct ew_assets {
 
 /* MAP is a path to a .bsp (palette/colormap from ../gfx/ beside it, or from
  * data_dir if given) or a map name looked up in the game directory data_dir
- * as maps/NAME.bsp.  Returns the assets, or NULL with err set. */
+ * as maps/NAME.bsp.  Its coloured light, NAME.lit, is attached when present
+ * (ew_world_attach_lit): beside a .bsp path, or as maps/NAME.lit in the game
+ * directory (loose or in a pak); a bad one is a world warning.  Returns the
+ * assets, or NULL with err set. */
 EW_API ew_assets *ew_assets_create(const char *map, const char *data_dir, ew_error *err);
 /* The built-in scene: a world the project generates itself (geometry,
  * procedural textures, palette, colormap, light maps, PVS), written as a

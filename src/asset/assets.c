@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "ew_util.h"
 #include "ew_world.h"
+#include "asset/lightdata.h"
 #include "mapgen/mapgen.h"
 
 #include <stdio.h>
@@ -41,6 +42,36 @@ static int parse_colormap(const uint8_t *d, size_t s, const char *f, uint8_t *ou
     return ew_colormap_parse(d, s, f, out, e);
 }
 
+/* maps/NAME.lit beside the map: next to a .bsp path (NAME.bsp -> NAME.lit),
+ * or in the game directory the .bsp came from.  Missing: nothing to do;
+ * unreadable or malformed: a world warning, the light stays monochrome. */
+static void attach_lit(ew_world *w, const ew_fs *fs, const char *map, int direct) {
+    char lit[1100];
+    uint8_t *data = NULL;
+    size_t size = 0;
+    ew_error err = {""};
+    int rc;
+    if (direct) {
+        snprintf(lit, sizeof lit, "%s", map);
+        char *slash = strrchr(lit, '/'), *dot = strrchr(lit, '.');
+        if (dot && (!slash || dot > slash)) *dot = '\0';
+        size_t n = strlen(lit);
+        if (n + 5 > sizeof lit) return;
+        memcpy(lit + n, ".lit", 5);
+        if (!is_file(lit)) return;
+        rc = ew_read_file(lit, &data, &size, &err);
+    } else {
+        snprintf(lit, sizeof lit, "maps/%s.lit", map);
+        if (!ew_fs_exists(fs, lit)) return;
+        rc = ew_fs_load(fs, lit, &data, &size, &err);
+    }
+    if (rc != 0)
+        ew_warn(&w->warnings, &w->nwarnings, "%s: cannot read (%s); coloured light ignored", lit, err.msg);
+    else
+        ew_world_attach_lit(w, data, size, lit);
+    free(data);
+}
+
 ew_assets *ew_assets_create(const char *map, const char *data_dir, ew_error *err) {
     ew_assets *out = calloc(1, sizeof *out);
     if (!out) {
@@ -75,6 +106,8 @@ ew_assets *ew_assets_create(const char *map, const char *data_dir, ew_error *err
     if (n >= sizeof out->world->name) n = sizeof out->world->name - 1;
     memcpy(out->world->name, base, n);
     out->world->name[n] = '\0';
+
+    attach_lit(out->world, fs, map, direct);
 
     if (fs) {
         if (load_lmp(fs, "gfx/palette.lmp", parse_palette, out->palette, err) != 0 ||

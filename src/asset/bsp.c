@@ -6,6 +6,7 @@
  */
 #include "ew_util.h"
 #include "ew_world.h"
+#include "asset/lightdata.h"
 #include "worldspawn.h"
 
 #include <math.h>
@@ -55,6 +56,9 @@ typedef struct ctx {
     const uint8_t *lump[EW_NUM_LUMPS];
     int            len[EW_NUM_LUMPS];
     int            count[EW_NUM_LUMPS];
+    /* a BSPX lump moves light maps (LMSHIFT, DECOUPLED_LM): a face whose
+     * Quake-layout light map overruns the lump is kept unlit, not refused */
+    int            light_moved;
 } ctx;
 
 /* "FILE: lump 'NAME': what" */
@@ -578,6 +582,11 @@ static int load_faces(ctx *c, ew_world *w) {
             continue;
         }
         int64_t lsize = (int64_t)((f->extents[0] >> 4) + 1) * ((f->extents[1] >> 4) + 1) * nstyles;
+        if ((lightofs < 0 || lightofs + lsize > w->lightsize) && c->light_moved) {
+            f->lightofs = -1;  /* ew_bspx_layout places it, if it can */
+            memset(f->styles, 255, 4);
+            continue;
+        }
         if (lightofs < 0 || lightofs + lsize > w->lightsize)
             return lump_fail(c, EW_LUMP_FACES,
                              "face %d: light map at offset %d (size %lld) past the lighting lump (%d bytes)",
@@ -817,6 +826,8 @@ void ew_world_destroy(ew_world *w) {
     free(w->leaves);
     free(w->models);
     free(w->lighting);
+    free(w->rgblight);
+    free(w->facelm);
     free(w->visdata);
     free(w->entities);
     free(w->texpixels);
@@ -834,14 +845,23 @@ ew_world *ew_world_create(const uint8_t *data, size_t size, const char *filename
     const char *base = strrchr(filename, '/');
     snprintf(w->name, sizeof w->name, "%s", base ? base + 1 : filename);
 
+    /* BSPX (asset/lightdata.c): optional; a malformed part is a warning */
+    ew_bspx bx = {0};
     if (read_header(&c, w) || load_planes(&c, w) || load_vertexes(&c, w) || load_edges(&c, w) ||
         load_surfedges(&c, w) || load_entities(&c, w) ||
         copy_bytes(&c, EW_LUMP_LIGHTING, &w->lighting, &w->lightsize) ||
         copy_bytes(&c, EW_LUMP_VISIBILITY, &w->visdata, &w->vissize) || load_textures(&c, w) ||
-        load_texinfo(&c, w) || load_faces(&c, w) || load_marksurfaces(&c, w) ||
+        load_texinfo(&c, w) ||
+        (ew_bspx_open(&bx, data, size, w->lumps, w, filename), ew_bspx_rgb(&bx, w, filename),
+         c.light_moved = ew_bspx_moves_light(&bx), load_faces(&c, w)) ||
+        load_marksurfaces(&c, w) ||
         load_leafs(&c, w) || load_nodes(&c, w) || load_models(&c, w) || link_parents(&c, w)) {
         ew_world_destroy(w);
         return NULL;
+    }
+    {
+        int rec = rec_size[c.fmt][EW_LUMP_FACES];
+        ew_bspx_layout(&bx, w, filename, c.lump[EW_LUMP_FACES], rec, c.fmt == FMT_29 ? 12 : 20);
     }
     ew_worldspawn_read(w);  /* opaque liquids and no fog unless the map asks */
     return w;

@@ -2,6 +2,7 @@
  * searched from the highest number down, so later paks override earlier. */
 #define _POSIX_C_SOURCE 200809L
 #include "ew_util.h"
+#include "asset/lightdata.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -133,4 +134,18 @@ int ew_fs_load(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
     }
     return ew_fail(err, "%s: %s not found (searched %s and %d pak%s)", fs->dir, name, fs->dir,
                    fs->npaks, fs->npaks == 1 ? "" : "s");
+}
+
+/* asset/lightdata.h: optional files (a map's .lit) are looked for quietly. */
+int ew_fs_exists(const ew_fs *fs, const char *name) {
+    if (!fs || !name) return 0;
+    char *path = join(fs->dir, name);
+    if (!path) return 0;
+    struct stat st;
+    int found = stat(path, &st) == 0 && S_ISREG(st.st_mode);
+    free(path);
+    for (int i = fs->npaks - 1; i >= 0 && !found; i--)
+        for (int j = 0; j < fs->paks[i].count && !found; j++)
+            found = ew_same_name(fs->paks[i].entries[j].name, name);
+    return found;
 }

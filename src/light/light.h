@@ -85,6 +85,9 @@ void     ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, i
 /* ---- light on moving things (light/lightpoint.c, light/model_light.c) ---- */
 /* The world's light level under point p (0..255). */
 int  ew_light_point(const ew_renderer *r, const float p[3]);
+/* The same with its colour: rgb[0..2] 0..255 from the coloured light (the
+ * mono level three times without it); returns the mono level. */
+int  ew_light_point_rgb(const ew_renderer *r, const float p[3], int rgb[3]);
 /* An alias model's ambient and directional shade at origin: the floor
  * under it plus the dynamic lights in reach. */
 void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade);

@@ -27,6 +27,7 @@
 #include "ew_world.h"
 
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -100,6 +101,13 @@ typedef struct ctx {
     int    extra_planes[BI_MAX_SUBMODELS * 6][2];  /* planes off the grid: axis, dist */
     int    nextra_planes;
 } ctx;
+
+/* All lump payloads, written one after another into the image. */
+typedef struct lumps {
+    bi_buf l[EW_NUM_LUMPS];
+    /* with options (bi_scene.opt): coloured light and the BSPX per-face lumps */
+    bi_buf rgb, shift, ofs, style, dec;
+} lumps;
 
 /* Grows *p (element size sz) to hold at least n elements. */
 static int grow(ctx *c, void **p, int *cap, int n, size_t sz) {
@@ -548,8 +556,6 @@ static int make_submodels(ctx *c) {
     return 0;
 }
 
-static int floor16(int v) { return v >= 0 ? v / 16 * 16 : -((-v + 15) / 16 * 16); }
-static int ceil16(int v) { return -floor16(-v); }
 
 /* ---- writing ------------------------------------------------------------------ */
 
@@ -606,22 +612,33 @@ static void put_bounds(bi_buf *b, const int lo[3], const int hi[3]) {
     put_bounds_units(b, l, h);
 }
 
-/* The light map of a rectangle: one sample per 16 texels, on the grid of
- * its texinfo, lit from just in front of the face. */
-static void put_lightmap(const bi_scene *s, const frect *f, const texinfo_def *ti, bi_buf *lt) {
+static int floor_step(int v, int step) { return v >= 0 ? v / step * step : -((-v + step - 1) / step * step); }
+static int ceil_step(int v, int step) { return -floor_step(-v, step); }
+
+/* One light sample at p (looking along n): mono into lt, colour into rgb. */
+static void put_sample(const bi_scene *s, const float p[3], const float n[3], bi_buf *lt, bi_buf *rgb) {
+    uint8_t c[3];
+    bi_put_u8(lt, (uint8_t)bi_light_point_rgb(s, p, n, c));
+    if (rgb) bi_put(rgb, c, 3);
+}
+
+/* The light map of a rectangle: one sample per step texels (16: Quake's),
+ * on the grid of its texinfo, lit from just in front of the face. */
+static void put_lightmap(const bi_scene *s, const frect *f, const texinfo_def *ti, int step, bi_buf *lt,
+                         bi_buf *rgb) {
     int sa, ss, ta, ts, smin, smax, tmin, tmax;
     tex_axes(f->axis, &sa, &ss, &ta, &ts);
     rect_range(f, sa, ss, &smin, &smax);
     rect_range(f, ta, ts, &tmin, &tmax);
     smin += ti->soff, smax += ti->soff, tmin += ti->toff, tmax += ti->toff;
-    int mins_s = floor16(smin), mins_t = floor16(tmin);
-    int ns = (ceil16(smax) - mins_s) / 16 + 1, nt = (ceil16(tmax) - mins_t) / 16 + 1;
+    int mins_s = floor_step(smin, step), mins_t = floor_step(tmin, step);
+    int ns = (ceil_step(smax, step) - mins_s) / step + 1, nt = (ceil_step(tmax, step) - mins_t) / step + 1;
     float n[3] = {0, 0, 0};
     n[f->axis] = f->facing & 1 ? -1.0f : 1.0f;
     for (int k = 0; k < nt; k++)
         for (int j = 0; j < ns; j++) {
             float p[3];
-            int st[2] = {mins_s + 16 * j, mins_t + 16 * k};
+            int st[2] = {mins_s + step * j, mins_t + step * k};
             int ax[2] = {sa, ta}, sg[2] = {ss, ts}, lo[2] = {smin, tmin}, hi[2] = {smax, tmax};
             int off[2] = {ti->soff, ti->toff};
             for (int q = 0; q < 2; q++) {
@@ -632,8 +649,72 @@ static void put_lightmap(const bi_scene *s, const frect *f, const texinfo_def *t
                 p[ax[q]] = (float)((v - off[q]) * sg[q]);
             }
             p[f->axis] = (float)f->pos + n[f->axis];
-            bi_put_u8(lt, (uint8_t)bi_light_point(s, p, n));
+            put_sample(s, p, n, lt, rgb);
         }
+}
+
+/* DECOUPLED_LM: the light map on the two world axes of the face's plane,
+ * `units` world units a sample; writes the samples and the face's 40-byte
+ * record (uint16 width, height, int32 offset, 2x4 float world -> sample
+ * matrix). */
+static void put_lightmap_decoupled(const bi_scene *s, const frect *f, float units, int32_t ofs, bi_buf *lt,
+                                   bi_buf *rgb, bi_buf *dec) {
+    int ax[2] = {(f->axis + 1) % 3, (f->axis + 2) % 3};
+    int lo[2] = {f->u0, f->v0}, hi[2] = {f->u1, f->v1}, base[2], size[2];
+    for (int q = 0; q < 2; q++) {
+        base[q] = (int)floorf((float)lo[q] / units);
+        size[q] = (int)ceilf((float)hi[q] / units) - base[q] + 1;
+    }
+    float n[3] = {0, 0, 0};
+    n[f->axis] = f->facing & 1 ? -1.0f : 1.0f;
+    for (int k = 0; k < size[1]; k++)
+        for (int j = 0; j < size[0]; j++) {
+            float p[3];
+            int idx[2] = {j, k};
+            for (int q = 0; q < 2; q++) {
+                float v = (float)(base[q] + idx[q]) * units;
+                if (v < lo[q] + 1) v = (float)lo[q] + 1;
+                if (v > hi[q] - 1) v = (float)hi[q] - 1;
+                p[ax[q]] = v;
+            }
+            p[f->axis] = (float)f->pos + n[f->axis];
+            put_sample(s, p, n, lt, rgb);
+        }
+    bi_put_u16(dec, (uint16_t)size[0]);
+    bi_put_u16(dec, (uint16_t)size[1]);
+    bi_put_i32(dec, ofs);
+    for (int q = 0; q < 2; q++) {
+        for (int k = 0; k < 3; k++) bi_put_f32(dec, k == ax[q] ? 1.0f / units : 0.0f);
+        bi_put_f32(dec, (float)-base[q]);
+    }
+}
+
+/* A face's light map in the layout the options ask for, and its BSPX
+ * per-face records; returns its light offset (-1: special, none). */
+static int32_t put_face_light(const bi_scene *s, lumps *L, const frect *r, const texinfo_def *ti, int special) {
+    const ew_mapgen_options *o = s->opt;
+    bi_buf *lt = &L->l[EW_LUMP_LIGHTING];
+    bi_buf *rgb = o && (o->lit || o->rgblighting) ? &L->rgb : NULL;
+    int32_t ofs = special ? -1 : (int32_t)lt->len;
+    if (o && o->decoupled) {
+        float units = o->decoupled_units > 0 ? o->decoupled_units : 12.0f;
+        if (special) {
+            bi_put_u16(&L->dec, 0), bi_put_u16(&L->dec, 0), bi_put_i32(&L->dec, -1);
+            bi_put_zeros(&L->dec, 32);
+        } else {
+            put_lightmap_decoupled(s, r, units, ofs, lt, rgb, &L->dec);
+        }
+        return ofs;
+    }
+    int shift = o && o->lmshift_lumps ? o->lmshift : 4;
+    if (!special) put_lightmap(s, r, ti, 1 << shift, lt, rgb);
+    if (o && o->lmshift_lumps) {
+        const uint8_t lit[4] = {0, 255, 255, 255}, unlit[4] = {255, 255, 255, 255};
+        bi_put_u8(&L->shift, (uint8_t)shift);
+        bi_put_i32(&L->ofs, ofs);
+        bi_put(&L->style, special ? unlit : lit, 4);
+    }
+    return ofs;
 }
 
 static void put_face(bi_buf *b, int plane, int side, int firstedge, int numedges, int texinfo,
@@ -668,10 +749,6 @@ static int child_ref(const ctx *c, int n) {
     return nd->leaf ? -1 - nd->out : nd->out;
 }
 
-/* All lump payloads, written one after another into the image. */
-typedef struct lumps {
-    bi_buf l[EW_NUM_LUMPS];
-} lumps;
 
 static int write_vis(ctx *c, bi_buf *vis, int32_t *visofs) {
     int n = c->numleaves_out;
@@ -810,21 +887,16 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
         const bface *f = &c->faces[i];
         bi_buf *b = &L->l[EW_LUMP_FACES], *lt = &L->l[EW_LUMP_LIGHTING];
         int special = bi_texture_is_special(f->tex);
-        int32_t lightofs = -1;
-        if (!special) {
-            frect r = face_rect(f);
-            lightofs = (int32_t)lt->len;
-            put_lightmap(s, &r, &c->texinfo[f->texinfo], lt);
-        }
+        frect r = face_rect(f);
+        int32_t lightofs = put_face_light(s, L, &r, &c->texinfo[f->texinfo], special);
+        (void)lt;
         put_face(b, c->planes[f->axis][f->pos], f->facing & 1, f->firstvert, f->numverts, f->texinfo,
                  special, lightofs);
     }
     for (int i = 0; i < c->nsfaces; i++) {
         const sface *sf = &c->sfaces[i];
-        bi_buf *lt = &L->l[EW_LUMP_LIGHTING];
         int special = bi_texture_is_special(sf->tex);
-        int32_t lightofs = special ? -1 : (int32_t)lt->len;
-        if (!special) put_lightmap(s, &sf->r, &c->texinfo[sf->texinfo], lt);
+        int32_t lightofs = put_face_light(s, L, &sf->r, &c->texinfo[sf->texinfo], special);
         put_face(&L->l[EW_LUMP_FACES], sf->plane, sf->r.facing & 1, sf->firstedge, 4, sf->texinfo,
                  special, lightofs);
     }
@@ -899,6 +971,48 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
         bi_put_i32(m, 6);
     }
     return 0;
+}
+
+/* The BSPX directory and lumps the options ask for, after the standard
+ * lumps (4-byte aligned, as compilers write them), and the .lit image.
+ * Nothing without options. */
+static int write_bspx(const bi_scene *s, lumps *L, bi_buf *out) {
+    const ew_mapgen_options *o = s->opt;
+    if (!o) return 0;
+    if (L->rgb.failed || L->shift.failed || L->ofs.failed || L->style.failed || L->dec.failed) return -1;
+    if (o->lit && s->lit_out) {
+        bi_put(s->lit_out, "QLIT", 4);
+        bi_put_i32(s->lit_out, 1);
+        bi_put(s->lit_out, L->rgb.data, L->rgb.len);
+        if (s->lit_out->failed) return -1;
+    }
+    struct { const char *name; const bi_buf *b; } x[5];
+    int n = 0;
+    if (o->rgblighting) x[n].name = "RGBLIGHTING", x[n++].b = &L->rgb;
+    if (o->lmshift_lumps && !o->decoupled) {
+        x[n].name = "LMSHIFT", x[n++].b = &L->shift;
+        x[n].name = "LMOFFSET", x[n++].b = &L->ofs;
+        x[n].name = "LMSTYLE", x[n++].b = &L->style;
+    }
+    if (o->decoupled) x[n].name = "DECOUPLED_LM", x[n++].b = &L->dec;
+    if (!n) return 0;
+    bi_put_zeros(out, (4 - out->len % 4) % 4);
+    size_t dir = out->len;
+    bi_put(out, "BSPX", 4);
+    bi_put_i32(out, n);
+    bi_put_zeros(out, 32 * (size_t)n);
+    for (int i = 0; i < n; i++) {
+        bi_put_zeros(out, (4 - out->len % 4) % 4);
+        size_t ofs = out->len;
+        bi_put(out, x[i].b->data, x[i].b->len);
+        if (out->failed) return -1;
+        uint8_t *e = out->data + dir + 8 + 32 * i;
+        memset(e, 0, 24);
+        memcpy(e, x[i].name, strlen(x[i].name));
+        uint32_t v[2] = {(uint32_t)ofs, (uint32_t)x[i].b->len};
+        for (int k = 0; k < 8; k++) e[24 + k] = (uint8_t)(v[k / 4] >> (8 * (k % 4)));
+    }
+    return out->failed ? -1 : 0;
 }
 
 int bi_build_bsp(const bi_scene *s, const uint8_t palette[768], bi_buf *out, ew_error *err) {
@@ -992,6 +1106,7 @@ int bi_build_bsp(const bi_scene *s, const uint8_t palette[768], bi_buf *out, ew_
         for (int k = 0; k < 8; k++) out->data[dir + 8 * i + k] = (uint8_t)(v[k / 4] >> (8 * (k % 4)));
     }
     if (out->failed) goto oom;
+    if (write_bspx(s, L, out)) goto oom;
     rc = 0;
     goto done;
 oom:
@@ -1002,8 +1117,10 @@ done:
         free(c->polys), free(c->verts), free(c->edges), free(c->surfedges), free(c->texinfo);
         imap_free(&c->vmap), imap_free(&c->emap);
     }
-    if (L)
+    if (L) {
         for (int i = 0; i < EW_NUM_LUMPS; i++) free(L->l[i].data);
+        free(L->rgb.data), free(L->shift.data), free(L->ofs.data), free(L->style.data), free(L->dec.data);
+    }
     free(c), free(L);
     return rc;
 }

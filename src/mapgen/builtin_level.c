@@ -164,48 +164,88 @@ static char *make_entities(void) {
     return e;
 }
 
-int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
-                        uint8_t colormap[EW_COLORMAP_SIZE], ew_error *err) {
-    *bsp = NULL, *bsp_size = 0;
-    bi_scene sc;
-    memset(&sc, 0, sizeof sc);
-    sc.grid.n[0] = NX, sc.grid.n[1] = NY, sc.grid.n[2] = NZ;
-    sc.grid.kind = malloc((size_t)NX * NY * NZ);
-    sc.grid.mat = malloc((size_t)NX * NY * NZ);
+/* The scene: grid, lights, sun, entities, door (free with free_scene). */
+static int make_scene(bi_scene *sc, ew_error *err) {
+    memset(sc, 0, sizeof *sc);
+    sc->grid.n[0] = NX, sc->grid.n[1] = NY, sc->grid.n[2] = NZ;
+    sc->grid.kind = malloc((size_t)NX * NY * NZ);
+    sc->grid.mat = malloc((size_t)NX * NY * NZ);
     char *ents = make_entities();
-    if (!sc.grid.kind || !sc.grid.mat || !ents) {
-        free(sc.grid.kind), free(sc.grid.mat), free(ents);
-        return ew_fail(err, "builtin: out of memory");
-    }
-    layout(&sc.grid);
+    sc->entities = ents;
+    if (!sc->grid.kind || !sc->grid.mat || !ents) return ew_fail(err, "builtin: out of memory");
+    layout(&sc->grid);
     /* the outer shell must be solid: faces only exist on interior planes */
     for (int z = 0; z < NZ; z++)
         for (int y = 0; y < NY; y++)
             for (int x = 0; x < NX; x++)
                 if ((x == 0 || y == 0 || z == 0 || x == NX - 1 || y == NY - 1 || z == NZ - 1) &&
-                    bi_kind(&sc.grid, x, y, z) != BI_SOLID) {
-                    free(sc.grid.kind), free(sc.grid.mat), free(ents);
+                    bi_kind(&sc->grid, x, y, z) != BI_SOLID)
                     return ew_fail(err, "builtin: the scene leaks at cell %d %d %d", x, y, z);
-                }
-    sc.nlights = (int)(sizeof scene_lights / sizeof scene_lights[0]);
-    memcpy(sc.lights, scene_lights, sizeof scene_lights);
+    sc->nlights = (int)(sizeof scene_lights / sizeof scene_lights[0]);
+    memcpy(sc->lights, scene_lights, sizeof scene_lights);
     /* afternoon sun from the south-west, high up */
-    sc.sun_dir[0] = 0.50f, sc.sun_dir[1] = 0.33f, sc.sun_dir[2] = -0.80f;
-    sc.sun_intensity = 150;
-    sc.ambient = 22;
-    sc.entities = ents;
-    sc.submodels[0] = door;
-    sc.nsubmodels = 1;
+    sc->sun_dir[0] = 0.50f, sc->sun_dir[1] = 0.33f, sc->sun_dir[2] = -0.80f;
+    sc->sun_intensity = 150;
+    sc->ambient = 22;
+    sc->submodels[0] = door;
+    sc->nsubmodels = 1;
+    return 0;
+}
+
+static void free_scene(bi_scene *sc) {
+    free(sc->grid.kind), free(sc->grid.mat), free((char *)sc->entities);
+}
+
+int ew_builtin_generate_ex(const ew_mapgen_options *o, uint8_t **bsp, size_t *bsp_size,
+                           uint8_t palette[768], uint8_t colormap[EW_COLORMAP_SIZE], uint8_t **lit,
+                           size_t *lit_size, ew_error *err) {
+    *bsp = NULL, *bsp_size = 0;
+    if (lit) *lit = NULL;
+    if (lit_size) *lit_size = 0;
+    if (o && ((o->lmshift_lumps && (o->lmshift < 0 || o->lmshift > 8)) || (o->decoupled && !(o->decoupled_units >= 0 && o->decoupled_units <= 1024))))
+        return ew_fail(err, "builtin: options out of range (lmshift %d, decoupled units %g)", o->lmshift,
+                       (double)o->decoupled_units);
+    bi_scene sc;
+    if (make_scene(&sc, err)) {
+        free_scene(&sc);
+        return -1;
+    }
+    bi_buf litbuf = {0};
+    sc.opt = o;
+    sc.lit_out = &litbuf;
 
     bi_make_palette(palette);
     bi_make_colormap(palette, colormap);
     bi_buf out = {0};
     int rc = bi_build_bsp(&sc, palette, &out, err);
-    free(sc.grid.kind), free(sc.grid.mat), free(ents);
+    free_scene(&sc);
     if (rc) {
-        free(out.data);
+        free(out.data), free(litbuf.data);
         return -1;
     }
     *bsp = out.data, *bsp_size = out.len;
+    if (lit && lit_size && litbuf.len) {
+        *lit = litbuf.data, *lit_size = litbuf.len;
+    } else {
+        free(litbuf.data);
+    }
     return 0;
+}
+
+int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
+                        uint8_t colormap[EW_COLORMAP_SIZE], ew_error *err) {
+    return ew_builtin_generate_ex(NULL, bsp, bsp_size, palette, colormap, NULL, NULL, err);
+}
+
+int ew_builtin_light_at(const ew_mapgen_options *o, const float p[3], const float n[3], uint8_t rgb[3]) {
+    bi_scene sc;
+    ew_error err;
+    uint8_t scratch[3];
+    int v = -1;
+    if (make_scene(&sc, &err) == 0) {
+        sc.opt = o;
+        v = bi_light_point_rgb(&sc, p, n, rgb ? rgb : scratch);
+    }
+    free_scene(&sc);
+    return v;
 }

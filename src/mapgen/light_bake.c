@@ -60,6 +60,34 @@ int bi_light_point(const bi_scene *s, const float p[3], const float n[3]) {
     return total < 0 ? 0 : total > 255 ? 255 : (int)lrint(total);
 }
 
+int bi_light_point_rgb(const bi_scene *s, const float p[3], const float n[3], uint8_t rgb[3]) {
+    int mono = bi_light_point(s, p, n);
+    const float *tint = s->opt ? s->opt->light_tint : NULL;
+    if (!tint) {
+        rgb[0] = rgb[1] = rgb[2] = (uint8_t)mono;
+        return mono;
+    }
+    double total[3] = {s->ambient, s->ambient, s->ambient};
+    for (int i = 0; i < s->nlights && i < EW_MAPGEN_MAX_LIGHTS; i++) {
+        const bi_light *l = &s->lights[i];
+        double d[3] = {l->origin[0] - p[0], l->origin[1] - p[1], l->origin[2] - p[2]};
+        double dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (dist >= l->intensity) continue;
+        double c = dist < 1 ? 1 : (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / dist;
+        if (c <= 0 || bi_trace(&s->grid, p, l->origin) >= 0) continue;
+        for (int k = 0; k < 3; k++) total[k] += (l->intensity - dist) * c * tint[3 * i + k];
+    }
+    double c = -(s->sun_dir[0] * n[0] + s->sun_dir[1] * n[1] + s->sun_dir[2] * n[2]);
+    if (s->sun_intensity > 0 && c > 0) {
+        float far[3];
+        for (int k = 0; k < 3; k++) far[k] = p[k] - s->sun_dir[k] * 8192.0f;
+        if (bi_trace(&s->grid, p, far) == BI_SKY)
+            for (int k = 0; k < 3; k++) total[k] += s->sun_intensity * c;
+    }
+    for (int k = 0; k < 3; k++) rgb[k] = (uint8_t)(total[k] < 0 ? 0 : total[k] > 255 ? 255 : lrint(total[k]));
+    return mono;
+}
+
 /* ---- PVS ------------------------------------------------------------------- */
 
 /* Portal flow over the leaf boxes.  Open leaves that share a face area are

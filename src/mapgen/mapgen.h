@@ -20,6 +20,41 @@
 int ew_builtin_generate(uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
                         uint8_t colormap[EW_COLORMAP_SIZE], ew_error *err);
 
+/* What ew_builtin_generate_ex writes besides the plain map (for the
+ * loaders' tests and fuzz seeds).  All zero (or a NULL pointer) is the
+ * plain map, byte for byte what ew_builtin_generate writes. */
+#define EW_MAPGEN_MAX_LIGHTS 8
+typedef struct ew_mapgen_options {
+    int lit;             /* 1: a .lit image too (*lit, *lit_size) */
+    int rgblighting;     /* 1: a BSPX RGBLIGHTING lump */
+    int lmshift_lumps;   /* 1: BSPX LMSHIFT, LMOFFSET and LMSTYLE, every face's light map
+                          * baked one sample every 1 << lmshift texels */
+    int lmshift;         /* 0..8 */
+    int decoupled;       /* 1: BSPX DECOUPLED_LM: each face's light map on the two world
+                          * axes of its plane, decoupled_units world units a sample
+                          * (sample i at coordinate (floor(lo / units) + i) * units) */
+    float decoupled_units;  /* 0: 12 */
+    /* Colour of each of the scene's lights (r, g, b multipliers, 3 floats
+     * a light, EW_MAPGEN_MAX_LIGHTS lights); NULL: white, so the coloured
+     * light's three channels equal the monochrome light exactly.  Ambient
+     * and sun light stay white. */
+    const float *light_tint;
+} ew_mapgen_options;
+
+/* ew_builtin_generate with options (NULL: the plain map); lit and lit_size
+ * receive the malloc'd .lit image when o->lit (else NULL, 0; both may be
+ * NULL when not wanted).  The light maps of every layout are baked at the
+ * sample points of that layout.  BSPX lumps follow the standard lumps,
+ * 4-byte aligned; with LMSHIFT and DECOUPLED_LM the faces' own light
+ * offsets point at the moved light maps. */
+int ew_builtin_generate_ex(const ew_mapgen_options *o, uint8_t **bsp, size_t *bsp_size,
+                           uint8_t palette[768], uint8_t colormap[EW_COLORMAP_SIZE], uint8_t **lit,
+                           size_t *lit_size, ew_error *err);
+/* The baker's light (0..255, and its colour with the tints of o, NULL:
+ * white) at world point p of the built-in level on a surface facing along
+ * n: what a light-map sample there holds. */
+int ew_builtin_light_at(const ew_mapgen_options *o, const float p[3], const float n[3], uint8_t rgb[3]);
+
 /* Textures, in the order of the textures lump. */
 enum { BI_T_BRICK, BI_T_METAL, BI_T_FLOOR, BI_T_STONE, BI_T_WOOD, BI_T_WATER,
        BI_T_SKY, BI_T_BUTTON0, BI_T_BUTTON1, BI_T_DOOR, BI_NUM_TEXTURES };

@@ -58,6 +58,8 @@ typedef struct bi_scene {
     const char *entities;    /* NUL-terminated entity lump text */
     bi_box   submodels[BI_MAX_SUBMODELS];  /* submodel *i+1 */
     int      nsubmodels;
+    const ew_mapgen_options *opt;  /* NULL: the plain map */
+    struct bi_buf *lit_out;        /* .lit image when opt->lit */
 } bi_scene;
 
 /* Texture of the face visible from a cell of kind self_kind against the
@@ -66,11 +68,12 @@ typedef struct bi_scene {
 int bi_face_texture(int self_kind, int other_kind, int other_mat, int facing);
 
 /* Growable byte buffer; after an allocation failure it stays failed. */
-typedef struct bi_buf {
+typedef struct bi_buf bi_buf;
+struct bi_buf {
     uint8_t *data;
     size_t   len, cap;
     int      failed;
-} bi_buf;
+};
 void bi_put(bi_buf *b, const void *p, size_t n);
 void bi_put_zeros(bi_buf *b, size_t n);
 void bi_put_i32(bi_buf *b, int32_t v);
@@ -99,6 +102,9 @@ int bi_trace(const bi_grid *g, const float a[3], const float b[3]);
 
 /* Light value (0..255) at world point p on a surface facing along normal n. */
 int bi_light_point(const bi_scene *s, const float p[3], const float n[3]);
+/* The same with colour (s->opt's tints; white without): returns the mono
+ * value, fills rgb. */
+int bi_light_point_rgb(const bi_scene *s, const float p[3], const float n[3], uint8_t rgb[3]);
 
 /* Fills vis[a * nleaves + b] = 1 if leaf box a may see leaf box b (a
  * conservative portal flow; symmetric).  Boxes are in world units;
