@@ -114,7 +114,7 @@ typedef struct emitter {
     int fence;                 /* true colour: index 255 is a hole (alpha 0) */
     const uint8_t *cmap;
     const ew_lightcurve *lc;
-    const uint8_t *nearest;    /* OUT_NEAREST: the 32x32x32 cube */
+    const ew_blend *cube;      /* OUT_NEAREST: the nearest-colour cube */
     int dither;
 } emitter;
 
@@ -146,12 +146,14 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
         out8[x] = c;
         return;
     }
-    int d = e->dither ? bayer[dy & 3][dx & 3] / 2 - 4 : 0;  /* -4..3 of a step of 8 */
+    /* The dither spreads half a cube step either way, in proportion to the
+     * value (the cube's steps grow with it). */
+    int d = e->dither ? bayer[dy & 3][dx & 3] - 8 : 0;  /* -8..7 of 16 */
     for (int k = 0; k < 3; k++) {
-        int v = rgb[k] + d;
+        int v = rgb[k] + d * (rgb[k] / 16 + 1) / 16;
         rgb[k] = v < 0 ? 0 : v > 255 ? 255 : v;
     }
-    out8[x] = e->nearest[((rgb[0] >> 3) << 10) | ((rgb[1] >> 3) << 5) | (rgb[2] >> 3)];
+    out8[x] = e->cube->nearest[ew_blend_at(e->cube, rgb[0], rgb[1], rgb[2])];
 }
 
 void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
@@ -169,7 +171,8 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
     }
     emitter e = {truecolor ? OUT_RGBA : nc == 3 ? OUT_NEAREST : OUT_CMAP, nc,
                  (tex->flags & EW_SURF_FENCE) && !r->cfg.classic, r->colormap, &r->lit.curve, NULL, r->cfg.dither};
-    if (e.mode == OUT_NEAREST && !(e.nearest = r->lit.nearest)) e.mode = OUT_CMAP;  /* no table: white */
+    if (e.mode == OUT_NEAREST && !r->lit.nearest) e.mode = OUT_CMAP;  /* no table: white */
+    e.cube = &r->blend;
 
     int tw = tex->width >> mip, th = tex->height >> mip;
     const uint8_t *tp = tex->mip[mip];

@@ -38,10 +38,13 @@ static int build_cube(ew_blend *b) {
     if (b->nearest) return 0;
     uint8_t *c = malloc(32 * 32 * 32);
     if (!c) return -1;
+    int centre[32];
+    for (int k = 0; k < 32; k++) centre[k] = (int)lrint(255.0 * (k / 31.0) * (k / 31.0));
+    for (int v = 0; v < 256; v++) b->q[v] = (uint8_t)lrint(31.0 * sqrt(v / 255.0));
     for (int r = 0; r < 32; r++)
         for (int g = 0; g < 32; g++)
             for (int bl = 0; bl < 32; bl++)
-                c[(r << 10) | (g << 5) | bl] = (uint8_t)nearest_exact(b->palette, r * 8 + 4, g * 8 + 4, bl * 8 + 4);
+                c[(r << 10) | (g << 5) | bl] = (uint8_t)nearest_exact(b->palette, centre[r], centre[g], centre[bl]);
     b->nearest = c;
     return 0;
 }
@@ -71,7 +74,7 @@ const uint8_t *ew_blend_alpha(ew_blend *b, int level) {
             int r = (p[s * 3] * a + p[d * 3] * na) / EW_BLEND_LEVELS;
             int g = (p[s * 3 + 1] * a + p[d * 3 + 1] * na) / EW_BLEND_LEVELS;
             int bl = (p[s * 3 + 2] * a + p[d * 3 + 2] * na) / EW_BLEND_LEVELS;
-            t[s * 256 + d] = b->nearest[((r >> 3) << 10) | ((g >> 3) << 5) | (bl >> 3)];
+            t[s * 256 + d] = b->nearest[ew_blend_at(b, r, g, bl)];
         }
     /* Opaque is exact: no colour changes at level 16. */
     if (level == EW_BLEND_LEVELS)
