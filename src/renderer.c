@@ -210,6 +210,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->see.polys), free(r->see.order), free(r->warp_copy);
     ew_blend_free(&r->blend);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
+    free(r->ents.tint_rgba), free(r->ents.tint_remap);
     free(r);
 }
 

@@ -84,6 +84,8 @@ typedef struct ew_ents {
     struct ew_alias_xf *xf;   int max_xf;       /* per entity */
     struct ew_xvert *xverts;  size_t max_xverts; /* their vertices, one run per visible model */
     int          *alias_list; int nalias;       /* visible alias entities, the parallel work */
+    uint32_t     *tint_rgba;                    /* per entity, 256: the palette in its light's colour */
+    uint8_t      *tint_remap;                   /* per entity, 256: 8-bit, the nearest colours of that */
 } ew_ents;
 
 /* See-through polygons of this frame (world/divert.c collects them from the

@@ -91,6 +91,9 @@ int  ew_light_point_rgb(const ew_renderer *r, const float p[3], int rgb[3]);
 /* An alias model's ambient and directional shade at origin: the floor
  * under it plus the dynamic lights in reach. */
 void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade);
+/* The colour of that light, as multipliers of 256 per channel (256, 256, 256:
+ * white); 0 when the light is white (no coloured light, or grey). */
+int  ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]);
 
 /* ---- item boxes' lit surfaces (light/box_surfs.c) ---- */
 /* Every face of a box at every mip, rebuilt only when a light style on it

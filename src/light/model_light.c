@@ -19,3 +19,19 @@ void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, i
     if (a + s > 192) s = 192 - a;
     *ambient = a, *shade = s;
 }
+
+int ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]) {
+    tint[0] = tint[1] = tint[2] = 256;
+    if (!ew_use_rgb_light(r, r->world)) return 0;
+    int rgb[3];
+    ew_light_point_rgb(r, origin, rgb);
+    /* The hue of the light under the model, its brightness left to the
+     * white level (ambient and shade): channel over the channels' mean. */
+    int sum = rgb[0] + rgb[1] + rgb[2];
+    if (sum <= 0 || (rgb[0] == rgb[1] && rgb[1] == rgb[2])) return 0;
+    for (int k = 0; k < 3; k++) {
+        int t = rgb[k] * 3 * 256 / sum;
+        tint[k] = t > 768 ? 768 : t;
+    }
+    return 1;
+}

@@ -100,12 +100,14 @@ static void draw_span(ew_araster *ra, int y, int xs, int xe, const ew_avert *top
     const uint8_t *skin = ra->skin, *cmap = ra->colormap;
     const int bpp = ra->target->bpp;
     const uint32_t *rgba = ra->rgba;
+    const uint8_t *remap = ra->remap;
     int sw = ra->skinw;
     long count = 0;
     for (int x = xs; x < xe; x++) {
         if (zi >= zr[x]) {
             zr[x] = zi;
-            ew_put_via(bpp, rgba, fr, x, cmap[(l & 0x3F00) + skin[(t >> 16) * sw + (s >> 16)]]);
+            uint8_t px = cmap[(l & 0x3F00) + skin[(t >> 16) * sw + (s >> 16)]];
+            ew_put_via(bpp, rgba, fr, x, remap ? remap[px] : px);
             count++;
         }
         zi += dzi;
@@ -267,7 +269,7 @@ static int clip_poly(const clip_planes *cp, int mask, cvert *in, int n, cvert *s
 int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
                        ew_xvert *xv) {
     xf->visible = 0;
-    xf->rgba = NULL;
+    xf->rgba = NULL, xf->remap = NULL;
     for (int k = 0; k < 3; k++)
         if (!isfinite(p->origin[k]) || !isfinite(p->angles[k]) || fabsf(p->origin[k]) > 1e6f) return 0;
     const ew_view *v = &r->view;
@@ -402,6 +404,7 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
     memset(&ra, 0, sizeof ra);
     ra.target = &r->target;
     ra.rgba = xf->rgba ? xf->rgba : r->target.rgba;
+    ra.remap = r->target.bpp == 1 ? xf->remap : NULL;
     ra.x0 = 0, ra.y0 = rows->y0, ra.x1 = r->target.width, ra.y1 = rows->y1;
     ra.skin = m->skinpixels + (size_t)image * m->skinwidth * m->skinheight;
     ra.skinw = m->skinwidth, ra.skinh = m->skinheight;

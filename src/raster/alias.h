@@ -86,6 +86,7 @@ typedef struct ew_avert {
 typedef struct ew_araster {
     const ew_target *target;            /* the frame and its z-buffer */
     const uint32_t  *rgba;              /* true colour: palette index -> pixel (tinted by the model's light) */
+    const uint8_t   *remap;             /* 8-bit: palette index -> the tinted one, or NULL */
     int            x0, y0, x1, y1;      /* clip rectangle [x0, x1) x [y0, y1) */
     const uint8_t *skin;                /* skinw * skinh palette indices */
     int            skinw, skinh;
@@ -158,6 +159,7 @@ typedef struct ew_alias_xf {
     ew_view_planes_t cp;
     const ew_xvert  *xv;                       /* numverts of them */
     const uint32_t  *rgba;                     /* true colour: its light's tint, or NULL (white) */
+    const uint8_t   *remap;                    /* 8-bit: the same as nearest colours, or NULL */
 } ew_alias_xf;
 int  ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
                         ew_xvert *xv);

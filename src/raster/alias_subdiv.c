@@ -41,7 +41,7 @@ static inline void plot(ew_araster *ra, const ew_avert *p) {
     float *z = ew_target_z(ra->target, p->x, p->y);
     if (p->zi >= *z) {
         *z = p->zi;
-        ew_put_via(ra->target->bpp, ra->rgba, ew_target_at(ra->target, 0, p->y), p->x, c);
+        ew_put_via(ra->target->bpp, ra->rgba, ew_target_at(ra->target, 0, p->y), p->x, ra->remap ? ra->remap[c] : c);
         ra->pixels++;
     }
 }
@@ -118,7 +118,7 @@ void ew_alias_tile_end(ew_araster *ra) {
         for (int x = 0; x < ra->tw; x++)
             if (f[x]) {
                 zr[x] = z[x];
-                ew_put_via(ra->target->bpp, ra->rgba, fr, x, c[x]);
+                ew_put_via(ra->target->bpp, ra->rgba, fr, x, ra->remap ? ra->remap[c[x]] : c[x]);
                 n++;
             }
     }

@@ -75,7 +75,24 @@ void ew_pose_alias(ew_renderer *r, int item) {
     const ew_scene_model *m = &sc->models[e->model];
     const ew_ent_frame *ef = &r->ents.ent_frame[i];
     ew_model_pose pose = entity_pose(r, e, m, ef);
-    ew_alias_transform(r, m->data, &pose, &r->ents.xf[i], r->ents.xverts + ef->xvert0);
+    ew_alias_xf *xf = &r->ents.xf[i];
+    ew_alias_transform(r, m->data, &pose, xf, r->ents.xverts + ef->xvert0);
+    if (!ef->tinted) return;
+    /* The palette in the colour of the light under the model: a pixel table
+     * in true colour, the nearest colours in 8-bit. */
+    const ew_lightcurve *lc = &r->lit.curve;
+    uint32_t *rgba = r->ents.tint_rgba + (size_t)i * 256;
+    uint8_t *remap = r->ents.tint_remap + (size_t)i * 256;
+    for (int c = 0; c < 256; c++) {
+        int v[3];
+        for (int k = 0; k < 3; k++) {
+            int x = lc->fullbright[c] ? lc->palette[c * 3 + k] : (lc->palette[c * 3 + k] * ef->tint[k]) >> 8;
+            v[k] = x > 255 ? 255 : x;
+        }
+        rgba[c] = ew_rgba(v[0], v[1], v[2]);
+        remap[c] = lc->fullbright[c] || !r->lit.nearest ? (uint8_t)c : r->lit.nearest[ew_blend_at(&r->blend, v[0], v[1], v[2])];
+    }
+    xf->rgba = rgba, xf->remap = remap;
 }
 
 void ew_draw_models(ew_renderer *r, const ew_rows *rows) {

@@ -39,6 +39,15 @@ int ew_prepare_entities(ew_renderer *r) {
             return 0;
         }
         en->max_xf = sc->nents;
+        uint32_t *tr = realloc(en->tint_rgba, sizeof *tr * 256 * (size_t)sc->nents);
+        uint8_t *tm = realloc(en->tint_remap, 256 * (size_t)sc->nents);
+        if (tr) en->tint_rgba = tr;
+        if (tm) en->tint_remap = tm;
+        if (!tr || !tm) {
+            en->max_xf = 0;
+            r->stats.dropped++;
+            return 0;
+        }
     }
     size_t nxverts = 0;
     for (int i = 0; i < sc->nents; i++) {
@@ -59,6 +68,7 @@ int ew_prepare_entities(ew_renderer *r) {
         ef->visible = 1;
         if (m->kind == EW_MODEL_ALIAS) {
             ew_model_light(r, e->origin, &ef->ambient, &ef->shade);
+            ef->tinted = ew_model_tint(r, e->origin, ef->tint);
             ef->xvert0 = nxverts;
             nxverts += (size_t)((const ew_mdl *)m->data)->numverts;
             en->alias_list[en->nalias++] = i;

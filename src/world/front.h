@@ -57,6 +57,7 @@ typedef struct ew_ent_frame {
     int    visible;
     int    ambient, shade;
     size_t xvert0;      /* alias models: where their posed vertices start in ents.xverts */
+    int    tinted, tint[3];  /* alias models under coloured light: its colour (ew_model_tint) */
 } ew_ent_frame;
 int  ew_prepare_entities(ew_renderer *r);
 
