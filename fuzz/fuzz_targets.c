@@ -352,8 +352,12 @@ static void probe_light(const ew_world *w) {
     ew_renderer_destroy(r);
 }
 
-int ew_fuzz_lit(const uint8_t *data, size_t size) {
-    static ew_world *w;
+static ew_world *lit_world;
+static uint8_t *bspx_base[4];
+static size_t bspx_cut_at[4];
+
+void ew_fuzz_lit_init(void) {
+    ew_world *w = lit_world;
     if (!w) {
         uint8_t *bsp, palette[768], colormap[EW_COLORMAP_SIZE];
         size_t n;
@@ -362,7 +366,13 @@ int ew_fuzz_lit(const uint8_t *data, size_t size) {
         w = ew_world_create(bsp, n, "builtin.bsp", &err);
         free(bsp);
         if (!w) broken("the built-in map does not load", 0);
+        lit_world = w;
     }
+}
+
+int ew_fuzz_lit(const uint8_t *data, size_t size) {
+    ew_fuzz_lit_init();
+    ew_world *w = lit_world;
     int rc = ew_world_attach_lit(w, data, size, "fuzz.lit");
     if (rc == 0 && !w->rgblight) broken("attached without rgblight", 0);
     if (rc != 0 && (w->rgblight || w->nwarnings != 1)) broken("ignored .lit without exactly one warning", 0);
@@ -395,11 +405,9 @@ size_t ew_fuzz_bspx_cut(const uint8_t *bsp, size_t size) {
     return end;
 }
 
-int ew_fuzz_bspx(const uint8_t *data, size_t size) {
-    static uint8_t *base[4];
-    static size_t cut[4];
-    if (size < 1) return 1;
-    int v = data[0] & 3;
+static void bspx_init_one(int v) {
+    uint8_t **base = bspx_base;
+    size_t *cut = bspx_cut_at;
     if (!base[v]) {
         ew_mapgen_options o;
         ew_fuzz_bspx_options(v, &o);
@@ -410,6 +418,18 @@ int ew_fuzz_bspx(const uint8_t *data, size_t size) {
         cut[v] = ew_fuzz_bspx_cut(bsp, n);
         base[v] = bsp;
     }
+}
+
+void ew_fuzz_bspx_init(void) {
+    for (int v = 0; v < 4; v++) bspx_init_one(v);
+}
+
+int ew_fuzz_bspx(const uint8_t *data, size_t size) {
+    uint8_t **base = bspx_base;
+    size_t *cut = bspx_cut_at;
+    if (size < 1) return 1;
+    int v = data[0] & 3;
+    bspx_init_one(v);
     /* exactly the bytes of the file, so ASan sees any read past it */
     size_t n = cut[v] + size - 1;
     uint8_t *d = malloc(n ? n : 1);

@@ -31,6 +31,11 @@ int ew_fuzz_bspx(const uint8_t *data, size_t size);
  * where its BSPX part starts in the generated image (make_seeds cuts the
  * seeds there). */
 struct ew_mapgen_options;
+/* The base maps of the two light targets, made once (slow under the
+ * fuzzer's instrumentation: their LLVMFuzzerInitialize calls these, so
+ * the per-input timeout does not count them). */
+void ew_fuzz_lit_init(void);
+void ew_fuzz_bspx_init(void);
 void   ew_fuzz_bspx_options(int v, struct ew_mapgen_options *o);
 size_t ew_fuzz_bspx_cut(const uint8_t *bsp, size_t size);
 

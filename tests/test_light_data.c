@@ -361,7 +361,7 @@ static void test_layouts(void) {
         ew_world_destroy(w);
     }
     ew_world_destroy(pw);
-    free(plain.bsp);
+    free(plain.bsp), free(gd.bsp);
 
     /* ---- refusals: one warning each, the map still loads ---- */
     struct { const char *label, *lump, *what; int kind; } bad[] = {
