@@ -6,6 +6,7 @@
  */
 #include "ew_util.h"
 #include "ew_world.h"
+#include "light_entities.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -818,6 +819,7 @@ ew_world *ew_world_create(const uint8_t *data, size_t size, const char *filename
         return NULL;
     }
     for (int i = 0; i < EW_NUM_LIQUIDS; i++) w->worldspawn.liquid_alpha[i] = 1;  /* opaque unless the map asks */
+    w->styles_start_off = ew_light_styles_starting_off(w->entities, strlen(w->entities));
     return w;
 }
 
