@@ -270,9 +270,47 @@ EW_API const float   *ew_frame_zbuffer(ew_renderer *r);
 EW_API int ew_set_threads(ew_renderer *r, int n);
 EW_API int ew_get_threads(const ew_renderer *r);
 
-/* Light style values (256 = normal, twice that = double bright). Default:
- * 256 for every style, which is what the reference renders show. */
+/* ---- light styles --------------------------------------------------------
+ * Each face's light map has up to four styles (0..63); a style's value
+ * scales its light (256 = the light map as compiled).  By default the
+ * styles are what the game shows, computed each frame from the camera's
+ * time: a pattern of letters, ten a second, looping, each letter worth
+ * (letter - 'a') * 22 as in the original engine ('a' = 0 dark, 'm' = 264
+ * normal, 'z' = 550).  Style 0 "m"; 1..11 Quake's standard patterns
+ * (flicker, slow strong pulse, candle, fast strobe, gentle pulse, flicker
+ * 2, candle 2, candle 3, slow strobe, fluorescent flicker, slow pulse);
+ * 12..31 "m"; 32..63, the switchable lights, "m" (on) unless a light
+ * entity of the map using the style starts off (spawnflags 1): "a".  In
+ * classic mode (ew_set_classic) the defaults are 256 for every style, the
+ * conditions of the reference renders; the settings below apply in both. */
+
+/* A fixed value for a style (clamped to 0..1024), in effect at once; an
+ * unknown style is ignored. */
 EW_API void ew_set_lightstyle(ew_renderer *r, int style, int value);
+/* A pattern of its own for a style: 1..64 letters 'a'..'z' (e.g. "az" to
+ * blink five times a second).  0, or -1 (nothing changed) for another
+ * string, NULL or an unknown style. */
+EW_API int  ew_set_lightstyle_pattern(ew_renderer *r, int style, const char *pattern);
+/* A switchable light on ("m") or off ("a"), whatever the map says.
+ * 0, or -1 for an unknown style. */
+EW_API int  ew_set_lightstyle_switch(ew_renderer *r, int style, int on);
+/* The style back to its default (above). */
+EW_API void ew_reset_lightstyle(ew_renderer *r, int style);
+/* The value the last frame used for a style (256 before the first frame;
+ * -1 for an unknown style). */
+EW_API int  ew_get_lightstyle(const ew_renderer *r, int style);
+
+/* Output gamma, 0.5..3 (default 1: none): each colour channel c becomes
+ * 255 * (c / 255) ^ (1 / gamma), so above 1 brightens and below darkens.
+ * 8-bit frames keep their palette indices: show them with
+ * ew_frame_palette; true-colour frames get it in their pixels.  Returns 0,
+ * or -1 (nothing changed) for another value. */
+EW_API int   ew_set_gamma(ew_renderer *r, float gamma);
+EW_API float ew_get_gamma(const ew_renderer *r);
+/* The palette (768 bytes) to show the 8-bit frame with: the renderer's
+ * palette through the gamma (the same colours at gamma 1).  ew_write_frame_png
+ * writes it. */
+EW_API const uint8_t *ew_frame_palette(const ew_renderer *r);
 
 /* Perspective-correct divide every `pixels` pixels along a span (1, 2, 4,
  * 8, 16 or 32; default 16, as the original), affine in between.  1 makes

@@ -136,6 +136,7 @@ struct ew_world {
     ew_facelm  *facelm;       /* numfaces (BSPX LMSHIFT / DECOUPLED_LM), or NULL: Quake's */
     uint8_t    *visdata;      int vissize;
     char       *entities;     /* NUL-terminated copy */
+    uint64_t    styles_start_off; /* bit s: a light entity starts switchable style s off (asset/light_entities.c) */
     int         textures_missing;
 
     uint8_t    *texpixels;    /* owned pixel storage behind ew_texture.mip */

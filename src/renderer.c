@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -58,7 +59,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     if (!r) goto oom;
     memset(r, 0, sizeof *r);
     r->world = w, r->palette = d.palette, r->colormap = d.colormap;
-    for (int i = 0; i < 64; i++) r->cfg.lightstyle[i] = 256;  /* normal light */
+    for (int i = 0; i < 64; i++) r->cfg.lightstyle[i] = 256;  /* until the first frame (light/styles.c) */
+    ew_set_gamma(r, 1);
     ew_set_subdivision(r, d.subdivision);                      /* checked: 1..32, a power of two */
     r->cfg.alias_raster = d.alias_raster;
     r->cfg.alias_threshold = d.alias_threshold;
@@ -225,7 +227,7 @@ ew_color_mode ew_frame_color(const ew_renderer *r) { return r->target.bpp == 4 ?
 int ew_write_frame_png(const ew_renderer *r, const char *path, ew_error *err) {
     if (r->target.bpp == 4)
         return ew_write_png_rgba(path, ew_frame_rgba(r), r->target.width, r->target.height, err);
-    return ew_write_png(path, r->target.pixels, r->target.width, r->target.height, r->palette, err);
+    return ew_write_png(path, r->target.pixels, r->target.width, r->target.height, ew_frame_palette(r), err);
 }
 
 /* Surfaces built with the old setting are rebuilt (their cache entries
@@ -249,9 +251,39 @@ const float *ew_frame_zbuffer(ew_renderer *r) {
 void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
 const int *ew_frame_face_ids(const ew_renderer *r) { return r->face_ids; }
 
+/* Light styles: each frame's values come from these settings (ew_frame_begin). */
 void ew_set_lightstyle(ew_renderer *r, int style, int value) {
-    if (style >= 0 && style < 64) r->cfg.lightstyle[style] = value < 0 ? 0 : value > 1024 ? 1024 : value;
+    if (style < 0 || style >= 64) return;
+    r->cfg.style_set[style].mode = EW_STYLE_FIXED;
+    r->cfg.style_set[style].value = value < 0 ? 0 : value > 1024 ? 1024 : value;
+    r->cfg.lightstyle[style] = r->cfg.style_set[style].value;  /* the same any time: at once */
 }
+int ew_set_lightstyle_pattern(ew_renderer *r, int style, const char *pattern) {
+    if (style < 0 || style >= 64 || !ew_style_pattern_ok(pattern)) return -1;
+    ew_style_setting *st = &r->cfg.style_set[style];
+    st->mode = EW_STYLE_PATTERN;
+    snprintf(st->pattern, sizeof st->pattern, "%s", pattern);
+    return 0;
+}
+int ew_set_lightstyle_switch(ew_renderer *r, int style, int on) {
+    return ew_set_lightstyle_pattern(r, style, on ? "m" : "a");
+}
+void ew_reset_lightstyle(ew_renderer *r, int style) {
+    if (style >= 0 && style < 64) memset(&r->cfg.style_set[style], 0, sizeof r->cfg.style_set[style]);
+}
+int ew_get_lightstyle(const ew_renderer *r, int style) {
+    return style >= 0 && style < 64 ? r->cfg.lightstyle[style] : -1;
+}
+
+int ew_set_gamma(ew_renderer *r, float gamma) {
+    if (!(gamma >= 0.5f && gamma <= 3.0f)) return -1;  /* NaN too */
+    r->cfg.gamma = gamma;
+    ew_gamma_table(gamma, r->cfg.gamma_lut);
+    for (int i = 0; i < 768; i++) r->cfg.gamma_palette[i] = r->cfg.gamma_lut[r->palette[i]];
+    return 0;
+}
+float ew_get_gamma(const ew_renderer *r) { return r->cfg.gamma; }
+const uint8_t *ew_frame_palette(const ew_renderer *r) { return r->cfg.gamma_palette; }
 
 int ew_set_subdivision(ew_renderer *r, int pixels) {
     for (int shift = 0; shift <= 5; shift++)
@@ -318,6 +350,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
         r->marks.framecount = 1;
     }
     memset(&r->stats, 0, sizeof r->stats);
+    ew_styles_frame(r->cfg.lightstyle, r->cfg.style_set, w->styles_start_off, r->cfg.classic, cam->time);
     ew_view_setup(&r->view, cam, r->target.width, r->target.height);
     ew_turb_table(r->draw.turb, cam->time);
     r->draw.sky_scroll = ew_sky_scroll(r->view.time);
@@ -439,6 +472,18 @@ static void job_warp(void *ctx, int thread) {
         ew_warp_rows(r, r->sched.bands[i].y0, r->sched.bands[i].y1);
 }
 
+/* True colour: the output gamma, band by band. */
+static void job_gamma(void *ctx, int thread) {
+    (void)thread;
+    ew_renderer *r = ctx;
+    for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;) {
+        const ew_band *b = &r->sched.bands[i];
+        size_t w = (size_t)r->target.width;
+        ew_gamma_pixels((uint32_t *)(void *)r->target.pixels + (size_t)b->y0 * w, (size_t)(b->y1 - b->y0) * w,
+                        r->cfg.gamma_lut);
+    }
+}
+
 /* A band's world, then the moving things in its rows: its z-fill is done
  * by then, and no other band touches those rows. */
 static void job_draw(void *ctx, int thread) {
@@ -522,6 +567,10 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     if (ew_warp_begin(r)) {
         atomic_store(&r->sched.next_band, 0);
         ew_pool_run(r->sched.pool, job_warp, r);
+    }
+    if (r->target.bpp == 4 && r->cfg.gamma != 1) {
+        atomic_store(&r->sched.next_band, 0);
+        ew_pool_run(r->sched.pool, job_gamma, r);
     }
     double t3 = ew_now_ms();
     if (r->ents.scene) ew_scene_counts(r->ents.scene, NULL, &r->stats.entities_unknown, &r->stats.models_missing);

@@ -32,7 +32,11 @@ typedef struct ew_config {
     int   subdiv_shift;              /* perspective divide every 1 << shift px */
     int   alias_raster;              /* ew_alias_raster */
     float alias_threshold;           /* auto: subdivide below this screen height */
-    int   lightstyle[64];
+    int   lightstyle[64];            /* this frame's style values (light/styles.c) */
+    ew_style_setting style_set[64];  /* how each is chosen (ew_set_lightstyle ...) */
+    float gamma;                     /* output gamma (ew_set_gamma): 1 = none */
+    uint8_t gamma_lut[256];          /* channel value through the gamma */
+    uint8_t gamma_palette[768];      /* the palette through it (ew_frame_palette) */
     int   face_ids_on;               /* test hook: record the face of each pixel */
     /* see-through surfaces, fog, underwater view (ew_set_classic ...) */
     int   classic;                   /* 1: all of them off, the 1996 look */
@@ -134,6 +138,12 @@ struct ew_renderer {
     ew_sched    sched;
     int        *face_ids;                        /* test hook: per pixel, or NULL */
 };
+
+/* output/gamma.c: the table of a channel through gamma g (out = 255 *
+ * (in / 255) ^ (1 / g)); the gamma applied to n 32-bit pixels in place
+ * (R, G, B through lut, A kept). */
+void ew_gamma_table(float g, uint8_t lut[256]);
+void ew_gamma_pixels(uint32_t *px, size_t n, const uint8_t lut[256]);
 
 /* renderer.c: new frame number, view, per-frame tables, PVS marks, and the
  * hidden-surface method's begin. */

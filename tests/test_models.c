@@ -433,6 +433,7 @@ static void test_in_frame(void) {
     }
     /* Light under the soldier: style scaling, and nothing hit outside. */
     {
+        ew_set_lightstyle(r, 0, 256);  /* the light map as compiled (the game's 'm' is 264) */
         int base = ew_light_point(r, p.origin);
         ew_set_lightstyle(r, 0, 512);
         int twice = ew_light_point(r, p.origin);

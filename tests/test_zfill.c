@@ -144,7 +144,7 @@ static void check_box_light(void) {
         ew_set_lightstyle(r, 0, 0);
         ew_render(r, &views[0], NULL);
         memcpy(dark, r->target.pixels, W * H);
-        ew_set_lightstyle(r, 0, 256);
+        ew_reset_lightstyle(r, 0);  /* back to its default */
         ew_render(r, &views[0], NULL);
         long box_px = 0, relit = 0, again = 0;
         for (int i = 0; i < W * H; i++) {

@@ -7,6 +7,7 @@
 #include "ew_util.h"
 #include "ew_world.h"
 #include "asset/lightdata.h"
+#include "light_entities.h"
 #include "worldspawn.h"
 
 #include <math.h>
@@ -864,6 +865,7 @@ ew_world *ew_world_create(const uint8_t *data, size_t size, const char *filename
         ew_bspx_layout(&bx, w, filename, c.lump[EW_LUMP_FACES], rec, c.fmt == FMT_29 ? 12 : 20);
     }
     ew_worldspawn_read(w);  /* opaque liquids and no fog unless the map asks */
+    w->styles_start_off = ew_light_styles_starting_off(w->entities, strlen(w->entities));
     return w;
 }
 

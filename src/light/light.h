@@ -95,6 +95,28 @@ void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, i
  * white); 0 when the light is white (no coloured light, or grey). */
 int  ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]);
 
+/* ---- light styles (light/styles.c) ----
+ * A style's value each frame (256 = the light map as compiled): by
+ * default the game's pattern for it at the frame's time, 256 in classic
+ * mode; or what the caller set (a fixed value or a pattern of its own). */
+#define EW_STYLE_PATTERN_MAX 64       /* letters in a pattern, at most */
+enum { EW_STYLE_DEFAULT = 0, EW_STYLE_FIXED, EW_STYLE_PATTERN };
+typedef struct ew_style_setting {
+    int  mode;                        /* EW_STYLE_* (0: the default) */
+    int  value;                       /* EW_STYLE_FIXED */
+    char pattern[EW_STYLE_PATTERN_MAX + 1];  /* EW_STYLE_PATTERN: letters a..z */
+} ew_style_setting;
+/* 1 if p is 1..EW_STYLE_PATTERN_MAX letters 'a'..'z'. */
+int  ew_style_pattern_ok(const char *p);
+/* The value of one letter: ('c' - 'a') * 22, so 'a' = 0, 'm' = 264, 'z' = 550. */
+int  ew_style_letter_value(char c);
+/* The pattern style s (0..63) follows by default in a world whose light
+ * entities start the styles in starts_off off (bit s). */
+const char *ew_style_default_pattern(int style, uint64_t starts_off);
+/* This frame's value of every style at time seconds (ten letters a second). */
+void ew_styles_frame(int out[64], const ew_style_setting set[64], uint64_t starts_off, int classic,
+                     double time);
+
 /* ---- item boxes' lit surfaces (light/box_surfs.c) ---- */
 /* Every face of a box at every mip, rebuilt only when a light style on it
  * or its texture frame changes (serial, once per frame). */
