@@ -45,6 +45,13 @@ typedef struct draw_opts {
     int    hsr;               /* ew_hsr_method */
     int    color;             /* ew_color_mode: chosen when the renderer is made */
     int    no_lit, dither;
+    double gamma;             /* 0: 1 */
+    struct draw_style {       /* --lightstyle N=V, in order */
+        int  style, kind;     /* kind 0: value, 1: pattern, 2: switch on/off */
+        int  value;
+        char pattern[65];
+    } styles[64];
+    int    nstyles;
 } draw_opts;
 
 /* The defaults: what the map asks for, drawn by the edge list. */

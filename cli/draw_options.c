@@ -18,7 +18,7 @@
 
 enum {
     D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
-    D_NOWARP, D_HSR, D_COLOR, D_NOLIT, D_DITHER, D_COUNT
+    D_NOWARP, D_HSR, D_COLOR, D_NOLIT, D_DITHER, D_LIGHTSTYLE, D_GAMMA, D_COUNT
 };
 
 #define MAX_FOG_DENSITY 100.0
@@ -52,6 +52,10 @@ static const struct draw_def {
     [D_NOLIT] = { "--no-lit", NULL, "ignore coloured light (.lit file, BSPX RGBLIGHTING): white light", NULL },
     [D_DITHER] = { "--dither", NULL, "8-bit frames with coloured light: ordered dither before the nearest colour",
                    NULL },
+    [D_LIGHTSTYLE] = { "--lightstyle", "N=V", "one light style instead of its pattern (repeatable)",
+                       "a style 0 to 63, '=', then a value 0 to 1024 (264 is normal), a pattern of 1 to 64 "
+                       "letters a to z (ten a second), 'on' or 'off'" },
+    [D_GAMMA] = { "--gamma", "G", "output gamma (above 1 brightens)", "a number from 0.5 to 3 (default 1)" },
 };
 
 /* The options --classic turns off, so they cannot go with it. */
@@ -141,6 +145,38 @@ static int set_value(draw_opts *d, int k, const char *v) {
         else if (strcmp(v, "true") == 0) d->color = EW_COLOR_TRUE;
         else return bad_value(k, v);
         return 0;
+    case D_LIGHTSTYLE: {
+        char *end;
+        errno = 0;
+        long st = strtol(v, &end, 10);
+        if (end == v || *end != '=' || st < 0 || st > 63 || !isdigit((unsigned char)*v) ||
+            d->nstyles >= (int)(sizeof d->styles / sizeof d->styles[0]))
+            return bad_value(k, v);
+        const char *val = end + 1;
+        size_t len = strlen(val);
+        int letters = len > 0 && len <= 64;
+        for (size_t i = 0; letters && i < len; i++) letters = val[i] >= 'a' && val[i] <= 'z';
+        struct draw_style *s = &d->styles[d->nstyles];
+        s->style = (int)st;
+        if (strcmp(val, "on") == 0 || strcmp(val, "off") == 0) {
+            s->kind = 2, s->value = strcmp(val, "on") == 0;
+        } else if (isdigit((unsigned char)*val) && whole_number(val, &x) == 0 && x >= 0 && x <= 1024 &&
+                   x == (double)(int)x) {
+            s->kind = 0, s->value = (int)x;
+        } else if (letters) {
+            s->kind = 1;
+            memcpy(s->pattern, val, len + 1);
+        } else {
+            return bad_value(k, v);
+        }
+        d->nstyles++;
+        return 0;
+    }
+    case D_GAMMA:
+        if (whole_number(v, &x) < 0 || !(x >= 0.5 && x <= 3))
+            return bad_value(k, v);
+        d->gamma = x;
+        return 0;
     case D_HSR:
         if (strcmp(v, "edge") == 0) d->hsr = EW_HSR_EDGE;
         else if (strcmp(v, "reference") == 0) d->hsr = EW_HSR_REFERENCE;
@@ -219,6 +255,14 @@ int draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene) {
     ew_set_hsr(r, (ew_hsr_method)d->hsr);
     ew_set_lit(r, !d->no_lit);
     ew_set_dither(r, d->dither);
+    ew_set_gamma(r, d->gamma > 0 ? (float)d->gamma : 1.0f);
+    for (int i = 0; i < 64; i++) ew_reset_lightstyle(r, i);
+    for (int i = 0; i < d->nstyles; i++) {
+        const struct draw_style *s = &d->styles[i];
+        if (s->kind == 0) ew_set_lightstyle(r, s->style, s->value);
+        else if (s->kind == 1) ew_set_lightstyle_pattern(r, s->style, s->pattern);
+        else ew_set_lightstyle_switch(r, s->style, s->value);
+    }
     ew_set_scene(r, scene);
     return 0;
 }
@@ -246,8 +290,18 @@ void draw_opts_json(FILE *f, const draw_opts *d) {
     }
     fprintf(f, ",\"waterwarp\":%s,\"hsr\":\"%s\"", d->no_waterwarp || d->classic ? "false" : "true",
             d->hsr == EW_HSR_REFERENCE ? "reference" : "edge");
-    fprintf(f, ",\"color\":\"%s\",\"lit\":%s,\"dither\":%s", d->color == EW_COLOR_TRUE ? "true" : "8bit",
+    fprintf(f, ",\"color\":\"%s\",\"lit\":%s,\"dither\":%s,\"gamma\":", d->color == EW_COLOR_TRUE ? "true" : "8bit",
             d->no_lit || d->classic ? "false" : "true", d->dither ? "true" : "false");
+    json_number(f, d->gamma > 0 ? d->gamma : 1.0);
+    fputs(",\"lightstyles\":[", f);
+    for (int i = 0; i < d->nstyles; i++) {
+        const struct draw_style *s = &d->styles[i];
+        fprintf(f, "%s\"%d=", i ? "," : "", s->style);
+        if (s->kind == 0) fprintf(f, "%d\"", s->value);
+        else if (s->kind == 1) fprintf(f, "%s\"", s->pattern);
+        else fprintf(f, "%s\"", s->value ? "on" : "off");
+    }
+    fputc(']', f);
 }
 
 /* ---- loading, with the warnings ---------------------------------------- */

@@ -60,7 +60,8 @@ static const char usage_head[] =
     "  --time T             seconds, for animated textures, sky and liquids (default 0)\n"
     "  --out FILE.png       output (default MAPNAME_vN.png, MAPNAME_free.png with --pos)\n"
     "  --stats              print the frame's counters and times as one JSON object\n"
-    "  --dlight X,Y,Z,R     a dynamic light of radius R (repeatable, up to 32)\n"
+    "  --dlight X,Y,Z,R[,r,g,b]  a dynamic light of radius R above 0, at most 100000, white or of\n"
+    "                       colour r,g,b (0 to 1 each); repeatable, up to 32\n"
     "  --particles N        a deterministic cloud of N particles in front of the camera\n"
     "  --threads N          render bands of the frame on N threads (0 = all cores; default 1)\n"
     "  --quiet              no warning lines about the map's optional data\n"
@@ -131,7 +132,7 @@ typedef struct options {
     int         width, height, view;
     float       pos[3], angles[3];
     double      fov, time;
-    float       dlights[MAX_CLI_DLIGHTS][4];  /* x, y, z, radius */
+    float       dlights[MAX_CLI_DLIGHTS][7];  /* x, y, z, radius, r, g, b */
     int         ndlights;
     int         particles, threads;
     draw_opts   draw;         /* what is drawn (cli/draw_options.c) */
@@ -279,15 +280,30 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
             return -1;
         }
         float *dl = o->dlights[o->ndlights];
-        char buf[256];
-        snprintf(buf, sizeof buf, "%s", v);
-        char *comma = strrchr(buf, ',');
-        if (!comma || parse_vec3(name, (*comma = 0, buf), dl) < 0 || parse_double(comma + 1, &d) < 0 ||
-            !(d > 0 && d <= 100000)) {
-            error_line("--dlight %s: expected X,Y,Z,RADIUS with a radius from 0 to 100000", v);
+        /* X,Y,Z,R or X,Y,Z,R,r,g,b: split at the commas, each a number. */
+        double f[7];
+        int n = 0;
+        const char *p = v;
+        char *end;
+        while (n < 7) {
+            if (!*p || isspace((unsigned char)*p)) break;
+            errno = 0;
+            f[n] = strtod(p, &end);
+            if (end == p || !isfinite(f[n])) break;
+            n++;
+            if (*end == ',') p = end + 1;
+            else break;
+        }
+        int ok = (n == 4 || n == 7) && *end == '\0' && f[3] > 0 && f[3] <= 100000 && fabs(f[0]) <= 1e6 &&
+                 fabs(f[1]) <= 1e6 && fabs(f[2]) <= 1e6;
+        for (int k = 4; ok && k < n; k++) ok = f[k] >= 0 && f[k] <= 1;
+        if (!ok) {
+            error_line("--dlight %s: X,Y,Z,R[,r,g,b] must be a position, a radius above 0, at most 100000, "
+                       "and optionally a colour of three numbers from 0 to 1", v);
             return -1;
         }
-        dl[3] = (float)d;
+        for (int k = 0; k < 4; k++) dl[k] = (float)f[k];
+        for (int k = 4; k < 7; k++) dl[k] = n == 7 ? (float)f[k] : 1.0f;
         o->ndlights++;
         return 0;
     }
@@ -564,7 +580,8 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
                         !!(o->given & O_QUIET), &scene) < 0)
         goto done;
     if (scene) {
-        for (int i = 0; i < o->ndlights; i++) ew_scene_add_dlight(scene, o->dlights[i], o->dlights[i][3]);
+        for (int i = 0; i < o->ndlights; i++)
+            ew_scene_add_dlight_rgb(scene, o->dlights[i], o->dlights[i][3], &o->dlights[i][4]);
         if (o->particles) {
             /* A cloud in front of the camera, the same every run. */
             ew_camera probe = cam;

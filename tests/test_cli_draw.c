@@ -82,6 +82,12 @@ static void options_accepted(void) {
         {{"--no-waterwarp"}, "\"waterwarp\":false"},
         {{"--hsr", "reference"}, "\"hsr\":\"reference\""},
         {{"--hsr=edge"}, "\"hsr\":\"edge\""},
+        {{"--color", "true"}, "\"color\":\"true\""},
+        {{"--no-lit"}, "\"lit\":false"},
+        {{"--dither"}, "\"dither\":true"},
+        {{"--gamma", "1.5"}, "\"gamma\":1.5"},
+        {{"--lightstyle", "0=mmamma"}, "\"lightstyles\":[\"0=mmamma\"]"},
+        {{"--lightstyle=33=off"}, "\"lightstyles\":[\"33=off\"]"},
     };
     for (size_t k = 0; k < sizeof opts / sizeof opts[0]; k++)
         for (int c = 0; c < NCOMMANDS; c++) {
@@ -122,6 +128,10 @@ static void bad_values(void) {
         {{"--color", "16bit"}, "--color 16bit: MODE must be 8bit"},
         {{"--classic", "--color", "true"}, "--classic is the 1996 look"},
         {{"--no-lit=1"}, "option '--no-lit' takes no value"},
+        {{"--gamma", "4"}, "--gamma 4: G must be a number from 0.5 to 3"},
+        {{"--lightstyle", "64=m"}, "--lightstyle 64=m: N=V must be a style 0 to 63"},
+        {{"--lightstyle", "1=M"}, "--lightstyle 1=M: N=V must be"},
+        {{"--lightstyle", "1=2000"}, "--lightstyle 1=2000: N=V must be"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         char first[512] = "";
@@ -283,6 +293,24 @@ static void warnings(void) {
     free(r);
 }
 
+/* --dlight with a colour: accepted by render; a colour outside 0..1 or a
+ * count of numbers other than 4 or 7 is one error line, exit 2. */
+static void coloured_dlights(void) {
+    run_result *ok = run2(ARGS("render", "builtin", "--size", "320x200", "--color", "true", "--out", "d.png",
+                               "--dlight", "0,0,64,200,1,0,0.25", "--stats"), NULL);
+    CHECK(ok->status == 0 && num(ok->out, "surfaces_rebuilt_by_dlights") >= 0, "coloured dlight: exit %d %s",
+          ok->status, ok->err);
+    free(ok);
+    const char *const bad[][3] = {{"--dlight", "0,0,0,100,2,0,0", NULL}, {"--dlight", "0,0,0,100,1,0", NULL},
+                                  {"--dlight", "0,0,0,0", NULL}, {"--dlight", "0,0,0,100,nan,0,0", NULL}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        run_result *r = run2(ARGS("render", "builtin", "--size", "320x200", "--out", "d.png"), bad[k]);
+        CHECK(r->status == 2 && ew_t_count_lines(r->err) == 1 && strstr(r->err, "X,Y,Z,R[,r,g,b] must be"),
+              "--dlight %s: exit %d, stderr: %s", bad[k][1], r->status, r->err);
+        free(r);
+    }
+}
+
 int main(void) {
     if (!getenv("EW_CLI")) {
         fprintf(stderr, "EW_CLI not set\n");
@@ -301,6 +329,7 @@ int main(void) {
     options_accepted();
     bad_values();
     help_states_rules();
+    coloured_dlights();
     if (data) {
         pictures();
         warnings();
