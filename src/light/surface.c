@@ -78,9 +78,10 @@ static inline int light_row(int bl) {
 }
 
 /* The samples of a face, nc channels interleaved (1: white, 3: RGB), as
- * colormap rows.  Returns 1 if every sample is grey (r = g = b). */
+ * colormap rows; with nc 3 and rgbsrc 0 the white light in all three (for
+ * coloured dynamic lights on it).  Returns 1 if every sample is grey (r = g = b). */
 static int gather(const ew_renderer *r, const ew_world *w, const ew_face *f, const lm_layout *L,
-                  const int light[4], unsigned dlights, int nc, int *bl) {
+                  const int light[4], unsigned dlights, int nc, int rgbsrc, int *bl) {
     int size = L->smax * L->tmax, n = size * nc, grey = 1;
     if (!w->lighting) {
         for (int i = 0; i < n; i++) bl[i] = 32 << 8;  /* unlit map: colours as they are */
@@ -93,6 +94,10 @@ static int gather(const ew_renderer *r, const ew_world *w, const ew_face *f, con
             const uint8_t *lm = w->lighting + L->lightofs;
             for (int k = 0; k < 4 && f->styles[k] != 255; k++, lm += size)
                 for (int i = 0; i < size; i++) bl[i] += lm[i] * light[k];
+        } else if (!rgbsrc) {
+            const uint8_t *lm = w->lighting + L->lightofs;
+            for (int k = 0; k < 4 && f->styles[k] != 255; k++, lm += size)
+                for (int i = 0; i < n; i++) bl[i] += lm[i / 3] * light[k];
         } else {
             const uint8_t *lm = w->rgblight + (size_t)L->lightofs * 3;
             for (int k = 0; k < 4 && f->styles[k] != 255; k++, lm += (size_t)size * 3)
@@ -161,9 +166,12 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
                       uint8_t *out, int *scratch) {
     lm_layout L = face_layout(w, f);
     int truecolor = r->target.bpp == 4;
-    int rgb = ew_use_rgb_light(r, w);
+    int rgbsrc = ew_use_rgb_light(r, w);
+    /* True colour lights in RGB where dynamic lights reach, even under
+     * white light: they may be coloured. */
+    int rgb = rgbsrc || (truecolor && dlights && w == r->world && !r->cfg.classic);
     int *bl = scratch;
-    int grey = gather(r, w, f, &L, light, dlights, rgb ? 3 : 1, bl);
+    int grey = gather(r, w, f, &L, light, dlights, rgb ? 3 : 1, rgbsrc, bl);
     int nc = rgb ? 3 : 1;
     if (rgb && grey) {  /* white after all: one channel, so 8-bit takes the colormap path exactly */
         for (int i = 0, n = L.smax * L.tmax; i < n; i++) bl[i] = bl[i * 3];
