@@ -1,10 +1,11 @@
-/* The light curve of true colour, fitted to the colormap: row k of the
- * colormap holds, for each palette colour, the colour the original drew it
- * with under light level k.  A least-squares multiplier per row (over the
- * colours light changes) turns that into "palette colour times brightness",
- * which true colour then applies exactly, and per channel for coloured
- * light.  With white light the result tracks the 8-bit frame, minus the
- * palette's quantization. */
+/* The light curve of true colour, taken from the colormap itself: row k of
+ * the colormap holds, for each palette colour, the colour the original drew
+ * it with under light level k.  In RGB those rows are the curve: a light
+ * level between two rows takes the straight line between their colours, so
+ * white light in true colour looks like the 8-bit frame, only smoother
+ * (the colormap's own quirks, such as bright rows moving a colour to
+ * another ramp, are kept), and coloured light reads each channel from its
+ * own level. */
 #include "renderer.h"
 
 void ew_lightcurve_fit(ew_lightcurve *lc, const uint8_t palette[768], const uint8_t *colormap) {
@@ -15,25 +16,9 @@ void ew_lightcurve_fit(ew_lightcurve *lc, const uint8_t palette[768], const uint
         lc->fullbright[c] = (uint8_t)same;
         lc->rgba[c] = ew_rgba(palette[c * 3], palette[c * 3 + 1], palette[c * 3 + 2]);
     }
-    double m[65];
-    for (int k = 0; k < 64; k++) {
-        double num = 0, den = 0;
+    for (int k = 0; k <= 64; k++)
         for (int c = 0; c < 256; c++) {
-            if (lc->fullbright[c]) continue;
-            int lit = colormap[k * 256 + c];
-            for (int ch = 0; ch < 3; ch++) {
-                num += (double)palette[c * 3 + ch] * palette[lit * 3 + ch];
-                den += (double)palette[c * 3 + ch] * palette[c * 3 + ch];
-            }
+            int lit = colormap[(k < 64 ? k : 63) * 256 + c];
+            for (int ch = 0; ch < 3; ch++) lc->rows[k][c][ch] = palette[lit * 3 + ch];
         }
-        m[k] = den > 0 ? num / den : 1.0;
-    }
-    m[64] = m[63];
-    /* Index l >> 4 of a light row l (8.8): row (l >> 4) / 16, between rows. */
-    for (int i = 0; i < 1024; i++) {
-        int k = i >> 4;
-        double f = (i & 15) / 16.0, v = m[k] + (m[k + 1] - m[k]) * f;
-        int q = (int)(v * 256 + 0.5);
-        lc->curve[i] = (uint16_t)(q < 0 ? 0 : q > 65535 ? 65535 : q);
-    }
 }

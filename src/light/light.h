@@ -46,17 +46,25 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
 void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
 
 /* ---- the light curve (light/curve.c) ----
- * Colour of palette index c under light row l (8.8, as the colormap's):
- * palette[c] * curve[l >> 4] / 256 per channel, fitted to the colormap's
- * rows (least squares over the non-fullbright colours, interpolated
- * between rows); fullbright colours (unchanged in every row) stay unlit. */
+ * Colour of palette index c under light row l (8.8, as the colormap's),
+ * per channel: the colormap's own colour for that row, in RGB, and
+ * between two rows the straight line from one to the next.  So white light
+ * in true colour is the 8-bit frame's colour at every whole row and
+ * smooth between them, and coloured light takes each channel from its own
+ * row.  Fullbright colours (unchanged in every row) stay unlit. */
 typedef struct ew_lightcurve {
     const uint8_t *palette;
-    uint16_t       curve[1024];
+    uint8_t        rows[65][256][3];  /* palette[colormap[row][c]], row 64 = row 63 */
     uint8_t        fullbright[256];
     uint32_t       rgba[256];     /* the palette as 32-bit pixels (ew_rgba) */
 } ew_lightcurve;
 void ew_lightcurve_fit(ew_lightcurve *lc, const uint8_t palette[768], const uint8_t *colormap);
+/* Channel ch of colour c under light row l (8.8). */
+static inline int ew_lightcurve_at(const ew_lightcurve *lc, int c, int l, int ch) {
+    int row = l >> 8, f = l & 255;
+    int a = lc->rows[row][c][ch], b = lc->rows[row + 1][c][ch];
+    return a + (((b - a) * f) >> 8);
+}
 
 /* ---- lit surfaces (light/surface.c) ---- */
 /* Light samples of a face (its light map's size: Quake's grid or BSPX). */

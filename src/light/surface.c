@@ -135,14 +135,7 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
         return;
     }
     int rgb[3];
-    if (lc->fullbright[c]) {
-        for (int k = 0; k < 3; k++) rgb[k] = lc->palette[c * 3 + k];
-    } else {
-        for (int k = 0; k < 3; k++) {
-            int v = (lc->palette[c * 3 + k] * lc->curve[l[e->nc == 3 ? k : 0] >> 4]) >> 8;
-            rgb[k] = v > 255 ? 255 : v;
-        }
-    }
+    for (int k = 0; k < 3; k++) rgb[k] = ew_lightcurve_at(lc, c, l[e->nc == 3 ? k : 0], k);
     if (e->mode == OUT_RGBA) {
         out32[x] = c == 255 && e->fence ? 0 : ew_rgba(rgb[0], rgb[1], rgb[2]);
         return;
@@ -151,14 +144,28 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
         out8[x] = c;
         return;
     }
+    /* Two candidates: the colormap's own colour at the channels' mean light
+     * (the texel's ramp, the 8-bit look) and the nearest palette colour of
+     * the RGB.  The ramp's wins unless the nearest is clearly closer, so a
+     * light that is nearly white stays on the ramps and only a real tint
+     * moves a texel to another colour. */
+    const uint8_t *pal = lc->palette;
+    uint8_t ramp = e->cmap[(((l[0] + l[1] + l[2]) / 3) & 0xFF00) + c];
     /* The dither spreads half a cube step either way, in proportion to the
      * value (the cube's steps grow with it). */
     int d = e->dither ? bayer[dy & 3][dx & 3] - 8 : 0;  /* -8..7 of 16 */
+    int q[3];
     for (int k = 0; k < 3; k++) {
         int v = rgb[k] + d * (rgb[k] / 16 + 1) / 16;
-        rgb[k] = v < 0 ? 0 : v > 255 ? 255 : v;
+        q[k] = v < 0 ? 0 : v > 255 ? 255 : v;
     }
-    out8[x] = e->cube->nearest[ew_blend_at(e->cube, rgb[0], rgb[1], rgb[2])];
+    uint8_t near = e->cube->nearest[ew_blend_at(e->cube, q[0], q[1], q[2])];
+    int da = 0, dn = 0;
+    for (int k = 0; k < 3; k++) {
+        int a = pal[ramp * 3 + k] - rgb[k], n = pal[near * 3 + k] - rgb[k];
+        da += a * a, dn += n * n;
+    }
+    out8[x] = da * 4 <= dn * 5 ? ramp : near;
 }
 
 void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,

@@ -36,15 +36,30 @@ void ew_blend_free(ew_blend *b) {
  * cell's centre: blends then cost three shifts and one lookup to map back. */
 static int build_cube(ew_blend *b) {
     if (b->nearest) return 0;
-    uint8_t *c = malloc(32 * 32 * 32);
+    uint8_t *c = malloc(64 * 64 * 64);
     if (!c) return -1;
-    int centre[32];
-    for (int k = 0; k < 32; k++) centre[k] = (int)lrint(255.0 * (k / 31.0) * (k / 31.0));
-    for (int v = 0; v < 256; v++) b->q[v] = (uint8_t)lrint(31.0 * sqrt(v / 255.0));
-    for (int r = 0; r < 32; r++)
-        for (int g = 0; g < 32; g++)
-            for (int bl = 0; bl < 32; bl++)
-                c[(r << 10) | (g << 5) | bl] = (uint8_t)nearest_exact(b->palette, centre[r], centre[g], centre[bl]);
+    int centre[64];
+    for (int k = 0; k < 64; k++) centre[k] = (int)lrint(255.0 * (k / 63.0) * (k / 63.0));
+    for (int v = 0; v < 256; v++) b->q[v] = (uint8_t)lrint(63.0 * sqrt(v / 255.0));
+    /* 262144 searches: the red and green terms of each colour's distance
+     * are summed once per (r, g) and the blue loop only adds its own. */
+    const uint8_t *p = b->palette;
+    int drg[CHOICES];
+    for (int r = 0; r < 64; r++)
+        for (int g = 0; g < 64; g++) {
+            for (int i = 0; i < CHOICES; i++) {
+                int dr = p[i * 3] - centre[r], dg = p[i * 3 + 1] - centre[g];
+                drg[i] = dr * dr + dg * dg;
+            }
+            for (int bl = 0; bl < 64; bl++) {
+                int best = 0, bestd = 1 << 30;
+                for (int i = 0; i < CHOICES; i++) {
+                    int db = p[i * 3 + 2] - centre[bl], d = drg[i] + db * db;
+                    if (d < bestd) bestd = d, best = i;
+                }
+                c[(r << 12) | (g << 6) | bl] = (uint8_t)best;
+            }
+        }
     b->nearest = c;
     return 0;
 }

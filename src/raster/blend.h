@@ -15,7 +15,7 @@
 
 typedef struct ew_blend {
     const uint8_t *palette;                  /* the palette the tables are for */
-    uint8_t  *nearest;                       /* 32x32x32 RGB cube -> palette index */
+    uint8_t  *nearest;                       /* 64x64x64 RGB cube -> palette index */
     uint8_t   q[256];                        /* channel value -> cube step: finer in the darks */
     uint8_t  *alpha[EW_BLEND_LEVELS + 1];    /* [level][src * 256 + dst], built on first use */
     uint8_t  *fog;                           /* [level * 256 + colour] for fog_rgb */
@@ -27,13 +27,13 @@ typedef struct ew_blend {
 /* Starts empty (tables are built on first use); 0, or -1 out of memory. */
 int  ew_blend_init(ew_blend *b, const uint8_t palette[768]);
 void ew_blend_free(ew_blend *b);
-/* The 32x32x32 cube of nearest colours: built on first use (serial); NULL
+/* The 64x64x64 cube of nearest colours: built on first use (serial); NULL
  * out of memory.  Its steps follow the square root of the value (fine in
  * the darks, where the palette is sparse and a coarse step shows as colour
  * specks): the colour (r, g, b) is at ew_blend_at(b, r, g, b). */
 const uint8_t *ew_blend_cube(ew_blend *b);
 static inline int ew_blend_at(const ew_blend *b, int r, int g, int bl) {
-    return (b->q[r] << 10) | (b->q[g] << 5) | b->q[bl];
+    return (b->q[r] << 12) | (b->q[g] << 6) | b->q[bl];
 }
 /* The nearest non-fullbright palette colour to (r, g, b), 0..255 each. */
 uint8_t ew_blend_nearest(const ew_blend *b, int r, int g, int bl);
