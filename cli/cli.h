@@ -33,7 +33,8 @@ void json_number(FILE *f, double v);
 /* ---- what is drawn (cli/draw_options.c) --------------------------------------
  * The options that change the picture, the same in render, demo, bench and
  * soak: --no-entities, --alias-raster, --subdiv-threshold, --full-zfill,
- * --classic, --wateralpha, --fog, --no-fog, --no-waterwarp, --hsr. */
+ * --classic, --wateralpha, --fog, --no-fog, --no-waterwarp, --hsr, --color,
+ * --no-lit, --dither, --debug. */
 typedef struct draw_opts {
     int    given;             /* bit per option seen */
     int    no_entities, full_zfill, classic, no_waterwarp;
@@ -52,6 +53,7 @@ typedef struct draw_opts {
         char pattern[65];
     } styles[64];
     int    nstyles;
+    int    debug;             /* ew_debug_mode (--debug) */
 } draw_opts;
 
 /* The defaults: what the map asks for, drawn by the edge list. */

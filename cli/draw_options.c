@@ -18,7 +18,7 @@
 
 enum {
     D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
-    D_NOWARP, D_HSR, D_COLOR, D_NOLIT, D_DITHER, D_LIGHTSTYLE, D_GAMMA, D_COUNT
+    D_NOWARP, D_HSR, D_COLOR, D_NOLIT, D_DITHER, D_LIGHTSTYLE, D_GAMMA, D_DEBUG, D_COUNT
 };
 
 #define MAX_FOG_DENSITY 100.0
@@ -56,7 +56,15 @@ static const struct draw_def {
                        "a style 0 to 63, '=', then a value 0 to 1024 (264 is normal), a pattern of 1 to 64 "
                        "letters a to z (ten a second), 'on' or 'off'" },
     [D_GAMMA] = { "--gamma", "G", "output gamma (above 1 brightens)", "a number from 0.5 to 3 (default 1)" },
+    [D_DEBUG] = { "--debug", "MODE", "a view of the pipeline instead of the normal frame",
+                  "spans (each span its own colour), edges (the edge list over the frame), overdraw "
+                  "(writes per pixel), lighting (light maps only), textures (no light), mips (a colour "
+                  "per mip level) or builds (surfaces built this frame)" },
 };
+
+/* --debug's values, in ew_debug_mode order from EW_DEBUG_SPANS. */
+static const char *const debug_names[] = { "spans", "edges", "overdraw", "lighting", "textures", "mips", "builds" };
+enum { NDEBUG_NAMES = sizeof debug_names / sizeof *debug_names };
 
 /* The options --classic turns off, so they cannot go with it. */
 #define CLASSIC_CONFLICTS ((1 << D_WATERALPHA) | (1 << D_FOG) | (1 << D_NOFOG) | (1 << D_NOWARP) | (1 << D_COLOR))
@@ -177,6 +185,13 @@ static int set_value(draw_opts *d, int k, const char *v) {
             return bad_value(k, v);
         d->gamma = x;
         return 0;
+    case D_DEBUG:
+        for (int m = 0; m < NDEBUG_NAMES; m++)
+            if (strcmp(v, debug_names[m]) == 0) {
+                d->debug = EW_DEBUG_SPANS + m;
+                return 0;
+            }
+        return bad_value(k, v);
     case D_HSR:
         if (strcmp(v, "edge") == 0) d->hsr = EW_HSR_EDGE;
         else if (strcmp(v, "reference") == 0) d->hsr = EW_HSR_REFERENCE;
@@ -264,7 +279,7 @@ int draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene) {
         else ew_set_lightstyle_switch(r, s->style, s->value);
     }
     ew_set_scene(r, scene);
-    return 0;
+    return ew_set_debug(r, (ew_debug_mode)d->debug);
 }
 
 void draw_opts_json(FILE *f, const draw_opts *d) {
@@ -302,6 +317,11 @@ void draw_opts_json(FILE *f, const draw_opts *d) {
         else fprintf(f, "%s\"", s->value ? "on" : "off");
     }
     fputc(']', f);
+    fputs(",\"debug\":", f);
+    if (d->debug >= EW_DEBUG_SPANS && d->debug - EW_DEBUG_SPANS < NDEBUG_NAMES)
+        json_string(f, debug_names[d->debug - EW_DEBUG_SPANS]);
+    else
+        fputs("null", f);
 }
 
 /* ---- loading, with the warnings ---------------------------------------- */

@@ -593,7 +593,10 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
             ew_scene_add_particles(scene, o->particles, c, 64, 1996);
         }
     }
-    draw_opts_apply(&o->draw, r, scene);
+    if (draw_opts_apply(&o->draw, r, scene) < 0) {
+        error_line("%s: out of memory for the debug mode", name);
+        goto done;
+    }
     ew_stats st;
     memset(&st, 0, sizeof st);
     if (ew_render(r, &cam, &st) < 0 || !(ew_frame_pixels(r) || ew_frame_rgba(r)) ||

@@ -333,6 +333,57 @@ EW_API void ew_set_dither(ew_renderer *r, int on);
 /* The hidden-surface method of the next frames (ew_hsr_method). */
 EW_API void ew_set_hsr(ew_renderer *r, ew_hsr_method method);
 
+/* ---- debug modes: the pipeline made visible --------------------------------
+ * A mode of the renderer (the viewer's keys, `edgewise render --debug MODE`)
+ * for the frames that follow; EW_DEBUG_NONE (the default) gives the normal
+ * frame back byte for byte.  Both pixel formats (8-bit: the palette colour
+ * nearest each debug colour).  Other views of the pipeline need no mode:
+ * exact perspective is ew_set_subdivision(r, 1), threads ew_set_threads,
+ * entities on/off a scene or none (ew_set_scene), the alias rasterizer
+ * ew_set_alias_raster, the visibility method ew_set_hsr. */
+typedef enum ew_debug_mode {
+    EW_DEBUG_NONE = 0,
+    /* Each span of the edge list in its own colour (a hash of its number;
+     * spans side by side in a row always differ): the zero-overdraw span
+     * structure.  Nothing is drawn over the world (no models, see-through
+     * surfaces, fog or underwater warp).  Edge method only. */
+    EW_DEBUG_SPANS,
+    /* The frame as normal (no underwater warp) with the global edge list's
+     * edges over it: each edge a pixel a row, from v_first to v_last, at the
+     * pixel the scan starts its span on.  Edge method only. */
+    EW_DEBUG_EDGES,
+    /* Heat map of the writes to each pixel: one per world span (the edge
+     * list writes every world pixel once), plus one per pass over the world
+     * (models, fences, translucent surfaces; fog is not counted) that changed
+     * the pixel.  0 black, 1 dark blue, 2 green, 3 yellow, 4 orange, 5 or
+     * more red.  No underwater warp. */
+    EW_DEBUG_OVERDRAW,
+    /* Light maps only: surfaces built from a flat grey texture, lit as usual
+     * (styles, dynamic lights, coloured light), through the colormap or the
+     * light curve. */
+    EW_DEBUG_LIGHTING,
+    /* Textures only: every light sample at normal light (colormap row 32),
+     * as a map without light data; no light styles, no dynamic lights. */
+    EW_DEBUG_TEXTURES,
+    /* Each lit surface one flat colour by its mip level: 0 red, 1 green,
+     * 2 blue, 3 yellow (sky and liquids as normal). */
+    EW_DEBUG_MIPS,
+    /* Surfaces built this frame (surface-cache misses) drawn flat magenta;
+     * the others as normal.  Edge method only. */
+    EW_DEBUG_BUILDS
+} ew_debug_mode;
+/* Sets the mode (an unknown value is EW_DEBUG_NONE).  The modes that change
+ * surface building (lighting, textures, mips) invalidate the surface cache
+ * when entered or left.  Returns 0, or -1 when out of memory (overdraw
+ * needs two frame-sized buffers; the mode is then unchanged). */
+EW_API int           ew_set_debug(ew_renderer *r, ew_debug_mode mode);
+EW_API ew_debug_mode ew_get_debug(const ew_renderer *r);
+/* Freezes the potentially visible set, like Quake's r_lockpvs: while on,
+ * every frame marks the PVS of the leaf the eye was in at the last frame
+ * before the lock (or the next frame's, if none was rendered), so walking
+ * away shows what the PVS culls.  Off (the default): the eye's own leaf. */
+EW_API void          ew_set_pvs_lock(ew_renderer *r, int on);
+
 /* ---- see-through surfaces, fog, the underwater view ----------------------
  * What today's maps ask for, on by default:
  *   - fence textures ('{' names): palette index 255 is a hole showing what

@@ -140,6 +140,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     if (d.cache_mb) budget = (size_t)d.cache_mb << 20;
     if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
     r->lit.cache.bpp = r->target.bpp;
+    ew_debug_init(r);
     return r;
 oom:
     ew_renderer_destroy(r);
@@ -211,6 +212,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->ref.polys);
     free(r->see.polys), free(r->see.order), free(r->warp_copy);
     ew_blend_free(&r->blend);
+    ew_debug_free(r);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
     free(r->ents.tint_rgba), free(r->ents.tint_remap);
     free(r);
@@ -458,7 +460,7 @@ static void job_build(void *ctx, int thread) {
             int s = r->lit.grad_list[k];
             const ew_surf *sf = &r->el.surfs[s];
             ew_surf_draw *d = &r->lit.surf_draw[s];
-            ew_face_gradients(w, sf->view, &w->faces[sf->face], d->kind == EW_DRAW_LIT ? r->lit.surf_cache[s]->mip : 0,
+            ew_face_gradients(w, sf->view, &w->faces[sf->face], r->lit.surf_cache[s] ? r->lit.surf_cache[s]->mip : 0,
                               &d->g);
         }
     }
@@ -492,13 +494,19 @@ static void job_draw(void *ctx, int thread) {
     for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;) {
         double t0 = ew_now_ms();
         ew_band *b = &r->sched.bands[i];
-        ew_draw_spans(&r->draw, b, r->lit.surf_draw, r->zf.all);
+        if (r->dbg.mode == EW_DEBUG_SPANS)
+            ew_debug_spans(r, b);
+        else
+            ew_draw_spans(&r->draw, b, r->lit.surf_draw, r->zf.all);
         account_spans(b);
         if (r->cfg.face_ids_on) record_face_ids(r, b);  /* before the passes, which may win pixels */
         double t1 = ew_now_ms();
         memset(&b->model_stats, 0, sizeof b->model_stats);
         ew_rows rows = {b->y0, b->y1, &b->model_stats, i == 0, b};
-        ew_passes_draw(r, &rows);
+        if (r->dbg.mode)
+            ew_debug_passes(r, b, &rows);
+        else
+            ew_passes_draw(r, &rows);
         b->model_ms = ew_now_ms() - t1;
         b->ms += ew_now_ms() - t0;
     }
@@ -537,7 +545,10 @@ static void prepare_surfaces(ew_renderer *r) {
         }
         d->kind = EW_DRAW_LIT;
         d->pixels = e->pixels, d->pitch = e->width;
-        if (build) r->lit.to_build[r->lit.nbuild++] = e;
+        if (build) {
+            r->lit.to_build[r->lit.nbuild++] = e;
+            if (r->dbg.mode == EW_DEBUG_BUILDS) d->kind = EW_DRAW_DEBUG, d->flat = r->dbg.build;
+        }
     }
 }
 
@@ -564,7 +575,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     atomic_store(&r->sched.next_band, 0);
     ew_pool_run(r->sched.pool, job_draw, r);
     r->sched.bands_sized_for = r->sched.nbands;
-    if (ew_warp_begin(r)) {
+    if (!ew_debug_structure(&r->dbg) && ew_warp_begin(r)) {
         atomic_store(&r->sched.next_band, 0);
         ew_pool_run(r->sched.pool, job_warp, r);
     }

@@ -20,6 +20,7 @@
 #include "light/light.h"
 #include "pool.h"
 #include "raster/blend.h"
+#include "raster/debug.h"
 #include "raster/raster.h"
 #include "raster/zfill.h"
 #include "scene/passes.h"
@@ -137,6 +138,7 @@ struct ew_renderer {
     int         warp_rgb[3], warp_amount;        /* true colour: the tint itself */
     ew_sched    sched;
     int        *face_ids;                        /* test hook: per pixel, or NULL */
+    ew_debug    dbg;                             /* debug modes (raster/debug.c) */
 };
 
 /* output/gamma.c: the table of a channel through gamma g (out = 255 *

@@ -47,7 +47,8 @@ int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
         int light[4];
         box_light(r, f, light);
         const ew_texture *tex = ew_face_texture(bw, f, r->view.time);
-        if (bs->built && bs->tex == tex && memcmp(light, bs->light, sizeof light) == 0) continue;
+        if (bs->built && bs->tex == tex && bs->gen == r->lit.cache.gen && memcmp(light, bs->light, sizeof light) == 0)
+            continue;
         bs->built = 0;
         int *scratch = malloc(sizeof(int) * 3 * (size_t)ew_face_samples(bw, f));
         int ok = scratch != NULL;
@@ -64,7 +65,7 @@ int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
             continue;
         }
         memcpy(bs->light, light, sizeof light);
-        bs->tex = tex;
+        bs->tex = tex, bs->gen = r->lit.cache.gen;
         bs->built = 1;
     }
     return rc;

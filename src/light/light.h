@@ -133,6 +133,7 @@ typedef struct ew_box_surf {
     int      width[4];
     int      light[4];          /* style values they were lit with */
     const ew_texture *tex;      /* and the texture frame (animated textures) */
+    unsigned gen;               /* and the surface cache's gen (light/cache.c) */
     int      built;
 } ew_box_surf;
 typedef struct ew_box_surfs {

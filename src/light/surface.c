@@ -83,8 +83,8 @@ static inline int light_row(int bl) {
 static int gather(const ew_renderer *r, const ew_world *w, const ew_face *f, const lm_layout *L,
                   const int light[4], unsigned dlights, int nc, int rgbsrc, int *bl) {
     int size = L->smax * L->tmax, n = size * nc, grey = 1;
-    if (!w->lighting) {
-        for (int i = 0; i < n; i++) bl[i] = 32 << 8;  /* unlit map: colours as they are */
+    if (!w->lighting || r->dbg.mode == EW_DEBUG_TEXTURES) {
+        for (int i = 0; i < n; i++) bl[i] = 32 << 8;  /* unlit map (or textures only): colours as they are */
         return 1;
     }
     /* Start dark; a face without a light map stays dark, as in Quake. */
@@ -171,6 +171,10 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
 void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
                       const ew_texture *tex, int mip, const int light[4], unsigned dlights,
                       uint8_t *out, int *scratch) {
+    if (r->dbg.mode == EW_DEBUG_MIPS) {  /* one colour per mip level */
+        ew_debug_mip_surface(r, mip, out, f->extents[0] >> mip, f->extents[1] >> mip);
+        return;
+    }
     lm_layout L = face_layout(w, f);
     int truecolor = r->target.bpp == 4;
     int rgbsrc = ew_use_rgb_light(r, w);
@@ -191,6 +195,7 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
 
     int tw = tex->width >> mip, th = tex->height >> mip;
     const uint8_t *tp = tex->mip[mip];
+    if (r->dbg.mode == EW_DEBUG_LIGHTING) tp = &r->dbg.grey, tw = th = 1;  /* light maps only: a flat grey texture */
     int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
     int s0 = wrap(f->texturemins[0] >> mip, tw), t0 = wrap(f->texturemins[1] >> mip, th);
     uint32_t *out32 = (uint32_t *)(void *)out;

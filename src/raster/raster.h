@@ -23,13 +23,14 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
                        ew_gradients *g);
 
 /* How one surface's spans are drawn this frame (set before the bands draw). */
-enum { EW_DRAW_BACKGROUND, EW_DRAW_LIT, EW_DRAW_SKY, EW_DRAW_TURB, EW_DRAW_FLAT };
+enum { EW_DRAW_BACKGROUND, EW_DRAW_LIT, EW_DRAW_SKY, EW_DRAW_TURB, EW_DRAW_FLAT, EW_DRAW_DEBUG };
 typedef struct ew_surf_draw {
     ew_gradients g;           /* screen gradients (mip of its lit surface; 0 for sky and liquids) */
     const uint8_t *pixels;    /* EW_DRAW_LIT: the lit surface, pitch bytes a row */
     int pitch;
     int kind;                 /* EW_DRAW_*; FLAT: no memory for its lit surface */
     const ew_texture *tex;    /* sky and liquids */
+    uint32_t flat;            /* EW_DRAW_DEBUG: one colour (raster/debug.h) */
 } ew_surf_draw;
 
 /* Fog by depth in an 8-bit frame: colour c at 1/z zi becomes

@@ -2,6 +2,7 @@
  * from the surface cache with perspective-correct texture mapping (a divide
  * every 16 pixels, affine in between). */
 #include "raster/span_step.h"
+#include "raster/debug.h"
 #include "raster/zfill.h"
 
 #include <math.h>
@@ -131,6 +132,9 @@ void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *d
             break;
         case EW_DRAW_TURB:
             ew_draw_turb_span(c, sp, &d->g, d->tex);
+            break;
+        case EW_DRAW_DEBUG:
+            ew_debug_fill_span(c, sp, d->flat);
             break;
         default:  /* gaps (nothing covers them), or no memory for the surface: black */
             ew_draw_flat_span(c, sp);

@@ -37,6 +37,10 @@ void ew_passes_work(ew_renderer *r) {
     }
 }
 
+int ew_pass_count(void) { return NPASSES; }
+const char *ew_pass_name(int i) { return passes[i].name; }
+void ew_pass_draw(ew_renderer *r, const ew_rows *rows, int i) { passes[i].draw(r, rows); }
+
 void ew_passes_draw(ew_renderer *r, const ew_rows *rows) {
     for (int i = 0; i < NPASSES; i++) passes[i].draw(r, rows);
 }

@@ -25,6 +25,10 @@ typedef struct ew_pass {
 void ew_passes_prepare(ew_renderer *r);
 void ew_passes_work(ew_renderer *r);
 void ew_passes_draw(ew_renderer *r, const ew_rows *rows);
+/* The passes one at a time (the overdraw debug mode counts each). */
+int         ew_pass_count(void);
+const char *ew_pass_name(int i);
+void        ew_pass_draw(ew_renderer *r, const ew_rows *rows, int i);
 
 /* raster/models.c: alias models, sprites, item boxes, then particles,
  * z-buffered over the z-filled world.  (Brush models are in the world.)

@@ -28,6 +28,13 @@ int ew_pvs_mark(ew_renderer *r) {
     const ew_world *w = r->world;
     const ew_model *m = &w->models[0];
     int leaf = ew_point_leaf(w, m->headnode, r->view.origin);
+    /* Locked (ew_set_pvs_lock): the PVS of the leaf the lock kept. */
+    int eye = leaf;
+    r->dbg.last_leaf = eye;
+    if (r->dbg.pvs_lock) {
+        if (r->dbg.pvs_leaf < 0) r->dbg.pvs_leaf = eye;
+        leaf = r->dbg.pvs_leaf;
+    }
     const ew_leaf *l = &w->leaves[leaf];
     int nleaves = m->visleafs;
     if (nleaves > w->numleaves - 1) nleaves = w->numleaves - 1;
@@ -35,7 +42,7 @@ int ew_pvs_mark(ew_renderer *r) {
     if (leaf == 0 || l->visofs < 0 || !w->visdata) {
         /* Outside the map or no vis data: everything is potentially visible. */
         for (int i = 1; i <= nleaves; i++) mark_leaf(r, i);
-        return leaf;
+        return eye;
     }
     /* Run-length decoding: a zero byte is followed by a count of zero bytes.
      * Bounded by the leaf count and by the end of the lump. */
@@ -53,5 +60,5 @@ int ew_pvs_mark(ew_renderer *r) {
         bit += 8;
     }
     mark_leaf(r, leaf);  /* the view leaf is always visible */
-    return leaf;
+    return eye;
 }
