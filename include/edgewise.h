@@ -466,6 +466,81 @@ EW_API const char *ew_scene_warning(const ew_scene *s, int i);
  * outlive its use by the renderer. */
 EW_API void ew_set_scene(ew_renderer *r, const ew_scene *s);
 
+/* ---- text and the statistics overlay ------------------------------------ */
+
+/* Text drawn by edgewise into the renderer's frame (after ew_render, before
+ * the frame is shown or written) with its built-in bitmap font: printable
+ * ASCII 32..126, fixed width, each glyph 5x7 font pixels in a 6x8 cell.  A
+ * block of text is laid out as a grid of cells with a margin of one font
+ * pixel around it: W = (6 * longest line + 1) * scale by
+ * H = (8 * lines + 1) * scale frame pixels, the glyph of line l, column c
+ * at (x + (1 + 6c) * scale, y + (1 + 8l) * scale).  '\n' starts a new line;
+ * any other character outside 32..126 is drawn as a hollow box. */
+
+/* What the text looks like behind it (flags, combine with |). */
+#define EW_TEXT_SHADOW  1  /* a black copy one font pixel right and down */
+#define EW_TEXT_OUTLINE 2  /* black around every glyph pixel (8 neighbours) */
+#define EW_TEXT_BOX     4  /* the whole block darkened to 3/8 (readable over anything) */
+
+/* Largest scale (font pixel = scale x scale frame pixels). */
+#define EW_TEXT_MAX_SCALE 16
+
+/* The text's colour and background.  Zero-initialised: black text, nothing
+ * behind it.  A NULL style means white text with EW_TEXT_SHADOW | EW_TEXT_BOX. */
+typedef struct ew_text_style {
+    uint8_t rgb[3];     /* the colour: true-colour frames draw it as it is; 8-bit
+                         * frames the palette colour nearest to it (0..254) */
+    int     use_index;  /* 1: 8-bit frames draw palette index `index` instead */
+    uint8_t index;
+    int     flags;      /* EW_TEXT_SHADOW, EW_TEXT_OUTLINE, EW_TEXT_BOX */
+} ew_text_style;
+
+/* Draws text into r's frame (either colour mode) with the top-left corner
+ * of its block at (x, y) (may be negative or past the frame: everything is
+ * clipped to the frame, nothing is written outside it).  Everything drawn,
+ * box, shadow and outline included, lies inside the W x H block that
+ * ew_text_size gives.  Returns 0, or -1 (NULL r or text, scale outside
+ * 1..EW_TEXT_MAX_SCALE). */
+EW_API int ew_draw_text(ew_renderer *r, int x, int y, int scale, const char *text,
+                        const ew_text_style *style);
+/* The block that ew_draw_text covers: *w, *h in frame pixels (0 x 0 for
+ * ""; a trailing '\n' adds an empty line).  Returns 0, or -1 as ew_draw_text. */
+EW_API int ew_text_size(const char *text, int scale, int *w, int *h);
+
+/* What the overlay shows beside ew_stats, measured by the caller. */
+typedef struct ew_overlay_info {
+    double fps;                /* frames per second (<= 0: shown as "-") */
+    double ms_present;         /* the caller's time to show a frame, ms */
+    const ew_camera *camera;   /* position and angles (NULL: those lines left out) */
+    int    corner;             /* 0 top-left, 1 top-right, 2 bottom-left, 3 bottom-right */
+    int    scale;              /* 0: automatic, frame height / 480 within 1..4 */
+} ew_overlay_info;
+
+/* The overlay's text, one '\n'-separated line each, no trailing newline:
+ *
+ *   fps 59.9 (16.7 ms)                  extra only; "fps -" if fps <= 0
+ *   ms front 1.23 scan 0.45             ew_stats ms_front, ms_scan
+ *   ms draw 3.21 models 0.10            ms_draw, ms_models
+ *   ms total 5.00 present 0.30          ms_total; present: extra only
+ *   edges 1234 surfs 567 spans 8901     edges, surfaces, spans
+ *   cache built 12 hit 345              surfaces_built, surfaces_cached
+ *   leaves 67                           visible_leaves
+ *   pos 480.0 -352.0 88.0               extra->camera origin (x y z)
+ *   ang 0.0 90.0 0.0                    extra->camera angles (pitch yaw roll)
+ *
+ * Times in ms with two decimals, fps and position/angles with one.  extra
+ * may be NULL (its lines are left out).  Writes at most size bytes
+ * (NUL-terminated when size > 0); returns the length the whole text needs,
+ * as snprintf. */
+EW_API int ew_format_stats_overlay(char *buf, size_t size, const ew_stats *st,
+                                   const ew_overlay_info *extra);
+/* Draws that text into r's frame in a corner (extra->corner, top-left
+ * without extra), 4 * scale pixels from the frame's edges, white with a
+ * shadow over a darkened box (the NULL style of ew_draw_text).  Returns 0,
+ * or -1 (NULL r or st, a corner outside 0..3, a scale outside
+ * 0..EW_TEXT_MAX_SCALE). */
+EW_API int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_overlay_info *extra);
+
 /* ---- output --------------------------------------------------------------*/
 
 /* Writes 8-bit pixels as an indexed PNG (the palette and one byte a pixel). */
