@@ -223,7 +223,7 @@ typedef struct ew_move_input {
     float up;             /* -1..1: up (Space) minus down (C); fly mode only */
     float speed;          /* units/s at full input; 0 = EW_MOVE_SPEED */
     int   run;            /* doubles the speed (Shift) */
-    int   jump;           /* walk: jump when on the ground (held: once per press) */
+    int   jump;           /* walk: jump (held: once per press; pressed in the air: on landing) */
 } ew_move_input;
 
 /* The constants of walk mode, those of the game's server (sv_gravity,
@@ -250,9 +250,11 @@ typedef struct ew_move_input {
  * sub-step), steps up ledges of at most EW_MOVE_STEP and lands on floors
  * (a plane whose normal z >= 0.7).  A player that starts inside solid is
  * nudged out (up to EW_MOVE_STEP units) or stays put.  A world without a
- * usable clip hull moves a walking player as in fly mode.  NaN or infinite
- * origin, velocity, inputs or dt: the bad values are zeroed (origin kept if
- * it was finite, else left) and nothing moves. */
+ * usable clip hull (or NULL) moves a walking player as in fly mode.  Bad
+ * values never spread: a NaN or infinite velocity component is zeroed; an
+ * origin that is not finite or beyond +-1e6 is not moved (velocity zeroed);
+ * dt NaN or <= 0 does nothing, dt > 1 is 1; NaN inputs count as 0 (in = NULL:
+ * no keys). */
 EW_API void ew_player_move(const ew_world *w, ew_player *p, const ew_move_input *in, double dt);
 /* The eye: origin + (0, 0, EW_EYE_HEIGHT), as the view set's cameras. */
 EW_API void ew_player_eye(const ew_player *p, float eye[3]);
