@@ -165,6 +165,103 @@ EW_API ew_assets *ew_assets_create_builtin(ew_error *err);
 /* Frees the assets and their world (NULL: nothing). */
 EW_API void       ew_assets_destroy(ew_assets *a);
 
+/* ---- movement and collision (world/move.c) ------------------------------
+ * A player that walks a map as in the game: box traces through the BSP's
+ * clip hulls, and a mover with gravity, friction, jumping, sliding along
+ * walls and stepping up stairs.  Only the world (model 0) collides; doors
+ * and lifts are not moved.  Quake units and seconds throughout. */
+
+/* The hulls ew_trace moves through: 0 a point (the rendering tree), 1 the
+ * player's box (mins -16 -16 -24, maxs 16 16 32 about the origin), 2 the
+ * large box (mins -32 -32 -24, maxs 32 32 64).  The map's compiler grew the
+ * clip hulls by the box, so tracing the box is tracing its origin point. */
+enum { EW_HULL_POINT = 0, EW_HULL_PLAYER = 1, EW_HULL_LARGE = 2 };
+
+/* Where a trace stopped. */
+typedef struct ew_trace_result {
+    float fraction;    /* 0..1 of the way from start to end (1: nothing hit) */
+    float end[3];      /* where the box stops (end if nothing was hit); a
+                        * hit stops 1/32 unit short of the plane */
+    float normal[3];   /* the plane hit, facing back towards start; 0 0 0 if none */
+    int   startsolid;  /* start was inside solid */
+    int   allsolid;    /* the whole segment lies in solid (fraction 0) */
+} ew_trace_result;
+
+/* Moves the hull's box from start to end through the world (model 0) and
+ * stops at the first solid (contents EW_CONTENTS_SOLID; liquids and sky
+ * leaves pass).  Returns 0, or -1 (result: nothing hit, fraction 1) when
+ * the world has no usable hull: a map without clipnodes or with malformed
+ * ones (a world warning says so) for hulls 1 and 2, or a bad hull number or
+ * non-finite point.  Read-only: any number of threads may trace at once. */
+EW_API int ew_trace(const ew_world *w, int hull, const float start[3], const float end[3],
+                    ew_trace_result *result);
+/* Contents (EW_CONTENTS_*, -1 empty, -2 solid ...) of the hull at a point;
+ * EW_CONTENTS_EMPTY where the hull is unusable (as ew_trace's -1). */
+EW_API int ew_point_contents(const ew_world *w, int hull, const float p[3]);
+
+/* How a player moves: fly (no collision: free motion along the view, the
+ * viewer's default) or walk (gravity and the clip hull). */
+typedef enum ew_move_mode { EW_MOVE_FLY = 0, EW_MOVE_WALK } ew_move_mode;
+
+/* The player: origin is the centre of Quake's player box, the origin of an
+ * info_player_start (feet at origin - 24, head at origin + 32); the eye is
+ * EW_EYE_HEIGHT above it.  Zero-initialise, then set origin and mode. */
+#define EW_EYE_HEIGHT 22.0f
+typedef struct ew_player {
+    float        origin[3];
+    float        velocity[3];  /* units per second */
+    int          on_ground;    /* walk: standing on a floor (set by ew_player_move) */
+    ew_move_mode mode;
+    int          jump_held;    /* internal: jump is taken once per press */
+} ew_player;
+
+/* One frame's controls. */
+typedef struct ew_move_input {
+    float angles[3];      /* view pitch, yaw, roll in degrees (as ew_camera) */
+    float forward;        /* -1..1: forward (W) minus back (S) */
+    float right;          /* -1..1: right (D) minus left (A) */
+    float up;             /* -1..1: up (Space) minus down (C); fly mode only */
+    float speed;          /* units/s at full input; 0 = EW_MOVE_SPEED */
+    int   run;            /* doubles the speed (Shift) */
+    int   jump;           /* walk: jump (held: once per press; pressed in the air: on landing) */
+} ew_move_input;
+
+/* The constants of walk mode, those of the game's server (sv_gravity,
+ * sv_maxspeed, sv_friction, sv_stopspeed, sv_accelerate, cl_forwardspeed,
+ * the jump's 270 and the 18-unit step): */
+#define EW_MOVE_GRAVITY    800.0f  /* units/s^2 downwards */
+#define EW_MOVE_SPEED      200.0f  /* walking speed (run: 400, capped by the max) */
+#define EW_MOVE_MAX_SPEED  320.0f  /* walk mode's top ground speed */
+#define EW_MOVE_FRICTION   4.0f    /* ground speed lost per second, as a fraction of the speed */
+#define EW_MOVE_STOP_SPEED 100.0f  /* below this, friction acts as if at this speed */
+#define EW_MOVE_ACCEL      10.0f   /* speed gained per second, x wish speed (ground and air) */
+#define EW_MOVE_AIR_SPEED  30.0f   /* air control: the wish speed in the air is at most this */
+#define EW_MOVE_JUMP       270.0f  /* upward speed of a jump */
+#define EW_MOVE_STEP       18.0f   /* tallest step walked up without a jump */
+#define EW_MOVE_MAX_FALL   2000.0f /* |velocity| is clamped to this per axis */
+#define EW_MOVE_SUBSTEP    (1.0 / 72.0) /* largest time step simulated at once (s) */
+
+/* Advances the player dt seconds (0 < dt; at most 1 s is simulated, in
+ * equal sub-steps of at most EW_MOVE_SUBSTEP, so equal inputs give equal
+ * results bit for bit).  Fly: velocity = the input along the view's
+ * forward, right and world-up axes, no collision.  Walk: friction and
+ * acceleration on the ground, gravity in the air, a jump when asked while
+ * on the ground; the box slides along what it hits (up to four planes a
+ * sub-step), steps up ledges of at most EW_MOVE_STEP and lands on floors
+ * (a plane whose normal z >= 0.7).  A player that starts inside solid is
+ * nudged out (up to EW_MOVE_STEP units) or stays put.  A world without a
+ * usable clip hull (or NULL) moves a walking player as in fly mode.  Bad
+ * values never spread: a NaN or infinite velocity component is zeroed; an
+ * origin that is not finite or beyond +-1e6 is not moved (velocity zeroed);
+ * dt NaN or <= 0 does nothing, dt > 1 is 1; NaN inputs count as 0 (in = NULL:
+ * no keys). */
+EW_API void ew_player_move(const ew_world *w, ew_player *p, const ew_move_input *in, double dt);
+/* The eye: origin + (0, 0, EW_EYE_HEIGHT), as the view set's cameras. */
+EW_API void ew_player_eye(const ew_player *p, float eye[3]);
+/* Places the player with its eye at eye (origin = eye - EW_EYE_HEIGHT),
+ * at rest, in the given mode. */
+EW_API void ew_player_set_eye(ew_player *p, const float eye[3], ew_move_mode mode);
+
 /* ---- the renderer ------------------------------------------------------- */
 
 typedef struct ew_renderer ew_renderer;

@@ -97,6 +97,13 @@ typedef struct ew_node {
     int   parent;                 /* -1 for a model's head node */
 } ew_node;
 
+/* One node of a clip hull (the clipnodes lump): children >= 0 are
+ * clipnodes, < 0 are contents (EW_CONTENTS_*, -1..-15). */
+typedef struct ew_clipnode {
+    int plane;
+    int children[2];  /* [0] front (dist >= 0), [1] back */
+} ew_clipnode;
+
 typedef struct ew_leaf {
     int     contents;
     int     visofs;               /* into visdata, -1 none */
@@ -109,6 +116,10 @@ typedef struct ew_leaf {
 typedef struct ew_model {
     float mins[3], maxs[3], origin[3];
     int   headnode;               /* hull 0 */
+    /* Head of the clip hulls 1 (the player's 32x32x56 box) and 2 (64x64x88):
+     * a clipnode index, or a contents value (< 0) for a hull that is one
+     * leaf.  Checked only when world->clip_ok. */
+    int   cliphead[2];
     int   visleafs;
     int   firstface, numfaces;
 } ew_model;
@@ -129,6 +140,11 @@ struct ew_world {
     ew_node    *nodes;        int numnodes;
     ew_leaf    *leaves;       int numleaves;
     ew_model   *models;       int nummodels;
+    ew_clipnode *clipnodes;   int numclipnodes;
+    /* 1 when the clip hulls 1 and 2 of every model passed the loader's
+     * checks (indices in range, no cycle): collision (world/move.c) works.
+     * 0 for a map without clip hulls, or with bad ones (then a warning). */
+    int         clip_ok;
     uint8_t    *lighting;     int lightsize;
     /* Coloured light (3 bytes a sample, the same samples as lighting): from
      * a .lit file beside the map or the BSPX RGBLIGHTING lump; NULL if none. */

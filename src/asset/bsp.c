@@ -734,6 +734,8 @@ static int load_models(ctx *c, ew_world *w) {
             m->origin[k] = ew_f32(p + 24 + 4 * k);
         }
         m->headnode = ew_i32(p + 36);
+        m->cliphead[0] = ew_i32(p + 40);  /* hull 1; hull 3 (p + 48) is unused */
+        m->cliphead[1] = ew_i32(p + 44);
         m->visleafs = ew_i32(p + 52);
         int32_t first = ew_i32(p + 56), num = ew_i32(p + 60);
         if (m->headnode < 0 || m->headnode >= w->numnodes)
@@ -749,6 +751,105 @@ static int load_models(ctx *c, ew_world *w) {
         m->firstface = first;
         m->numfaces = num;
     }
+    return 0;
+}
+
+/* ---- clip hulls ---------------------------------------------------------- */
+
+/* Largest contents value a clip hull leaf may hold (-1 empty .. -14
+ * currents; -15 is allowed for compilers' own kinds). */
+#define MIN_CLIP_CONTENTS (-15)
+
+/* The clipnodes lump, as is: BSP29 stores each child as 16 bits, where
+ * 0xfff0..0xffff are the contents -16..-1 and everything below a clipnode
+ * index (so a map may have up to 65520 clipnodes, as today's ports read
+ * it; for fewer than 32768 this is the same as a signed read).  BSP2 and
+ * 2PSB store int32 children.  Indices are checked by check_clip. */
+static int load_clipnodes(ctx *c, ew_world *w) {
+    int n = c->count[EW_LUMP_CLIPNODES];
+    if (!(w->clipnodes = alloc_array(c, EW_LUMP_CLIPNODES, n, sizeof *w->clipnodes))) return -1;
+    w->numclipnodes = n;
+    int rs = rec_size[c->fmt][EW_LUMP_CLIPNODES];
+    for (int i = 0; i < n; i++) {
+        const uint8_t *p = c->lump[EW_LUMP_CLIPNODES] + (size_t)rs * i;
+        ew_clipnode *cn = &w->clipnodes[i];
+        cn->plane = ew_i32(p);
+        for (int k = 0; k < 2; k++) {
+            if (c->fmt == FMT_29) {
+                int v = ew_u16(p + 4 + 2 * k);
+                cn->children[k] = v >= 0xfff0 ? v - 0x10000 : v;
+            } else {
+                cn->children[k] = ew_i32(p + 4 + 4 * k);
+            }
+        }
+    }
+    return 0;
+}
+
+static int bad_clip_ref(const ew_world *w, int ref) {
+    return ref >= 0 ? ref >= w->numclipnodes : ref < MIN_CLIP_CONTENTS;
+}
+
+/* Checks the clip hulls 1 and 2 of every model: planes and children in
+ * range, every head in range, and no cycle anywhere in the lump (Kahn's
+ * peeling: a node is removed once nothing points to it; whatever is left
+ * lies on a cycle).  A map without clipnodes simply has no collision; a
+ * map whose clip hulls are malformed keeps rendering (they are not used
+ * for drawing) with one warning, and has no collision either. */
+static int check_clip(ctx *c, ew_world *w) {
+    w->clip_ok = 0;
+    int n = w->numclipnodes;
+    if (n == 0) return 0;
+    for (int i = 0; i < n; i++) {
+        const ew_clipnode *cn = &w->clipnodes[i];
+        if (cn->plane < 0 || cn->plane >= w->numplanes) {
+            ew_warn(&w->warnings, &w->nwarnings,
+                    "%s: lump 'clipnodes': clipnode %d uses plane %d (only %d); no collision", c->file, i,
+                    cn->plane, w->numplanes);
+            return 0;
+        }
+        for (int k = 0; k < 2; k++)
+            if (bad_clip_ref(w, cn->children[k])) {
+                ew_warn(&w->warnings, &w->nwarnings,
+                        "%s: lump 'clipnodes': clipnode %d: child %d is %d (%d clipnodes, contents down to %d); no collision",
+                        c->file, i, k, cn->children[k], n, MIN_CLIP_CONTENTS);
+                return 0;
+            }
+    }
+    for (int m = 0; m < w->nummodels; m++)
+        for (int h = 0; h < 2; h++)
+            if (bad_clip_ref(w, w->models[m].cliphead[h])) {
+                ew_warn(&w->warnings, &w->nwarnings,
+                        "%s: lump 'models': model %d: hull %d head clipnode %d (only %d); no collision", c->file,
+                        m, h + 1, w->models[m].cliphead[h], n);
+                return 0;
+            }
+    int *indeg = calloc((size_t)n, sizeof *indeg), *queue = malloc((size_t)n * sizeof *queue);
+    if (!indeg || !queue) {
+        free(indeg), free(queue);
+        return lump_fail(c, EW_LUMP_CLIPNODES, "out of memory (%d records)", n);
+    }
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 2; k++)
+            if (w->clipnodes[i].children[k] >= 0) indeg[w->clipnodes[i].children[k]]++;
+    int qn = 0;
+    for (int i = 0; i < n; i++)
+        if (indeg[i] == 0) queue[qn++] = i;
+    for (int q = 0; q < qn; q++)
+        for (int k = 0; k < 2; k++) {
+            int ch = w->clipnodes[queue[q]].children[k];
+            if (ch >= 0 && --indeg[ch] == 0) queue[qn++] = ch;
+        }
+    int cyclic = -1;
+    for (int i = 0; i < n && cyclic < 0; i++)
+        if (indeg[i] > 0) cyclic = i;
+    free(indeg), free(queue);
+    if (cyclic >= 0) {
+        ew_warn(&w->warnings, &w->nwarnings,
+                "%s: lump 'clipnodes': clipnode %d lies on a cycle; no collision", c->file, cyclic);
+        return 0;
+    }
+    w->clip_ok = 1;
     return 0;
 }
 
@@ -826,6 +927,7 @@ void ew_world_destroy(ew_world *w) {
     free(w->nodes);
     free(w->leaves);
     free(w->models);
+    free(w->clipnodes);
     free(w->lighting);
     free(w->rgblight);
     free(w->facelm);
@@ -856,7 +958,8 @@ ew_world *ew_world_create(const uint8_t *data, size_t size, const char *filename
         (ew_bspx_open(&bx, data, size, w->lumps, w, filename), ew_bspx_rgb(&bx, w, filename),
          c.light_moved = ew_bspx_moves_light(&bx), load_faces(&c, w)) ||
         load_marksurfaces(&c, w) ||
-        load_leafs(&c, w) || load_nodes(&c, w) || load_models(&c, w) || link_parents(&c, w)) {
+        load_leafs(&c, w) || load_nodes(&c, w) || load_models(&c, w) || link_parents(&c, w) ||
+        load_clipnodes(&c, w) || check_clip(&c, w)) {
         ew_world_destroy(w);
         return NULL;
     }
