@@ -146,7 +146,7 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
     }
     /* Two candidates: the colormap's own colour at the channels' mean light
      * (the texel's ramp, the 8-bit look) and the nearest palette colour of
-     * the RGB.  The ramp's wins unless the nearest is clearly closer, so a
+     * the RGB.  The ramp's wins unless it is more than twice as far (squared), so a
      * light that is nearly white stays on the ramps and only a real tint
      * moves a texel to another colour. */
     const uint8_t *pal = lc->palette;
@@ -165,7 +165,7 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
         int a = pal[ramp * 3 + k] - rgb[k], n = pal[near * 3 + k] - rgb[k];
         da += a * a, dn += n * n;
     }
-    out8[x] = da * 4 <= dn * 5 ? ramp : near;
+    out8[x] = da <= dn * 2 ? ramp : near;
 }
 
 void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
