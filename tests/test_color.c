@@ -17,7 +17,7 @@
 #include "edgewise_tools.h"
 #include "util.h"
 #include "ew_world.h"
-#include "mapgen.h"
+#include "mapgen_util.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -173,19 +173,7 @@ static void test_white_like_8bit(void) {
 
 static uint8_t gpal[768], gcmap[EW_COLORMAP_SIZE];
 
-typedef struct gen {
-    uint8_t *bsp, *lit;
-    size_t   size, lit_size;
-} gen;
-
-static gen generate(const ew_mapgen_options *o) {
-    gen g = {0};
-    ew_error err = {""};
-    CHECK(ew_builtin_generate_ex(o, &g.bsp, &g.size, gpal, gcmap, &g.lit, &g.lit_size, &err) == 0, "generate: %s",
-          err.msg);
-    return g;
-}
-static void gen_free(gen *g) { free(g->bsp), free(g->lit); }
+static gen generate(const ew_mapgen_options *o) { return generate_map(o, gpal, gcmap); }
 
 static ew_world *load(const gen *g, int attach_lit, const char *name) {
     ew_error err = {""};

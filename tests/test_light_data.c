@@ -10,7 +10,7 @@
 #include "util.h"
 #include "ew_world.h"
 #include "light/light.h"
-#include "mapgen.h"
+#include "mapgen_util.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -18,18 +18,7 @@
 
 static uint8_t palette[768], colormap[EW_COLORMAP_SIZE];
 
-typedef struct gen {
-    uint8_t *bsp, *lit;
-    size_t   size, lit_size;
-} gen;
-
-static gen generate(const ew_mapgen_options *o) {
-    gen g = {0};
-    ew_error err = {""};
-    int rc = ew_builtin_generate_ex(o, &g.bsp, &g.size, palette, colormap, &g.lit, &g.lit_size, &err);
-    CHECK(rc == 0, "generate: %s", err.msg);
-    return g;
-}
+static gen generate(const ew_mapgen_options *o) { return generate_map(o, palette, colormap); }
 
 static ew_world *load(const uint8_t *d, size_t n, const char *name) {
     ew_error err = {""};

@@ -12,11 +12,6 @@
 
 enum { W = 320, H = 200 };
 
-static int face_uses_style(const ew_face *f, int style) {
-    for (int k = 0; k < 4 && f->styles[k] != 255; k++)
-        if (f->styles[k] == style) return 1;
-    return 0;
-}
 
 /* Whether face f uses any style whose bit is set in changed. */
 static int face_uses_any(const ew_face *f, uint64_t changed) {
@@ -25,17 +20,7 @@ static int face_uses_any(const ew_face *f, uint64_t changed) {
     return 0;
 }
 
-/* The distinct lit surfaces of the last frame, into out; their count. */
-static int frame_entries(const ew_renderer *r, ew_cached_surf **out) {
-    int n = 0;
-    for (int s = 1; s < r->el.nsurfs; s++) {
-        ew_cached_surf *e = r->lit.surf_cache[s];
-        int seen = !e;
-        for (int i = 0; i < n && !seen; i++) seen = out[i] == e;
-        if (!seen) out[n++] = e;
-    }
-    return n;
-}
+#include "surfaces.h"
 
 static ew_camera at_time(ew_camera c, double t) {
     c.time = t;

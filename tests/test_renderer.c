@@ -13,25 +13,7 @@ static long count_diff(const uint8_t *a, const uint8_t *b, long n) {
     return d;
 }
 
-/* Whether face f's light map uses light style `style`. */
-static int face_uses_style(const ew_face *f, int style) {
-    for (int k = 0; k < 4 && f->styles[k] != 255; k++)
-        if (f->styles[k] == style) return 1;
-    return 0;
-}
-
-/* The distinct lit surfaces (cache entries) of the last frame's surfaces
- * that won spans, into out (room for r->el.nsurfs); their count. */
-static int frame_entries(const ew_renderer *r, ew_cached_surf **out) {
-    int n = 0;
-    for (int s = 1; s < r->el.nsurfs; s++) {
-        ew_cached_surf *e = r->lit.surf_cache[s];
-        int seen = !e;
-        for (int i = 0; i < n && !seen; i++) seen = out[i] == e;
-        if (!seen) out[n++] = e;
-    }
-    return n;
-}
+#include "surfaces.h"
 
 /* Sets light style `style` to value and renders view c again (the view of
  * the last frame): exactly the visible lit surfaces whose face uses that

@@ -39,17 +39,20 @@ int bi_trace(const bi_grid *g, const float a[3], const float b[3]) {
     }
 }
 
+/* What light l adds at point p of a surface facing n: linear falloff to
+ * its reach, by the cosine, nothing if the grid blocks it. */
+static double light_reach(const bi_scene *s, const bi_light *l, const float p[3], const float n[3]) {
+    double d[3] = {l->origin[0] - p[0], l->origin[1] - p[1], l->origin[2] - p[2]};
+    double dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (dist >= l->intensity) return 0;
+    double c = dist < 1 ? 1 : (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / dist;
+    if (c <= 0 || bi_trace(&s->grid, p, l->origin) >= 0) return 0;
+    return (l->intensity - dist) * c;
+}
+
 int bi_light_point(const bi_scene *s, const float p[3], const float n[3]) {
     double total = s->ambient;
-    for (int i = 0; i < s->nlights; i++) {
-        const bi_light *l = &s->lights[i];
-        double d[3] = {l->origin[0] - p[0], l->origin[1] - p[1], l->origin[2] - p[2]};
-        double dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (dist >= l->intensity) continue;
-        double c = dist < 1 ? 1 : (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / dist;
-        if (c <= 0 || bi_trace(&s->grid, p, l->origin) >= 0) continue;
-        total += (l->intensity - dist) * c;
-    }
+    for (int i = 0; i < s->nlights; i++) total += light_reach(s, &s->lights[i], p, n);
     /* sunlight: the surface sees the sky looking back along the sun's rays */
     double c = -(s->sun_dir[0] * n[0] + s->sun_dir[1] * n[1] + s->sun_dir[2] * n[2]);
     if (s->sun_intensity > 0 && c > 0) {
@@ -69,13 +72,8 @@ int bi_light_point_rgb(const bi_scene *s, const float p[3], const float n[3], ui
     }
     double total[3] = {s->ambient, s->ambient, s->ambient};
     for (int i = 0; i < s->nlights && i < EW_MAPGEN_MAX_LIGHTS; i++) {
-        const bi_light *l = &s->lights[i];
-        double d[3] = {l->origin[0] - p[0], l->origin[1] - p[1], l->origin[2] - p[2]};
-        double dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-        if (dist >= l->intensity) continue;
-        double c = dist < 1 ? 1 : (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / dist;
-        if (c <= 0 || bi_trace(&s->grid, p, l->origin) >= 0) continue;
-        for (int k = 0; k < 3; k++) total[k] += (l->intensity - dist) * c * tint[3 * i + k];
+        double add = light_reach(s, &s->lights[i], p, n);
+        for (int k = 0; k < 3; k++) total[k] += add * tint[3 * i + k];
     }
     double c = -(s->sun_dir[0] * n[0] + s->sun_dir[1] * n[1] + s->sun_dir[2] * n[2]);
     if (s->sun_intensity > 0 && c > 0) {

@@ -12,6 +12,20 @@
 #include <emmintrin.h>
 #endif
 
+#if defined(__SSE2__)
+/* The surface indices t * pitch + s of four texels at once: the integer
+ * parts of s and t paired as 16-bit halves, one multiply-add (mul holds
+ * (1, pitch) pairs). */
+static inline void texel_index4(__m128i vs, __m128i vt, __m128i mul, uint32_t k[4]) {
+    const __m128i hi16 = _mm_set1_epi32((int)0xFFFF0000u);
+    __m128i idx = _mm_madd_epi16(_mm_or_si128(_mm_srli_epi32(vs, 16), _mm_and_si128(vt, hi16)), mul);
+    k[0] = (uint32_t)_mm_cvtsi128_si32(idx);
+    k[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
+    k[2] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
+    k[3] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
+}
+#endif
+
 /* n texels along a straight line through the surface: the affine stretch
  * between two perspective-correct points.  s and t stay within the
  * surface all along (the stepper guarantees it), so unsigned maths is exact.
@@ -29,17 +43,12 @@ static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch
         __m128i vs = _mm_setr_epi32(s, s + ds, s + 2 * ds, s + 3 * ds);
         __m128i vt = _mm_setr_epi32(t, t + dt, t + 2 * dt, t + 3 * dt);
         const __m128i step_s = _mm_set1_epi32(4 * ds), step_t = _mm_set1_epi32(4 * dt);
-        const __m128i hi16 = _mm_set1_epi32((int)0xFFFF0000u);
         const __m128i mul = _mm_set1_epi32((int)((pitch << 16) | 1u));  /* (1, pitch) pairs */
         for (; i + 4 <= n; i += 4) {
-            __m128i pair = _mm_or_si128(_mm_srli_epi32(vs, 16), _mm_and_si128(vt, hi16));
-            __m128i idx = _mm_madd_epi16(pair, mul);
-            uint32_t k0 = (uint32_t)_mm_cvtsi128_si32(idx);
-            uint32_t k1 = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
-            uint32_t k2 = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
-            uint32_t k3 = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
-            uint32_t four = (uint32_t)pixels[k0] | (uint32_t)pixels[k1] << 8 |
-                            (uint32_t)pixels[k2] << 16 | (uint32_t)pixels[k3] << 24;
+            uint32_t k[4];
+            texel_index4(vs, vt, mul, k);
+            uint32_t four = (uint32_t)pixels[k[0]] | (uint32_t)pixels[k[1]] << 8 |
+                            (uint32_t)pixels[k[2]] << 16 | (uint32_t)pixels[k[3]] << 24;
             memcpy(dst + i, &four, 4);  /* little-endian: pixel i first */
             vs = _mm_add_epi32(vs, step_s);
             vt = _mm_add_epi32(vt, step_t);
@@ -99,16 +108,11 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
         __m128i vs = _mm_setr_epi32(s, s + ds, s + 2 * ds, s + 3 * ds);
         __m128i vt = _mm_setr_epi32(t, t + dt, t + 2 * dt, t + 3 * dt);
         const __m128i step_s = _mm_set1_epi32(4 * ds), step_t = _mm_set1_epi32(4 * dt);
-        const __m128i hi16 = _mm_set1_epi32((int)0xFFFF0000u);
         const __m128i mul = _mm_set1_epi32((int)((pitch << 16) | 1u));
         for (; i + 4 <= n; i += 4) {
-            __m128i pair = _mm_or_si128(_mm_srli_epi32(vs, 16), _mm_and_si128(vt, hi16));
-            __m128i idx = _mm_madd_epi16(pair, mul);
-            uint32_t k0 = (uint32_t)_mm_cvtsi128_si32(idx);
-            uint32_t k1 = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
-            uint32_t k2 = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
-            uint32_t k3 = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
-            __m128i four = _mm_setr_epi32((int)src[k0], (int)src[k1], (int)src[k2], (int)src[k3]);
+            uint32_t k[4];
+            texel_index4(vs, vt, mul, k);
+            __m128i four = _mm_setr_epi32((int)src[k[0]], (int)src[k[1]], (int)src[k[2]], (int)src[k[3]]);
             _mm_storeu_si128((__m128i *)(void *)(dst + (size_t)i * 4), four);
             vs = _mm_add_epi32(vs, step_s);
             vt = _mm_add_epi32(vt, step_t);
