@@ -550,8 +550,9 @@ EW_API int  ew_scene_set_alpha(ew_scene *s, int entity, float alpha);
 EW_API int  ew_scene_add_particles(ew_scene *s, int n, const float center[3], float radius,
                                    uint32_t seed);
 /* A dynamic light: adds light within radius to the surfaces it reaches;
- * white, or the colour given (0..1 each; coloured in true colour and in
- * 8-bit frames with coloured light). */
+ * white, or the colour given (0..1 each; in 8-bit frames the surfaces it
+ * reaches take the nearest palette colours, as with coloured light; not in
+ * classic mode). */
 EW_API int  ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius);
 EW_API int  ew_scene_add_dlight_rgb(ew_scene *s, const float origin[3], float radius, const float color[3]);
 EW_API void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing);

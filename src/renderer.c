@@ -4,6 +4,7 @@
  * spans and the passes over the world (renderer.h, docs/architecture.md). */
 #include "renderer.h"
 #include "ew_util.h"
+#include "scene/scene.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -337,6 +338,14 @@ static int camera_ok(const ew_camera *c) {
     return isfinite(c->fov) && c->fov >= 0 && c->fov < 179 && isfinite(c->time);
 }
 
+/* Whether a scene has a dynamic light that is not white. */
+static int coloured_dlights(const struct ew_scene *sc) {
+    for (int i = 0; sc && i < sc->ndlights; i++)
+        if (sc->dlights[i].color[0] != sc->dlights[i].color[1] || sc->dlights[i].color[1] != sc->dlights[i].color[2])
+            return 1;
+    return 0;
+}
+
 /* Starts a frame: new frame number (resetting the marks if it wraps), view,
  * the span drawers' tables, the hidden-surface method, the PVS. */
 int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
@@ -359,7 +368,9 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->draw.subdiv_shift = r->cfg.subdiv_shift;
     r->draw.rgba = r->lit.curve.rgba;
     /* 8-bit coloured light needs the nearest-colour cube (built once). */
-    if (!r->lit.nearest && r->target.bpp == 1 && ew_use_rgb_light(r, r->world)) r->lit.nearest = ew_blend_cube(&r->blend);
+    if (!r->lit.nearest && r->target.bpp == 1 && !r->cfg.classic &&
+        (ew_use_rgb_light(r, r->world) || coloured_dlights(r->ents.scene)))
+        r->lit.nearest = ew_blend_cube(&r->blend);
     r->cfg.hsr->begin(r);
     r->see.n = 0;
     r->eye_contents = r->world->leaves[ew_pvs_mark(r)].contents;

@@ -180,7 +180,9 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
     int rgbsrc = ew_use_rgb_light(r, w);
     /* True colour lights in RGB where dynamic lights reach, even under
      * white light: they may be coloured. */
-    int rgb = rgbsrc || (truecolor && dlights && w == r->world && !r->cfg.classic);
+    /* Dynamic lights may be coloured: RGB where they reach (a white one
+     * leaves the samples grey, and grey takes the white path below). */
+    int rgb = rgbsrc || (dlights && w == r->world && !r->cfg.classic && (truecolor || r->lit.nearest));
     int *bl = scratch;
     int grey = gather(r, w, f, &L, light, dlights, rgb ? 3 : 1, rgbsrc, bl);
     int nc = rgb ? 3 : 1;
