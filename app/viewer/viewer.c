@@ -563,9 +563,12 @@ static int run(viewer *v) {
         }
     }
     double total = now_s() - start;
+    SDL_RendererInfo ri;
+    if (SDL_GetRendererInfo(v->sdl, &ri) != 0) ri.name = "?";
     if (frame > 0)
-        fprintf(stderr, "view: %ld frames %dx%d in %.2f s: fps %.1f, render %.2f ms, present %.2f ms a frame\n",
-                frame, v->fw, v->fh, total, frame / total, sum_render / frame, sum_present / frame);
+        fprintf(stderr, "view: %ld frames %dx%d in %.2f s: fps %.1f, render %.2f ms, present %.2f ms a frame "
+                "(SDL renderer %s)\n", frame, v->fw, v->fh, total, frame / total, sum_render / frame,
+                sum_present / frame, ri.name);
     if (rec && fclose(rec) != 0) {
         error_line("%s: %s", o->record, strerror(errno));
         rc = 1;
