@@ -28,6 +28,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#ifdef EW_HAVE_SDL2
 static const char *cli(void) { return getenv("EW_CLI") ? getenv("EW_CLI") : "./edgewise"; }
 
 static volatile pid_t xvfb_pid = -1, viewer_pid = -1;
@@ -374,6 +375,8 @@ static void test_xdotool(const char *data) {
         fprintf(stderr, "viewer stderr: %s\n", err);
     }
 }
+
+#endif /* EW_HAVE_SDL2 */
 
 int main(void) {
     ew_t_run r;
