@@ -86,5 +86,7 @@ void print_scene_warnings(const ew_scene *s, int quiet);
 int cmd_bench(int argc, char **argv);
 /* edgewise soak (cli/cmd_soak.c): argv[1] is "soak". */
 int cmd_soak(int argc, char **argv);
+/* edgewise view (app/viewer/viewer.c with SDL2, else cli/cmd_view_stub.c). */
+int cmd_view(int argc, char **argv);
 
 #endif

@@ -43,6 +43,7 @@ static const char usage_head[] =
     "  views MAP [--data DIR] list the view set: INDEX X Y Z PITCH YAW ROLL\n"
     "  info MAP [--data DIR]  BSP version, lumps and counts\n"
     "  bench MAP... [options] time the view set (see edgewise bench --help)\n"
+    "  view MAP [options]     walk through MAP in a window (see edgewise view --help)\n"
     "  soak MAP --frames N    render N frames and check every frame's counters\n"
     "  help, --help           this text\n"
     "  --version              the version\n"
@@ -721,6 +722,8 @@ int main(int argc, char **argv) {
         return cmd_bench(argc, argv);
     if (strcmp(cmd, "soak") == 0)
         return cmd_soak(argc, argv);
-    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, help)", cmd);
+    if (strcmp(cmd, "view") == 0)
+        return cmd_view(argc, argv);
+    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, view, help)", cmd);
     return EXIT_USAGE;
 }

@@ -1,0 +1,661 @@
+/*
+ * viewer.c - edgewise view: a window in which a map is rendered by the
+ * library's software renderer, with mouse look, movement (fly / walk), the
+ * renderer's debug modes on keys, an overlay, screenshots, a recorded camera
+ * path and scripts that drive the viewer unattended.  SDL2 only opens the
+ * window, reads input and presents finished frames through one streaming
+ * texture; every pixel of the scene comes from ew_render.
+ *
+ * Built only when CMake finds SDL2 (EW_HAVE_SDL2); the library never links it.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+#include "edgewise.h"
+#include "viewer.h"
+
+#include <SDL.h>
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const char view_usage[] =
+    "usage: edgewise view MAP [options]\n"
+    "\n"
+    "A window in which MAP ('builtin' for the built-in scene) is rendered by\n"
+    "edgewise; see the README's viewer section for the keys and formats.\n"
+    "\n"
+    "options:\n"
+    "  --data DIR        game directory (maps/, gfx/)\n"
+    "  --size WxH        rendered frame size (default: the window's; fixed when given)\n"
+    "  --scale N         each rendered pixel shown as NxN, 1 to 8 (default 1)\n"
+    "  --threads N       render threads, 0 = all cores (default 0)\n"
+    "  --fov DEG         horizontal field of view, 1 to 179 (default 90)\n"
+    "  --view N          start at camera N of the view set (default 0)\n"
+    "  --fullscreen      fill the screen\n"
+    "  --script FILE     play timed commands (deterministic frames: time from the script)\n"
+    "  --record FILE     write the camera path: one line 'time x y z pitch yaw roll' a frame\n"
+    "  --quiet           no warning lines about the map's optional data\n"
+    "drawing options (as render):\n";
+
+typedef struct view_opts {
+    const char *map, *data, *script, *record;
+    int         width, height, size_given, scale, threads, view, fullscreen, quiet;
+    double      fov;
+    draw_opts   draw;
+} view_opts;
+
+static double now_s(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* ---- arguments ------------------------------------------------------------ */
+
+static int parse_view_args(int argc, char **argv, view_opts *o) {
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        int dr = draw_option(&o->draw, "view", argc, argv, &i);
+        if (dr < 0)
+            return -1;
+        if (dr > 0)
+            continue;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            fputs(view_usage, stdout);
+            draw_opts_usage(stdout);
+            return 1;
+        }
+        if (strcmp(a, "--fullscreen") == 0) { o->fullscreen = 1; continue; }
+        if (strcmp(a, "--quiet") == 0) { o->quiet = 1; continue; }
+        if (a[0] == '-' && a[1] == '-') {
+            static const char *const with_value[] = { "--data", "--size", "--scale", "--threads", "--fov",
+                                                      "--view", "--script", "--record" };
+            int k = -1;
+            for (int j = 0; j < (int)(sizeof with_value / sizeof *with_value); j++)
+                if (strcmp(a, with_value[j]) == 0) k = j;
+            if (k < 0) {
+                error_line("view: unknown option '%s' (try 'edgewise view --help')", a);
+                return -1;
+            }
+            if (i + 1 >= argc) {
+                error_line("view: option '%s' needs a value", a);
+                return -1;
+            }
+            const char *v = argv[++i];
+            long l;
+            char *end;
+            switch (k) {
+            case 0: o->data = v; break;
+            case 1:
+                if (parse_size(v, &o->width, &o->height) < 0) return -1;
+                o->size_given = 1;
+                break;
+            case 2:
+                if (parse_long(v, &l) < 0 || l < 1 || l > 8) {
+                    error_line("--scale %s: must be a whole number from 1 to 8", v);
+                    return -1;
+                }
+                o->scale = (int)l;
+                break;
+            case 3:
+                if (parse_long(v, &l) < 0 || l < 0 || l > EW_MAX_THREADS) {
+                    error_line("--threads %s: must be a whole number from 0 to %d", v, EW_MAX_THREADS);
+                    return -1;
+                }
+                o->threads = (int)l;
+                break;
+            case 4:
+                o->fov = strtod(v, &end);
+                if (end == v || *end || !(o->fov >= 1 && o->fov <= 179)) {
+                    error_line("--fov %s: must be a number from 1 to 179", v);
+                    return -1;
+                }
+                break;
+            case 5:
+                if (parse_long(v, &l) < 0 || l < 0 || l >= EW_MAX_VIEWS) {
+                    error_line("--view %s: must be a whole number from 0 to %d", v, EW_MAX_VIEWS - 1);
+                    return -1;
+                }
+                o->view = (int)l;
+                break;
+            case 6: o->script = v; break;
+            case 7: o->record = v; break;
+            }
+            continue;
+        }
+        if (o->map) {
+            error_line("view: one map only ('%s' and '%s')", o->map, a);
+            return -1;
+        }
+        o->map = a;
+    }
+    if (!o->map) {
+        error_line("view: missing MAP (a map name, a .bsp path or 'builtin')");
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- the viewer's state ----------------------------------------------------- */
+
+typedef struct viewer {
+    view_opts    *o;
+    ew_assets    *a;
+    ew_scene     *scene;     /* the map's entities (NULL: --no-entities) */
+    ew_scene     *empty;     /* an empty scene: entities off */
+    ew_renderer  *r;
+    SDL_Window   *win;
+    SDL_Renderer *sdl;
+    SDL_Texture  *tex;
+    int           fw, fh;     /* frame size */
+    uint32_t      table[256]; /* palette as R,G,B,A */
+    ew_camera     views[EW_MAX_VIEWS];
+    int           nviews, cur_view;
+    ew_player     player;
+    float         eye[3], angles[3];
+    double        time;
+    int           paused, overlay, grabbed, quit, entities, threads_all, exact, pvs_lock;
+    int           alias_raster;
+    ew_debug_mode debug;
+    int           shot_count;
+    uint8_t       held[SDL_NUM_SCANCODES];  /* keys held by the script */
+} viewer;
+
+static void set_view(viewer *v, int n) {
+    if (n < 0 || n >= v->nviews)
+        return;
+    v->cur_view = n;
+    memcpy(v->eye, v->views[n].origin, sizeof v->eye);
+    memcpy(v->angles, v->views[n].angles, sizeof v->angles);
+    ew_player_set_eye(&v->player, v->eye, v->player.mode);
+}
+
+/* The renderer at the frame size, with every setting the keys changed. */
+static int make_renderer(viewer *v, int w, int h) {
+    ew_error err = { "" };
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = v->a->world, .palette = v->a->palette,
+            .colormap = v->a->colormap, .width = w, .height = h, .threads = v->o->threads,
+            .color = (ew_color_mode)v->o->draw.color }, &err);
+    if (!r) {
+        error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
+        return -1;
+    }
+    if (draw_opts_apply(&v->o->draw, r, v->scene) < 0) {
+        error_line("out of memory for the debug mode");
+        ew_renderer_destroy(r);
+        return -1;
+    }
+    ew_set_scene(r, v->entities ? v->scene : v->empty);
+    ew_set_debug(r, v->debug);
+    ew_set_pvs_lock(r, v->pvs_lock);
+    if (v->exact) ew_set_subdivision(r, 1);
+    if (!v->threads_all) ew_set_threads(r, 1);
+    ew_set_alias_raster(r, (ew_alias_raster)v->alias_raster, 0);
+    SDL_Texture *tex = SDL_CreateTexture(v->sdl, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, w, h);
+    if (!tex) {
+        error_line("SDL: cannot create a %dx%d texture: %s", w, h, SDL_GetError());
+        ew_renderer_destroy(r);
+        return -1;
+    }
+    ew_renderer_destroy(v->r);
+    if (v->tex) SDL_DestroyTexture(v->tex);
+    v->r = r;
+    v->tex = tex;
+    v->fw = w;
+    v->fh = h;
+    return 0;
+}
+
+static void set_grab(viewer *v, int on) {
+    v->grabbed = on;
+    SDL_SetRelativeMouseMode(on ? SDL_TRUE : SDL_FALSE);
+}
+
+static const char *const debug_names[] = { "normal", "spans", "edges", "overdraw", "lighting", "textures",
+                                           "mips", "builds" };
+static const char *const raster_names[] = { "auto", "affine", "subdiv" };
+
+/* A key press (from the keyboard or a script's "key NAME"). */
+static void press(viewer *v, SDL_Keycode k) {
+    if (k >= SDLK_F1 && k <= SDLK_F7) {
+        ew_debug_mode m = (ew_debug_mode)(EW_DEBUG_SPANS + (k - SDLK_F1));
+        v->debug = v->debug == m ? EW_DEBUG_NONE : m;
+        ew_set_debug(v->r, v->debug);
+        v->debug = ew_get_debug(v->r);
+        fprintf(stderr, "debug: %s\n", debug_names[v->debug]);
+        return;
+    }
+    if (k >= SDLK_1 && k <= SDLK_9) {
+        set_view(v, k - SDLK_1);
+        return;
+    }
+    switch (k) {
+    case SDLK_ESCAPE:
+        if (v->grabbed) set_grab(v, 0);
+        else v->quit = 1;
+        break;
+    case SDLK_PAGEUP: set_view(v, v->nviews ? (v->cur_view + 1) % v->nviews : 0); break;
+    case SDLK_PAGEDOWN: set_view(v, v->nviews ? (v->cur_view + v->nviews - 1) % v->nviews : 0); break;
+    case SDLK_p: v->paused = !v->paused; break;
+    case SDLK_TAB: v->overlay = !v->overlay; break;
+    case SDLK_f:
+        v->player.mode = v->player.mode == EW_MOVE_FLY ? EW_MOVE_WALK : EW_MOVE_FLY;
+        memset(v->player.velocity, 0, sizeof v->player.velocity);
+        fprintf(stderr, "move: %s\n", v->player.mode == EW_MOVE_FLY ? "fly" : "walk");
+        break;
+    case SDLK_l:
+        v->pvs_lock = !v->pvs_lock;
+        ew_set_pvs_lock(v->r, v->pvs_lock);
+        fprintf(stderr, "pvs lock: %s\n", v->pvs_lock ? "on" : "off");
+        break;
+    case SDLK_x:
+        v->exact = !v->exact;
+        ew_set_subdivision(v->r, v->exact ? 1 : 16);
+        fprintf(stderr, "perspective: %s\n", v->exact ? "exact" : "16-pixel subdivision");
+        break;
+    case SDLK_t:
+        v->threads_all = !v->threads_all;
+        ew_set_threads(v->r, v->threads_all ? v->o->threads : 1);
+        fprintf(stderr, "threads: %d\n", ew_get_threads(v->r));
+        break;
+    case SDLK_e:
+        v->entities = !v->entities;
+        ew_set_scene(v->r, v->entities ? v->scene : v->empty);
+        fprintf(stderr, "entities: %s\n", v->entities ? "on" : "off");
+        break;
+    case SDLK_r:
+        v->alias_raster = (v->alias_raster + 1) % 3;
+        ew_set_alias_raster(v->r, (ew_alias_raster)v->alias_raster, 0);
+        fprintf(stderr, "alias raster: %s\n", raster_names[v->alias_raster]);
+        break;
+    default: break;
+    }
+}
+
+static void screenshot(viewer *v, const char *path, const ew_camera *cam) {
+    char name[512];
+    if (!path) {
+        char base[256];
+        map_basename(v->o->map, base, sizeof base);
+        snprintf(name, sizeof name, "%s_view%03d.png", base, v->shot_count++);
+        path = name;
+    }
+    ew_error err = { "" };
+    if (ew_write_frame_png(v->r, path, &err) < 0) {
+        error_line("%s", err.msg);
+        return;
+    }
+    printf("%s --pos %.9g,%.9g,%.9g --angles %.9g,%.9g,%.9g --time %.9g --size %dx%d\n", path, cam->origin[0],
+           cam->origin[1], cam->origin[2], cam->angles[0], cam->angles[1], cam->angles[2], cam->time, v->fw,
+           v->fh);
+    fflush(stdout);
+}
+
+/* ---- scripts ------------------------------------------------------------------ */
+
+enum { S_CAMERA, S_VIEW, S_KEY, S_DOWN, S_UP, S_SCREENSHOT, S_QUIT, S_STEP };
+typedef struct script_cmd {
+    double t;
+    int    kind;
+    float  v[6];
+    int    n;
+    SDL_Keycode key;
+    char   path[256];
+} script_cmd;
+
+static int load_script(const char *path, script_cmd **out, int *count) {
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        error_line("%s: %s", path, strerror(errno));
+        return -1;
+    }
+    script_cmd *cmds = NULL;
+    int n = 0, cap = 0, lineno = 0, rc = 0;
+    char line[512];
+    while (fgets(line, sizeof line, f)) {
+        lineno++;
+        char *p = line;
+        while (isspace((unsigned char)*p)) p++;
+        if (!*p || *p == '#')
+            continue;
+        line[strcspn(line, "\r\n")] = '\0';
+        script_cmd c;
+        memset(&c, 0, sizeof c);
+        char verb[32], arg1[256] = "", arg2[256] = "";
+        int got = sscanf(p, "at %lf %31s %255s %255s", &c.t, verb, arg1, arg2);
+        int ok = got >= 2 && isfinite(c.t) && c.t >= 0;
+        if (ok && strcmp(verb, "camera") == 0) {
+            c.kind = S_CAMERA;
+            ok = got == 4 && sscanf(arg1, "%f,%f,%f", &c.v[0], &c.v[1], &c.v[2]) == 3 &&
+                 sscanf(arg2, "%f,%f,%f", &c.v[3], &c.v[4], &c.v[5]) == 3;
+        } else if (ok && strcmp(verb, "view") == 0) {
+            c.kind = S_VIEW;
+            ok = got == 3 && sscanf(arg1, "%d", &c.n) == 1;
+        } else if (ok && (strcmp(verb, "key") == 0 || strcmp(verb, "down") == 0 || strcmp(verb, "up") == 0)) {
+            c.kind = verb[0] == 'k' ? S_KEY : verb[0] == 'd' ? S_DOWN : S_UP;
+            c.key = got == 3 ? SDL_GetKeyFromName(arg1) : SDLK_UNKNOWN;
+            ok = c.key != SDLK_UNKNOWN;
+        } else if (ok && strcmp(verb, "screenshot") == 0) {
+            c.kind = S_SCREENSHOT;
+            ok = got == 3;
+            snprintf(c.path, sizeof c.path, "%s", arg1);
+        } else if (ok && strcmp(verb, "quit") == 0) {
+            c.kind = S_QUIT;
+            ok = got == 2;
+        } else if (ok && strcmp(verb, "step") == 0) {
+            c.kind = S_STEP;
+            ok = got == 3 && sscanf(arg1, "%f", &c.v[0]) == 1 && c.v[0] > 0 && c.v[0] <= 1;
+        } else {
+            ok = 0;
+        }
+        if (!ok) {
+            error_line("%s:%d: not a script command (at T camera X,Y,Z P,Y,R | view N | key NAME | down NAME | "
+                       "up NAME | screenshot FILE | step DT | quit)", path, lineno);
+            rc = -1;
+            break;
+        }
+        if (n == cap) {
+            cap = cap ? cap * 2 : 32;
+            script_cmd *nc = realloc(cmds, (size_t)cap * sizeof *cmds);
+            if (!nc) { rc = -1; break; }
+            cmds = nc;
+        }
+        cmds[n++] = c;
+    }
+    fclose(f);
+    if (rc < 0) {
+        free(cmds);
+        return -1;
+    }
+    /* Stable order by time (insertion sort: scripts are short). */
+    for (int i = 1; i < n; i++)
+        for (int j = i; j > 0 && cmds[j - 1].t > cmds[j].t; j--) {
+            script_cmd t = cmds[j];
+            cmds[j] = cmds[j - 1];
+            cmds[j - 1] = t;
+        }
+    *out = cmds;
+    *count = n;
+    return 0;
+}
+
+/* ---- presenting ------------------------------------------------------------------- */
+
+/* The frame into the streaming texture (8-bit through the palette in one
+ * pass, true colour as it is), then onto the window.  Returns ms spent. */
+static double present(viewer *v) {
+    double t0 = now_s();
+    void *dst;
+    int pitch;
+    if (SDL_LockTexture(v->tex, NULL, &dst, &pitch) == 0) {
+        const uint8_t *px = ew_frame_pixels(v->r);
+        const uint32_t *rgba = ew_frame_rgba(v->r);
+        if (px) {
+            ew_palette_rgba(ew_frame_palette(v->r), v->table);
+            if (pitch == v->fw * 4)
+                ew_pixels_to_rgba(px, (size_t)v->fw * v->fh, v->table, dst);
+            else
+                for (int y = 0; y < v->fh; y++)
+                    ew_pixels_to_rgba(px + (size_t)y * v->fw, (size_t)v->fw, v->table,
+                                      (uint32_t *)((uint8_t *)dst + (size_t)y * pitch));
+        } else if (rgba) {
+            for (int y = 0; y < v->fh; y++)
+                memcpy((uint8_t *)dst + (size_t)y * pitch, rgba + (size_t)y * v->fw, (size_t)v->fw * 4);
+        }
+        SDL_UnlockTexture(v->tex);
+    }
+    SDL_RenderCopy(v->sdl, v->tex, NULL, NULL);
+    SDL_RenderPresent(v->sdl);
+    return (now_s() - t0) * 1000.0;
+}
+
+/* ---- the main loop ------------------------------------------------------------------ */
+
+static int run(viewer *v) {
+    view_opts *o = v->o;
+    script_cmd *cmds = NULL;
+    int ncmds = 0, next_cmd = 0;
+    if (o->script && load_script(o->script, &cmds, &ncmds) < 0)
+        return 1;
+    FILE *rec = NULL;
+    if (o->record && !(rec = fopen(o->record, "w"))) {
+        error_line("%s: %s", o->record, strerror(errno));
+        free(cmds);
+        return 1;
+    }
+    double step = 1.0 / 60.0;
+    long frame = 0, script_frames = 0;
+    double script_t = 0, last = now_s(), start = last, fps_t0 = last, fps = 0;
+    double ms_present = 0, sum_present = 0, sum_render = 0;
+    int fps_frames = 0;
+    int rc = 0;
+    ew_stats st;
+    memset(&st, 0, sizeof st);
+
+    while (!v->quit) {
+        double t = now_s(), dt = t - last;
+        last = t;
+        if (o->script) {
+            script_t = script_frames * step;
+            dt = step;
+        }
+        SDL_Event e;
+        while (SDL_PollEvent(&e)) {
+            switch (e.type) {
+            case SDL_QUIT: v->quit = 1; break;
+            case SDL_KEYDOWN:
+                if (!e.key.repeat) press(v, e.key.keysym.sym);
+                if (e.key.keysym.sym == SDLK_F12) {
+                    ew_camera cam = { { v->eye[0], v->eye[1], v->eye[2] },
+                                      { v->angles[0], v->angles[1], v->angles[2] }, (float)o->fov, v->time };
+                    screenshot(v, NULL, &cam);
+                }
+                break;
+            case SDL_MOUSEBUTTONDOWN:
+                if (!v->grabbed) set_grab(v, 1);
+                break;
+            case SDL_MOUSEMOTION:
+                if (v->grabbed) {
+                    v->angles[1] -= e.motion.xrel * 0.2f;
+                    v->angles[0] += e.motion.yrel * 0.2f;
+                    if (v->angles[0] > 89) v->angles[0] = 89;
+                    if (v->angles[0] < -89) v->angles[0] = -89;
+                    v->angles[1] = fmodf(v->angles[1], 360.0f);
+                }
+                break;
+            case SDL_WINDOWEVENT:
+                if (e.window.event == SDL_WINDOWEVENT_SIZE_CHANGED && !o->size_given) {
+                    int w = e.window.data1 / o->scale, h = e.window.data2 / o->scale;
+                    if (w < 320) w = 320;
+                    if (h < 200) h = 200;
+                    if ((w != v->fw || h != v->fh) && make_renderer(v, w, h) < 0) {
+                        v->quit = 1;
+                        rc = 1;
+                    }
+                }
+                break;
+            default: break;
+            }
+        }
+        /* The script's commands due by this frame's time. */
+        int shots[16], nshots = 0;
+        while (next_cmd < ncmds && cmds[next_cmd].t <= script_t + 1e-9) {
+            script_cmd *c = &cmds[next_cmd++];
+            switch (c->kind) {
+            case S_CAMERA:
+                memcpy(v->eye, c->v, sizeof v->eye);
+                memcpy(v->angles, c->v + 3, sizeof v->angles);
+                ew_player_set_eye(&v->player, v->eye, v->player.mode);
+                break;
+            case S_VIEW: set_view(v, c->n); break;
+            case S_KEY: press(v, c->key); break;
+            case S_DOWN:
+            case S_UP: {
+                SDL_Scancode sc = SDL_GetScancodeFromKey(c->key);
+                if (sc > SDL_SCANCODE_UNKNOWN && sc < SDL_NUM_SCANCODES) v->held[sc] = c->kind == S_DOWN;
+                break;
+            }
+            case S_SCREENSHOT:
+                if (nshots < 16) shots[nshots++] = (int)(c - cmds);
+                break;
+            case S_QUIT: v->quit = 1; break;
+            case S_STEP: step = c->v[0]; break;
+            }
+        }
+        if (!o->script && ncmds == 0 && !v->paused)
+            v->time += dt;
+        else if (o->script)
+            v->time = v->paused ? v->time : script_t;
+
+        /* Movement. */
+        const Uint8 *ks = SDL_GetKeyboardState(NULL);
+#define HELD(sc) (ks[sc] || v->held[sc])
+        ew_move_input in;
+        memset(&in, 0, sizeof in);
+        memcpy(in.angles, v->angles, sizeof in.angles);
+        in.forward = (float)((HELD(SDL_SCANCODE_W) || HELD(SDL_SCANCODE_UP)) -
+                             (HELD(SDL_SCANCODE_S) || HELD(SDL_SCANCODE_DOWN)));
+        in.right = (float)((HELD(SDL_SCANCODE_D) || HELD(SDL_SCANCODE_RIGHT)) -
+                           (HELD(SDL_SCANCODE_A) || HELD(SDL_SCANCODE_LEFT)));
+        in.up = (float)(HELD(SDL_SCANCODE_SPACE) - HELD(SDL_SCANCODE_C));
+        in.jump = HELD(SDL_SCANCODE_SPACE);
+        in.run = HELD(SDL_SCANCODE_LSHIFT) || HELD(SDL_SCANCODE_RSHIFT);
+#undef HELD
+        float before[3];
+        memcpy(before, v->player.origin, sizeof before);
+        ew_player_move(v->a->world, &v->player, &in, dt > 0.25 ? 0.25 : dt);
+        if (memcmp(before, v->player.origin, sizeof before) != 0)
+            ew_player_eye(&v->player, v->eye);
+
+        ew_camera cam = { { v->eye[0], v->eye[1], v->eye[2] }, { v->angles[0], v->angles[1], v->angles[2] },
+                          (float)o->fov, v->time };
+        double r0 = now_s();
+        if (ew_render(v->r, &cam, &st) < 0) {
+            error_line("cannot render this camera (origin %g,%g,%g)", cam.origin[0], cam.origin[1], cam.origin[2]);
+            rc = 1;
+            break;
+        }
+        sum_render += (now_s() - r0) * 1000.0;
+        if (v->overlay) {
+            ew_overlay_info info = { fps, ms_present, &cam, 0, 0 };
+            ew_draw_stats_overlay(v->r, &st, &info);
+        }
+        for (int i = 0; i < nshots; i++)
+            screenshot(v, cmds[shots[i]].path, &cam);
+        if (rec)
+            fprintf(rec, "%.6f %.4f %.4f %.4f %.4f %.4f %.4f\n", cam.time, cam.origin[0], cam.origin[1],
+                    cam.origin[2], cam.angles[0], cam.angles[1], cam.angles[2]);
+        ms_present = present(v);
+        sum_present += ms_present;
+        frame++;
+        script_frames++;
+        fps_frames++;
+        double t1 = now_s();
+        if (t1 - fps_t0 >= 0.5) {
+            fps = fps_frames / (t1 - fps_t0);
+            fps_frames = 0;
+            fps_t0 = t1;
+        }
+    }
+    double total = now_s() - start;
+    SDL_RendererInfo ri;
+    if (SDL_GetRendererInfo(v->sdl, &ri) != 0) ri.name = "?";
+    if (frame > 0)
+        fprintf(stderr, "view: %ld frames %dx%d in %.2f s: fps %.1f, render %.2f ms, present %.2f ms a frame "
+                "(SDL renderer %s)\n", frame, v->fw, v->fh, total, frame / total, sum_render / frame,
+                sum_present / frame, ri.name);
+    if (rec && fclose(rec) != 0) {
+        error_line("%s: %s", o->record, strerror(errno));
+        rc = 1;
+    }
+    free(cmds);
+    return rc;
+}
+
+int cmd_view(int argc, char **argv) {
+    view_opts o;
+    memset(&o, 0, sizeof o);
+    o.scale = 1;
+    o.fov = 90;
+    draw_opts_init(&o.draw);
+    int pr = parse_view_args(argc, argv, &o);
+    if (pr != 0)
+        return pr < 0 ? 2 : 0;
+    const char *x = getenv("DISPLAY"), *wl = getenv("WAYLAND_DISPLAY");
+    if ((!x || !*x) && (!wl || !*wl)) {
+        error_line("view: no display (neither DISPLAY nor WAYLAND_DISPLAY is set)");
+        return 1;
+    }
+    viewer v;
+    memset(&v, 0, sizeof v);
+    v.o = &o;
+    v.entities = 1;
+    v.threads_all = 1;
+    v.alias_raster = o.draw.alias_raster;
+    v.debug = (ew_debug_mode)o.draw.debug;
+    int rc = 1;
+    if (!(v.a = load_map(o.map, o.data, o.quiet)))
+        return 1;
+    ew_error err = { "" };
+    if (draw_opts_scene(&o.draw, v.a, o.map, o.data, 1, o.quiet, &v.scene) < 0)
+        goto done;
+    if (!(v.empty = ew_scene_create(v.a->world, &err))) {
+        error_line("%s", err.msg);
+        goto done;
+    }
+    if (o.draw.no_entities) v.entities = 0;
+    v.nviews = ew_benchmark_views(v.a->world, v.views);
+    if (v.nviews == 0) {
+        v.views[0].angles[1] = 0;
+        v.nviews = 1;
+    }
+    if (o.view >= v.nviews) {
+        error_line("--view %d: out of range, %s has %d view%s (0 to %d)", o.view, o.map, v.nviews,
+                   v.nviews == 1 ? "" : "s", v.nviews - 1);
+        goto done;
+    }
+    set_view(&v, o.view);
+
+    if (SDL_Init(SDL_INIT_VIDEO) != 0) {
+        error_line("view: cannot open the display: %s", SDL_GetError());
+        goto done;
+    }
+    SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "0");
+    SDL_SetHint(SDL_HINT_MOUSE_RELATIVE_MODE_WARP, "1");
+    int fw = o.size_given ? o.width : 640 / o.scale, fh = o.size_given ? o.height : 480 / o.scale;
+    if (fw < 320) fw = 320;
+    if (fh < 200) fh = 200;
+    char title[300];
+    snprintf(title, sizeof title, "edgewise - %s", o.map);
+    v.win = SDL_CreateWindow(title, SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, fw * o.scale, fh * o.scale,
+                             SDL_WINDOW_RESIZABLE | (o.fullscreen ? SDL_WINDOW_FULLSCREEN_DESKTOP : 0));
+    if (!v.win || !(v.sdl = SDL_CreateRenderer(v.win, -1, 0))) {
+        error_line("view: cannot open a window: %s", SDL_GetError());
+        goto sdl_done;
+    }
+    if (o.fullscreen && !o.size_given) {
+        int ww, wh;
+        SDL_GetWindowSize(v.win, &ww, &wh);
+        fw = ww / o.scale > 320 ? ww / o.scale : 320;
+        fh = wh / o.scale > 200 ? wh / o.scale : 200;
+    }
+    if (make_renderer(&v, fw, fh) < 0)
+        goto sdl_done;
+    rc = run(&v);
+sdl_done:
+    if (v.tex) SDL_DestroyTexture(v.tex);
+    if (v.sdl) SDL_DestroyRenderer(v.sdl);
+    if (v.win) SDL_DestroyWindow(v.win);
+    SDL_Quit();
+done:
+    ew_renderer_destroy(v.r);
+    ew_scene_destroy(v.scene);
+    ew_scene_destroy(v.empty);
+    ew_assets_destroy(v.a);
+    return rc;
+}

@@ -1,0 +1,436 @@
+/*
+ * test_viewer.c - edgewise view under a real X server.
+ *
+ * Starts its own Xvfb on a free display (from :90 up) and kills it at the
+ * end (an alarm bounds the whole test and kills what it started):
+ *   - a script visiting views and taking screenshots gives PNGs equal pixel
+ *     for pixel to `edgewise render` of the same cameras, size and time;
+ *   - the overlay changes the frame in its corner only; a debug key changes it;
+ *   - walk mode (script-held keys): walking into a wall stops short of it,
+ *     gravity lands the player on the floor (checked with ew_trace);
+ *   - real input: xdotool key and mouse events move and turn the camera
+ *     (from the --record file);
+ *   - without a display, view says so in one line and fails.
+ * In a build without SDL2, only that `view` says it was built without it.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "edgewise.h"
+#include "edgewise_tools.h"
+#include "util.h"
+
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#ifdef EW_HAVE_SDL2
+static const char *cli(void) { return getenv("EW_CLI") ? getenv("EW_CLI") : "./edgewise"; }
+
+static volatile pid_t xvfb_pid = -1, viewer_pid = -1;
+
+static void kill_started(void) {
+    if (viewer_pid > 0) kill(viewer_pid, SIGKILL);
+    if (xvfb_pid > 0) kill(xvfb_pid, SIGTERM);
+}
+
+static void on_alarm(int sig) {
+    (void)sig;
+    static const char msg[] = "FAIL test_viewer: time limit, killing Xvfb and the viewer\n";
+    if (write(2, msg, sizeof msg - 1) < 0) { /* nothing to do */ }
+    kill_started();
+    _exit(1);
+}
+
+static int file_exists(const char *p) {
+    struct stat s;
+    return stat(p, &s) == 0;
+}
+
+static int have_tool(const char *name) {
+    char p[256];
+    const char *dirs[] = { "/usr/bin", "/usr/local/bin", "/bin" };
+    for (int i = 0; i < 3; i++) {
+        snprintf(p, sizeof p, "%s/%s", dirs[i], name);
+        if (access(p, X_OK) == 0) return 1;
+    }
+    return 0;
+}
+
+static void sleep_ms(int ms) {
+    struct timespec ts = { ms / 1000, (long)(ms % 1000) * 1000000L };
+    nanosleep(&ts, NULL);
+}
+
+/* Xvfb on the first free display from :90; the display number or -1. */
+static int start_xvfb(void) {
+    for (int d = 90; d < 130; d++) {
+        char lock[64], sock[64], disp[16];
+        snprintf(lock, sizeof lock, "/tmp/.X%d-lock", d);
+        snprintf(sock, sizeof sock, "/tmp/.X11-unix/X%d", d);
+        if (file_exists(lock) || file_exists(sock)) continue;
+        snprintf(disp, sizeof disp, ":%d", d);
+        pid_t pid = fork();
+        if (pid == 0) {
+            freopen("/dev/null", "w", stdout);
+            freopen("/dev/null", "w", stderr);
+            execlp("Xvfb", "Xvfb", disp, "-screen", "0", "1280x1024x24", "-nolisten", "tcp", (char *)NULL);
+            _exit(127);
+        }
+        if (pid < 0) return -1;
+        xvfb_pid = pid;
+        for (int i = 0; i < 100; i++) {
+            int st;
+            if (waitpid(pid, &st, WNOHANG) == pid) { xvfb_pid = -1; break; }
+            if (file_exists(sock)) {
+                sleep_ms(200);
+                return d;
+            }
+            sleep_ms(50);
+        }
+        if (xvfb_pid > 0) { kill(pid, SIGTERM); waitpid(pid, NULL, 0); xvfb_pid = -1; }
+    }
+    return -1;
+}
+
+static void stop_xvfb(void) {
+    if (xvfb_pid > 0) {
+        kill(xvfb_pid, SIGTERM);
+        waitpid(xvfb_pid, NULL, 0);
+        xvfb_pid = -1;
+    }
+}
+
+static int run_tool(const char *const *args) {
+    pid_t pid = fork();
+    if (pid == 0) {
+        freopen("/dev/null", "w", stdout);
+        execvp(args[0], (char *const *)args);
+        _exit(127);
+    }
+    int st = 0;
+    waitpid(pid, &st, 0);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static void write_text(const char *path, const char *text) {
+    FILE *f = fopen(path, "w");
+    if (f) { fputs(text, f); fclose(f); }
+}
+
+/* PNG as RGB; 0 or -1. */
+static uint8_t *read_png(const char *path, int *w, int *h) {
+    uint8_t *rgb = NULL;
+    ew_error err;
+    if (ew_read_png_rgb(path, &rgb, w, h, &err) < 0) {
+        fprintf(stderr, "%s\n", err.msg);
+        return NULL;
+    }
+    return rgb;
+}
+
+/* Last line of a record file: time x y z pitch yaw roll; lines read or 0. */
+static int record_lines(const char *path, double first[7], double last[7]) {
+    FILE *f = fopen(path, "r");
+    if (!f) return 0;
+    int n = 0;
+    double v[7];
+    while (fscanf(f, "%lf %lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6]) == 7) {
+        if (n == 0) memcpy(first, v, sizeof v);
+        memcpy(last, v, sizeof v);
+        n++;
+    }
+    fclose(f);
+    return n;
+}
+
+static char tmpdir[256];
+static const char *tpath(const char *name) {
+    static char buf[4][512];
+    static int k;
+    k = (k + 1) % 4;
+    snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, name);
+    return buf[k];
+}
+
+static void test_script_matches_render(const char *data) {
+    ew_assets *a = ew_t_load_map("e1m1");
+    if (!a) return;
+    ew_camera views[EW_MAX_VIEWS];
+    int n = ew_benchmark_views(a->world, views);
+    CHECK(n >= 3, "e1m1 has %d views", n);
+    char script[2048];
+    snprintf(script, sizeof script,
+             "# visit views, take screenshots\n"
+             "at 0 view 0\nat 0.5 screenshot %s\n"
+             "at 1 camera %g,%g,%g %g,%g,%g\nat 1 screenshot %s\n"
+             "at 1.5 view 2\nat 1.5 screenshot %s\nat 1.6 quit\n",
+             tpath("s0.png"), views[1].origin[0], views[1].origin[1], views[1].origin[2], views[1].angles[0],
+             views[1].angles[1], views[1].angles[2], tpath("s1.png"), tpath("s2.png"));
+    write_text(tpath("a.script"), script);
+    ew_t_run r;
+    const char *args[] = { "view", "e1m1", "--data", data, "--size", "640x480", "--threads", "0",
+                           "--script", tpath("a.script"), NULL };
+    ew_t_run_cli(&r, tmpdir, args);
+    CHECK(r.status == 0, "view script: status %d: %s", r.status, r.err);
+    CHECK(ew_t_count_lines(r.out) == 3, "three screenshot lines: %s", r.out);
+    /* Each line: PATH --pos X,Y,Z --angles P,Y,R --time T --size WxH: render it again. */
+    const char *line = r.out;
+    int idx = 0;
+    while (*line && idx < 3) {
+        char path[512], pos[128], ang[128], tm[64], size[32];
+        if (sscanf(line, "%511s --pos %127s --angles %127s --time %63s --size %31s", path, pos, ang, tm, size) != 5) {
+            CHECK(0, "screenshot line: %s", line);
+            break;
+        }
+        char out[600];
+        snprintf(out, sizeof out, "%s/render%d.png", tmpdir, idx);
+        ew_t_run rr;
+        const char *rargs[] = { "render", "e1m1", "--data", data, "--pos", pos, "--angles", ang,
+                                "--time", tm, "--size", size, "--threads", "1", "--out", out, NULL };
+        ew_t_run_cli(&rr, tmpdir, rargs);
+        CHECK(rr.status == 0, "render: %s", rr.err);
+        int w1, h1, w2, h2;
+        uint8_t *p1 = read_png(path, &w1, &h1), *p2 = read_png(out, &w2, &h2);
+        CHECK(p1 && p2 && w1 == 640 && h1 == 480 && w2 == w1 && h2 == h1, "screenshot %d sizes", idx);
+        if (p1 && p2 && w1 == w2 && h1 == h2) {
+            long diff = 0;
+            for (long i = 0; i < (long)w1 * h1 * 3; i++) diff += p1[i] != p2[i];
+            CHECK(diff == 0, "screenshot %d (%s) differs from render in %ld bytes", idx, path, diff);
+        }
+        free(p1);
+        free(p2);
+        const char *nl = strchr(line, '\n');
+        line = nl ? nl + 1 : line + strlen(line);
+        idx++;
+    }
+    /* The second shot used the script's camera exactly. */
+    CHECK(strstr(r.out, "--time 1 ") != NULL, "screenshot at time 1: %s", r.out);
+    ew_assets_destroy(a);
+}
+
+static void test_overlay_and_debug(const char *data) {
+    char script[2048];
+    snprintf(script, sizeof script,
+             "at 0 key P\nat 0.1 screenshot %s\nat 0.15 key Tab\nat 0.2 screenshot %s\nat 0.25 key Tab\n"
+             "at 0.25 key F3\nat 0.3 screenshot %s\nat 0.35 key F3\nat 0.4 screenshot %s\nat 0.5 quit\n",
+             tpath("o0.png"), tpath("o1.png"), tpath("d1.png"), tpath("d0.png"));
+    write_text(tpath("o.script"), script);
+    ew_t_run r;
+    const char *args[] = { "view", "e1m1", "--data", data, "--size", "640x480", "--script",
+                           tpath("o.script"), NULL };
+    ew_t_run_cli(&r, tmpdir, args);
+    CHECK(r.status == 0, "overlay script: %s", r.err);
+    int w, h, w1, h1, w2, h2, w3, h3;
+    uint8_t *o0 = read_png(tpath("o0.png"), &w, &h), *o1 = read_png(tpath("o1.png"), &w1, &h1);
+    uint8_t *d1 = read_png(tpath("d1.png"), &w2, &h2), *d0 = read_png(tpath("d0.png"), &w3, &h3);
+    if (o0 && o1 && d0 && d1 && w == 640 && w1 == 640 && w2 == 640 && w3 == 640) {
+        long inside = 0, outside = 0, dbg = 0;
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                long i = ((long)y * w + x) * 3;
+                int d = memcmp(o0 + i, o1 + i, 3) != 0;
+                if (x < w / 2 && y < h / 2) inside += d;
+                else outside += d;
+                dbg += memcmp(d0 + i, d1 + i, 3) != 0;
+            }
+        CHECK(inside > 1000, "overlay drew %ld pixels in the top-left corner", inside);
+        CHECK(outside == 0, "overlay changed %ld pixels outside its corner", outside);
+        CHECK(dbg > (long)w * h / 4, "F3 (overdraw) changed only %ld pixels", dbg);
+        CHECK(memcmp(o0, d0, (size_t)w * h * 3) == 0, "F3 again gives the normal frame back");
+    } else {
+        CHECK(0, "overlay/debug screenshots missing");
+    }
+    free(o0); free(o1); free(d0); free(d1);
+}
+
+/* Walk mode: gravity lands the player, a wall stops it. */
+static void test_walk(const char *data) {
+    ew_assets *a = ew_t_load_map("e1m1");
+    if (!a) return;
+    ew_camera views[EW_MAX_VIEWS];
+    ew_benchmark_views(a->world, views);
+    float org[3] = { views[0].origin[0], views[0].origin[1], views[0].origin[2] - EW_EYE_HEIGHT };
+    /* Find a yaw with a wall 64..400 units ahead. */
+    float yaw = -1, wall = 0;
+    for (int k = 0; k < 72 && yaw < 0; k++) {
+        float y = k * 5.0f, rad = y * 3.14159265f / 180;
+        float end[3] = { org[0] + 1000 * cosf(rad), org[1] + 1000 * sinf(rad), org[2] };
+        ew_trace_result tr;
+        ew_trace(a->world, EW_HULL_PLAYER, org, end, &tr);
+        if (tr.fraction < 1 && tr.fraction * 1000 > 64 && tr.fraction * 1000 < 400 && fabsf(tr.normal[2]) < 0.1f &&
+            fabsf(tr.normal[0] * cosf(rad) + tr.normal[1] * sinf(rad)) > 0.95f)
+            yaw = y, wall = tr.fraction * 1000;
+    }
+    CHECK(yaw >= 0, "a wall ahead of e1m1's start");
+    /* Start 40 units above (room checked), in walk mode, hold W 4 s. */
+    float up[3] = { org[0], org[1], org[2] + 40 };
+    ew_trace_result tu;
+    ew_trace(a->world, EW_HULL_PLAYER, org, up, &tu);
+    float lift = tu.fraction * 40 - 1;
+    char script[1024];
+    snprintf(script, sizeof script,
+             "at 0 camera %.4f,%.4f,%.4f 0,%.1f,0\nat 0 key F\nat 0.0 down W\nat 4 quit\n", org[0], org[1],
+             org[2] + lift + EW_EYE_HEIGHT, yaw);
+    write_text(tpath("w.script"), script);
+    ew_t_run r;
+    const char *args[] = { "view", "e1m1", "--data", data, "--size", "320x240", "--script",
+                           tpath("w.script"), "--record", tpath("w.rec"), NULL };
+    ew_t_run_cli(&r, tmpdir, args);
+    CHECK(r.status == 0, "walk script: %s", r.err);
+    double first[7], last[7];
+    int n = record_lines(tpath("w.rec"), first, last);
+    CHECK(n >= 200, "record lines %d", n);
+    if (n > 0 && yaw >= 0) {
+        float rad = yaw * 3.14159265f / 180;
+        double along = (last[1] - org[0]) * cos(rad) + (last[2] - org[1]) * sin(rad);
+        CHECK(along > wall - 40 && along < wall + 1e-3, "walked %.2f units towards a wall %.2f away", along, wall);
+        float o[3] = { (float)last[1], (float)last[2], (float)(last[3] - EW_EYE_HEIGHT) };
+        float below[3] = { o[0], o[1], o[2] - 2 };
+        ew_trace_result tr;
+        ew_trace(a->world, EW_HULL_PLAYER, o, below, &tr);
+        CHECK(tr.fraction < 1 && !tr.startsolid, "landed on the floor (trace down %.3f)", tr.fraction);
+        CHECK(first[3] - last[3] > lift - 2, "fell from %.2f to %.2f", first[3], last[3]);
+        CHECK(ew_point_contents(a->world, EW_HULL_PLAYER, o) != -2, "not in solid");
+    }
+    ew_assets_destroy(a);
+}
+
+/* Real input through xdotool. */
+static void test_xdotool(const char *data) {
+    char script[128];
+    snprintf(script, sizeof script, "at 0 view 0\n");
+    const char *rec = tpath("x.rec");
+    pid_t pid = fork();
+    if (pid == 0) {
+        freopen("/dev/null", "w", stdout);
+        freopen(tpath("x.err"), "w", stderr);
+        execl(cli(), cli(), "view", "e1m1", "--data", data, "--size", "320x240", "--scale", "2", "--threads", "0",
+              "--record", rec, (char *)NULL);
+        _exit(127);
+    }
+    viewer_pid = pid;
+    const char *search[] = { "xdotool", "search", "--sync", "--onlyvisible", "--name", "edgewise", NULL };
+    CHECK(run_tool(search) == 0, "xdotool found the window");
+    const char *act[] = { "xdotool", "search", "--name", "edgewise", "windowfocus", "--sync", NULL };
+    run_tool(act);
+    sleep_ms(500);
+    double s0[7], l0[7];
+    int n0 = record_lines(rec, s0, l0);
+    const char *kd[] = { "xdotool", "keydown", "w", NULL }, *ku[] = { "xdotool", "keyup", "w", NULL };
+    run_tool(kd);
+    sleep_ms(1000);
+    run_tool(ku);
+    sleep_ms(300);
+    double s1[7], l1[7];
+    int n1 = record_lines(rec, s1, l1);
+    const char *mv[] = { "xdotool", "mousemove", "--window", "%1", "320", "240", NULL };
+    (void)mv;
+    const char *click[] = { "xdotool", "search", "--name", "edgewise", "mousemove", "--window", "%1", "320", "240",
+                            "click", "1", NULL };
+    run_tool(click);
+    sleep_ms(300);
+    double s2[7], l2[7];
+    record_lines(rec, s2, l2);
+    const char *rel[] = { "xdotool", "mousemove_relative", "--", "100", "0", NULL };
+    for (int i = 0; i < 3; i++) { run_tool(rel); sleep_ms(100); }
+    sleep_ms(300);
+    double s3[7], l3[7];
+    int n3 = record_lines(rec, s3, l3);
+    const char *esc[] = { "xdotool", "key", "Escape", NULL };
+    run_tool(esc);
+    sleep_ms(200);
+    run_tool(esc);
+    int st = 0, done = 0;
+    for (int i = 0; i < 100 && !done; i++) {
+        if (waitpid(pid, &st, WNOHANG) == pid) done = 1;
+        else sleep_ms(50);
+    }
+    if (!done) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &st, 0);
+    }
+    viewer_pid = -1;
+    CHECK(done && WIFEXITED(st) && WEXITSTATUS(st) == 0, "Esc, Esc quit the viewer (done %d)", done);
+    CHECK(n0 > 0 && n1 > n0 && n3 > n1, "frames recorded %d %d %d", n0, n1, n3);
+    if (n0 > 0 && n1 > n0) {
+        double yaw = l0[5] * 3.14159265358979 / 180;
+        double dx = l1[1] - l0[1], dy = l1[2] - l0[2];
+        double fwd = dx * cos(yaw) + dy * sin(yaw), side = -dx * sin(yaw) + dy * cos(yaw);
+        CHECK(fwd > 50 && fabs(side) < 1 && fabs(l1[3] - l0[3]) < 1,
+              "W moved forward %.2f (side %.2f, up %.2f)", fwd, side, l1[3] - l0[3]);
+        CHECK(l1[5] == l0[5], "W did not turn");
+    }
+    if (n3 > 0) {
+        CHECK(l3[5] < l2[5] - 10, "mouse right turned right: yaw %.2f -> %.2f", l2[5], l3[5]);
+        CHECK(fabs(l3[4] - l2[4]) < 1, "pitch kept %.2f -> %.2f", l2[4], l3[4]);
+    }
+    if (!done || !(WIFEXITED(st) && WEXITSTATUS(st) == 0)) {
+        char err[4096];
+        ew_t_slurp(tpath("x.err"), err, sizeof err);
+        fprintf(stderr, "viewer stderr: %s\n", err);
+    }
+}
+
+#endif /* EW_HAVE_SDL2 */
+
+int main(void) {
+    ew_t_run r;
+#ifndef EW_HAVE_SDL2
+    const char *args0[] = { "view", "builtin", NULL };
+    ew_t_run_cli(&r, ".", args0);
+    CHECK(r.status != 0 && strstr(r.err, "without SDL2"), "view without SDL2: %s", r.err);
+    return ew_t_finish();
+#else
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/ew_viewer_XXXXXX");
+    if (!mkdtemp(tmpdir)) { perror("mkdtemp"); return 1; }
+    /* No display: one line, non-zero. */
+    unsetenv("DISPLAY");
+    unsetenv("WAYLAND_DISPLAY");
+    const char *args0[] = { "view", "builtin", NULL };
+    ew_t_run_cli(&r, tmpdir, args0);
+    CHECK(r.status != 0 && strstr(r.err, "no display") && ew_t_count_lines(r.err) == 1, "no display: %d %s",
+          r.status, r.err);
+
+    if (!have_tool("Xvfb")) {
+        printf("skip: no Xvfb\n");
+        return ew_t_finish();
+    }
+    signal(SIGALRM, on_alarm);
+    alarm(400);
+    int d = start_xvfb();
+    CHECK(d >= 0, "Xvfb started");
+    if (d >= 0) {
+        char disp[16];
+        snprintf(disp, sizeof disp, ":%d", d);
+        setenv("DISPLAY", disp, 1);
+        /* The built-in scene opens and quits. */
+        write_text(tpath("b.script"), "at 0.2 quit\n");
+        const char *args1[] = { "view", "builtin", "--script", tpath("b.script"), NULL };
+        ew_t_run_cli(&r, tmpdir, args1);
+        CHECK(r.status == 0 && strstr(r.err, "frames"), "view builtin: %d %s", r.status, r.err);
+        if (ew_t_have_shared("data/librequake/maps/e1m1.bsp")) {
+            const char *data = ew_t_shared_abs("data/librequake");
+            char databuf[512];
+            snprintf(databuf, sizeof databuf, "%s", data);
+            test_script_matches_render(databuf);
+            test_overlay_and_debug(databuf);
+            test_walk(databuf);
+            if (have_tool("xdotool")) test_xdotool(databuf);
+            else printf("skip: no xdotool\n");
+        } else {
+            printf("skip: no e1m1\n");
+        }
+    }
+    stop_xvfb();
+    alarm(0);
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    if (system(cmd) != 0) { /* left behind */ }
+    return ew_t_finish();
+#endif
+}
