@@ -339,7 +339,8 @@ ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const cha
         if (mi < 0 && miss) note_missing(miss, path);
         if (mi < 0 || ew_scene_add_entity(s, mi, origin, angles, 0, cm->skin) < 0) s->missing++;
     }
-    if (miss) warn_missing(s, miss, fs != NULL);
+    /* A world made in memory (no map, no directory) has no model files to miss. */
+    if (miss && (map || data_dir)) warn_missing(s, miss, fs != NULL);
     free(miss);
     ew_fs_destroy(fs);
     ew_entities_free(&ents);
