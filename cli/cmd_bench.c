@@ -36,7 +36,7 @@ enum {
     MAX_THREAD_COUNTS = 8,
     MAX_MAPS = 64,
     MAX_PASSES = 1000,
-    MAX_THREADS = 1024,
+    MAX_THREADS = EW_MAX_THREADS,
     DEFAULT_PASSES = 5,
 };
 
@@ -51,7 +51,7 @@ static const char bench_usage[] =
     "options:\n"
     "  --data DIR        game directory (maps/, gfx/)\n"
     "  --size WxH        frame size; repeat for several (default 640x480)\n"
-    "  --threads N       render threads, 0 = all cores; repeat for several (default 1)\n"
+    "  --threads N       render threads, " THREADS_RULE "; repeat for several (default 1)\n"
     "  --passes P        timed passes over the view set, 1 to 1000 (default 5)\n"
     "  --table           a human-readable table on stdout (JSON then only to --out)\n"
     "  --out FILE.jsonl  write the JSON lines to FILE instead of stdout\n"
@@ -170,15 +170,13 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
                 return -1;
             o->nsizes++;
         } else if (strcmp(name, "--threads") == 0) {
-            if (parse_long(v, &l) < 0 || l < 0 || l > MAX_THREADS) {
-                error_line("bench: --threads %s: expected 0 (all cores) to %d", v, MAX_THREADS);
-                return -1;
-            }
             if (o->nthreads == MAX_THREAD_COUNTS) {
                 error_line("bench: more than %d --threads values", MAX_THREAD_COUNTS);
                 return -1;
             }
-            o->threads[o->nthreads++] = (int)l;
+            if (parse_threads(v, &o->threads[o->nthreads]) < 0)
+                return -1;
+            o->nthreads++;
         } else { /* --passes */
             if (parse_long(v, &l) < 0 || l < 1 || l > MAX_PASSES) {
                 error_line("bench: --passes %s: expected 1 to %d", v, MAX_PASSES);

@@ -58,7 +58,7 @@ static const char soak_usage[] =
     "  --frames N      frames to render (required)\n"
     "  --size WxH      frame size (default 320x200)\n"
     "  --seed S        random cameras' seed (default 1)\n"
-    "  --threads N     render threads, 0 = one per core (default 1)\n"
+    "  --threads N     render threads, " THREADS_RULE " (default 1)\n"
     "  --quiet         no warning lines about the map's optional data\n"
     "\n"
     "what is drawn (as in edgewise render):\n";
@@ -153,11 +153,8 @@ static int parse(int argc, char **argv, soak_opts *o) {
             break;
         }
         case 4:
-            if (parse_long(v, &l) < 0 || l < 0 || l > EW_MAX_THREADS) {
-                error_line("--threads %s: expected 0 (one per core) to %d", v, EW_MAX_THREADS);
+            if (parse_threads(v, &o->threads) < 0)
                 return -1;
-            }
-            o->threads = (int)l;
             break;
         }
     }

@@ -6,6 +6,7 @@
  * Each option has one rule, and the help line and the error message both
  * print that same text.
  */
+#define _POSIX_C_SOURCE 200809L  /* stat */
 #include "cli.h"
 #include "edgewise.h"
 #include "edgewise_tools.h"  /* ew_set_full_zfill */
@@ -15,6 +16,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 enum {
     D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
@@ -347,8 +349,41 @@ void print_scene_warnings(const ew_scene *s, int quiet) {
         warning_line(msg);
 }
 
+/* What every command takes as MAP, for the errors that refuse one. */
+#define MAP_FORMS "a .bsp file, a map name with --data, or 'builtin'"
+
+static int ends_with_bsp(const char *s) {
+    size_t n = strlen(s);
+    return n >= 4 && s[n - 4] == '.' && (s[n - 3] | 32) == 'b' && (s[n - 2] | 32) == 's' &&
+           (s[n - 1] | 32) == 'p';
+}
+
+/* A MAP that names something on disk that cannot be a map (a directory, a
+ * device), or a path that is neither a file nor a map name: one error line
+ * naming what was given, rather than "maps/<path>.bsp not found". */
+static int refuse_map_path(const char *map) {
+    struct stat st;
+    if (stat(map, &st) == 0) {
+        if (S_ISDIR(st.st_mode))
+            error_line("%s: a directory, not a map (" MAP_FORMS ")", map);
+        else if (!S_ISREG(st.st_mode))
+            error_line("%s: not a regular file (a device or pipe), not a map (" MAP_FORMS ")", map);
+        else
+            return 0;
+        return -1;
+    }
+    /* Absolute or ./ ../ paths are files, never names inside maps/. */
+    if (!ends_with_bsp(map) && (map[0] == '/' || strncmp(map, "./", 2) == 0 || strncmp(map, "../", 3) == 0)) {
+        error_line("%s: no such file, and a path is not a map name (" MAP_FORMS ")", map);
+        return -1;
+    }
+    return 0;
+}
+
 ew_assets *load_map(const char *map, const char *data, int quiet) {
     ew_error err = { "" };
+    if (!is_builtin(map) && refuse_map_path(map) < 0)
+        return NULL;
     ew_assets *a = is_builtin(map) ? ew_assets_create_builtin(&err) : ew_assets_create(map, data, &err);
     if (!a)
         error_line("%s", err.msg[0] ? err.msg : "cannot load the map");

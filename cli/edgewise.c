@@ -32,6 +32,9 @@ enum { MIN_W = 320, MIN_H = 200, MAX_W = 7680, MAX_H = 4320 };
 
 /* Camera values beyond these only make the renderer's float maths overflow. */
 #define MAX_COORD 1e6
+/* The rules of --fov and --pos/--angles, the same in the help and the errors. */
+#define FOV_RULE "more than 1 and less than 179 degrees"
+#define VEC3_RULE "three numbers from -1000000 to 1000000 separated by commas"
 #define MAX_TIME 1e6
 
 static const char usage_head[] =
@@ -57,14 +60,15 @@ static const char usage_head[] =
     "  --view N             camera N of the view set (default 0)\n"
     "  --pos X,Y,Z          free camera position (needs --angles; not with --view)\n"
     "  --angles P,Y,R       free camera pitch, yaw, roll in degrees\n"
-    "  --fov DEG            horizontal field of view, between 1 and 179 (default 90)\n"
+    "                       (each " VEC3_RULE ")\n"
+    "  --fov DEG            horizontal field of view, " FOV_RULE " (default 90)\n"
     "  --time T             seconds, for animated textures, sky and liquids (default 0)\n"
     "  --out FILE.png       output (default MAPNAME_vN.png, MAPNAME_free.png with --pos)\n"
     "  --stats              print the frame's counters and times as one JSON object\n"
     "  --dlight X,Y,Z,R[,r,g,b]  a dynamic light of radius R above 0, at most 100000, white or of\n"
     "                       colour r,g,b (0 to 1 each); repeatable, up to 32\n"
     "  --particles N        a deterministic cloud of N particles in front of the camera\n"
-    "  --threads N          render bands of the frame on N threads (0 = all cores; default 1)\n"
+    "  --threads N          render bands of the frame on N threads, " THREADS_RULE " (default 1)\n"
     "  --quiet              no warning lines about the map's optional data\n"
     "\n"
     "what is drawn (render, demo, bench and soak alike):\n";
@@ -168,7 +172,7 @@ static int parse_double(const char *s, double *out) {
     return 0;
 }
 
-/* "X,Y,Z": exactly three finite numbers within +-MAX_COORD. */
+/* "X,Y,Z": exactly three finite numbers within +-MAX_COORD; one rule, one message. */
 static int parse_vec3(const char *opt, const char *s, float v[3]) {
     const char *p = s;
     for (int i = 0; i < 3; i++) {
@@ -176,21 +180,27 @@ static int parse_vec3(const char *opt, const char *s, float v[3]) {
         if (!starts_number(p))
             goto bad;
         double d = strtod(p, &end);
-        if (end == p || !isfinite(d) || *end != (i < 2 ? ',' : '\0'))
+        if (end == p || !isfinite(d) || fabs(d) > MAX_COORD || *end != (i < 2 ? ',' : '\0'))
             goto bad;
-        if (fabs(d) > MAX_COORD) {
-            error_line("%s %s: each value must be between -%g and %g", opt, s, MAX_COORD,
-                       MAX_COORD);
-            return -1;
-        }
         v[i] = (float)d;
         p = end + 1;
     }
     return 0;
 bad:
-    error_line("%s %s: expected three numbers separated by commas, e.g. %s", opt, s,
+    error_line("%s %s: must be " VEC3_RULE ", e.g. %s", opt, s,
                strcmp(opt, "--pos") == 0 ? "128,-64,40" : "0,90,0");
     return -1;
+}
+
+/* --threads N of every command: 0 (one per core) up to the library's cap. */
+int parse_threads(const char *v, int *out) {
+    long l;
+    if (parse_long(v, &l) < 0 || l < 0 || l > EW_MAX_THREADS) {
+        error_line("--threads %s: must be " THREADS_RULE, v);
+        return -1;
+    }
+    *out = (int)l;
+    return 0;
 }
 
 int parse_size(const char *s, int *w, int *h) {
@@ -259,7 +269,7 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
             return -1;
         }
         if (!(d > 1 && d < 179)) {
-            error_line("--fov %s: must be between 1 and 179 degrees", v);
+            error_line("--fov %s: must be " FOV_RULE, v);
             return -1;
         }
         o->fov = d;
@@ -316,12 +326,7 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
         o->particles = (int)l;
         return 0;
     case O_THREADS:
-        if (parse_long(v, &l) < 0 || l < 0 || l > 64) {
-            error_line("--threads %s: expected 0 (all cores) to 64", v);
-            return -1;
-        }
-        o->threads = (int)l;
-        return 0;
+        return parse_threads(v, &o->threads);
     }
     return 0;
 }
@@ -457,8 +462,28 @@ void json_number(FILE *f, double v) {
         fputs("null", f);
 }
 
+/* A frame is "dark" when its mean brightness (luma, 0 to 255) is under 2% of
+ * full scale although the map has light data: the light lump is black, not
+ * a map drawn fullbright.  *mean gets the mean. */
+#define DARK_FRACTION 0.02
+static int frame_is_dark(const ew_renderer *r, const ew_assets *a, double *mean) {
+    long n = (long)ew_frame_width(r) * ew_frame_height(r);
+    const uint8_t *px = ew_frame_pixels(r);
+    const uint8_t *rgba = (const uint8_t *)ew_frame_rgba(r);
+    double sum = 0;
+    for (long i = 0; i < n; i++) {
+        const uint8_t *c = px ? a->palette + 3 * px[i] : rgba + 4 * i;
+        sum += 0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2];
+    }
+    *mean = n > 0 ? sum / (double)n : 0;
+    ew_world_info info;
+    memset(&info, 0, sizeof info);
+    ew_world_get_info(a->world, &info);
+    return info.lumps[8].length > 0 && *mean < DARK_FRACTION * 255;  /* lump 8: lighting */
+}
+
 static void print_stats(const char *name, const options *o, int view, const ew_camera *cam,
-                        const char *out, const ew_stats *s) {
+                        const char *out, const ew_stats *s, int dark) {
     FILE *f = stdout;
     fputs("{\"map\":", f);
     json_string(f, name);
@@ -503,6 +528,7 @@ static void print_stats(const char *name, const options *o, int view, const ew_c
             "\"fog_pixels\":%ld,\"underwater\":%s",
             s->seethrough_surfaces, s->fence_pixels, s->translucent_pixels, s->fog_pixels,
             s->underwater ? "true" : "false");
+    fprintf(f, ",\"dark\":%s", dark ? "true" : "false");
     draw_opts_json(f, &o->draw);
     const char *ms_names[5] = { "ms_front", "ms_scan", "ms_draw", "ms_models", "ms_total" };
     const double ms[5] = { s->ms_front, s->ms_scan, s->ms_draw, s->ms_models, s->ms_total };
@@ -539,12 +565,14 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
         view = (o->given & O_VIEW) ? o->view : default_view;
         if (n == 0) {
             error_line("%s: no views (no info_player* or info_intermission entity); "
-                       "use --pos and --angles", o->map);
+                       "use --pos and --angles", name);
             goto done;
         }
         if (view >= n) {
-            error_line("--view %d: out of range, %s has %d view%s (0 to %d)", view, o->map, n,
+            /* A usage error like --view -1, found only once the map is loaded. */
+            error_line("--view %d: out of range, %s has %d view%s (0 to %d)", view, name, n,
                        n == 1 ? "" : "s", n - 1);
+            rc = EXIT_USAGE;
             goto done;
         }
         cam = views[view];
@@ -611,8 +639,15 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
         error_line("%s", err.msg);
         goto done;
     }
-    if (o->given & O_STATS)
-        print_stats(name, o, view, &cam, out, &st);
+    if (o->given & O_STATS) {
+        double mean;
+        int dark = frame_is_dark(r, a, &mean);
+        if (dark && !(o->given & O_QUIET))
+            fprintf(stderr, "edgewise: warning: %s: the frame is nearly black (mean brightness %.1f%% of full "
+                    "scale, under %g%%) although the map has light data: its light lump is dark\n",
+                    name, mean / 2.55, DARK_FRACTION * 100);
+        print_stats(name, o, view, &cam, out, &st, dark);
+    }
     fprintf(stderr, "wrote %s (%dx%d)\n", out, o->width, o->height);
     rc = 0;
 done:

@@ -29,8 +29,11 @@ static int load_lmp(const ew_fs *fs, const char *name, lmp_parse parse, uint8_t 
                     ew_error *err) {
     uint8_t *data;
     size_t size;
+    char where[1200];
+    snprintf(where, sizeof where, "%s", name);
     int rc = fs ? ew_fs_load(fs, name, &data, &size, err) : ew_read_file(name, &data, &size, err);
-    if (rc == 0) rc = parse(data, size, name, out, err);
+    if (rc == 0 && fs) ew_fs_where(fs, name, where, sizeof where);
+    if (rc == 0) rc = parse(data, size, where, out, err);
     free(data);
     return rc;
 }
@@ -97,7 +100,11 @@ ew_assets *ew_assets_create(const char *map, const char *data_dir, ew_error *err
     if (data_dir && *data_dir && !(fs = ew_fs_create(data_dir, err))) goto fail;
     if (!direct && ew_fs_load(fs, bsp_name, &bsp, &bsp_size, err) != 0) goto fail;
 
-    if (!(out->world = ew_world_create(bsp, bsp_size, bsp_name, err))) goto fail;
+    /* Errors name the file as found: the pak and the path inside it. */
+    char where[1200];
+    snprintf(where, sizeof where, "%s", bsp_name);
+    if (!direct) ew_fs_where(fs, bsp_name, where, sizeof where);
+    if (!(out->world = ew_world_create(bsp, bsp_size, where, err))) goto fail;
     free(bsp);
     bsp = NULL;
     const char *base = strrchr(bsp_name, '/');

@@ -136,6 +136,19 @@ int ew_fs_load(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
                    fs->npaks, fs->npaks == 1 ? "" : "s");
 }
 
+/* asset/lightdata.h: where ew_fs_load finds name, for messages. */
+void ew_fs_where(const ew_fs *fs, const char *name, char *out, size_t size) {
+    snprintf(out, size, "%s/%s", fs->dir, name);
+    struct stat st;
+    if (stat(out, &st) == 0) return;  /* the loose file */
+    for (int i = fs->npaks - 1; i >= 0; i--)
+        for (int j = 0; j < fs->paks[i].count; j++)
+            if (ew_same_name(fs->paks[i].entries[j].name, name)) {
+                snprintf(out, size, "%s: %s", fs->paks[i].path, name);
+                return;
+            }
+}
+
 /* asset/lightdata.h: optional files (a map's .lit) are looked for quietly. */
 int ew_fs_exists(const ew_fs *fs, const char *name) {
     if (!fs || !name) return 0;

@@ -53,5 +53,8 @@ void ew_facelm_quake(const ew_face *f, ew_facelm *out);
 
 /* 1 if the game directory has the file (loose or in a pak), asset/fs.c. */
 int ew_fs_exists(const ew_fs *fs, const char *name);
+/* Where name is found, for messages: "DIR/name", or "DIR/pakN.pak: name"
+ * inside a pak. */
+void ew_fs_where(const ew_fs *fs, const char *name, char *out, size_t size);
 
 #endif

@@ -2,6 +2,7 @@
  * dirlen/64 entries of char name[56], int32 filepos, int32 filelen. */
 #include "ew_util.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 
 #define PAK_HEADER 12
@@ -10,6 +11,19 @@
 /* Far above any real pak (Quake's own limit is 2048), low enough that a
  * corrupt dirlen cannot ask for an absurd allocation. */
 #define PAK_MAX_ENTRIES (1 << 20)
+
+/* An entry name for a message: bytes outside printable ASCII (and the
+ * backslash) as \xNN, so a corrupt directory prints as one readable line. */
+static void escaped_name(const char *name, char *out, size_t size) {
+    size_t n = 0;
+    for (const unsigned char *p = (const unsigned char *)name; *p && n + 5 < size; p++) {
+        if (*p < 0x20 || *p >= 0x7f || *p == '\\')
+            n += (size_t)snprintf(out + n, size - n, "\\x%02x", *p);
+        else
+            out[n++] = (char)*p;
+    }
+    out[n] = '\0';
+}
 
 int ew_pak_parse(const uint8_t *data, size_t size, const char *filename,
                  ew_pak_entry **entries, int *count, ew_error *err) {
@@ -47,8 +61,14 @@ int ew_pak_parse(const uint8_t *data, size_t size, const char *filename,
         e[i].name[nul - p] = '\0';
         int32_t ofs = ew_i32(p + PAK_NAME), len = ew_i32(p + PAK_NAME + 4);
         if (ofs < 0 || len < 0 || (uint64_t)ofs + (uint64_t)len > size) {
-            ew_fail(err, "%s: entry %d ('%s'): offset %d + size %d past end of file (%zu bytes)",
-                    filename, i, e[i].name, (int)ofs, (int)len, size);
+            char shown[PAK_NAME * 4 + 1];
+            escaped_name(e[i].name, shown, sizeof shown);
+            if (ofs < 0 || len < 0)
+                ew_fail(err, "%s: entry %d ('%s'): negative %s %ld", filename, i, shown,
+                        ofs < 0 ? "offset" : "size", (long)(ofs < 0 ? ofs : len));
+            else
+                ew_fail(err, "%s: entry %d ('%s'): offset %ld + size %ld past end of file (%zu bytes)",
+                        filename, i, shown, (long)ofs, (long)len, size);
             free(e);
             return -1;
         }

@@ -242,6 +242,43 @@ static void brush_alpha(ew_scene *s, const ew_entity *e, int index, const char *
             s->world->name, index, cls, sub, v, problem);
 }
 
+/* The model files a map's entities asked for that could not be loaded:
+ * distinct names, the first few kept for the warning. */
+#define MISSING_SHOWN 4
+typedef struct missing_files {
+    char names[MISSING_SHOWN][64];
+    int  files, entities, boxes;  /* distinct files, entities without a model, of them maps/b_*.bsp files */
+    char seen[64][64];            /* every distinct file (class_models names fewer than 64) */
+    int  nseen;
+} missing_files;
+
+static void note_missing(missing_files *m, const char *path) {
+    m->entities++;
+    for (int i = 0; i < m->nseen; i++)
+        if (strcmp(m->seen[i], path) == 0) return;
+    if (m->nseen < 64) snprintf(m->seen[m->nseen++], 64, "%s", path);
+    if (m->files < MISSING_SHOWN) snprintf(m->names[m->files], 64, "%s", path);
+    m->files++;
+    if (strncmp(path, "maps/b_", 7) == 0) m->boxes++;
+}
+
+/* One warning line: how many files, the first few, and a note when item
+ * boxes are among them (they live in the game directory's maps/). */
+static void warn_missing(ew_scene *s, const missing_files *m, int have_dir) {
+    if (!m->files) return;
+    char list[4 * 70 + 32];
+    size_t n = 0;
+    list[0] = '\0';
+    for (int i = 0; i < m->files && i < MISSING_SHOWN; i++)
+        n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", i ? ", " : "", m->names[i]);
+    if (m->files > MISSING_SHOWN)
+        snprintf(list + n, sizeof list - n, " and %d more", m->files - MISSING_SHOWN);
+    ew_warn(&s->warnings, &s->nwarnings, "%s: %d model file%s missing or unreadable (%s), %d entit%s not drawn%s",
+            s->world->name, m->files, m->files == 1 ? "" : "s", list, m->entities, m->entities == 1 ? "y" : "ies",
+            !have_dir ? "; no game directory (give --data DIR)"
+            : m->boxes ? "; item boxes (maps/b_*.bsp) are not in the game directory" : "");
+}
+
 ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const char *data_dir, ew_error *err) {
     ew_scene *s = ew_scene_create(w, err);
     if (!s) return NULL;
@@ -250,6 +287,9 @@ ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const cha
     ew_error perr;
     ew_entities_parse(text, strlen(text), &ents, &perr);  /* keeps what parsed */
     ew_fs *fs = open_game_dir(map, data_dir);
+    static const missing_files none;
+    missing_files *miss = malloc(sizeof *miss);
+    if (miss) *miss = none;
     char worldtype = 'w';
     for (int i = 0; i < ents.count; i++) {
         const char *cls = ew_entity_get(&ents.ents[i], "classname");
@@ -296,8 +336,12 @@ ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const cha
             mi = ew_scene_load_model(s, path, data, size, &merr);
             free(data);
         }
+        if (mi < 0 && miss) note_missing(miss, path);
         if (mi < 0 || ew_scene_add_entity(s, mi, origin, angles, 0, cm->skin) < 0) s->missing++;
     }
+    /* A world made in memory (no map, no directory) has no model files to miss. */
+    if (miss && (map || data_dir)) warn_missing(s, miss, fs != NULL);
+    free(miss);
     ew_fs_destroy(fs);
     ew_entities_free(&ents);
     return s;
