@@ -3,13 +3,22 @@ BUILD      ?= build
 ASAN_BUILD ?= build-asan
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all build demo test test-release test-asan bench fuzz clean
+.PHONY: all build demo install test test-release test-asan bench fuzz clean
 
 all: build
 
 build:
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
+
+# Installs the command, the headers, libedgewise.a and libedgewise.so,
+# edgewise.pc, the man page and the bash completion under PREFIX (README
+# "Use it as a library"); DESTDIR=... stages it for packaging.
+PREFIX ?= /usr/local
+install:
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
+	@cmake --build $(BUILD) -j $(JOBS)
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 # Renders the built-in scene (no files from outside the repository) to demo.png.
 demo: build

@@ -1,0 +1,58 @@
+# bash completion for edgewise(1): commands, each command's options, the
+# values of the options that take a word from a fixed list, and files where
+# a file or directory is expected.  Installed as
+# share/bash-completion/completions/edgewise; or `source` it.
+
+_edgewise()
+{
+    local cur=${COMP_WORDS[COMP_CWORD]} prev= cmd=${COMP_WORDS[1]-}
+    [ "$COMP_CWORD" -gt 0 ] && prev=${COMP_WORDS[COMP_CWORD-1]}
+    COMPREPLY=()
+
+    local commands='render demo views info bench soak help'
+    if [ "$COMP_CWORD" -le 1 ]; then
+        COMPREPLY=($(compgen -W "$commands --help --version" -- "$cur"))
+        return 0
+    fi
+
+    # The values of options.
+    case $prev in
+        --alias-raster) COMPREPLY=($(compgen -W 'auto affine subdiv' -- "$cur")); return 0 ;;
+        --hsr)          COMPREPLY=($(compgen -W 'edge reference' -- "$cur")); return 0 ;;
+        --color)        COMPREPLY=($(compgen -W '8bit true' -- "$cur")); return 0 ;;
+        --debug)        COMPREPLY=($(compgen -W 'spans edges overdraw lighting textures mips builds' -- "$cur"))
+                        return 0 ;;
+        --lightstyle)   return 0 ;;
+        --data)         compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
+        --out)          compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
+        --size|--view|--pos|--angles|--fov|--time|--dlight|--particles|--threads|\
+        --subdiv-threshold|--wateralpha|--fog|--gamma|--passes|--frames|--seed)
+                        return 0 ;;
+    esac
+
+    local drawn='--no-entities --alias-raster --subdiv-threshold --full-zfill --classic
+                 --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit --dither
+                 --lightstyle --gamma --debug'
+    local opts
+    case $cmd in
+        render) opts="--data --size --view --pos --angles --fov --time --out --stats --dlight
+                      --particles --threads --quiet --help $drawn" ;;
+        demo)   opts="--size --view --fov --time --out --stats --dlight --particles --threads
+                      --quiet --help $drawn" ;;
+        views|info) opts='--data --quiet --help' ;;
+        bench)  opts="--data --size --threads --passes --table --out --floor --quiet --help $drawn" ;;
+        soak)   opts="--data --frames --size --seed --threads --quiet --help $drawn" ;;
+        *)      return 0 ;;
+    esac
+    if [[ $cur == -* ]]; then
+        COMPREPLY=($(compgen -W "$opts" -- "$cur"))
+    elif [ "$cmd" != demo ]; then
+        # MAP: the built-in scene, .bsp files, directories to walk into.
+        compopt -o filenames 2>/dev/null
+        COMPREPLY=($(compgen -W 'builtin' -- "$cur")
+                   $(compgen -d -- "$cur")
+                   $(compgen -f -X '!*.bsp' -- "$cur"))
+    fi
+    return 0
+}
+complete -F _edgewise edgewise
