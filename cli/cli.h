@@ -86,5 +86,7 @@ void print_scene_warnings(const ew_scene *s, int quiet);
 int cmd_bench(int argc, char **argv);
 /* edgewise soak (cli/cmd_soak.c): argv[1] is "soak". */
 int cmd_soak(int argc, char **argv);
+/* edgewise shots (cli/cmd_shots.c): argv[1] is "shots". */
+int cmd_shots(int argc, char **argv);
 
 #endif

@@ -44,6 +44,7 @@ static const char usage_head[] =
     "  info MAP [--data DIR]  BSP version, lumps and counts\n"
     "  bench MAP... [options] time the view set (see edgewise bench --help)\n"
     "  soak MAP --frames N    render N frames and check every frame's counters\n"
+    "  shots MAP|DIR|PAK...   pictures of many maps (see edgewise shots --help)\n"
     "  help, --help           this text\n"
     "  --version              the version\n"
     "\n"
@@ -721,6 +722,8 @@ int main(int argc, char **argv) {
         return cmd_bench(argc, argv);
     if (strcmp(cmd, "soak") == 0)
         return cmd_soak(argc, argv);
-    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, help)", cmd);
+    if (strcmp(cmd, "shots") == 0)
+        return cmd_shots(argc, argv);
+    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, shots, help)", cmd);
     return EXIT_USAGE;
 }
