@@ -93,5 +93,7 @@ int cmd_bench(int argc, char **argv);
 int cmd_soak(int argc, char **argv);
 /* edgewise view (app/viewer/viewer.c with SDL2, else cli/cmd_view_stub.c). */
 int cmd_view(int argc, char **argv);
+/* edgewise shots (cli/cmd_shots.c): argv[1] is "shots". */
+int cmd_shots(int argc, char **argv);
 
 #endif

@@ -48,6 +48,7 @@ static const char usage_head[] =
     "  bench MAP... [options] time the view set (see edgewise bench --help)\n"
     "  view MAP [options]     walk through MAP in a window (see edgewise view --help)\n"
     "  soak MAP --frames N    render N frames and check every frame's counters\n"
+    "  shots MAP|DIR|PAK...   pictures of many maps (see edgewise shots --help)\n"
     "  help, --help           this text\n"
     "  --version              the version\n"
     "\n"
@@ -759,6 +760,8 @@ int main(int argc, char **argv) {
         return cmd_soak(argc, argv);
     if (strcmp(cmd, "view") == 0)
         return cmd_view(argc, argv);
-    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, view, help)", cmd);
+    if (strcmp(cmd, "shots") == 0)
+        return cmd_shots(argc, argv);
+    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, shots, view, help)", cmd);
     return EXIT_USAGE;
 }
