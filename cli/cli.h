@@ -16,6 +16,9 @@
 #define EW_CLI_PRINTF(a, b)
 #endif
 
+/* The field of view every command accepts (the renderer's camera check). */
+#define FOV_RULE "more than 1 and less than 179 degrees"
+
 /* One "edgewise: <message>" line on stderr, control characters replaced. */
 void error_line(const char *fmt, ...) EW_CLI_PRINTF(1, 2);
 /* Whole decimal numbers, no blanks; 0 or -1 (nothing printed). */

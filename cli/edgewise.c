@@ -33,7 +33,6 @@ enum { MIN_W = 320, MIN_H = 200, MAX_W = 7680, MAX_H = 4320 };
 /* Camera values beyond these only make the renderer's float maths overflow. */
 #define MAX_COORD 1e6
 /* The rules of --fov and --pos/--angles, the same in the help and the errors. */
-#define FOV_RULE "more than 1 and less than 179 degrees"
 #define VEC3_RULE "three numbers from -1000000 to 1000000 separated by commas"
 #define MAX_TIME 1e6
 

@@ -34,7 +34,7 @@ static const char view_usage[] =
     "  --size WxH        rendered frame size (default: the window's; fixed when given)\n"
     "  --scale N         each rendered pixel shown as NxN, 1 to 8 (default 1)\n"
     "  --threads N       render threads, 0 = all cores (default 0)\n"
-    "  --fov DEG         horizontal field of view, 1 to 179 (default 90)\n"
+    "  --fov DEG         horizontal field of view, " FOV_RULE " (default 90)\n"
     "  --view N          start at camera N of the view set (default 0)\n"
     "  --fullscreen      fill the screen\n"
     "  --script FILE     play timed commands (deterministic frames: time from the script)\n"
@@ -111,8 +111,8 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
                 break;
             case 4:
                 o->fov = strtod(v, &end);
-                if (end == v || *end || !(o->fov >= 1 && o->fov <= 179)) {
-                    error_line("--fov %s: must be a number from 1 to 179", v);
+                if (end == v || *end || !(o->fov > 1 && o->fov < 179)) {
+                    error_line("--fov %s: must be " FOV_RULE, v);
                     return -1;
                 }
                 break;
