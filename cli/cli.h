@@ -98,5 +98,7 @@ int cmd_soak(int argc, char **argv);
 int cmd_view(int argc, char **argv);
 /* edgewise shots (cli/cmd_shots.c): argv[1] is "shots". */
 int cmd_shots(int argc, char **argv);
+/* edgewise fly (cli/cmd_fly.c): argv[1] is "fly". */
+int cmd_fly(int argc, char **argv);
 
 #endif

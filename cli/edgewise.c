@@ -48,6 +48,7 @@ static const char usage_head[] =
     "  view MAP [options]     walk through MAP in a window (see edgewise view --help)\n"
     "  soak MAP --frames N    render N frames and check every frame's counters\n"
     "  shots MAP|DIR|PAK...   pictures of many maps (see edgewise shots --help)\n"
+    "  fly MAP --out FILE     a flythrough video (see edgewise fly --help)\n"
     "  help, --help           this text\n"
     "  --version              the version\n"
     "\n"
@@ -761,6 +762,8 @@ int main(int argc, char **argv) {
         return cmd_view(argc, argv);
     if (strcmp(cmd, "shots") == 0)
         return cmd_shots(argc, argv);
-    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, shots, view, help)", cmd);
+    if (strcmp(cmd, "fly") == 0)
+        return cmd_fly(argc, argv);
+    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, shots, fly, view, help)", cmd);
     return EXIT_USAGE;
 }

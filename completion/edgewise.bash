@@ -9,7 +9,7 @@ _edgewise()
     [ "$COMP_CWORD" -gt 0 ] && prev=${COMP_WORDS[COMP_CWORD-1]}
     COMPREPLY=()
 
-    local commands='render demo views info bench soak shots view help'
+    local commands='render demo views info bench soak shots fly view help'
     if [ "$COMP_CWORD" -le 1 ]; then
         COMPREPLY=($(compgen -W "$commands --help --version" -- "$cur"))
         return 0
@@ -24,12 +24,14 @@ _edgewise()
                         return 0 ;;
         --lightstyle)   return 0 ;;
         --views)        COMPREPLY=($(compgen -W 'best all' -- "$cur")); return 0 ;;
-        --script|--record|--manifest|--contact-sheet)
+        --script|--record|--manifest|--contact-sheet|--cameras)
                         compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
+        --path)         compopt -o filenames 2>/dev/null
+                        COMPREPLY=($(compgen -W 'views' -- "$cur") $(compgen -f -- "$cur")); return 0 ;;
         --data)         compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         --out)          compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         --size|--view|--pos|--angles|--fov|--time|--dlight|--particles|--threads|\
-        --subdiv-threshold|--wateralpha|--fog|--gamma|--passes|--frames|--seed|--scale|--jobs)
+        --subdiv-threshold|--wateralpha|--fog|--gamma|--passes|--frames|--seed|--scale|--jobs|--seconds|--fps)
                         return 0 ;;
     esac
 
@@ -46,6 +48,7 @@ _edgewise()
         bench)  opts="--data --size --threads --passes --table --out --floor --quiet --help $drawn" ;;
         soak)   opts="--data --frames --size --seed --threads --quiet --help $drawn" ;;
         shots)  opts="--data --out --size --views --jobs --force --manifest --contact-sheet --quiet --help $drawn" ;;
+        fly)    opts="--data --path --seconds --fps --size --out --cameras --quiet --help $drawn" ;;
         view)   opts="--data --size --scale --threads --fov --view --fullscreen --script --record --quiet --help
                       $drawn" ;;
         *)      return 0 ;;

@@ -1,0 +1,586 @@
+/*
+ * edgewise fly MAP [--data DIR] [--path views|FILE] [--seconds S] [--fps F]
+ *                  [--size WxH] [--cameras FILE] [--quiet] [what is drawn]
+ *                  --out FILE.y4m|FILE.mp4|PATTERN.png
+ *
+ * A flythrough video: a camera path sampled at 1/fps, each frame rendered
+ * with the camera's time = frame / fps (skies, liquids, animated textures and
+ * light styles move) and written as YUV4MPEG2 (.y4m), piped as y4m to ffmpeg
+ * (.mp4), or as one PNG per frame (a printf pattern with one %d).
+ */
+#define _DEFAULT_SOURCE
+#include "cli.h"
+#include "edgewise.h"
+#include "ew_util.h"    /* ew_now_ms */
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define MAX_FPS 240
+#define MAX_SECONDS 3600.0
+#define SECONDS_PER_SEGMENT 2.0
+#define TURN_SECONDS 8.0      /* one origin: a full turn in place */
+
+static const char fly_usage[] =
+    "usage: edgewise fly MAP [--data DIR] [--path views|FILE] [--seconds S] [--fps F]\n"
+    "                    [--size WxH] [--cameras FILE] [--quiet] [what is drawn]\n"
+    "                    --out FILE.y4m|FILE.mp4|DIR/%05d.png\n"
+    "\n"
+    "Renders a flythrough video.  Frame k shows the path at k/F seconds, with the\n"
+    "camera's time also k/F, so skies, liquids, animated textures and light\n"
+    "styles move.\n"
+    "\n"
+    "  --data DIR      game directory for palette, colormap and models\n"
+    "  --path views    (default) a smooth path through the map's view set: a\n"
+    "                  Catmull-Rom spline through the distinct view origins, in\n"
+    "                  order, the angles turning the shortest way between views;\n"
+    "                  with a single origin, a slow full turn in place.  The path\n"
+    "                  goes straight between views and may pass through walls\n"
+    "  --path FILE     a camera path as the viewer's --record writes it, lines\n"
+    "                  'time x y z pitch yaw roll', sampled every 1/F seconds\n"
+    "                  from its first time to its last (linear in between)\n"
+    "  --seconds S     the video's length, more than 0 up to 3600 (default: 2 s\n"
+    "                  per path segment, 8 s for a turn; --path FILE: its span)\n"
+    "  --fps F         frames a second, 1 to 240 (default 30)\n"
+    "  --size WxH      frame size, even width and height (default 640x360)\n"
+    "  --out FILE      .y4m: YUV4MPEG2 4:2:0 (BT.601 full range); .mp4: y4m piped\n"
+    "                  to ffmpeg (libx264; ffmpeg must be on PATH); a name with\n"
+    "                  one %d conversion (e.g. frames/%05d.png): one PNG a frame,\n"
+    "                  numbered from 0\n"
+    "  --cameras FILE  writes each frame's camera, lines 'frame time x y z pitch\n"
+    "                  yaw roll' (edgewise render --pos X,Y,Z --angles P,Y,R\n"
+    "                  --time T draws the same frame)\n"
+    "  --quiet         no warning lines about the map's optional data\n"
+    "\n"
+    "Progress goes to stderr on a terminal, else one summary line.\n"
+    "\n"
+    "what is drawn (as in edgewise render):\n";
+
+enum { OUT_Y4M, OUT_MP4, OUT_PNG };
+
+typedef struct fly_opts {
+    const char *map, *data, *path, *out, *cameras;
+    double      seconds;   /* 0: the default */
+    int         fps, width, height, quiet, kind;
+    draw_opts   draw;
+} fly_opts;
+
+/* A path key: position and angles (yaw unwrapped), at a time. */
+typedef struct key {
+    double t, pos[3], ang[3];
+} key;
+
+static int ends_with(const char *s, const char *suffix) {
+    size_t n = strlen(s), m = strlen(suffix);
+    return n > m && !strcmp(s + n - m, suffix);
+}
+
+/* A printf pattern with exactly one %d-style conversion (flags 0 and -,
+ * a width) and any number of %%. */
+static int png_pattern_ok(const char *s) {
+    int conv = 0;
+    for (const char *p = s; *p; p++) {
+        if (*p != '%') continue;
+        if (p[1] == '%') {
+            p++;
+            continue;
+        }
+        p++;
+        while (*p == '0' || *p == '-') p++;
+        int digits = 0;
+        while (*p >= '0' && *p <= '9') p++, digits++;
+        if (digits > 2 || (*p != 'd' && *p != 'i' && *p != 'u')) return 0;
+        conv++;
+    }
+    return conv == 1;
+}
+
+static int parse_number(const char *s, double *out) {
+    char *end;
+    if (!*s) return -1;
+    errno = 0;
+    double d = strtod(s, &end);
+    if (*end || errno || !isfinite(d)) return -1;
+    *out = d;
+    return 0;
+}
+
+/* 0, 1 after --help, -1 (error printed). */
+static int parse(int argc, char **argv, fly_opts *o) {
+    for (int i = 2; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(fly_usage, stdout);
+            draw_opts_usage(stdout);
+            return 1;
+        }
+        int dr = draw_option(&o->draw, "fly", argc, argv, &i);
+        if (dr < 0) return -1;
+        if (dr > 0) continue;
+        if (!strncmp(a, "--quiet", 7) && (a[7] == '\0' || a[7] == '=')) {
+            if (a[7]) {
+                error_line("fly: option '--quiet' takes no value");
+                return -1;
+            }
+            o->quiet = 1;
+            continue;
+        }
+        if (a[0] != '-' || !a[1]) {
+            if (!*a) {
+                error_line("fly: empty map name");
+                return -1;
+            }
+            if (o->map) {
+                error_line("fly: one map only ('%s' and '%s')", o->map, a);
+                return -1;
+            }
+            o->map = a;
+            continue;
+        }
+        const char *names[] = {"--data", "--path", "--seconds", "--fps", "--size", "--out", "--cameras"};
+        int which = -1;
+        size_t nlen = strcspn(a, "=");
+        for (int k = 0; k < 7; k++)
+            if (strlen(names[k]) == nlen && !strncmp(a, names[k], nlen)) which = k;
+        if (which < 0) {
+            error_line("fly: unknown option '%.*s' (see edgewise fly --help)", (int)nlen, a);
+            return -1;
+        }
+        const char *v = a[nlen] == '=' ? a + nlen + 1 : i + 1 < argc ? argv[++i] : NULL;
+        if (!v) {
+            error_line("fly: option '%s' needs a value", names[which]);
+            return -1;
+        }
+        if (!*v) {
+            error_line("%s: empty value", names[which]);
+            return -1;
+        }
+        long l;
+        double d;
+        switch (which) {
+        case 0: o->data = v; break;
+        case 1: o->path = v; break;
+        case 2:
+            if (parse_number(v, &d) < 0 || !(d > 0) || d > MAX_SECONDS) {
+                error_line("--seconds %s: must be a number more than 0 up to %g", v, MAX_SECONDS);
+                return -1;
+            }
+            o->seconds = d;
+            break;
+        case 3:
+            if (parse_long(v, &l) < 0 || l < 1 || l > MAX_FPS) {
+                error_line("--fps %s: must be a whole number from 1 to %d", v, MAX_FPS);
+                return -1;
+            }
+            o->fps = (int)l;
+            break;
+        case 4:
+            if (parse_size(v, &o->width, &o->height) < 0) return -1;
+            if (o->width % 2 || o->height % 2) {
+                error_line("--size %s: width and height must be even (4:2:0 video)", v);
+                return -1;
+            }
+            break;
+        case 5: o->out = v; break;
+        case 6: o->cameras = v; break;
+        }
+    }
+    if (!o->map) {
+        error_line("fly: no map given (see edgewise fly --help)");
+        return -1;
+    }
+    if (!o->out) {
+        error_line("fly: --out FILE.y4m|FILE.mp4|PATTERN.png is required");
+        return -1;
+    }
+    if (strchr(o->out, '%')) {
+        if (!png_pattern_ok(o->out) || !ends_with(o->out, ".png")) {
+            error_line("--out %s: a frame pattern needs exactly one %%d conversion (e.g. %%05d) and ends "
+                       "in .png", o->out);
+            return -1;
+        }
+        o->kind = OUT_PNG;
+    } else if (ends_with(o->out, ".y4m")) {
+        o->kind = OUT_Y4M;
+    } else if (ends_with(o->out, ".mp4")) {
+        o->kind = OUT_MP4;
+    } else {
+        error_line("--out %s: unknown kind of output (expected .y4m, .mp4, or a pattern like %%05d.png)",
+                   o->out);
+        return -1;
+    }
+    return 0;
+}
+
+/* 1 if an executable NAME is in a directory of PATH. */
+static int on_path(const char *name) {
+    const char *path = getenv("PATH");
+    if (!path) return 0;
+    while (*path) {
+        size_t n = strcspn(path, ":");
+        char file[4096];
+        snprintf(file, sizeof file, "%.*s/%s", (int)(n ? n : 1), n ? path : ".", name);
+        struct stat st;
+        if (stat(file, &st) == 0 && S_ISREG(st.st_mode) && access(file, X_OK) == 0) return 1;
+        path += n;
+        if (*path == ':') path++;
+    }
+    return 0;
+}
+
+/* ---- the path ---------------------------------------------------------------- */
+
+/* Makes each angle the nearest equivalent of the previous key's (no flips). */
+static void unwrap_angles(key *k, int n) {
+    for (int i = 1; i < n; i++)
+        for (int c = 0; c < 3; c++) {
+            double d = fmod(k[i].ang[c] - k[i - 1].ang[c], 360.0);
+            if (d > 180) d -= 360;
+            if (d < -180) d += 360;
+            k[i].ang[c] = k[i - 1].ang[c] + d;
+        }
+}
+
+static double wrap180(double a) {
+    a = fmod(a, 360.0);
+    if (a > 180) a -= 360;
+    if (a <= -180) a += 360;
+    return a;
+}
+
+/* The distinct view origins as keys; their count. */
+static int view_keys(const ew_world *w, key *k) {
+    ew_camera views[EW_MAX_VIEWS];
+    int nv = ew_benchmark_views(w, views), n = 0;
+    for (int i = 0; i < nv; i++) {
+        int seen = 0;
+        for (int j = 0; j < n && !seen; j++)
+            seen = k[j].pos[0] == views[i].origin[0] && k[j].pos[1] == views[i].origin[1] &&
+                   k[j].pos[2] == views[i].origin[2];
+        if (seen) continue;
+        for (int c = 0; c < 3; c++) k[n].pos[c] = views[i].origin[c], k[n].ang[c] = views[i].angles[c];
+        n++;
+    }
+    unwrap_angles(k, n);
+    return n;
+}
+
+static double catmull_rom(double p0, double p1, double p2, double p3, double t) {
+    return 0.5 * (2 * p1 + (p2 - p0) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t * t +
+                  (3 * p1 - p0 - 3 * p2 + p3) * t * t * t);
+}
+
+/* The camera at fraction f (0..1) of the view path. */
+static void views_camera(const key *k, int n, double f, ew_camera *cam) {
+    if (n == 1) {
+        for (int c = 0; c < 3; c++) cam->origin[c] = (float)k[0].pos[c];
+        cam->angles[0] = 0;
+        cam->angles[1] = (float)wrap180(k[0].ang[1] + 360 * f);
+        cam->angles[2] = 0;
+        return;
+    }
+    double u = f * (n - 1);
+    int s = (int)floor(u);
+    if (s > n - 2) s = n - 2;
+    if (s < 0) s = 0;
+    double t = u - s;
+    const key *p0 = &k[s > 0 ? s - 1 : 0], *p1 = &k[s], *p2 = &k[s + 1], *p3 = &k[s + 2 < n ? s + 2 : n - 1];
+    for (int c = 0; c < 3; c++) {
+        cam->origin[c] = (float)catmull_rom(p0->pos[c], p1->pos[c], p2->pos[c], p3->pos[c], t);
+        /* Smoothstep between the two views' angles: no overshoot, no flip. */
+        double e = t * t * (3 - 2 * t);
+        cam->angles[c] = (float)wrap180(p1->ang[c] + (p2->ang[c] - p1->ang[c]) * e);
+    }
+}
+
+/* A recorded path: keys with times (unwrapped angles); count, -1 (error printed). */
+static int read_path(const char *file, key **out) {
+    FILE *f = fopen(file, "r");
+    if (!f) {
+        error_line("--path %s: %s", file, strerror(errno));
+        return -1;
+    }
+    key *k = NULL;
+    int n = 0, cap = 0, lineno = 0;
+    char line[512];
+    while (fgets(line, sizeof line, f)) {
+        lineno++;
+        char *p = line;
+        while (*p == ' ' || *p == '\t') p++;
+        if (*p == '\n' || *p == '\0' || *p == '#') continue;
+        key kk;
+        char extra;
+        if (sscanf(p, "%lf %lf %lf %lf %lf %lf %lf %c", &kk.t, &kk.pos[0], &kk.pos[1], &kk.pos[2], &kk.ang[0],
+                   &kk.ang[1], &kk.ang[2], &extra) != 7 || !isfinite(kk.t) || kk.t < 0 ||
+            (n && kk.t < k[n - 1].t)) {
+            error_line("--path %s:%d: expected 'time x y z pitch yaw roll' with times not going back", file,
+                       lineno);
+            free(k), fclose(f);
+            return -1;
+        }
+        if (n == cap) {
+            cap = cap ? cap * 2 : 64;
+            key *q = realloc(k, sizeof *q * (size_t)cap);
+            if (!q) {
+                error_line("--path %s: out of memory", file);
+                free(k), fclose(f);
+                return -1;
+            }
+            k = q;
+        }
+        k[n++] = kk;
+    }
+    fclose(f);
+    if (!n) {
+        error_line("--path %s: no camera lines", file);
+        free(k);
+        return -1;
+    }
+    unwrap_angles(k, n);
+    *out = k;
+    return n;
+}
+
+/* The recorded path's camera at time t (linear between lines; the last
+ * line of a run of equal times). */
+static void file_camera(const key *k, int n, double t, ew_camera *cam) {
+    int i = 0;
+    while (i + 1 < n && k[i + 1].t <= t) i++;
+    const key *a = &k[i], *b = &k[i + 1 < n ? i + 1 : i];
+    double f = b->t > a->t ? (t - a->t) / (b->t - a->t) : 0;
+    if (f < 0) f = 0;
+    if (f > 1) f = 1;
+    for (int c = 0; c < 3; c++) {
+        cam->origin[c] = (float)(a->pos[c] + (b->pos[c] - a->pos[c]) * f);
+        cam->angles[c] = (float)wrap180(a->ang[c] + (b->ang[c] - a->ang[c]) * f);
+    }
+}
+
+/* ---- output ---------------------------------------------------------------- */
+
+/* The frame as RGB bytes. */
+static void frame_rgb(const ew_renderer *r, uint8_t *rgb, size_t n) {
+    const uint8_t *px = ew_frame_pixels(r);
+    if (px) {
+        const uint8_t *pal = ew_frame_palette(r);
+        for (size_t i = 0; i < n; i++) memcpy(rgb + 3 * i, pal + 3 * px[i], 3);
+    } else {
+        const uint8_t *c = (const uint8_t *)ew_frame_rgba(r);
+        for (size_t i = 0; i < n; i++) memcpy(rgb + 3 * i, c + 4 * i, 3);
+    }
+}
+
+static uint8_t clamp8(double v) { return (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : lround(v)); }
+
+/* BT.601 full range (JPEG): Y plane, then Cb and Cr averaged over 2x2. */
+static void rgb_to_yuv420(const uint8_t *rgb, int w, int h, uint8_t *yuv) {
+    uint8_t *Y = yuv, *U = yuv + (size_t)w * h, *V = U + (size_t)(w / 2) * (h / 2);
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        const uint8_t *p = rgb + 3 * i;
+        Y[i] = clamp8(0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2]);
+    }
+    for (int y = 0; y < h / 2; y++)
+        for (int x = 0; x < w / 2; x++) {
+            double cb = 0, cr = 0;
+            for (int dy = 0; dy < 2; dy++)
+                for (int dx = 0; dx < 2; dx++) {
+                    const uint8_t *p = rgb + 3 * ((size_t)(2 * y + dy) * w + 2 * x + dx);
+                    cb += 128 - 0.168736 * p[0] - 0.331264 * p[1] + 0.5 * p[2];
+                    cr += 128 + 0.5 * p[0] - 0.418688 * p[1] - 0.081312 * p[2];
+                }
+            U[(size_t)y * (w / 2) + x] = clamp8(cb / 4);
+            V[(size_t)y * (w / 2) + x] = clamp8(cr / 4);
+        }
+}
+
+/* ffmpeg reading y4m on its stdin; the pipe's write end, or NULL. */
+static FILE *start_ffmpeg(const char *out, pid_t *pid) {
+    int fds[2];
+    if (pipe(fds) < 0) return NULL;
+    fflush(NULL);
+    *pid = fork();
+    if (*pid < 0) {
+        close(fds[0]), close(fds[1]);
+        return NULL;
+    }
+    if (*pid == 0) {
+        dup2(fds[0], 0);
+        close(fds[0]), close(fds[1]);
+        execlp("ffmpeg", "ffmpeg", "-y", "-loglevel", "error", "-f", "yuv4mpegpipe", "-i", "-", "-c:v",
+               "libx264", "-pix_fmt", "yuv420p", out, (char *)NULL);
+        _exit(127);
+    }
+    close(fds[0]);
+    return fdopen(fds[1], "wb");
+}
+
+static void fmt_time(char *out, size_t size, double s) {
+    if (!(s >= 0) || s > 1e7) snprintf(out, size, "--:--");
+    else snprintf(out, size, "%d:%02d", (int)s / 60, (int)s % 60);
+}
+
+/* ---- the command -------------------------------------------------------------- */
+
+int cmd_fly(int argc, char **argv) {
+    fly_opts o;
+    memset(&o, 0, sizeof o);
+    o.fps = 30, o.width = 640, o.height = 360, o.path = "views";
+    draw_opts_init(&o.draw);
+    int pr = parse(argc, argv, &o);
+    if (pr) return pr > 0 ? 0 : 2;
+    if (o.kind == OUT_MP4 && !on_path("ffmpeg")) {
+        error_line("--out %s: writing .mp4 needs ffmpeg, which is not on PATH (write .y4m instead)", o.out);
+        return 1;
+    }
+    key *keys = NULL;
+    int nkeys = 0, from_file = strcmp(o.path, "views") != 0;
+    if (from_file && (nkeys = read_path(o.path, &keys)) < 0) return 1;
+
+    int rc = 1;
+    ew_assets *a = load_map(o.map, o.data, o.quiet);
+    ew_scene *scene = NULL;
+    ew_renderer *r = NULL;
+    FILE *video = NULL, *cams = NULL;
+    pid_t ff = -1;
+    uint8_t *rgb = NULL, *yuv = NULL;
+    ew_error err = {""};
+    if (!a) goto done;
+    double seconds, t0 = 0;
+    if (!from_file) {
+        keys = malloc(sizeof *keys * EW_MAX_VIEWS);
+        if (!keys) goto done;
+        nkeys = view_keys(a->world, keys);
+        if (!nkeys) {
+            error_line("%s: no views (no info_player* or info_intermission entity); use --path FILE", o.map);
+            goto done;
+        }
+        seconds = o.seconds > 0 ? o.seconds : nkeys == 1 ? TURN_SECONDS : SECONDS_PER_SEGMENT * (nkeys - 1);
+    } else {
+        t0 = keys[0].t;
+        seconds = o.seconds > 0 ? o.seconds : keys[nkeys - 1].t - t0 + 1.0 / o.fps;
+    }
+    long frames = lround(seconds * o.fps);
+    if (frames < 1) frames = 1;
+
+    if (draw_opts_scene(&o.draw, a, o.map, o.data, 0, o.quiet, &scene) < 0) goto done;
+    r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = o.width, .height = o.height, .threads = 1,
+            .color = (ew_color_mode)o.draw.color }, &err);
+    if (!r || draw_opts_apply(&o.draw, r, scene) < 0) {
+        error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
+        goto done;
+    }
+    size_t npx = (size_t)o.width * o.height;
+    rgb = malloc(npx * 3);
+    yuv = malloc(npx * 3 / 2);
+    if (!rgb || !yuv) {
+        error_line("out of memory");
+        goto done;
+    }
+    if (o.cameras && !(cams = fopen(o.cameras, "w"))) {
+        error_line("--cameras %s: %s", o.cameras, strerror(errno));
+        goto done;
+    }
+    if (o.kind == OUT_Y4M && !(video = fopen(o.out, "wb"))) {
+        error_line("--out %s: %s", o.out, strerror(errno));
+        goto done;
+    }
+    if (o.kind == OUT_MP4) {
+        signal(SIGPIPE, SIG_IGN);
+        if (!(video = start_ffmpeg(o.out, &ff))) {
+            error_line("--out %s: cannot start ffmpeg: %s", o.out, strerror(errno));
+            goto done;
+        }
+    }
+    if (video) fprintf(video, "YUV4MPEG2 W%d H%d F%d:1 Ip A1:1 C420jpeg\n", o.width, o.height, o.fps);
+
+    int tty = isatty(2);
+    double start = ew_now_ms(), last = 0;
+    for (long k = 0; k < frames; k++) {
+        ew_camera cam;
+        memset(&cam, 0, sizeof cam);
+        double t = (double)k / o.fps;
+        if (from_file) file_camera(keys, nkeys, t0 + t, &cam);
+        else views_camera(keys, nkeys, t / seconds, &cam);
+        cam.fov = 90;
+        cam.time = t;
+        if (cams)
+            fprintf(cams, "%ld %.17g %.9g %.9g %.9g %.9g %.9g %.9g\n", k, cam.time, cam.origin[0], cam.origin[1],
+                    cam.origin[2], cam.angles[0], cam.angles[1], cam.angles[2]);
+        if (ew_render(r, &cam, NULL) < 0 || !(ew_frame_pixels(r) || ew_frame_rgba(r))) {
+            error_line("frame %ld: cannot render this camera (origin %g,%g,%g angles %g,%g,%g)", k, cam.origin[0],
+                       cam.origin[1], cam.origin[2], cam.angles[0], cam.angles[1], cam.angles[2]);
+            goto done;
+        }
+        if (o.kind == OUT_PNG) {
+            char file[4200];
+            snprintf(file, sizeof file, o.out, (int)k);
+            if (ew_write_frame_png(r, file, &err) < 0) {
+                error_line("%s", err.msg);
+                goto done;
+            }
+        } else {
+            frame_rgb(r, rgb, npx);
+            rgb_to_yuv420(rgb, o.width, o.height, yuv);
+            if (fputs("FRAME\n", video) < 0 || fwrite(yuv, 1, npx * 3 / 2, video) != npx * 3 / 2) {
+                error_line("--out %s: %s", o.out, o.kind == OUT_MP4 ? "ffmpeg stopped reading" : strerror(errno));
+                goto done;
+            }
+        }
+        double now = ew_now_ms();
+        if (tty && (now - last > 100 || k + 1 == frames)) {
+            last = now;
+            double el = (now - start) / 1000;
+            char e[32], left[32];
+            fmt_time(e, sizeof e, el);
+            fmt_time(left, sizeof left, el / (double)(k + 1) * (double)(frames - k - 1));
+            fprintf(stderr, "\r\033[Kfly: %ld/%ld frames, %s elapsed, %s left", k + 1, frames, e, left);
+            fflush(stderr);
+        }
+    }
+    if (tty) fputc('\n', stderr);
+    rc = 0;
+    if (video) {
+        FILE *v = video;
+        video = NULL;
+        if (fclose(v) != 0) {
+            error_line("--out %s: %s", o.out, strerror(errno));
+            rc = 1;
+        }
+    }
+    if (ff > 0) {
+        int status = 0;
+        waitpid(ff, &status, 0);
+        ff = -1;
+        if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+            error_line("--out %s: ffmpeg failed (exit status %d)", o.out, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+            rc = 1;
+        }
+    }
+    if (rc == 0) {
+        double secs = (ew_now_ms() - start) / 1000;
+        fprintf(stderr, "fly: %ld frames %dx%d at %d fps (%.2f s of video) written to %s in %.1f s (%.1f frames/s)\n",
+                frames, o.width, o.height, o.fps, (double)frames / o.fps, o.out, secs,
+                secs > 0 ? (double)frames / secs : 0);
+    }
+done:
+    if (video) fclose(video);
+    if (ff > 0) waitpid(ff, NULL, 0);
+    if (cams && fclose(cams) != 0 && rc == 0) {
+        error_line("--cameras %s: %s", o.cameras, strerror(errno));
+        rc = 1;
+    }
+    free(rgb);
+    free(yuv);
+    free(keys);
+    ew_renderer_destroy(r);
+    ew_scene_destroy(scene);
+    ew_assets_destroy(a);
+    return rc;
+}
