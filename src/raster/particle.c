@@ -36,6 +36,8 @@ void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const e
         if (y1 > rows->y1) y1 = rows->y1;
         if (y0 >= y1) continue;
         uint8_t color = p[i].color;
+        const int bpp = r->target.bpp;  /* read once: the stores could alias the renderer */
+        const uint32_t *rgba = r->target.rgba;
         ew_zfill_rect(&r->zf, x0, y0, x1, y1);
         for (int y = y0; y < y1; y++) {
             float *zr = ew_target_z(&r->target, 0, y);
@@ -43,7 +45,7 @@ void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const e
             for (int x = x0; x < x1; x++) {
                 if (zi >= zr[x]) {
                     zr[x] = zi;
-                    ew_put_index(&r->target, fr, x, color);
+                    ew_put_via(bpp, rgba, fr, x, color);
                     pixels++;
                 }
             }

@@ -55,6 +55,9 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
     float scroll = c->sky_scroll;
     const uint8_t *px = t->mip[0];
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+    /* Read once: the pixel stores could alias the target struct. */
+    const int bpp = c->target->bpp;
+    const uint32_t *rgba = c->target->rgba;
     float s0, t0, s1, t1;
     int step = c->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
     sky_st(v, t, (float)sp->u, (float)sp->v, &s0, &t0);
@@ -63,7 +66,7 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
         sky_st(v, t, (float)(sp->u + i + step), (float)sp->v, &s1, &t1);
         if (!pow2) {
             float ds = (s1 - s0) / step, dt = (t1 - t0) / step;
-            for (int k = 0; k < n; k++) ew_put_index(c->target, dst, i + k, sky_texel(v, t, s0 + ds * k, t0 + dt * k));
+            for (int k = 0; k < n; k++) ew_put_via(bpp, rgba, dst, i + k, sky_texel(v, t, s0 + ds * k, t0 + dt * k));
         } else {
             /* 16.16 fixed point from the same floored start, two layers. */
             int32_t fs = (int32_t)floorf((s0 + 2 * scroll) * 65536.0f), ft = (int32_t)floorf((t0 + 2 * scroll) * 65536.0f);
@@ -72,7 +75,7 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
             unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
             for (int k = 0; k < n; k++) {
                 uint8_t px_front = px[(((unsigned)ft >> 16) & rm) * (unsigned)t->width + (((unsigned)fs >> 16) & hm)];
-                ew_put_index(c->target, dst, i + k,
+                ew_put_via(bpp, rgba, dst, i + k,
                              px_front ? px_front
                                       : px[(((unsigned)bt >> 16) & rm) * (unsigned)t->width + (unsigned)half +
                                            (((unsigned)bs >> 16) & hm)]);

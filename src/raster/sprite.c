@@ -140,6 +140,8 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     float uu = dot3(U, du), uv = dot3(U, dv), u0 = dot3(U, d0), uo = dot3(U, O);
     int pw = pic->width, ph = pic->height;
     long count = 0;
+    const int bpp = r->target.bpp;  /* read once: the stores could alias the renderer */
+    const uint32_t *rgba = r->target.rgba;
     for (int y = y0; y < y1; y++) {
         float *zr = ew_target_z(&r->target, 0, y);
         uint8_t *fr = ew_target_at(&r->target, 0, y);
@@ -155,7 +157,7 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
             uint8_t c = pic->pixels[(int)b * pw + (int)a];
             if (c == 255) continue;
             zr[x] = zi;
-            ew_put_index(&r->target, fr, x, c);
+            ew_put_via(bpp, rgba, fr, x, c);
             count++;
         }
     }

@@ -28,6 +28,8 @@ uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, 
 
 void ew_draw_turb_span(const ew_span_ctx *c, const ew_span *sp, const ew_gradients *g, const ew_texture *t) {
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+    const int bpp = c->target->bpp;  /* read once: the stores could alias the target */
+    const uint32_t *rgba = c->target->rgba;
     unsigned wmask = pow2_mask(t->width), hmask = pow2_mask(t->height);
     ew_stepper st;
     int32_t s, tt, ds, dt;
@@ -36,7 +38,7 @@ void ew_draw_turb_span(const ew_span_ctx *c, const ew_span *sp, const ew_gradien
     int x = 0;
     while ((n = ew_step_next(&st, &s, &tt, &ds, &dt)) > 0) {
         for (int i = 0; i < n; i++) {
-            ew_put_index(c->target, dst, x++, turb_texel(c->turb, t, s, tt, wmask, hmask));
+            ew_put_via(bpp, rgba, dst, x++, turb_texel(c->turb, t, s, tt, wmask, hmask));
             s += ds;
             tt += dt;
         }
