@@ -328,8 +328,6 @@ static void test_xdotool(const char *data) {
     sleep_ms(300);
     double s1[7], l1[7];
     int n1 = record_lines(rec, s1, l1);
-    const char *mv[] = { "xdotool", "mousemove", "--window", "%1", "320", "240", NULL };
-    (void)mv;
     const char *click[] = { "xdotool", "search", "--name", "edgewise", "mousemove", "--window", "%1", "320", "240",
                             "click", "1", NULL };
     run_tool(click);

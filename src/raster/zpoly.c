@@ -89,6 +89,7 @@ static long see_row(const ew_span_ctx *c, const ew_gradients *g, const ew_zpoly_
     float *zr = ew_target_z(tg, 0, y);
     uint8_t *dst = ew_target_at(tg, 0, y);
     const ew_fog *fog = look->mode == EW_ZP_BLEND && c->fog.table ? &c->fog : NULL;
+    const int bpp = tg->bpp;  /* read once: the stores could alias the target */
     long won = 0;
     ew_stepper st = {0};
     int32_t s = 0, t = 0, ds = 0, dt = 0;
@@ -105,7 +106,7 @@ static long see_row(const ew_span_ctx *c, const ew_gradients *g, const ew_zpoly_
         float zi = g->zi_u * (float)x + zrow;
         if (zi <= zr[x]) continue;
         size_t ti = ((uint32_t)t >> 16) * (uint32_t)look->surf_width + ((uint32_t)s >> 16);
-        if (tg->bpp == 1) {
+        if (bpp == 1) {
             uint8_t px = turb ? ew_turb_texel(c->turb, look->tex, s, t) : look->surf[ti];
             if (px == 255 && fence) continue;  /* a hole */
             if (look->mode == EW_ZP_FENCE) {
