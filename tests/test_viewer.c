@@ -320,7 +320,7 @@ static void test_xdotool(const char *data) {
     run_tool(act);
     /* Until the viewer has drawn and recorded a frame (a loaded machine or
      * the sanitizers make that slow): the keys must come after it. */
-    double s0[7], l0[7];
+    double s0[7] = {0}, l0[7] = {0};
     int n0 = 0;
     for (int i = 0; i < 100 && n0 == 0; i++) {
         sleep_ms(100);
