@@ -48,7 +48,8 @@ static const struct draw_def {
     [D_NOFOG] = { "--no-fog", NULL, "no fog, whatever the map asks", NULL },
     [D_NOWARP] = { "--no-waterwarp", NULL, "no underwater warp and tint", NULL },
     [D_HSR] = { "--hsr", "METHOD", "hidden-surface removal",
-                "edge (the global edge list, the default) or reference (a z-buffer per pixel, slow)" },
+                "edge (the global edge list, the default), reference (a z-buffer per pixel, slow), "
+                "edge-z, spans, zbuffer, painter, drawbuffer, beamtree or raycast (docs/hsr.md)" },
     [D_COLOR] = { "--color", "MODE", "pixel format of the frame",
                   "8bit (palette indices, the software look; the default) or true (32-bit, light in RGB)" },
     [D_NOLIT] = { "--no-lit", NULL, "ignore coloured light (.lit file, BSPX RGBLIGHTING): white light", NULL },
@@ -194,11 +195,12 @@ static int set_value(draw_opts *d, int k, const char *v) {
                 return 0;
             }
         return bad_value(k, v);
-    case D_HSR:
-        if (strcmp(v, "edge") == 0) d->hsr = EW_HSR_EDGE;
-        else if (strcmp(v, "reference") == 0) d->hsr = EW_HSR_REFERENCE;
-        else return bad_value(k, v);
+    case D_HSR: {
+        int m = ew_hsr_from_name(v);
+        if (m < 0 || !ew_hsr_available((ew_hsr_method)m)) return bad_value(k, v);
+        d->hsr = m;
         return 0;
+    }
     }
     return 0;
 }
@@ -306,7 +308,7 @@ void draw_opts_json(FILE *f, const draw_opts *d) {
         fputs("null", f);   /* the map's */
     }
     fprintf(f, ",\"waterwarp\":%s,\"hsr\":\"%s\"", d->no_waterwarp || d->classic ? "false" : "true",
-            d->hsr == EW_HSR_REFERENCE ? "reference" : "edge");
+            ew_hsr_name((ew_hsr_method)d->hsr));
     fprintf(f, ",\"color\":\"%s\",\"lit\":%s,\"dither\":%s,\"gamma\":", d->color == EW_COLOR_TRUE ? "true" : "8bit",
             d->no_lit || d->classic ? "false" : "true", d->dither ? "true" : "false");
     json_number(f, d->gamma > 0 ? d->gamma : 1.0);

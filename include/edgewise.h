@@ -34,9 +34,9 @@
 /* The version; CMakeLists.txt's project(edgewise VERSION ...) must agree
  * (test_api checks). */
 #define EW_VERSION_MAJOR 0
-#define EW_VERSION_MINOR 3
+#define EW_VERSION_MINOR 4
 #define EW_VERSION_PATCH 0
-#define EW_VERSION "0.3.0"
+#define EW_VERSION "0.4.0"
 
 /* Every public function is declared EW_API: extern, and with
  * EW_SHARED_LIBRARY or EW_BUILD defined also exported from a shared
@@ -53,7 +53,7 @@
 extern "C" {
 #endif
 
-/* "0.3.0": EW_VERSION of the library that was linked. */
+/* "0.4.0": EW_VERSION of the library that was linked. */
 EW_API const char *ew_version(void);
 
 /* ---- errors ------------------------------------------------------------ */
@@ -275,12 +275,39 @@ typedef enum ew_color_mode {
     EW_COLOR_TRUE       /* 32-bit pixels (ew_frame_rgba): surfaces lit in RGB */
 } ew_color_mode;
 
-/* Hidden-surface removal for the world. */
+/* Hidden-surface removal for the world: the method Quake shipped, the
+ * reference the tests trust, and the alternatives the Black Book weighs
+ * (docs/hsr.md).  Every method draws the same surfaces with the same span
+ * drawers and lighting; only which pixels each polygon wins differs. */
 typedef enum ew_hsr_method {
-    EW_HSR_EDGE = 0,     /* the global edge list, as Quake (the default) */
-    EW_HSR_REFERENCE     /* every visible face z-buffered per pixel, a divide per
-                          * pixel (slow and simple: the tests trust it) */
+    EW_HSR_EDGE = 0,     /* "edge": the global edge list, BSP-order keys (the default) */
+    EW_HSR_REFERENCE,    /* "reference": every visible face z-buffered per pixel, a
+                          * divide per pixel (slow and simple: the tests trust it) */
+    EW_HSR_EDGE_Z,       /* "edge-z": the edge list sorted by 1/z at each span start */
+    EW_HSR_SPANS,        /* "spans": polygons front to back, each row's span clipped
+                          * against the spans already drawn in that row */
+    EW_HSR_ZBUFFER,      /* "zbuffer": polygons front to back, 1/z tested per pixel */
+    EW_HSR_PAINTER,      /* "painter": polygons back to front, every one drawn whole */
+    EW_HSR_DRAWBUFFER,   /* "drawbuffer": front to back, one bit per pixel drawn */
+    EW_HSR_BEAMTREE,     /* "beamtree": front to back, clipped against a beam tree */
+    EW_HSR_RAYCAST,      /* "raycast": rays on an 8x8 grid, subdivided where they differ */
+    EW_HSR_COUNT
 } ew_hsr_method;
+
+/* Each method's own counters (ew_stats.hsr_counters), named by
+ * ew_hsr_counter_name. */
+#define EW_HSR_COUNTERS 4
+
+/* The method's name ("edge", "edge-z", ...), or NULL for a value outside
+ * the enum. */
+EW_API const char *ew_hsr_name(ew_hsr_method method);
+/* The method of that name, or -1. */
+EW_API int ew_hsr_from_name(const char *name);
+/* What counter i (0..EW_HSR_COUNTERS-1) of the method counts ("depth
+ * tests", "beam tree nodes", ...), or NULL if the method leaves it 0. */
+EW_API const char *ew_hsr_counter_name(ew_hsr_method method, int i);
+/* 1 if this build has the method, 0 if not (or not a method). */
+EW_API int ew_hsr_available(ew_hsr_method method);
 
 /* How alias (triangle) models are rasterized: affine triangles with
  * Gouraud shading, Carmack's recursive subdivision (for small models), or
@@ -299,7 +326,7 @@ typedef struct ew_renderer_desc {
     int   subdivision;                /* 0: 16 (a divide every 16 pixels); 1,2,4,8,16,32 */
     int   cache_mb;                   /* 0: automatic (16 bytes a pixel, 16..512 MiB) */
     ew_color_mode color;              /* 0: EW_COLOR_8BIT; EW_COLOR_TRUE */
-    ew_hsr_method hsr;                /* 0: EW_HSR_EDGE (global edge list); EW_HSR_REFERENCE: per-pixel z-buffer */
+    ew_hsr_method hsr;                /* 0: EW_HSR_EDGE (global edge list); any available ew_hsr_method */
     ew_alias_raster alias_raster;     /* 0: EW_ALIAS_AUTO */
     float alias_threshold;            /* 0: 40 pixels */
     int   classic;                    /* 0: what today's maps ask for; 1: the 1996 look (ew_set_classic) */
@@ -340,6 +367,9 @@ typedef struct ew_stats {
     long   translucent_pixels;  /* pixels blended by translucent surfaces */
     long   fog_pixels;          /* pixels fogged */
     int    underwater;          /* the eye is in a liquid: view warped and tinted */
+    /* the hidden-surface method's own counters (ew_hsr_counter_name) */
+    long   hsr_counters[EW_HSR_COUNTERS];
+    long   hsr_bytes;           /* memory the method holds beyond the edge list and spans */
     double ms_front, ms_scan, ms_draw, ms_models, ms_total;
 } ew_stats;
 
@@ -427,8 +457,9 @@ EW_API void ew_set_lit(ew_renderer *r, int on);
  * (default off). */
 EW_API void ew_set_dither(ew_renderer *r, int on);
 
-/* The hidden-surface method of the next frames (ew_hsr_method). */
-EW_API void ew_set_hsr(ew_renderer *r, ew_hsr_method method);
+/* The hidden-surface method of the next frames; 0, or -1 (the method
+ * unchanged) if it is not an available ew_hsr_method. */
+EW_API int ew_set_hsr(ew_renderer *r, ew_hsr_method method);
 
 /* ---- debug modes: the pipeline made visible --------------------------------
  * A mode of the renderer (the viewer's keys, `edgewise render --debug MODE`)

@@ -39,8 +39,8 @@ static int resolve_desc(const ew_renderer_desc *in, ew_renderer_desc *d, ew_erro
         return ew_fail(err, "renderer: cache_mb %d (0 for automatic, else 1..65536)", d->cache_mb);
     if (d->color != EW_COLOR_8BIT && d->color != EW_COLOR_TRUE)
         return ew_fail(err, "renderer: unknown colour mode %d", (int)d->color);
-    if (d->hsr != EW_HSR_EDGE && d->hsr != EW_HSR_REFERENCE)
-        return ew_fail(err, "renderer: unknown hidden-surface method %d", (int)d->hsr);
+    if (!ew_hsr_get((int)d->hsr))
+        return ew_fail(err, "renderer: hidden-surface method %d is not one this build has", (int)d->hsr);
     if (d->alias_raster != EW_ALIAS_AUTO && d->alias_raster != EW_ALIAS_AFFINE &&
         d->alias_raster != EW_ALIAS_SUBDIV)
         return ew_fail(err, "renderer: unknown alias rasterizer %d", (int)d->alias_raster);
@@ -65,7 +65,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     ew_set_subdivision(r, d.subdivision);                      /* checked: 1..32, a power of two */
     r->cfg.alias_raster = d.alias_raster;
     r->cfg.alias_threshold = d.alias_threshold;
-    r->cfg.hsr = d.hsr == EW_HSR_REFERENCE ? &ew_hsr_reference : &ew_hsr_edge;
+    r->cfg.hsr = ew_hsr_get((int)d.hsr);
     r->cfg.classic = d.classic != 0;
     r->cfg.liquid_alpha = -1, r->cfg.fog_density = -1;  /* the map's */
     r->cfg.waterwarp = 1;
@@ -297,8 +297,11 @@ int ew_set_subdivision(ew_renderer *r, int pixels) {
     return -1;
 }
 
-void ew_set_hsr(ew_renderer *r, ew_hsr_method method) {
-    r->cfg.hsr = method == EW_HSR_REFERENCE ? &ew_hsr_reference : &ew_hsr_edge;
+int ew_set_hsr(ew_renderer *r, ew_hsr_method method) {
+    const ew_hsr *h = ew_hsr_get((int)method);
+    if (!h) return -1;
+    r->cfg.hsr = h;
+    return 0;
 }
 
 void ew_set_classic(ew_renderer *r, int on) {
@@ -377,12 +380,30 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     return 0;
 }
 
-/* Writes and coverage, measured on the scan's output rather than trusted:
- * within a row the scan emits spans left to right, so any span starting
- * before the previous one ended is overdraw. */
-static void account_spans(ew_band *b) {
+/* Writes and coverage, measured on the method's output rather than
+ * trusted.  Within a row the edge list emits spans left to right, so any
+ * span starting before the previous one ended is overdraw; a method whose
+ * rows may be out of order (b->unsorted) has each row's distinct pixels
+ * counted on a scratch row. */
+static void account_spans(ew_band *b, int width) {
     long written = 0, covered = 0;
     int row = -1, end = 0;
+    if (b->unsorted && !b->rowmark) b->rowmark = calloc((size_t)width, 1);
+    if (b->unsorted && b->rowmark) {
+        for (int i = 0; i < b->nspans;) {
+            int v = b->spans[i].v, j = i;
+            for (; j < b->nspans && b->spans[j].v == v; j++) {
+                const ew_span *sp = &b->spans[j];
+                if (sp->surf == 0) continue;
+                written += sp->count;
+                for (int k = 0; k < sp->count; k++) covered += !b->rowmark[sp->u + k], b->rowmark[sp->u + k] = 1;
+            }
+            for (int k = i; k < j; k++) memset(b->rowmark + b->spans[k].u, 0, (size_t)b->spans[k].count);
+            i = j;
+        }
+        b->written = written, b->covered = covered;
+        return;
+    }
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
         if (sp->v != row) row = sp->v, end = 0;
@@ -449,6 +470,8 @@ static void job_scan(void *ctx, int thread) {
         double t0 = ew_now_ms();
         ew_band *b = &r->sched.bands[i];
         b->dropped = 0;
+        b->unsorted = 0;
+        memset(b->counters, 0, sizeof b->counters);
         r->cfg.hsr->resolve(r, b);
         ew_zfill_index_band(&r->zf, b, i);
         b->ms = ew_now_ms() - t0;
@@ -509,7 +532,7 @@ static void job_draw(void *ctx, int thread) {
             ew_debug_spans(r, b);
         else
             ew_draw_spans(&r->draw, b, r->lit.surf_draw, r->zf.all);
-        account_spans(b);
+        account_spans(b, r->target.width);
         if (r->cfg.face_ids_on) record_face_ids(r, b);  /* before the passes, which may win pixels */
         double t1 = ew_now_ms();
         memset(&b->model_stats, 0, sizeof b->model_stats);
@@ -614,7 +637,9 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         st->fog_pixels += m->fog_pixels;
         models_ms += b->model_ms;
         st->pixels_written += b->written, st->pixels_covered += b->covered;
+        for (int k = 0; k < EW_HSR_COUNTERS; k++) st->hsr_counters[k] += b->counters[k];
     }
+    if (r->cfg.hsr->memory) st->hsr_bytes = (long)r->cfg.hsr->memory(r);
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
     /* Models are drawn inside the bands' draw step; ms_models is their
      * time summed over bands, per thread (the wall time they took), plus

@@ -43,7 +43,7 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
 
 void ew_band_free(ew_band *b) {
     free(b->st_next), free(b->st_prev), free(b->st_state), free(b->st_lastu);
-    free(b->has_spans), free(b->spans), free(b->aet);
+    free(b->has_spans), free(b->spans), free(b->aet), free(b->rowmark);
 }
 
 /* Is surface a in front of surface b at pixel (u, v)?  BSP order decides,
@@ -58,7 +58,7 @@ static inline int nearer(const ew_surf *a, const ew_surf *b, int u, int v) {
     return a->zi_u > b->zi_u;
 }
 
-static void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
+static inline void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
     if (u1 <= u0) return;
     if (b->nspans >= b->cap_spans && grow((void **)&b->spans, &b->cap_spans, b->max_spans, sizeof(ew_span)) < 0) {
         b->dropped++;
@@ -69,6 +69,8 @@ static void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
     b->has_spans[surf] = 1;
     b->nspans++;
 }
+
+void ew_band_span(ew_band *b, int surf, int u0, int u1, int v) { emit_span(b, surf, u0, u1, v); }
 
 static void add_active(ew_band *b, const ew_edge *e, int v) {
     if (b->naet >= b->cap_aet && grow((void **)&b->aet, &b->cap_aet, b->max_aet, sizeof(ew_active)) < 0) {
@@ -204,4 +206,4 @@ static void edge_begin(ew_renderer *r) {
 
 static void edge_resolve(ew_renderer *r, ew_band *b) { ew_scan_band(&r->el, r->target.width, b); }
 
-const ew_hsr ew_hsr_edge = {"edge", edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0};
+const ew_hsr ew_hsr_edge = {"edge", edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0, {NULL}, 1, NULL};

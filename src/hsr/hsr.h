@@ -5,8 +5,15 @@
  * frame's method; each band of the frame is then resolved into spans for
  * the back end to draw (hsr/edge_scan.c: Quake's global edge list) or
  * straight into pixels (hsr/reference.c: a per-pixel z-buffer the tests
- * trust).  A new method (beam tree, span list, painter's order...) is a new
- * file here with its own ew_hsr. */
+ * trust).  Each method is one file here with its own ew_hsr, listed in
+ * hsr/methods.c under its ew_hsr_method.
+ *
+ * What resolve may hand the back end: spans grouped by row, rows in
+ * ascending order.  A method whose spans in a row are disjoint and left to
+ * right (the edge list's) leaves b->unsorted 0; one that draws a pixel more
+ * than once (painter's order, a z-buffer) sets it, and then the spans are
+ * drawn in the order given, later over earlier, and the accounting counts
+ * the distinct pixels for itself. */
 #ifndef EW_HSR_H
 #define EW_HSR_H
 
@@ -32,10 +39,23 @@ typedef struct ew_hsr {
     /* 1: fence faces go to face/poly too and their holes are the method's
      * business (the reference); 0: they go to the see-through pass. */
     int fences;
+    /* What each of the band counters (ew_band.counters, summed into
+     * ew_stats.hsr_counters) counts; NULL: unused. */
+    const char *counters[EW_HSR_COUNTERS];
+    /* 1: every world pixel is written exactly once (overdraw 1.0 is an
+     * invariant the soak checks); 0: the method may overdraw or writes no
+     * spans (the reference). */
+    int exact_once;
+    /* Bytes the method holds for the frame beyond the edge list and the
+     * bands' spans (ew_stats.hsr_bytes); NULL: none. */
+    size_t (*memory)(const ew_renderer *r);
 } ew_hsr;
 
 extern const ew_hsr ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */
 extern const ew_hsr ew_hsr_reference;  /* hsr/reference.c */
+
+/* hsr/methods.c: the method for an ew_hsr_method, NULL if not built. */
+const ew_hsr *ew_hsr_get(int method);
 
 /* ---- the global edge list (built by world/edges.c, scanned by edge_scan.c) ---- */
 typedef struct ew_edge {
@@ -88,6 +108,9 @@ struct ew_band {
     int32_t *st_next, *st_prev, *st_state, *st_lastu;
     uint8_t *has_spans;             /* per surface: won a span in this band */
     ew_span *spans;  int nspans, cap_spans, max_spans;
+    int unsorted;                   /* a row's spans may overlap or run out of order (see above) */
+    long counters[EW_HSR_COUNTERS]; /* the method's own counts in this band (zeroed before resolve) */
+    uint8_t *rowmark;               /* width bytes of scratch (accounting unsorted rows), or NULL */
     ew_active *aet;  int naet, cap_aet, max_aet;
     int dropped;
     ew_stats model_stats;           /* this band's share of the moving things' counters */
@@ -100,6 +123,9 @@ int  ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet);
 void ew_band_free(ew_band *b);
 /* The edge list's scan of one band into spans. */
 void ew_scan_band(const ew_edge_list *el, int width, ew_band *b);
+/* Appends a span [u0, u1) of row v to the band (nothing if empty; counted
+ * as dropped when the span budget is full) and marks its surface used. */
+void ew_band_span(ew_band *b, int surf, int u0, int u1, int v);
 
 /* world/edges.c: clip, project and emit one face (or a loose polygon) into
  * the edge list: the edge method's face and poly. */

@@ -17,7 +17,7 @@ static void zfill_row(ew_zfill *z, int y, int lo, int hi) {
     const ew_span *sp = b->spans + z->row_span0[y];
     float *zr = z->target->zbuf + (size_t)y * z->target->width;
     for (int i = 0, n = z->row_nspans[y]; i < n; i++, sp++) {
-        if (sp->u >= hi) break;  /* a row's spans run left to right */
+        if (sp->u >= hi && !b->unsorted) break;  /* a row's spans run left to right */
         int a = sp->u > lo ? sp->u : lo, e = sp->u + sp->count < hi ? sp->u + sp->count : hi;
         if (a >= e) continue;
         const ew_gradients *g = &z->draw[sp->surf].g;

@@ -1,0 +1,35 @@
+/* The hidden-surface methods by ew_hsr_method: names for every one, the
+ * implementation where this build has it (hsr/hsr.h). */
+#include "renderer.h"
+
+#include <string.h>
+
+static const char *const names[EW_HSR_COUNT] = {
+    [EW_HSR_EDGE] = "edge",         [EW_HSR_REFERENCE] = "reference", [EW_HSR_EDGE_Z] = "edge-z",
+    [EW_HSR_SPANS] = "spans",       [EW_HSR_ZBUFFER] = "zbuffer",     [EW_HSR_PAINTER] = "painter",
+    [EW_HSR_DRAWBUFFER] = "drawbuffer", [EW_HSR_BEAMTREE] = "beamtree", [EW_HSR_RAYCAST] = "raycast",
+};
+
+static const ew_hsr *const methods[EW_HSR_COUNT] = {
+    [EW_HSR_EDGE] = &ew_hsr_edge,
+    [EW_HSR_REFERENCE] = &ew_hsr_reference,
+};
+
+const ew_hsr *ew_hsr_get(int method) { return method >= 0 && method < EW_HSR_COUNT ? methods[method] : NULL; }
+
+const char *ew_hsr_name(ew_hsr_method method) {
+    return (int)method >= 0 && method < EW_HSR_COUNT ? names[method] : NULL;
+}
+
+int ew_hsr_from_name(const char *name) {
+    for (int m = 0; name && m < EW_HSR_COUNT; m++)
+        if (strcmp(name, names[m]) == 0) return m;
+    return -1;
+}
+
+const char *ew_hsr_counter_name(ew_hsr_method method, int i) {
+    const ew_hsr *h = ew_hsr_get((int)method);
+    return h && i >= 0 && i < EW_HSR_COUNTERS ? h->counters[i] : NULL;
+}
+
+int ew_hsr_available(ew_hsr_method method) { return ew_hsr_get((int)method) != NULL; }
