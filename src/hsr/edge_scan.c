@@ -43,7 +43,16 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
 
 void ew_band_free(ew_band *b) {
     free(b->st_next), free(b->st_prev), free(b->st_state), free(b->st_lastu);
-    free(b->has_spans), free(b->spans), free(b->aet), free(b->rowmark);
+    free(b->has_spans), free(b->spans), free(b->aet), free(b->rowmark), free(b->scratch);
+}
+
+void *ew_band_scratch(ew_band *b, size_t bytes) {
+    if (bytes <= b->scratch_bytes) return b->scratch;
+    void *p = realloc(b->scratch, bytes);
+    if (!p) return NULL;
+    memset((char *)p + b->scratch_bytes, 0, bytes - b->scratch_bytes);
+    b->scratch = p, b->scratch_bytes = bytes;
+    return p;
 }
 
 /* Is surface a in front of surface b at pixel (u, v)?  BSP order decides,

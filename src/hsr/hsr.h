@@ -111,6 +111,7 @@ struct ew_band {
     int unsorted;                   /* a row's spans may overlap or run out of order (see above) */
     long counters[EW_HSR_COUNTERS]; /* the method's own counts in this band (zeroed before resolve) */
     uint8_t *rowmark;               /* width bytes of scratch (accounting unsorted rows), or NULL */
+    void *scratch;  size_t scratch_bytes;  /* the method's own per-band memory (ew_band_scratch) */
     ew_active *aet;  int naet, cap_aet, max_aet;
     int dropped;
     ew_stats model_stats;           /* this band's share of the moving things' counters */
@@ -123,6 +124,11 @@ int  ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet);
 void ew_band_free(ew_band *b);
 /* The edge list's scan of one band into spans. */
 void ew_scan_band(const ew_edge_list *el, int width, ew_band *b);
+/* The band's scratch of at least bytes (grown, contents kept up to the old
+ * size; zeroed when first made), or NULL when memory runs out.  Freed with
+ * the band.  A method keeps its per-band state here: bands resolve on
+ * several threads at once. */
+void *ew_band_scratch(ew_band *b, size_t bytes);
 /* Appends a span [u0, u1) of row v to the band (nothing if empty; counted
  * as dropped when the span budget is full) and marks its surface used. */
 void ew_band_span(ew_band *b, int surf, int u0, int u1, int v);
