@@ -53,6 +53,7 @@ typedef struct ew_hsr {
 
 extern const ew_hsr ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */
 extern const ew_hsr ew_hsr_reference;  /* hsr/reference.c */
+extern const ew_hsr ew_hsr_edge_z;     /* hsr/edge_z.c: the edge list sorted by 1/z */
 
 /* hsr/methods.c: the method for an ew_hsr_method, NULL if not built. */
 const ew_hsr *ew_hsr_get(int method);
