@@ -364,6 +364,11 @@ static long synth_resolve(ew_renderer *r, int h, const int *want, long counters[
     return bad;
 }
 
+static float rnd(unsigned *seed) {
+    *seed = *seed * 1103515245u + 12345u;
+    return (float)(*seed >> 8 & 0xFFFF) / 65536.0f;
+}
+
 static void edge_z_synthetic(void) {
     ew_error err;
     ew_assets *a = ew_assets_create_builtin(&err);
@@ -410,24 +415,24 @@ static void edge_z_synthetic(void) {
     /* Many random quadrilaterals with random planes, crossing each other
      * everywhere: against the per-pixel answer. */
     unsigned seed = 12345;
-#define RND() ((seed = seed * 1103515245u + 12345u) >> 8 & 0xFFFF) / 65536.0f
     long splits = 0, total_bad = 0;
     for (int scene = 0; scene < 20; scene++) {
         synth_begin(el, H);
         for (int k = 0; k < 24; k++) {
             /* one corner on each side of a box inside the screen: convex */
-            float rx = 10 + RND() * 120, ry = 5 + RND() * 80, cx = rx + RND() * (W - 1 - 2 * rx),
-                  cy = ry + RND() * (H - 1 - 2 * ry);
-            const float q[4][2] = {{cx - rx * RND(), cy - ry}, {cx + rx, cy - ry * RND()},
-                                   {cx + rx * RND(), cy + ry}, {cx - rx, cy + ry * RND()}};
-            float zc = 0.01f + 0.01f * RND(), zu = (RND() - 0.5f) * 6e-5f, zv = (RND() - 0.5f) * 6e-5f;
+            float f[10];
+            for (int i = 0; i < 10; i++) f[i] = rnd(&seed);
+            float rx = 10 + f[0] * 120, ry = 5 + f[1] * 80, cx = rx + f[2] * (W - 1 - 2 * rx),
+                  cy = ry + f[3] * (H - 1 - 2 * ry);
+            const float q[4][2] = {{cx - rx * f[4], cy - ry}, {cx + rx, cy - ry * f[5]},
+                                   {cx + rx * f[6], cy + ry}, {cx - rx, cy + ry * f[7]}};
+            float zc = 0.01f + 0.01f * f[8], zu = (f[9] - 0.5f) * 6e-5f, zv = (rnd(&seed) - 0.5f) * 6e-5f;
             synth_poly(el, q, 4, zu, zv, zc - zu * W / 2 - zv * H / 2);
         }
         synth_expect(el, W, H, want);
         total_bad += synth_resolve(r, H, want, c, "random planes");
         splits += c[split];
     }
-#undef RND
     /* Only where three planes tie within the hair may the order of the
      * comparisons pick another one: a handful of pixels at most. */
     CHECK(total_bad <= 8, "random planes: %ld pixels of %d differ from the per-pixel answer",
