@@ -164,6 +164,11 @@ static void check_map(const char *map) {
         if (!rw->views) continue;
         const ew_hsr *h = ew_hsr_get(m);
         CHECK(h->exact_once == exact_once_expected(m), "%s: exact_once %d", h->name, h->exact_once);
+        if (m == EW_HSR_EDGE_Z) {
+            int k = counter_index(m, "1/z comparisons");
+            CHECK(k >= 0 && rw->counters[k] >= rw->views, "%s edge-z: %ld 1/z comparisons over %d views", map,
+                  k >= 0 ? rw->counters[k] : -1L, rw->views);
+        }
         if (m == EW_HSR_PAINTER)
             CHECK(2 * rw->overdrawn > rw->views, "%s painter: overdraw above 1 on only %d of %d views", map,
                   rw->overdrawn, rw->views);
