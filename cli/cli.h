@@ -84,7 +84,12 @@ void draw_opts_json(FILE *f, const draw_opts *d);
 int  draw_opts_scene(const draw_opts *d, const ew_assets *a, const char *map, const char *data,
                      int need_scene, int quiet, ew_scene **out);
 
-/* Loads MAP ('builtin' too) and prints its warnings unless quiet, one
+/* builtin:detail=N, the stress hall of `edgewise hsr --stress`
+ * (src/mapgen/stress_level.c), is a MAP of every command: N, -1 for
+ * another MAP, -2 for a bad N. */
+#define STRESS_MAP_PREFIX "builtin:detail="
+int  stress_detail(const char *map);
+/* Loads MAP ('builtin' and builtin:detail=N too) and prints its warnings unless quiet, one
  * "edgewise: warning: ..." line each; NULL with the error printed. */
 ew_assets *load_map(const char *map, const char *data, int quiet);
 void print_world_warnings(const ew_world *w, int quiet);

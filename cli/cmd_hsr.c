@@ -21,7 +21,7 @@
 #include "cli.h"
 #include "edgewise.h"
 #include "edgewise_tools.h"
-#include "mapgen/mapgen.h"  /* ew_stress_generate */
+#include "mapgen/mapgen.h"  /* EW_STRESS_MAX_DETAIL */
 
 #include <errno.h>
 #include <math.h>
@@ -42,7 +42,7 @@ enum {
 };
 
 /* The map form that names a stress level (also what --stress makes). */
-#define STRESS_PREFIX "builtin:detail="
+#define STRESS_PREFIX STRESS_MAP_PREFIX
 
 static const char hsr_usage[] =
     "usage: edgewise hsr MAP... [options]\n"
@@ -303,9 +303,7 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
         return -1;
     }
     for (int i = 0; i < o->nmaps; i++) {
-        int d;
-        if (strncmp(o->maps[i], STRESS_PREFIX, strlen(STRESS_PREFIX)) == 0 &&
-            parse_detail(o->maps[i] + strlen(STRESS_PREFIX), &d) < 0) {
+        if (stress_detail(o->maps[i]) == -2) {
             error_line("%s: the detail must be a whole number from 0 to %d", o->maps[i], EW_STRESS_MAX_DETAIL);
             return -1;
         }
@@ -356,34 +354,9 @@ static int check_heatmap_dir(const char *dir) {
 
 /* ---- maps --------------------------------------------------------------------- */
 
-/* The stress hall at detail d, as assets. */
-static ew_assets *stress_assets(int d, const char *name) {
-    ew_error err = { "" };
-    ew_assets *a = calloc(1, sizeof *a);
-    uint8_t *bsp = NULL;
-    size_t size = 0;
-    if (!a) {
-        error_line("%s: out of memory", name);
-        return NULL;
-    }
-    if (ew_stress_generate(d, &bsp, &size, a->palette, a->colormap, &err) == 0)
-        a->world = ew_world_create(bsp, size, name, &err);
-    free(bsp);
-    if (!a->world) {
-        error_line("%s", err.msg[0] ? err.msg : "cannot make the stress level");
-        free(a);
-        return NULL;
-    }
-    return a;
-}
-
 /* MAP as assets, or NULL with the error printed; *stress the detail or -1. */
 static ew_assets *hsr_load(const hsr_opts *o, const char *map, int *stress) {
-    *stress = -1;
-    if (strncmp(map, STRESS_PREFIX, strlen(STRESS_PREFIX)) == 0) {
-        parse_detail(map + strlen(STRESS_PREFIX), stress);  /* checked by hsr_parse */
-        return stress_assets(*stress, map);
-    }
+    *stress = stress_detail(map) >= 0 ? stress_detail(map) : -1;
     return load_map(map, o->data, o->quiet);
 }
 
@@ -527,7 +500,7 @@ static int lab_size(const lab_ctx *c, int w, int h, hsr_row *rows) {
         memset(r, 0, sizeof *r);
         map_basename(c->map, r->map, sizeof r->map);
         r->w = w, r->h = h, r->method = o->methods[m], r->views = c->nviews, r->passes = o->repeat;
-        r->threads = threads, r->stress = c->stress, r->entities = c->scene != NULL;
+        r->threads = threads, r->stress = c->stress, r->entities = c->scene != NULL && c->stress < 0;
         if (ew_set_hsr(rd, (ew_hsr_method)r->method) < 0) {
             error_line("hsr: method %s not available", ew_hsr_name((ew_hsr_method)r->method));
             goto done;
@@ -964,7 +937,7 @@ int cmd_hsr(int argc, char **argv) {
         if (nviews == 0) {
             error_line("%s: no views (no info_player* or info_intermission entity)", o.maps[m]);
             rc = 1;
-        } else if (stress < 0 && draw_opts_scene(&o.draw, a, o.maps[m], o.data, 0, o.quiet, &sc) < 0) {
+        } else if (draw_opts_scene(&o.draw, a, o.maps[m], o.data, 0, o.quiet, &sc) < 0) {
             rc = 1;
         }
         lab_ctx c = { &o, o.maps[m], a, sc, views, nviews, stress };
