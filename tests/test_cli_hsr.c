@@ -218,6 +218,9 @@ static void test_lab(const char *data) {
                           maps[m], j->w, j->h, j->agree_mean);
                 }
             }
+    /* the drawing options reach every row, as in bench */
+    CHECK(strstr(text, "\"classic\":false") == NULL && strstr(text, "\"entities\":true") == NULL,
+          "JSON rows without --classic or --no-entities");
     const jrow *e = find_row(rows, n, "e1m1", 320, "edge");
     if (e) fprintf(stderr, "e1m1 320x200 edge: median %.3f ms, agreement %.3f%%\n", e->median, e->agree_mean);
 
@@ -387,6 +390,13 @@ static void test_errors(const char *data) {
                 "builtin:detail=26001: the detail must be a whole number from 0 to 26000");
     expect_line(ARGS("hsr", "builtin", "--hsr", "edge"), 2, "hsr: --hsr: the lab runs every method of --methods LIST");
     expect_line(ARGS("hsr", "builtin", "--frobnicate"), 2, "hsr: unknown option '--frobnicate' (see edgewise hsr --help)");
+    /* a drawing option's error is the same line as in bench */
+    ew_t_run *rb = run(ARGS("bench", "builtin", "--fog", "x"));
+    static char bench_err[1024];
+    snprintf(bench_err, sizeof bench_err, "%s", rb->err);
+    ew_t_run *rh = run(ARGS("hsr", "builtin", "--fog", "x"));
+    CHECK(rh->status == 2 && strcmp(rh->err, bench_err) == 0 && ew_t_count_lines(bench_err) == 1,
+          "hsr --fog x: '%s', bench: '%s'", rh->err, bench_err);
     /* a heat map folder that is a file, or under one */
     char file[600], sub[700];
     path_in(file, "plain_file");
