@@ -392,7 +392,7 @@ static void test_errors(const char *data) {
     expect_line(ARGS("hsr", "builtin", "--frobnicate"), 2, "hsr: unknown option '--frobnicate' (see edgewise hsr --help)");
     /* a drawing option's error is the same line as in bench */
     ew_t_run *rb = run(ARGS("bench", "builtin", "--fog", "x"));
-    static char bench_err[1024];
+    static char bench_err[sizeof rb->err];
     snprintf(bench_err, sizeof bench_err, "%s", rb->err);
     ew_t_run *rh = run(ARGS("hsr", "builtin", "--fog", "x"));
     CHECK(rh->status == 2 && strcmp(rh->err, bench_err) == 0 && ew_t_count_lines(bench_err) == 1,
