@@ -629,7 +629,7 @@ static void print_table_row(const hsr_row *r) {
         snprintf(mem, sizeof mem, "%.1fM", r->mem_max / (1024 * 1024));
     printf("%-20.20s %9s %-10s %5d %9.3f %9.3f %4d %8.3f %8.3f %7.2f %7.2f %8.0f %9s ", r->map, size,
            ew_hsr_name((ew_hsr_method)r->method), r->views, r->median, r->worst, r->worst_view,
-           r->overdraw_mean, r->overdraw_max, r->agree_mean, r->agree_min, r->polygons, mem);
+           r->overdraw_mean, r->overdraw_max, r->agree_mean, r->agree_min, r->in_view, mem);
     for (int c = 0; c < EW_HSR_COUNTERS; c++) {
         const char *name = ew_hsr_counter_name((ew_hsr_method)r->method, c);
         if (name) printf(" %s=%.0f", name, r->counters[c]);
@@ -644,7 +644,11 @@ static void print_stress_table(const hsr_opts *o, const hsr_row *rows, int nrows
                o->sizes[s][1]);
         printf("%8s %9s", "detail", "polygons");
         for (int m = 0; m < o->nmethods; m++) printf(" %12s", ew_hsr_name((ew_hsr_method)o->methods[m]));
-        for (int m = 0; m < o->nmethods; m++) printf(" %11s", "us/polygon");
+        for (int m = 0; m < o->nmethods; m++) {
+            char head[32];
+            snprintf(head, sizeof head, "%s us/poly", ew_hsr_name((ew_hsr_method)o->methods[m]));
+            printf(" %16s", head);
+        }
         putchar('\n');
         for (int d = 0; d < o->nstress; d++) {
             const hsr_row *first = NULL;
@@ -660,7 +664,7 @@ static void print_stress_table(const hsr_opts *o, const hsr_row *rows, int nrows
             printf("%8d %9.0f", o->stress[d], first->in_view);
             for (int m = 0; m < o->nmethods; m++) printf(" %12.3f", ms[m]);
             for (int m = 0; m < o->nmethods; m++)
-                printf(" %11.3f", first->in_view > 0 ? ms[m] * 1e3 / first->in_view : 0.0);
+                printf(" %16.3f", first->in_view > 0 ? ms[m] * 1e3 / first->in_view : 0.0);
             putchar('\n');
         }
     }
@@ -813,7 +817,7 @@ static int write_bar_svg(FILE *f, const hsr_opts *o, const hsr_row *rows, int nr
 
 /* --stress: per size a panel of median ms against polygons, a line per method. */
 static int write_stress_svg(FILE *f, const hsr_opts *o, const hsr_row *rows, int nrows) {
-    const double left = 70, top = 40, pw = 520, ph = 260, pgap = 80, legendw = 150;
+    const double left = 70, top = 52, pw = 520, ph = 260, pgap = 80, legendw = 150;
     double width = left + pw + legendw, height = top + o->nsizes * (ph + pgap) + 20;
     fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
