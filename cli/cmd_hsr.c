@@ -856,13 +856,22 @@ static int write_stress_svg(FILE *f, const hsr_opts *o, const hsr_row *rows, int
                 left + pw / 2, y0 + 32);
         fprintf(f, "<text x=\"16\" y=\"%.1f\" transform=\"rotate(-90 16 %.1f)\" text-anchor=\"middle\">median ms"
                    "</text>\n", y0 - ph / 2, y0 - ph / 2);
+        /* the points left to right, whatever order --stress listed them in */
+        int order[MAX_STRESS * MAX_SIZES * EW_HSR_COUNT], npts = 0;
+        for (int i = 0; i < nrows && npts < (int)(sizeof order / sizeof *order); i++)
+            if (rows[i].w == w && rows[i].h == h) order[npts++] = i;
+        for (int i = 1; i < npts; i++)
+            for (int k = i; k > 0 && rows[order[k]].in_view < rows[order[k - 1]].in_view; k--) {
+                int t = order[k];
+                order[k] = order[k - 1], order[k - 1] = t;
+            }
         for (int m = 0; m < o->nmethods; m++) {
             const char *name = ew_hsr_name((ew_hsr_method)o->methods[m]);
             fprintf(f, "<polyline class=\"series\" data-method=\"%s\" data-size=\"%dx%d\" fill=\"none\" "
                        "stroke=\"%s\" stroke-width=\"2\" points=\"", name, w, h, method_colour(o->methods[m]));
-            for (int i = 0; i < nrows; i++) {
-                const hsr_row *r = &rows[i];
-                if (r->w == w && r->h == h && r->method == o->methods[m])
+            for (int i = 0; i < npts; i++) {
+                const hsr_row *r = &rows[order[i]];
+                if (r->method == o->methods[m])
                     fprintf(f, "%.1f,%.1f ", left + pw * r->in_view / xtop, y0 - ph * r->median / ytop);
             }
             fputs("\"/>\n", f);
