@@ -45,6 +45,7 @@ static const char usage_head[] =
     "  views MAP [--data DIR] list the view set: INDEX X Y Z PITCH YAW ROLL\n"
     "  info MAP [--data DIR]  BSP version, lumps and counts\n"
     "  bench MAP... [options] time the view set (see edgewise bench --help)\n"
+    "  hsr MAP... [options]   the hidden-surface lab: every method timed and checked\n"
     "  view MAP [options]     walk through MAP in a window (see edgewise view --help)\n"
     "  soak MAP --frames N    render N frames and check every frame's counters\n"
     "  shots MAP|DIR|PAK...   pictures of many maps (see edgewise shots --help)\n"
@@ -758,6 +759,8 @@ int main(int argc, char **argv) {
         return cmd_bench(argc, argv);
     if (strcmp(cmd, "soak") == 0)
         return cmd_soak(argc, argv);
+    if (strcmp(cmd, "hsr") == 0)
+        return cmd_hsr(argc, argv);
     if (strcmp(cmd, "view") == 0)
         return cmd_view(argc, argv);
     if (strcmp(cmd, "shots") == 0)
