@@ -3,7 +3,8 @@
  * 320x200, against the reference path (a brute-force z-buffer over the
  * same faces) and against each other:
  *   - the face winning each pixel agrees with the reference on >= 99%;
- *   - spans and drawbuffer write every pixel exactly once (overdraw 1.0);
+ *   - spans and drawbuffer write every pixel exactly once (overdraw 1.0),
+ *     and give the edge list's faces (>= 99.99% of pixels);
  *   - painter writes every polygon whole: its writes are exactly the
  *     z-buffer's depth tests, so it overdraws wherever polygons overlap,
  *     and it ends with the z-buffer's faces almost everywhere;
@@ -107,6 +108,10 @@ int main(void) {
                 t->od_sum += st[m].overdraw;
                 if (st[m].overdraw > t->od_max) t->od_max = st[m].overdraw;
                 double ae = agreement(ids[m], edge_ids);
+                /* Same polygons, same pixels, same order as the edge list:
+                 * the methods that write each pixel once give its frame. */
+                if (methods[m] == EW_HSR_SPANS || methods[m] == EW_HSR_DRAWBUFFER)
+                    CHECK(ae >= 0.9999, "%s view %d: %s agrees with edge on %.3f%%", maps[mi], v, name, 100 * ae);
                 t->edge_sum += ae;
                 if (ae < t->edge_worst) t->edge_worst = ae;
                 for (int k = 0; k < EW_HSR_COUNTERS; k++) t->counters[k] += st[m].hsr_counters[k];

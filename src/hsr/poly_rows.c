@@ -166,6 +166,40 @@ static int surf_row(const ew_poly_rows *pr, int s, int v, ew_row_poly *out, int 
     return m;
 }
 
+/* Must interval a come before interval b on row v?  Only brush-model
+ * fragments of one leaf (one key) need it: where they overlap, the one
+ * nearer at the first pixel both cover, as the edge scan decides when the
+ * later one enters its surface stack (edge_scan.c nearer(): 1/z there;
+ * equal, the one whose 1/z grows faster to the right). */
+static int goes_before(const ew_surf *surfs, const ew_row_poly *a, const ew_row_poly *b, int v) {
+    int u = a->xl > b->xl ? a->xl : b->xl, end = a->xr < b->xr ? a->xr : b->xr;
+    if (u >= end) return 0;
+    const ew_surf *sa = &surfs[a->surf], *sb = &surfs[b->surf];
+    float za = sa->zi_u * u + sa->zi_v * v + sa->zi_0, zb = sb->zi_u * u + sb->zi_v * v + sb->zi_0;
+    if (za != zb) return za > zb;
+    return sa->zi_u > sb->zi_u;
+}
+
+/* Orders a run of same-key fragments on this row: repeatedly the first
+ * one that no other remaining one must precede (a cycle, from
+ * interpenetrating fragments, takes the first as it stands). */
+static void order_run(const ew_surf *surfs, ew_row_poly *p, int n, int v) {
+    for (int i = 0; i < n - 1; i++) {
+        int pick = i;
+        for (int k = i; k < n; k++) {
+            int free = 1;
+            for (int m = i; m < n && free; m++) free = m == k || !goes_before(surfs, &p[m], &p[k], v);
+            if (free) {
+                pick = k;
+                break;
+            }
+        }
+        ew_row_poly x = p[pick];
+        memmove(p + i + 1, p + i, sizeof *p * (size_t)(pick - i));
+        p[i] = x;
+    }
+}
+
 int ew_poly_rows_next(ew_poly_rows *pr) {
     ew_band *b = pr->b;
     if (++pr->v >= b->y1) return 0;
@@ -195,6 +229,17 @@ int ew_poly_rows_next(ew_poly_rows *pr) {
             break;
         }
         pr->nrow += surf_row(pr, s, v, pr->row + pr->nrow, room);
+    }
+    /* Same-key brush-model fragments sit together in the order; sort each
+     * such run for this row by 1/z where its members overlap. */
+    const ew_surf *surfs = pr->el->surfs;
+    for (int i = 0; i < pr->nrow;) {
+        const ew_surf *a = &surfs[pr->row[i].surf];
+        int j = i + 1;
+        while (j < pr->nrow && a->insubmodel && surfs[pr->row[j].surf].insubmodel && surfs[pr->row[j].surf].key == a->key)
+            j++;
+        if (j - i > 1) order_run(surfs, pr->row + i, j - i, v);
+        i = j;
     }
     return 1;
 }
