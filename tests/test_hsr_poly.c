@@ -11,7 +11,7 @@
  *   - zbuffer: depth tests >= depth passes >= pixels covered;
  *   - drawbuffer: bits tested + 8 per byte skipped or filled = the pixels
  *     of every polygon's spans (the depth tests of the z-buffer);
- *   - every method's frame is the same on 1 and 2 threads.
+ *   - every method's frame and counters are the same on 1 and 2 threads.
  * With each map's entities (brush models sort among the polygons).
  * Prints each method's agreement and overdraw. */
 #include "edgewise_tools.h"
@@ -159,10 +159,19 @@ int main(void) {
                 /* 2 threads, twice: the second frame's bands follow the
                  * first one's costs, so the rows split differently. */
                 for (int k = 0; k < 2; k++) {
-                    CHECK(ew_render(r[1], &views[v], NULL) == 0, "%s view %d: %s", maps[mi], v, name);
+                    ew_stats st2;
+                    CHECK(ew_render(r[1], &views[v], &st2) == 0, "%s view %d: %s", maps[mi], v, name);
                     CHECK(memcmp(px[m], ew_frame_pixels(r[1]), NPX) == 0 &&
                               memcmp(ids[m], ew_frame_face_ids(r[1]), sizeof(int) * NPX) == 0,
                           "%s view %d: %s differs on 2 threads (frame %d)", maps[mi], v, name, k);
+                    /* The counters too: each is counted once per row or
+                     * per polygon, wherever the bands split the rows. */
+                    CHECK(memcmp(st2.hsr_counters, st[m].hsr_counters, sizeof st2.hsr_counters) == 0 &&
+                              st2.pixels_written == st[m].pixels_written,
+                          "%s view %d: %s counts differently on 2 threads: %ld %ld %ld %ld, 1 thread %ld %ld %ld %ld",
+                          maps[mi], v, name, st2.hsr_counters[0], st2.hsr_counters[1], st2.hsr_counters[2],
+                          st2.hsr_counters[3], st[m].hsr_counters[0], st[m].hsr_counters[1], st[m].hsr_counters[2],
+                          st[m].hsr_counters[3]);
                 }
                 double ag = agreement(ids[m], ref_ids);
                 CHECK(ag >= 0.99, "%s view %d: %s agrees with the reference on %.2f%% of pixels", maps[mi], v,

@@ -70,12 +70,15 @@ void *ew_poly_rows_begin(ew_poly_rows *pr, const ew_renderer *r, ew_band *b, siz
     const ew_edge *edges = el->edges;
     for (int i = 0; i < ne; i++) {
         const ew_edge *e = &edges[i];
+        /* the surface's first row over the whole frame: edges can end and
+         * begin at a band's first row on both sides at once */
+        for (int k = 0; k < 2; k++)
+            if (e->v_first < pr->vmin[e->surfs[k]]) pr->vmin[e->surfs[k]] = e->v_first;
         if (e->v_last < b->y0 || e->v_first >= b->y1) continue;
         for (int k = 0; k < 2; k++) {
             int s = e->surfs[k];
             if (!s) continue;
             first[s + 1]++;
-            if (e->v_first < pr->vmin[s]) pr->vmin[s] = e->v_first;
             int t = e->v_first > b->y0 ? e->v_first : b->y0, u = e->v_last < b->y1 - 1 ? e->v_last : b->y1 - 1;
             if (t < pr->top[s]) pr->top[s] = t;
             if (u > pr->bot[s]) pr->bot[s] = u;

@@ -29,7 +29,7 @@ typedef struct ew_poly_rows {
     int32_t *first, *ent;      /* per surface: its band edges ent[first[s] .. first[s + 1]), edge << 1 | leads */
     int32_t *order;            /* the band's surfaces, front to back */
     int32_t *top, *bot;        /* per surface: its rows in the band [top, bot] */
-    int32_t *vmin;             /* per surface: the first row of its band edges (above y0: it began above) */
+    int32_t *vmin;             /* per surface: its first row in the frame */
     int32_t *head, *next;      /* surfaces by first row in the band, front to back */
     int32_t *act, *act2;       /* ranks of the surfaces crossing the row, ascending */
     int32_t *rank;             /* per surface: its place in order */
