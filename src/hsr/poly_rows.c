@@ -6,8 +6,9 @@
 #include <string.h>
 
 /* Front-to-back order: BSP key, smaller nearer; brush-model fragments that
- * share a key (one leaf) by their nearest 1/z, larger first; then the
- * surface number, so the order is total and the same in every band. */
+ * share a key (one leaf) after the world's faces, by their nearest 1/z
+ * for a start (each row sorts them again: order_run); then the surface
+ * number, so the order is total and the same in every band. */
 typedef struct sort_item {
     int   key, sub;
     float zi;

@@ -4,11 +4,14 @@
  * Those methods share the edge list's front end (ew_edge_begin,
  * ew_emit_face, ew_emit_poly), so their surfaces and edges are the edge
  * method's.  Here a band finds each surface's edges, orders the surfaces
- * front to back (BSP key; brush-model fragments sharing a key by their
- * nearest 1/z) and, row by row, hands out every polygon crossing the row
- * with its pixel extent [xl, xr): the pixels the edge scan would give the
- * polygon if it were alone (the same 16.16 u, the same rounding), so
- * abutting polygons tile a row with no gap and no pixel twice.
+ * front to back by BSP key and, row by row, hands out every polygon
+ * crossing the row with its pixel extent [xl, xr): the pixels the edge
+ * scan would give the polygon if it were alone (the same 16.16 u, the same
+ * rounding), so abutting polygons tile a row with no gap and no pixel
+ * twice.  Brush-model fragments sharing a key (one leaf) are ordered on
+ * each row by 1/z where they overlap, as the edge scan decides between
+ * them.  So a method that keeps the nearest polygon at each pixel gives
+ * the edge list's frame exactly.
  *
  * Everything lives in the band's scratch (ew_band_scratch): bands resolve
  * on several threads at once. */
