@@ -30,7 +30,7 @@ static const ew_hsr_method methods[NM] = {EW_HSR_SPANS, EW_HSR_ZBUFFER, EW_HSR_P
 
 typedef struct tally {
     double agree_sum, agree_worst, od_sum, od_max, edge_sum, edge_worst;
-    long counters[EW_HSR_COUNTERS];
+    long counters[EW_HSR_COUNTERS], bytes;
     int views;
 } tally;
 
@@ -191,6 +191,7 @@ int main(void) {
                 t->edge_sum += ae;
                 if (ae < t->edge_worst) t->edge_worst = ae;
                 for (int k = 0; k < EW_HSR_COUNTERS; k++) t->counters[k] += st[m].hsr_counters[k];
+                if (st[m].hsr_bytes > t->bytes) t->bytes = st[m].hsr_bytes;
                 t->views++;
             }
             /* Exactly once: every pixel of the frame, one write each. */
@@ -253,7 +254,7 @@ int main(void) {
         for (int k = 0; k < EW_HSR_COUNTERS; k++)
             if (ew_hsr_counter_name(methods[m], k))
                 printf(" %s %ld", ew_hsr_counter_name(methods[m], k), t->counters[k] / t->views);
-        printf(" (per view)\n");
+        printf(" (per view)  memory %ld bytes at most\n", t->bytes);
     }
     printf("views %d, with overlapping polygons %d\n", nviews, overlapping);
     test_large();

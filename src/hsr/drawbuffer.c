@@ -4,6 +4,8 @@
  * bit, except that on a whole byte of the buffer it is tested a byte at a
  * time: 8 drawn pixels skipped at once, 8 free ones taken at once (the
  * variation the Black Book mentions).  Every pixel is written exactly once.
+ * Row by row, each row's polygons in turn (the rows do not depend on each
+ * other, so this is the polygon-by-polygon result).
  * The polygons, their order and their pixels are the edge list's
  * (hsr/poly_rows.h). */
 #include "hsr/poly_rows.h"
@@ -16,18 +18,18 @@ enum { C_BITS, C_SKIPPED, C_FILLED, C_SPANS };
 static void db_resolve(ew_renderer *r, ew_band *b) {
     const int width = r->target.width, stride = (width + 7) / 8;
     ew_poly_rows pr;
-    size_t bits = (size_t)stride * (size_t)(b->y1 - b->y0);
-    size_t pieces_at = (bits + 15) & ~(size_t)15;
-    uint8_t *buf = ew_poly_rows_begin(&pr, r, b, pieces_at + sizeof(ew_row_poly) * (size_t)(width + 1));
-    if (!buf) {
+    /* The rows are resolved one after another: one row of bits is all the
+     * buffer ever needs. */
+    size_t pieces_at = ((size_t)stride + 15) & ~(size_t)15;
+    uint8_t *row = ew_poly_rows_begin(&pr, r, b, pieces_at + sizeof(ew_row_poly) * (size_t)(width + 1));
+    if (!row) {
         ew_poly_rows_background(b, width);
         return;
     }
-    ew_row_poly *pieces = (ew_row_poly *)(void *)(buf + pieces_at);
-    memset(buf, 0, bits);
+    ew_row_poly *pieces = (ew_row_poly *)(void *)(row + pieces_at);
     long *c = b->counters;
     while (ew_poly_rows_next(&pr)) {
-        uint8_t *row = buf + (size_t)(pr.v - b->y0) * stride;
+        memset(row, 0, (size_t)stride);
         int np = 0;
         for (int i = 0; i < pr.nrow; i++) {
             const ew_row_poly *rp = &pr.row[i];

@@ -2,8 +2,11 @@
  * polygon): polygons are walked front to back and rasterized into spans;
  * each row keeps the list of spans already drawn, sorted by x, and a new
  * span is clipped against it, so only the pixels no nearer polygon took
- * are written.  Every pixel is written exactly once.  The polygons, their
- * order and their pixels are the edge list's (hsr/poly_rows.h). */
+ * are written.  Every pixel is written exactly once.  Row by row, each
+ * row's polygons in turn (the rows do not depend on each other, so this is
+ * the polygon-by-polygon result, with one row's list at a time).  The
+ * polygons, their order and their pixels are the edge list's
+ * (hsr/poly_rows.h). */
 #include "hsr/poly_rows.h"
 #include "renderer.h"
 

@@ -1,6 +1,7 @@
 /* Z-buffered hidden-surface removal: polygons front to back, each pixel's
- * 1/z (from the polygon's plane) tested against the band's depth buffer
- * and written where nearer.  Runs of passing pixels become spans, drawn in
+ * 1/z (from the polygon's plane) tested against a depth buffer and written
+ * where nearer.  Row by row, each row's polygons in turn (the rows do not
+ * depend on each other, so this is the polygon-by-polygon result).  Runs of passing pixels become spans, drawn in
  * the order made (later over earlier: a later pass is nearer), so pixels
  * may be written more than once where the order is not the depth order.
  * The polygons, their order and their pixels are the edge list's
@@ -28,18 +29,18 @@ static void zb_face(ew_renderer *r, int face, int clipflags, int key) {
 static void zb_resolve(ew_renderer *r, ew_band *b) {
     const int width = r->target.width;
     ew_poly_rows pr;
-    size_t zbytes = sizeof(float) * (size_t)width * (size_t)(b->y1 - b->y0);
-    float *zbuf = ew_poly_rows_begin(&pr, r, b, zbytes);
-    if (!zbuf) {
+    /* The rows are resolved one after another: one row of depth is all
+     * the buffer ever needs. */
+    float *zr = ew_poly_rows_begin(&pr, r, b, sizeof(float) * (size_t)width);
+    if (!zr) {
         ew_poly_rows_background(b, width);
         return;
     }
     b->unsorted = 1;
-    memset(zbuf, 0, zbytes);  /* 0: nothing drawn, farther than any polygon */
     long *c = b->counters;
     while (ew_poly_rows_next(&pr)) {
         const int v = pr.v;
-        float *zr = zbuf + (size_t)(v - b->y0) * width;
+        memset(zr, 0, sizeof(float) * (size_t)width);  /* 0: nothing drawn, farther than any polygon */
         for (int i = 0; i < pr.nrow; i++) {
             const ew_row_poly *rp = &pr.row[i];
             const ew_surf *sf = &r->el.surfs[rp->surf];
