@@ -37,7 +37,7 @@ void *ew_poly_rows_begin(ew_poly_rows *pr, const ew_renderer *r, ew_band *b, siz
     /* One block: the index, the order and the row list, then the method's
      * part; all of it rebuilt every frame. */
     const size_t i32 = sizeof(int32_t);
-    size_t off[12], at = 0;
+    size_t off[12], at = 16;  /* first the bytes used this frame (ew_poly_rows_memory) */
     const size_t len[12] = {i32 * (size_t)(ns + 1), i32 * 2 * (size_t)ne, i32 * (size_t)ns, i32 * (size_t)ns,
                             i32 * (size_t)ns,       i32 * (size_t)ns,     i32 * (size_t)(rows + 1), i32 * (size_t)ns,
                             i32 * (size_t)ns,       i32 * (size_t)ns,     i32 * (size_t)ns,
@@ -50,6 +50,7 @@ void *ew_poly_rows_begin(ew_poly_rows *pr, const ew_renderer *r, ew_band *b, siz
         b->dropped++;
         return NULL;
     }
+    *(size_t *)(void *)m = total;
     pr->first = (int32_t *)(void *)(m + off[0]);
     pr->ent = (int32_t *)(void *)(m + off[1]);
     pr->order = (int32_t *)(void *)(m + off[2]);
@@ -273,8 +274,13 @@ void ew_poly_rows_emit_sorted(ew_poly_rows *pr, ew_row_poly *p, int n) {
     ew_band_span(pr->b, 0, x, pr->width, pr->v);
 }
 
+/* What this frame used of each band's scratch: another method may have
+ * grown it further, and the scratch is kept. */
 size_t ew_poly_rows_memory(const ew_renderer *r) {
     size_t n = 0;
-    for (int i = 0; i < r->sched.nbands; i++) n += r->sched.bands[i].scratch_bytes;
+    for (int i = 0; i < r->sched.nbands; i++) {
+        const ew_band *b = &r->sched.bands[i];
+        if (b->scratch_bytes >= 16) n += *(const size_t *)b->scratch;
+    }
     return n;
 }

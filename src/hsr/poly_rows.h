@@ -62,7 +62,7 @@ int ew_poly_rows_starts_here(const ew_poly_rows *pr, int s);
  * with the background (surface 0) in every gap, so the row is complete. */
 void ew_poly_rows_emit_sorted(ew_poly_rows *pr, ew_row_poly *p, int n);
 
-/* The method's memory: what the bands' scratch holds. */
+/* The method's memory: what it used of the bands' scratch this frame. */
 size_t ew_poly_rows_memory(const ew_renderer *r);
 
 #endif
