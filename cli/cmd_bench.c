@@ -352,7 +352,7 @@ static const struct counter_def {
     COUNTER(entities_unknown), COUNTER(models_missing), COUNTER(alias_tris),
     COUNTER(alias_tris_subdiv), COUNTER(alias_pixels), COUNTER(particles),
     COUNTER(surfaces_rebuilt_by_dlights), COUNTER(seethrough_surfaces), COUNTER(fence_pixels),
-    COUNTER(translucent_pixels), COUNTER(fog_pixels), COUNTER(underwater),
+    COUNTER(translucent_pixels), COUNTER(fog_pixels), COUNTER(underwater), COUNTER(hsr_bytes),
 };
 #undef COUNTER
 enum { NCOUNTERS = sizeof counter_defs / sizeof counter_defs[0], C_SEETHROUGH = 19 };
