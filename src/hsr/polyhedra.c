@@ -665,9 +665,12 @@ static int scan(ew_polyhedra *p) {
         p->stack[0] = BACKGROUND;
         for (int i = 0; i <= nael; i++) {
             int nx = i < nael ? p->ael_px[i] : W;
-            /* Between edges: planes that cross switch the top surface. */
-            while (p->crossings_on && n > 2 && x < nx) {
-                int best = nx, who = -1;
+            /* Between edges planes that cross switch the top surface; up
+             * to and including the next edge's own pixel, so the top is
+             * right there before that edge's surface is sorted in. */
+            int lim = nx < W ? nx + 1 : W;
+            while (p->crossings_on && n > 2 && x + 1 < lim) {
+                int best = lim, who = -1;
                 for (int j = 1; j < n - 1; j++) {
                     int q = crossing(p, p->stack[j], p->stack[0], x, best, y);
                     if (q < best)
