@@ -53,7 +53,9 @@ static const char usage_head[] =
     "  --version              the version\n"
     "\n"
     "MAP is a path to a .bsp file, a map name looked up as maps/NAME.bsp in\n"
-    "the game directory given by --data, or the word 'builtin'.\n"
+    "the game directory given by --data, or the word 'builtin'.  render and view\n"
+    "also take 'builtin:polyhedra': moving polyhedra drawn by a 1/z-sorted edge\n"
+    "list, no BSP (see edgewise render builtin:polyhedra --help).\n"
     "\n"
     "render options:\n"
     "  --data DIR           game directory (maps/, gfx/palette.lmp, gfx/colormap.lmp)\n"
@@ -733,6 +735,11 @@ int main(int argc, char **argv) {
     draw_opts_init(&o.draw);
 
     int pr;
+    /* The moving polyhedra have no map: their own command line. */
+    if (argc > 2 && is_polyhedra(argv[2]) && strcmp(cmd, "render") == 0)
+        return cmd_polyhedra(argc, argv);
+    if (argc > 2 && is_polyhedra(argv[2]) && strcmp(cmd, "view") == 0)
+        return cmd_view_polyhedra(argc, argv);
     if (strcmp(cmd, "render") == 0) {
         pr = parse_args(argc, argv, 2, cmd,
                         O_DATA | O_SIZE | O_VIEW | O_POS | O_ANGLES | O_FOV | O_TIME | O_OUT |

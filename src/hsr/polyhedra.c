@@ -199,7 +199,7 @@ static void make_object(object *o, int i) {
     shape s;
     make_shape(i % 5, &s);
     double scale[3];
-    double size = 14 + 16 * rnd(&seed);
+    double size = 10 + 12 * rnd(&seed);
     for (int k = 0; k < 3; k++)
         scale[k] = size * (0.7 + 0.6 * rnd(&seed));
     if (i % 5 == 0 && (i / 5) % 2 == 1)  /* every other cube a slab */
@@ -233,7 +233,7 @@ static void make_object(object *o, int i) {
         normalize3(nrm);
         memcpy(o->n[f], nrm, sizeof nrm);
     }
-    o->ramp = 1 + i % 15;
+    o->ramp = 1 + i * 7 % 15;  /* neighbours far apart on the wheel */
     for (int k = 0; k < 3; k++)
         o->axis[k] = rnd(&seed) - 0.5;
     normalize3(o->axis);
@@ -241,9 +241,9 @@ static void make_object(object *o, int i) {
     o->spin0 = 6.283 * rnd(&seed);
     /* Orbits about one point in front of the camera, in tilted planes, so
      * the objects keep passing through each other. */
-    o->center[0] = 50 * (rnd(&seed) - 0.5);
+    o->center[0] = 80 * (rnd(&seed) - 0.5);
     o->center[1] = 30 * (rnd(&seed) - 0.5);
-    o->center[2] = 170 + 40 * (rnd(&seed) - 0.5);
+    o->center[2] = 180 + 40 * (rnd(&seed) - 0.5);
     double tilt = 3.14159 * rnd(&seed), yaw = 6.283 * rnd(&seed);
     o->u[0] = cos(yaw), o->u[1] = 0, o->u[2] = sin(yaw);
     double up[3] = { -sin(yaw) * sin(tilt), cos(tilt), cos(yaw) * sin(tilt) };
@@ -251,7 +251,7 @@ static void make_object(object *o, int i) {
     cross3(o->u, up, c);
     cross3(c, o->u, o->w);
     normalize3(o->w);
-    o->radius = 25 + 60 * rnd(&seed);
+    o->radius = 30 + 60 * rnd(&seed);
     o->speed = (0.25 + 0.5 * rnd(&seed)) * (rnd(&seed) < 0.5 ? -1 : 1);
     o->phase = 6.283 * rnd(&seed);
     o->bob = 20 * rnd(&seed);
