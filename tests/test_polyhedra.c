@@ -6,7 +6,8 @@
  * pixels.  Over the run: planes really cross (intersections resolved > 0)
  * and resolving them matters (without, the frames disagree more); the
  * near plane cuts faces; the same time gives the same frame; a palette
- * given is used; bad arguments are refused with a message. */
+ * given is used; bad arguments are refused with a message, in the library
+ * and in `edgewise render builtin:polyhedra` (EW_CLI). */
 #define _POSIX_C_SOURCE 200809L
 #include "util.h"
 
@@ -14,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #define W 640
 #define H 480
@@ -102,8 +104,48 @@ static long check_spans(const ew_polyhedra *p, const uint8_t *frame, int *bad_fr
     return total;
 }
 
+#define ARGS(...) ((const char *const[]){ __VA_ARGS__, NULL })
+
+/* The command: one frame with --stats, then bad arguments (one line, exit 2). */
+static void command_line(void) {
+    char dir[] = "/tmp/ew_polyhedra_XXXXXX";
+    if (!getenv("EW_CLI") || !mkdtemp(dir)) {
+        CHECK(0, "no EW_CLI or no temporary folder");
+        return;
+    }
+    static ew_t_run r;
+    ew_t_run_cli(&r, dir, ARGS("render", "builtin:polyhedra", "--time", "14", "--size", "400x300",
+                               "--out", "p.png", "--stats"));
+    CHECK(r.status == 0, "render builtin:polyhedra: exit %d: %s", r.status, r.err);
+    CHECK(ew_t_json_num(r.out, "overdraw") == 1 && ew_t_json_num(r.out, "agreement") >= 0.999 &&
+              ew_t_json_num(r.out, "width") == 400 && ew_t_json_num(r.out, "polygons") > 0,
+          "stats: %s", r.out);
+    char png[64];
+    snprintf(png, sizeof png, "%s/p.png", dir);
+    CHECK(access(png, R_OK) == 0, "no %s", png);
+    remove(png);
+    const char *const *bad[] = {
+        ARGS("render", "builtin:polyhedra", "--time", "-1"),
+        ARGS("render", "builtin:polyhedra", "--time", "nan"),
+        ARGS("render", "builtin:polyhedra", "--time", "1e7"),
+        ARGS("render", "builtin:polyhedra", "--objects", "0"),
+        ARGS("render", "builtin:polyhedra", "--objects", "65"),
+        ARGS("render", "builtin:polyhedra", "--size", "10x10"),
+        ARGS("render", "builtin:polyhedra", "--out"),
+        ARGS("render", "builtin:polyhedra", "--bogus"),
+        ARGS("view", "builtin:polyhedra", "--scale", "9"),
+    };
+    for (int i = 0; i < (int)(sizeof bad / sizeof *bad); i++) {
+        ew_t_run_cli(&r, dir, bad[i]);
+        CHECK(r.status == 2 && ew_t_count_lines(r.err) == 1 && strncmp(r.err, "edgewise: ", 10) == 0,
+              "%s %s: exit %d, stderr: %s", bad[i][2], bad[i][3] ? bad[i][3] : "", r.status, r.err);
+    }
+    rmdir(dir);
+}
+
 int main(void) {
     bad_arguments();
+    command_line();
 
     ew_error err;
     ew_polyhedra *p = ew_polyhedra_create(EW_POLYHEDRA_DEFAULT, W, H, NULL, &err);
