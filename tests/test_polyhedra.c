@@ -160,6 +160,7 @@ int main(void) {
     long long writes = 0, crossings = 0, ties = 0;
     int frames_crossing = 0, frames_clipped = 0, bad_spans = 0, below = 0, indep_below = 0;
     int covered_differs = 0, min_frame = 0;
+    double zod_min = 1e9, zod_max = 0;
     for (int f = 0; f < FRAMES; f++) {
         /* 0.137 s apart: 27 s, more than a turn of the slowest orbits. */
         double t = f * 0.137;
@@ -175,6 +176,8 @@ int main(void) {
         double t3 = now_ms();
         CHECK(rc == 0, "frame %d z-buffer: %s", f, err.msg);
         ms_edge += t1 - t0, ms_z += t3 - t2;
+        double zod = (double)sz.pixels / (W * H);
+        zod_min = zod < zod_min ? zod : zod_min, zod_max = zod > zod_max ? zod : zod_max;
         double a = agreement(edge, zb);
         if (a < agree_min)
             agree_min = a, min_frame = f;
@@ -205,6 +208,7 @@ int main(void) {
            indep_min * 100, indep_sum / FRAMES * 100, indep_below);
     printf("overdraw %.6f; crossings resolved %lld on %d frames; ties %lld; near/screen clipping on %d frames\n",
            overdraw, crossings, frames_crossing, ties, frames_clipped);
+    printf("z-buffer overdraw (clear included) %.3f to %.3f\n", zod_min, zod_max);
     printf("ms per frame: edge list %.3f, z-buffer %.3f\n", ms_edge / FRAMES, ms_z / FRAMES);
 
     CHECK(agree_min >= 0.999, "agreement %.5f%% on frame %d", agree_min * 100, min_frame);
