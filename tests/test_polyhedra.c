@@ -27,12 +27,13 @@ static double now_ms(void) {
     return ts.tv_sec * 1e3 + ts.tv_nsec / 1e6;
 }
 
-static double agreement(const uint8_t *a, const uint8_t *b) {
+static double agreement_n(const uint8_t *a, const uint8_t *b, int n) {
     long same = 0;
-    for (int i = 0; i < W * H; i++)
+    for (int i = 0; i < n; i++)
         same += a[i] == b[i];
-    return (double)same / (W * H);
+    return (double)same / n;
 }
+#define agreement(a, b) agreement_n(a, b, W * H)
 
 static void bad_arguments(void) {
     ew_error err;
@@ -67,8 +68,9 @@ static void bad_arguments(void) {
 
 /* Checks the spans of the last frame tile it: row by row, left to right,
  * no gap, no overlap, each painting its colour.  Returns the writes. */
-static long check_spans(const ew_polyhedra *p, const uint8_t *frame, int *bad_frames, int f) {
-    static uint8_t writes[W * H];
+static long check_spans_wh(const ew_polyhedra *p, const uint8_t *frame, int *bad_frames, int f,
+                           int w, int h) {
+    static uint8_t writes[640 * 480];
     memset(writes, 0, sizeof writes);
     int n, ok = 1;
     const ew_polyhedra_span *sp = ew_polyhedra_spans(p, &n);
@@ -76,12 +78,12 @@ static long check_spans(const ew_polyhedra *p, const uint8_t *frame, int *bad_fr
     int y = 0, x = 0;
     for (int i = 0; i < n; i++) {
         const ew_polyhedra_span *s = &sp[i];
-        if (s->y < 0 || s->y >= H || s->x < 0 || s->count <= 0 || s->x + s->count > W) {
+        if (s->y < 0 || s->y >= h || s->x < 0 || s->count <= 0 || s->x + s->count > w) {
             ok = 0;
             break;
         }
-        if (s->y != y) { /* a new row: the last one must have ended at W */
-            if (x != W || s->y != y + 1)
+        if (s->y != y) { /* a new row: the last one must have ended at w */
+            if (x != w || s->y != y + 1)
                 ok = 0;
             y = s->y, x = 0;
         }
@@ -89,19 +91,56 @@ static long check_spans(const ew_polyhedra *p, const uint8_t *frame, int *bad_fr
             ok = 0;
         x = s->x + s->count;
         for (int k = s->x; k < x; k++) {
-            writes[s->y * W + k]++;
-            if (frame[s->y * W + k] != s->color)
+            writes[s->y * w + k]++;
+            if (frame[s->y * w + k] != s->color)
                 ok = 0;
         }
         total += s->count;
     }
-    if (y != H - 1 || x != W)
+    if (y != h - 1 || x != w)
         ok = 0;
-    for (int i = 0; i < W * H && ok; i++)
+    for (int i = 0; i < w * h && ok; i++)
         ok = writes[i] == 1;
     if (!ok && (*bad_frames)++ < 3)
-        CHECK(0, "frame %d: the spans do not write every pixel exactly once", f);
+        CHECK(0, "frame %d (%dx%d): the spans do not write every pixel exactly once", f, w, h);
     return total;
+}
+#define check_spans(p, frame, bad, f) check_spans_wh(p, frame, bad, f, W, H)
+
+/* Other scenes and sizes: the most objects (crowded, everything crossing)
+ * and the smallest frame; the same checks, fewer frames. */
+static void other_scenes(void) {
+    static const int cases[][4] = { { EW_POLYHEDRA_MAX, 320, 240, 60 }, { 1, 64, 48, 30 },
+                                    { EW_POLYHEDRA_DEFAULT, 16, 16, 60 }, { 30, 640, 37, 30 } };
+    static uint8_t a[640 * 480], b[640 * 480];
+    for (int c = 0; c < 4; c++) {
+        int n = cases[c][0], w = cases[c][1], h = cases[c][2], frames = cases[c][3];
+        ew_error err;
+        ew_polyhedra *p = ew_polyhedra_create(n, w, h, NULL, &err);
+        CHECK(p != NULL, "create(%d, %d, %d): %s", n, w, h, err.msg);
+        if (!p)
+            continue;
+        double worst = 1;
+        int bad = 0;
+        long long crossings = 0, writes = 0;
+        for (int f = 0; f < frames; f++) {
+            ew_polyhedra_stats st;
+            double t = f * 0.31;
+            CHECK(ew_polyhedra_render(p, t, a, &st, &err) == 0 &&
+                      ew_polyhedra_render_zbuffer(p, t, b, NULL, &err) == 0, "%s", err.msg);
+            writes += check_spans_wh(p, a, &bad, f, w, h);
+            crossings += st.crossings;
+            double ag = agreement_n(a, b, w * h);
+            worst = ag < worst ? ag : worst;
+        }
+        printf("%d polyhedra %dx%d, %d frames: agreement min %.5f%%, overdraw %.6f, crossings %lld\n",
+               n, w, h, frames, worst * 100, (double)writes / ((double)w * h * frames), crossings);
+        CHECK(worst >= 0.999 && bad == 0 && writes == (long long)w * h * frames,
+              "%d polyhedra %dx%d: agreement %.5f%%, %d frames badly tiled", n, w, h, worst * 100, bad);
+        if (n == EW_POLYHEDRA_MAX)
+            CHECK(crossings > 0, "64 polyhedra and no crossing");
+        ew_polyhedra_destroy(p);
+    }
 }
 
 #define ARGS(...) ((const char *const[]){ __VA_ARGS__, NULL })
@@ -146,6 +185,7 @@ static void command_line(void) {
 int main(void) {
     bad_arguments();
     command_line();
+    other_scenes();
 
     ew_error err;
     ew_polyhedra *p = ew_polyhedra_create(EW_POLYHEDRA_DEFAULT, W, H, NULL, &err);
