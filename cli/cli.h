@@ -105,6 +105,8 @@ int cmd_fly(int argc, char **argv);
  * render (argv[1] "render", argv[2] the map) and of view (the window in
  * app/viewer/view_polyhedra.c with SDL2, else a stub saying it is missing). */
 int is_polyhedra(const char *map);
+/* 'builtin:polyhedra' is one of argv[2..]. */
+int has_polyhedra(int argc, char **argv);
 int cmd_polyhedra(int argc, char **argv);
 int cmd_view_polyhedra(int argc, char **argv);
 /* --time (0 to 1e6 s) and --objects (1 to EW_POLYHEDRA_MAX); 0 or -1 (error printed). */

@@ -38,6 +38,13 @@ static const char polyhedra_usage[] =
 
 int is_polyhedra(const char *map) { return strcmp(map, "builtin:polyhedra") == 0; }
 
+int has_polyhedra(int argc, char **argv) {
+    for (int i = 2; i < argc; i++)
+        if (is_polyhedra(argv[i]))
+            return 1;
+    return 0;
+}
+
 static double ms_now(void) {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -75,11 +82,19 @@ int cmd_polyhedra(int argc, char **argv) {
     int zbuffer = 0;
     double t = 0;
     const char *out = "polyhedra.png";
-    for (int i = 3; i < argc; i++) {
+    int named = 0;
+    for (int i = 2; i < argc; i++) {
         const char *a = argv[i];
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(polyhedra_usage, stdout);
             return 0;
+        }
+        if (a[0] != '-' || !a[1]) {  /* the one word that is not an option */
+            if (!is_polyhedra(a) || named++) {
+                error_line("render builtin:polyhedra: unexpected argument '%s'", a);
+                return EXIT_USAGE;
+            }
+            continue;
         }
         if (strcmp(a, "--stats") == 0) { stats = 1; continue; }
         if (strcmp(a, "--independent") == 0) { independent = 1; continue; }

@@ -736,9 +736,9 @@ int main(int argc, char **argv) {
 
     int pr;
     /* The moving polyhedra have no map: their own command line. */
-    if (argc > 2 && is_polyhedra(argv[2]) && strcmp(cmd, "render") == 0)
+    if (strcmp(cmd, "render") == 0 && has_polyhedra(argc, argv))
         return cmd_polyhedra(argc, argv);
-    if (argc > 2 && is_polyhedra(argv[2]) && strcmp(cmd, "view") == 0)
+    if (strcmp(cmd, "view") == 0 && has_polyhedra(argc, argv))
         return cmd_view_polyhedra(argc, argv);
     if (strcmp(cmd, "render") == 0) {
         pr = parse_args(argc, argv, 2, cmd,

@@ -163,6 +163,11 @@ static void command_line(void) {
     snprintf(png, sizeof png, "%s/p.png", dir);
     CHECK(access(png, R_OK) == 0, "no %s", png);
     remove(png);
+    /* The word may come after the options. */
+    ew_t_run_cli(&r, dir, ARGS("render", "--out", "q.png", "--objects", "3", "builtin:polyhedra"));
+    snprintf(png, sizeof png, "%s/q.png", dir);
+    CHECK(r.status == 0 && access(png, R_OK) == 0, "options first: exit %d: %s", r.status, r.err);
+    remove(png);
     const char *const *bad[] = {
         ARGS("render", "builtin:polyhedra", "--time", "-1"),
         ARGS("render", "builtin:polyhedra", "--time", "nan"),
@@ -173,6 +178,8 @@ static void command_line(void) {
         ARGS("render", "builtin:polyhedra", "--out"),
         ARGS("render", "builtin:polyhedra", "--bogus"),
         ARGS("view", "builtin:polyhedra", "--scale", "9"),
+        ARGS("render", "builtin:polyhedra", "e1m1"),
+        ARGS("render", "builtin:polyhedra", "builtin:polyhedra"),
     };
     for (int i = 0; i < (int)(sizeof bad / sizeof *bad); i++) {
         ew_t_run_cli(&r, dir, bad[i]);

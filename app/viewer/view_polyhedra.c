@@ -46,11 +46,19 @@ int cmd_view_polyhedra(int argc, char **argv) {
     long frames = 0;
     double t = 0;
     const char *out = NULL;
-    for (int i = 3; i < argc; i++) {
+    int named = 0;
+    for (int i = 2; i < argc; i++) {
         const char *a = argv[i];
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
             fputs(usage, stdout);
             return 0;
+        }
+        if (a[0] != '-' || !a[1]) {  /* the one word that is not an option */
+            if (!is_polyhedra(a) || named++) {
+                error_line("view builtin:polyhedra: unexpected argument '%s'", a);
+                return 2;
+            }
+            continue;
         }
         int k = strcmp(a, "--size") == 0 ? 0 : strcmp(a, "--scale") == 0 ? 1
               : strcmp(a, "--objects") == 0 ? 2 : strcmp(a, "--time") == 0 ? 3
