@@ -672,8 +672,9 @@ EW_API int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_ov
 
 /* ---- moving convex polyhedra: Listing 51.1's 1/z-sorted edge list ---------
  * A scene with no BSP at all (`edgewise render builtin:polyhedra`): convex
- * polyhedra (cubes, slabs, tetrahedra, octahedra, prisms, pyramids) with
- * flat-shaded faces spin and fly through each other as time goes on, seen
+ * polyhedra (cubes, slabs, tetrahedra, octahedra, prisms, pyramids; every
+ * sixth glued to the one before, so the two abut) with flat-shaded faces
+ * spin and fly through each other as time goes on, seen
  * by a fixed camera (90 degree horizontal field of view).  Each front face
  * is clipped to the near plane and the screen, projected, and its edges put
  * in a global edge list; every scanline walks the edges in x order with a

@@ -303,8 +303,26 @@ ew_polyhedra *ew_polyhedra_create(int objects, int width, int height, const uint
         return NULL;
     }
     p->nobj = objects, p->width = width, p->height = height, p->crossings_on = 1;
-    for (int i = 0; i < objects; i++)
+    for (int i = 0; i < objects; i++) {
         make_object(&p->obj[i], i);
+        if (i % 6 == 5) {
+            /* A twin glued to the one before: the same shape moved by its
+             * width along its own x, the same motion, so the two touch
+             * along a face (boxes: coplanar faces side by side) or an edge
+             * and abut all the time (the chapter's abutting case). */
+            object *o = &p->obj[i];
+            int ramp = o->ramp;
+            *o = p->obj[i - 1];
+            o->ramp = ramp;
+            double lo = o->v[0][0], hi = lo;
+            for (int v = 1; v < o->nverts; v++) {
+                lo = o->v[v][0] < lo ? o->v[v][0] : lo;
+                hi = o->v[v][0] > hi ? o->v[v][0] : hi;
+            }
+            for (int v = 0; v < o->nverts; v++)
+                o->v[v][0] += hi - lo;
+        }
+    }
     uint8_t ramp[768];
     builtin_palette(ramp);
     memcpy(p->palette, palette ? palette : ramp, 768);
