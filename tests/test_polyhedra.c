@@ -4,7 +4,8 @@
  * Per frame: at least 99.9% of the pixels agree, the spans tile the frame
  * (every pixel written exactly once: overdraw 1.0), both cover the same
  * pixels.  Over the run: planes really cross (intersections resolved > 0)
- * and resolving them matters (without, the frames disagree more); the
+ * and resolving them matters (without, the frames disagree more); glued
+ * pairs abut (ties of 1/z settled by the slope > 0); the
  * near plane cuts faces; the same time gives the same frame; a palette
  * given is used; bad arguments are refused with a message, in the library
  * and in `edgewise render builtin:polyhedra` (EW_CLI). */
@@ -268,6 +269,8 @@ int main(void) {
     CHECK(indep_below > 0 && indep_sum < agree_sum,
           "independent sorting alone is as good (%d frames under 99.9%%)", indep_below);
     CHECK(frames_clipped > 0, "nothing clipped on any frame");
+    /* The glued pairs abut: equal 1/z met and settled by the slope. */
+    CHECK(ties > 0, "no abutting surfaces met in %d frames", FRAMES);
 
     /* The same time, the same frame (and the z-buffer's too). */
     uint8_t *again = malloc(W * H);
