@@ -125,4 +125,16 @@ int cmd_fly(int argc, char **argv);
 /* edgewise hsr (cli/cmd_hsr.c): argv[1] is "hsr". */
 int cmd_hsr(int argc, char **argv);
 
+/* The moving polyhedra (cli/cmd_polyhedra.c): MAP 'builtin:polyhedra' of
+ * render (argv[1] "render", argv[2] the map) and of view (the window in
+ * app/viewer/view_polyhedra.c with SDL2, else a stub saying it is missing). */
+int is_polyhedra(const char *map);
+/* 'builtin:polyhedra' is one of argv[2..]. */
+int has_polyhedra(int argc, char **argv);
+int cmd_polyhedra(int argc, char **argv);
+int cmd_view_polyhedra(int argc, char **argv);
+/* --time (0 to 1e6 s) and --objects (1 to EW_POLYHEDRA_MAX); 0 or -1 (error printed). */
+int parse_polyhedra_time(const char *v, double *t);
+int parse_polyhedra_objects(const char *v, int *n);
+
 #endif

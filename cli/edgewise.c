@@ -54,7 +54,9 @@ static const char usage_head[] =
     "  --version              the version\n"
     "\n"
     "MAP is a path to a .bsp file, a map name looked up as maps/NAME.bsp in\n"
-    "the game directory given by --data, or the word 'builtin'.\n"
+    "the game directory given by --data, or the word 'builtin'.  render and view\n"
+    "also take 'builtin:polyhedra': moving polyhedra drawn by a 1/z-sorted edge\n"
+    "list, no BSP (see edgewise render builtin:polyhedra --help).\n"
     "\n"
     "render options:\n"
     "  --data DIR           game directory (maps/, gfx/palette.lmp, gfx/colormap.lmp)\n"
@@ -744,6 +746,11 @@ int main(int argc, char **argv) {
     draw_opts_init(&o.draw);
 
     int pr;
+    /* The moving polyhedra have no map: their own command line. */
+    if (strcmp(cmd, "render") == 0 && has_polyhedra(argc, argv))
+        return cmd_polyhedra(argc, argv);
+    if (strcmp(cmd, "view") == 0 && has_polyhedra(argc, argv))
+        return cmd_view_polyhedra(argc, argv);
     if (strcmp(cmd, "render") == 0) {
         pr = parse_args(argc, argv, 2, cmd,
                         O_DATA | O_SIZE | O_VIEW | O_POS | O_ANGLES | O_FOV | O_TIME | O_OUT |

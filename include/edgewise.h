@@ -670,6 +670,76 @@ EW_API int ew_format_stats_overlay(char *buf, size_t size, const ew_stats *st,
  * 0..EW_TEXT_MAX_SCALE). */
 EW_API int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_overlay_info *extra);
 
+/* ---- moving convex polyhedra: Listing 51.1's 1/z-sorted edge list ---------
+ * A scene with no BSP at all (`edgewise render builtin:polyhedra`): convex
+ * polyhedra (cubes, slabs, tetrahedra, octahedra, prisms, pyramids; every
+ * sixth glued to the one before, so the two abut) with flat-shaded faces
+ * spin and fly through each other as time goes on, seen
+ * by a fixed camera (90 degree horizontal field of view).  Each front face
+ * is clipped to the near plane and the screen, projected, and its edges put
+ * in a global edge list; every scanline walks the edges in x order with a
+ * surface stack sorted by 1/z at the current pixel (the Black Book, chapter
+ * 51): a leading edge sorts its surface in (equal 1/z, abutting, decided by
+ * the 1/z slope in x), a trailing edge takes it out; where the planes of
+ * two active surfaces cross between edges (interpenetrating objects) the
+ * crossing is computed and the nearest surface switches there.  Every
+ * pixel is written by exactly one span.  A per-pixel z-buffer of the same
+ * polygons is there to check it. */
+typedef struct ew_polyhedra ew_polyhedra;
+
+/* Most polyhedra in one scene. */
+#define EW_POLYHEDRA_MAX 64
+/* The scene's own default number of polyhedra. */
+#define EW_POLYHEDRA_DEFAULT 12
+
+/* One frame's counters. */
+typedef struct ew_polyhedra_stats {
+    int       polygons;   /* front faces drawn (after culling and clipping) */
+    int       clipped;    /* of those, faces cut by the near plane or the screen */
+    int       edges;      /* edges in the global edge list */
+    int       spans;      /* spans emitted, background included (z-buffer: 0) */
+    long long pixels;     /* pixel writes: the edge list's spans (width x height
+                           * exactly), the z-buffer's clear plus every passed test */
+    long long covered;    /* pixels showing a polygon rather than the background */
+    int       crossings;  /* intersections resolved: the nearest surface changed
+                           * between two edges because two planes crossed there */
+    int       ties;       /* abutting: equal 1/z where a surface started or the
+                           * stack was re-sorted, decided by the 1/z slope in x */
+} ew_polyhedra_stats;
+
+/* One span of the last edge-list frame: count pixels of colour from (x, y). */
+typedef struct ew_polyhedra_span {
+    int32_t y, x, count;
+    uint8_t color;
+} ew_polyhedra_span;
+
+/* A scene of `objects` polyhedra (1..EW_POLYHEDRA_MAX; the same count gives
+ * the same scene) drawn into width x height frames (16..16384 each).
+ * palette: 768 bytes to draw with (each shade becomes its nearest colour),
+ * or NULL for the built-in one (16 ramps of 16 shades, ramp 0 grey).
+ * NULL with err set on bad arguments or out of memory. */
+EW_API ew_polyhedra *ew_polyhedra_create(int objects, int width, int height,
+                                         const uint8_t palette[768], ew_error *err);
+EW_API void          ew_polyhedra_destroy(ew_polyhedra *p);
+/* The frame at `time` seconds (finite, |time| <= 1e6) by the 1/z-sorted edge
+ * list into pixels (width x height palette indices, rows packed); st may be
+ * NULL.  0, or -1 with err set. */
+EW_API int ew_polyhedra_render(ew_polyhedra *p, double time, uint8_t *pixels,
+                               ew_polyhedra_stats *st, ew_error *err);
+/* The same frame by a per-pixel z-buffer of the same polygons (1/z at each
+ * pixel centre from the same plane equations, largest wins). */
+EW_API int ew_polyhedra_render_zbuffer(ew_polyhedra *p, double time, uint8_t *pixels,
+                                       ew_polyhedra_stats *st, ew_error *err);
+/* The spans of the last ew_polyhedra_render, top row first, left to right
+ * within a row; *count gets their number. */
+EW_API const ew_polyhedra_span *ew_polyhedra_spans(const ew_polyhedra *p, int *count);
+/* Intersection resolution (default on).  Off, the nearest surface is only
+ * decided where edges start and end: the chapter's independent span
+ * sorting, right only for objects that never touch. */
+EW_API void ew_polyhedra_set_crossings(ew_polyhedra *p, int on);
+/* The 768-byte palette the frames index (the one given, or the built-in). */
+EW_API const uint8_t *ew_polyhedra_palette(const ew_polyhedra *p);
+
 /* ---- output --------------------------------------------------------------*/
 
 /* Writes 8-bit pixels as an indexed PNG (the palette and one byte a pixel). */
