@@ -270,8 +270,7 @@ static int clip_poly(const clip_planes *cp, int mask, cvert *in, int n, cvert *s
     return n;
 }
 
-int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
-                       ew_xvert *xv) {
+int ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf) {
     xf->visible = 0;
     xf->rgba = NULL, xf->remap = NULL;
     for (int k = 0; k < 3; k++)
@@ -329,18 +328,31 @@ int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pos
                             (r->cfg.alias_raster == EW_ALIAS_AUTO && vmax - vmin < r->cfg.alias_threshold));
 
     /* Byte vertex -> view space. */
-    float bm[3][3], bt[3];
     for (int i = 0; i < 3; i++) {
-        bt[i] = mt[i];
+        xf->bt[i] = mt[i];
         for (int j = 0; j < 3; j++) {
-            bm[i][j] = mm[i][j] * m->scale[j];
-            bt[i] += mm[i][j] * m->translate[j];
+            xf->bm[i][j] = mm[i][j] * m->scale[j];
+            xf->bt[i] += mm[i][j] * m->translate[j];
         }
     }
     /* The light direction in model space. */
-    float lm[3];
     for (int j = 0; j < 3; j++)
-        lm[j] = light_towards[0] * axis[j][0] + light_towards[1] * axis[j][1] + light_towards[2] * axis[j][2];
+        xf->lm[j] = light_towards[0] * axis[j][0] + light_towards[1] * axis[j][1] + light_towards[2] * axis[j][2];
+    xf->visible = 1, xf->accept = accept, xf->behind = behind, xf->subdiv = subdiv;
+    xf->umin = umin, xf->umax = umax, xf->vmin = vmin, xf->vmax = vmax;
+    xf->image = image, xf->pose = (int)(pose - m->poses);
+    memcpy(xf->rot, mm, sizeof mm), memcpy(xf->org, mt, sizeof mt);
+    xf->xv = NULL;
+    return 1;
+}
+
+void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+                         ew_xvert *xv) {
+    const ew_view *v = &r->view;
+    const ew_mdl_pose *pose = &m->poses[xf->pose];
+    const clip_planes cp = xf->cp;
+    int accept = xf->accept;
+    const float(*bm)[3] = xf->bm, *bt = xf->bt, *lm = xf->lm;
     int ambient = p->ambient, shade = p->shade;
 
     int32_t smax = (m->skinwidth << 16) - 1, tmax = (m->skinheight << 16) - 1;
@@ -369,13 +381,15 @@ int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pos
         }
     }
 
-    xf->visible = 1, xf->accept = accept, xf->behind = behind, xf->subdiv = subdiv;
-    xf->umin = umin, xf->umax = umax, xf->vmin = vmin, xf->vmax = vmax;
     xf->minx = minx, xf->miny = miny, xf->maxx = maxx, xf->maxy = maxy;
-    xf->image = image, xf->smax = smax, xf->tmax = tmax;
-    xf->pose = (int)(pose - m->poses);
-    memcpy(xf->rot, mm, sizeof mm), memcpy(xf->org, mt, sizeof mt);
+    xf->smax = smax, xf->tmax = tmax;
     xf->xv = xv;
+}
+
+int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+                       ew_xvert *xv) {
+    if (!ew_alias_place(r, m, p, xf)) return 0;
+    ew_alias_pose_verts(r, m, p, xf, xv);
     return 1;
 }
 

@@ -183,6 +183,7 @@ typedef struct ew_alias_xf {
     int              image;                    /* skin picture */
     int              pose;                     /* vertex frame (m->poses) */
     float            rot[3][3], org[3];        /* model axes and origin in view space */
+    float            bm[3][3], bt[3], lm[3];   /* byte vertex -> view space; light direction in model space */
     int32_t          smax, tmax;
     ew_view_planes_t cp;
     const ew_xvert  *xv;                       /* numverts of them */
@@ -191,6 +192,13 @@ typedef struct ew_alias_xf {
 } ew_alias_xf;
 int  ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
                         ew_xvert *xv);
+/* The transform in two steps: place (the pose's frame, skin, axes, origin,
+ * the frustum test of its bounds, the screen box umin..vmax: no vertex;
+ * 0 if culled) and then its vertices (xv, minx..maxy).  The sprite-cache
+ * decides between the two. */
+int  ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf);
+void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+                         ew_xvert *xv);
 int  ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const ew_rows *rows);
 
 /* ---- sprite-cache (alias_sprite_cache.c) ----------------------------------
@@ -239,11 +247,16 @@ typedef struct ew_sc_slot {
 ew_sc_slot *ew_sprite_cache_slot(ew_renderer *r, int i);
 /* Called serially: slots for n entities (mode sprite-cache only); 0 or -1. */
 int  ew_sprite_cache_reserve(ew_renderer *r, int n);
-/* Decides for this frame's pose (xf, from ew_alias_transform) whether the
- * slot's image is reused, redraws it if not; sets slot->use (0: draw the
- * model exactly).  Touches only the slot. */
-void ew_sprite_cache_update(const ew_renderer *r, ew_sc_slot *slot, const ew_mdl *m, const ew_alias_xf *xf,
-                            const ew_model_pose *p, const ew_sc_tol *tol);
+/* Per model and frame, touching only the slot: after ew_alias_place (and
+ * the light's tint in xf), reuse returns 1 if the image is reused this frame
+ * (no vertex needs posing); if not, pose the vertices
+ * (ew_alias_pose_verts) and redraw draws the image again, or leaves
+ * slot->use 0 (too large, crossing the frame's edge: draw the model
+ * exactly with ew_alias_draw). */
+int  ew_sprite_cache_reuse(const ew_renderer *r, ew_sc_slot *slot, const ew_mdl *m, const ew_alias_xf *xf,
+                           const ew_model_pose *p, const ew_sc_tol *tol);
+void ew_sprite_cache_redraw(const ew_renderer *r, ew_sc_slot *slot, const ew_mdl *m, const ew_alias_xf *xf,
+                            const ew_model_pose *p);
 /* Draws the slot's image into rows (z-filled, z-tested); counts pixels and,
  * when rows->first, the hit or miss. */
 void ew_sprite_cache_draw(ew_renderer *r, const ew_sc_slot *slot, const ew_rows *rows);

@@ -164,27 +164,37 @@ static int redraw(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew
     return 1;
 }
 
-void ew_sprite_cache_update(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew_alias_xf *xf,
-                            const ew_model_pose *p, const ew_sc_tol *tol) {
+/* Small models wholly in view (their image is their whole box). */
+static int cacheable(const ew_renderer *r, const ew_alias_xf *xf) {
+    return xf->visible && xf->accept && xf->vmax - xf->vmin < r->cfg.alias_threshold && xf->org[2] > 0;
+}
+
+int ew_sprite_cache_reuse(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew_alias_xf *xf,
+                          const ew_model_pose *p, const ew_sc_tol *tol) {
     s->use = 0, s->hit = 0;
-    /* Only small models wholly in view (their image is their whole box). */
-    if (!xf->visible || !xf->accept || xf->maxx < xf->minx || !(xf->vmax - xf->vmin < r->cfg.alias_threshold) ||
-        !(xf->org[2] > 0))
-        return;
+    if (!cacheable(r, xf)) return 0;
+    float dist = sqrtf(xf->org[0] * xf->org[0] + xf->org[1] * xf->org[1] + xf->org[2] * xf->org[2]);
+    float dir[3] = {xf->org[0] / dist, xf->org[1] / dist, xf->org[2] / dist};
+    uint32_t tint = hash_tint(xf->rgba, r->target.bpp == 1 ? xf->remap : NULL);
+    if (!key_holds(s, m, xf, p, tint, dir, dist, tol)) return 0;
+    float ox, oy;
+    origin_on_screen(&r->view, xf->org, &ox, &oy);
+    s->reused++;
+    s->use = 1, s->hit = 1;
+    s->dx = (int)lrintf(ox - s->ox), s->dy = (int)lrintf(oy - s->oy);
+    s->dz = xf->org[2] - s->oz;  /* how much deeper the origin is now */
+    return 1;
+}
+
+void ew_sprite_cache_redraw(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew_alias_xf *xf,
+                            const ew_model_pose *p) {
+    s->use = 0, s->hit = 0, s->valid = 0;
+    if (!cacheable(r, xf) || xf->maxx < xf->minx || !redraw(r, s, m, xf)) return;
     float dist = sqrtf(xf->org[0] * xf->org[0] + xf->org[1] * xf->org[1] + xf->org[2] * xf->org[2]);
     float dir[3] = {xf->org[0] / dist, xf->org[1] / dist, xf->org[2] / dist};
     uint32_t tint = hash_tint(xf->rgba, r->target.bpp == 1 ? xf->remap : NULL);
     float ox, oy;
     origin_on_screen(&r->view, xf->org, &ox, &oy);
-    if (key_holds(s, m, xf, p, tint, dir, dist, tol)) {
-        s->reused++;
-        s->use = 1, s->hit = 1;
-        s->dx = (int)lrintf(ox - s->ox), s->dy = (int)lrintf(oy - s->oy);
-        s->dz = xf->org[2] - s->oz;  /* how much deeper the origin is now */
-        return;
-    }
-    s->valid = 0;
-    if (!redraw(r, s, m, xf)) return;
     s->valid = 1, s->model = m, s->pose = xf->pose, s->image = xf->image, s->tint = tint;
     s->ambient = p->ambient, s->shade = p->shade, s->reused = 0;
     memcpy(s->rot, xf->rot, sizeof s->rot);

@@ -78,12 +78,14 @@ void ew_pose_alias(ew_renderer *r, int item) {
     const ew_ent_frame *ef = &r->ents.ent_frame[i];
     ew_model_pose pose = entity_pose(r, e, m, ef);
     ew_alias_xf *xf = &r->ents.xf[i];
-    ew_alias_transform(r, m->data, &pose, xf, r->ents.xverts + ef->xvert0);
-    if (ef->tinted) tint_palette(r, ef, i, xf);
+    /* Sprite-cache: a reused image needs no vertex posed. */
     ew_sc_slot *slot = ew_sprite_cache_slot(r, i);
-    if (slot) {
-        ew_sprite_cache_update(r, slot, m->data, xf, &pose, ew_sprite_cache_tol(r));
-    }
+    if (slot) slot->use = 0;  /* not last frame's decision, whatever happens below */
+    if (!ew_alias_place(r, m->data, &pose, xf)) return;
+    if (ef->tinted) tint_palette(r, ef, i, xf);
+    if (slot && ew_sprite_cache_reuse(r, slot, m->data, xf, &pose, ew_sprite_cache_tol(r))) return;
+    ew_alias_pose_verts(r, m->data, &pose, xf, r->ents.xverts + ef->xvert0);
+    if (slot) ew_sprite_cache_redraw(r, slot, m->data, xf, &pose);
 }
 
 /* The palette in the colour of the light under model i. */
