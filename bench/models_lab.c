@@ -263,7 +263,20 @@ static void table_3(const ew_camera *start, float units_tall) {
     ew_view v0;
     ew_view_setup(&v0, start, R->target.width, R->target.height);
     ew_model_pose base[N], p[N];
-    place(base, &v0, units_tall * v0.yscale / 30, 7);
+    /* test_models' 200-soldier scene: 450..900 units ahead (40..20 px tall). */
+    seed = 99;
+    for (int i = 0; i < N; i++) {
+        float f[3];
+        for (int k = 0; k < 3; k++) seed = seed * 1664525u + 1013904223u, f[k] = (float)(seed >> 8) / 16777216.0f;
+        float z = 450 + f[0] * 450, x = (f[1] - 0.5f) * 1.4f * z, y = (f[2] - 0.5f) * 0.9f * z;
+        memset(&base[i], 0, sizeof base[i]);
+        for (int k = 0; k < 3; k++)
+            base[i].origin[k] = v0.origin[k] + v0.forward[k] * z + v0.right[k] * x + v0.up[k] * y;
+        base[i].angles[1] = (float)(seed % 360);
+        base[i].frame = (int)(seed % (uint32_t)M->numframes);
+        base[i].ambient = 100, base[i].shade = 80;
+    }
+    (void)units_tall;
     R->cfg.alias_threshold = 40;
     for (size_t pi = 0; pi < sizeof paths / sizeof *paths; pi++)
         for (size_t ti = 0; ti < sizeof tols / sizeof *tols; ti++) {
