@@ -1,7 +1,7 @@
 /* models_lab: the alias-model ideas of Black Book chapter 69 measured
  * (docs/hsr_models.md).  Built as a target (build/models_lab); run
  *
- *     ./build/models_lab [DATA_DIR]        (default ../shared/data/librequake)
+ *     ./build/models_lab [DATA_DIR [PICTURE.png]]   (default ../shared/data/librequake)
  *
  * and read; nothing here fails on a time.  Four tables:
  *   1. 200 soldiers at each screen size (640x480, one thread, z-buffer
@@ -240,7 +240,7 @@ typedef struct path {
     int animate;        /* soldiers run through their frames at 10 a second */
 } path;
 
-static void table_3(const ew_camera *start, float units_tall) {
+static void table_3(const ew_camera *start, float units_tall, const char *png, const uint8_t *pal) {
     static const path paths[] = {
         {"still camera, animated", 0, 0, 1},
         {"walk 100 u/s, still poses", 100, 0, 0},
@@ -320,6 +320,46 @@ static void table_3(const ew_camera *start, float units_tall) {
         }
     ew_sc_tol d = ew_sprite_cache_tol_default();
     ew_sprite_cache_set_tol(R, &d);
+    if (png) {
+        /* A picture: the walking path's third frame (the images of frame 0
+         * reused twice): exact | sprite-cache | the difference (holes
+         * white, extra pixels red, wrong colours grey), the middle of the
+         * view at 2x. */
+        for (int i = 0; i < N; i++) SLOT[i].valid = 0;
+        for (int f = 0; f < 3; f++) {
+            float t = (float)f / fps;
+            ew_camera cam = *start;
+            cam.angles[1] += 10 * t;
+            for (int k = 0; k < 3; k++) cam.origin[k] += v0.right[k] * 100 * t;
+            ew_view_setup(&R->view, &cam, R->target.width, R->target.height);
+            for (int i = 0; i < N; i++) p[i] = base[i], p[i].frame = (base[i].frame + (int)(t * 10)) % M->numframes;
+            clear_target();
+            draw_all(p, EW_ALIAS_AFFINE);
+            take(&ex);
+            clear_target();
+            draw_all(p, EW_ALIAS_SPRITE_CACHE);
+            take(&sc);
+        }
+        enum { CW = 240, CH = 180, Z = 2 };
+        int W = R->target.width, H = R->target.height, cx0 = (W - CW) / 2, cy0 = (H - CH) / 2;
+        int ow = 3 * CW * Z + 2 * 4, oh = CH * Z;
+        uint8_t *out = calloc((size_t)ow * oh, 1);
+        for (int y = 0; y < oh; y++)
+            for (int x = 0; x < CW * Z; x++) {
+                size_t i = (size_t)(cy0 + y / Z) * W + cx0 + x / Z;
+                uint8_t *row = out + (size_t)y * ow;
+                row[x] = ex.pix[i];
+                row[CW * Z + 4 + x] = sc.pix[i];
+                row[2 * (CW * Z + 4) + x] = ex.in[i] && !sc.in[i]   ? 254    /* white */
+                                            : !ex.in[i] && sc.in[i] ? 251    /* red */
+                                            : ex.in[i] && ex.pix[i] != sc.pix[i] ? 8 /* grey */
+                                                                                 : 0;
+            }
+        ew_error err;
+        if (ew_write_png(png, out, ow, oh, pal, &err)) fprintf(stderr, "models_lab: %s\n", err.msg);
+        else printf("\nwrote %s\n", png);
+        free(out);
+    }
     free(ex.in), free(ex.pix), free(sc.in), free(sc.pix);
 }
 
@@ -468,7 +508,7 @@ int main(int argc, char **argv) {
     ew_sc_tol tol = ew_sprite_cache_tol_default();
     ew_sprite_cache_set_tol(R, &tol);  /* the tolerances live in the renderer */
     tables_1_2(&R->view, units_tall);
-    table_3(&views[0], units_tall);
+    table_3(&views[0], units_tall, argc > 2 ? argv[2] : NULL, a->palette);
     R->zf.all = 0;
     for (int i = 0; i < N; i++) ew_sprite_cache_slot_free(&SLOT[i]);
     table_4(a, data);

@@ -314,11 +314,10 @@ static void test_sphere(ew_renderer *r) {
           "sprite-cache drawing its image: %ld holes, %ld extra, %ld colours, %ld written twice", sc_holes, sc_extra,
           sc_colour, sc_twice);
     CHECK(hits > poses * 2, "only %ld reuses in %d", hits, poses * 3);
-    /* Measured: about 1.5% of the area each way (bench numbers in
-     * docs/hsr_models.md); bounded with room, and not zero (the image is a
-     * cardboard cutout: it cannot follow the view exactly). */
+    /* Measured: 1.01% holes, 0.99% extra; bounded with room, and not zero
+     * (the image is a cardboard cutout: it cannot follow the view exactly). */
     double hp = 100.0 * (double)moved_holes / (double)moved_area, xp = 100.0 * (double)moved_extra / (double)moved_area;
-    CHECK(hp < 4 && xp < 4, "sprite-cache reused: %.2f%% holes, %.2f%% extra", hp, xp);
+    CHECK(hp > 0.2 && hp < 2.5 && xp < 2.5, "sprite-cache reused: %.2f%% holes, %.2f%% extra", hp, xp);
     printf("sphere x %d poses: masks = affine (%ld of %ld px written twice by both, snapped faces folding); "
            "sprite-cache image = affine coverage, none twice; reused %ld of %d times after 0.4-unit, 0.3-degree "
            "steps: holes %.2f%%, extra %.2f%% of %ld px\n",
@@ -420,10 +419,12 @@ static void test_soldiers(ew_renderer *r, const ew_camera *start) {
     }
     double hp = 100.0 * (double)holes / (double)area, xp = 100.0 * (double)extra / (double)area,
            cp = 100.0 * (double)colour / (double)area;
-    /* bench/models_lab measured 1.55% holes, 1.71% extra, 17.5% colours,
-     * worst frame 5.8% on this path; bounded with room. */
+    /* Measured (here and bench/models_lab table 3, the same path): 2.71%
+     * holes, 2.84% extra, 24.7% wrong colours, worst frame 9.1%; 7462 hits,
+     * 3736 misses.  Bounded with room; the holes are never none (a reused
+     * image cannot follow the view). */
     CHECK(hits > misses && misses >= NS, "sprite-cache: %ld hits, %ld misses", hits, misses);
-    CHECK(hp > 0 && hp < 3 && xp < 3 && cp < 30 && worst < 10,
+    CHECK(hp > 0.5 && hp < 4 && xp < 4 && cp < 35 && worst < 14,
           "sprite-cache on the path: %.2f%% holes, %.2f%% extra, %.2f%% colours, worst frame %.2f%%", hp, xp, cp, worst);
     printf("200 soldiers: masks = affine; sprite-cache walking 2 s at 30 fps: %ld hits, %ld misses, holes %.2f%%, "
            "extra %.2f%%, wrong colour %.2f%% of %ld exact px, worst frame %.2f%%\n",
