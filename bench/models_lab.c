@@ -278,6 +278,7 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
     }
     (void)units_tall;
     R->cfg.alias_threshold = 40;
+    for (int i = 0; i < N; i++) ew_sprite_cache_slot_free(&SLOT[i]);  /* table 1's images were larger */
     for (size_t pi = 0; pi < sizeof paths / sizeof *paths; pi++)
         for (size_t ti = 0; ti < sizeof tols / sizeof *tols; ti++) {
             ew_sprite_cache_set_tol(R, &tols[ti]);
@@ -318,6 +319,18 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
                    100.0 * (double)extra / (double)exact, 100.0 * (double)colour / (double)exact, worst);
             fflush(stdout);
         }
+    {
+        size_t bytes = 0, held = 0;
+        int images = 0;
+        for (int i = 0; i < N; i++)
+            if (SLOT[i].cap) {
+                bytes += (size_t)SLOT[i].w * SLOT[i].h * (size_t)(SLOT[i].bpp + 4), images++;
+                held += SLOT[i].cap * (size_t)(SLOT[i].bpp + 4);
+            }
+        printf("\nsprite-cache memory after the last path: %d images, %zu bytes (%.0f each: 1 byte of colour and 4 "
+               "of 1/z a pixel of the model's box, 8-bit); %zu bytes held (each slot keeps its largest)\n",
+               images, bytes, images ? (double)bytes / images : 0.0, held);
+    }
     ew_sc_tol d = ew_sprite_cache_tol_default();
     ew_sprite_cache_set_tol(R, &d);
     if (png) {
