@@ -48,7 +48,7 @@ static void init_ra(ew_araster *ra, uint8_t *frame, float *zbuf, int k) {
 }
 
 static ew_avert vtx(int x, int y) {
-    ew_avert v = {x, y, (x & 15) << 16, (y & 15) << 16, (16 + (x + y) % 40) << 8, 0.01f + 0.001f * (float)(x + 2 * y)};
+    ew_avert v = {x, y, (x & 15) << 16, (y & 15) << 16, (16 + ((x + y) % 40 + 40) % 40) << 8, 0.01f + 0.001f * (float)(x + 2 * y)};
     return v;
 }
 
