@@ -376,6 +376,202 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
     free(ex.in), free(ex.pix), free(sc.in), free(sc.pix);
 }
 
+/* ---- 5. stack-based mesh rendering ------------------------------------------
+ * The book's pointer to Bar-Yehuda and Gotsman: the mesh as a stream of
+ * commands that push a vertex (transformed as it is pushed) into a small
+ * stack of K slots, and draw a triangle from three slots, so every vertex
+ * the drawing touches is in a tiny array.  Here the stream is compiled by
+ * simulating K slots with least-recently-used replacement over the
+ * triangles in a greedy order (next: the triangle with most of its
+ * vertices in the slots); a vertex evicted and needed again is pushed (and
+ * transformed) again: the time/space trade.  Lab only, against the same
+ * vertex code drawing from a pool (every vertex transformed once, triangles
+ * indexing it), with the file's triangle order and a shuffled one.  Models
+ * wholly in view only (no clipping in either). */
+
+typedef struct lab_v {
+    ew_avert sv;
+    int32_t  sback;
+} lab_v;
+
+typedef struct stream {
+    int  ncmd, npush;
+    int *cmd;  /* push: slot << 20 | vertex (>= 0, op 0); triangle: -(1 + index) followed by 3 slots */
+} stream;
+
+static int32_t snap_px(float f, int32_t hi) {
+    float x = f > 0 ? f : 0;
+    x = x < (float)hi ? x : (float)hi;
+    return (int32_t)(x + 0.5f);
+}
+
+static inline void lab_vert(const ew_alias_xf *xf, const ew_mdl_pose *pose, const ew_model_pose *p, int i,
+                            lab_v *o) {
+    const uint8_t *bv = pose->verts[i].v;
+    float q[3];
+    for (int k = 0; k < 3; k++) q[k] = xf->bm[k][0] * bv[0] + xf->bm[k][1] * bv[1] + xf->bm[k][2] * bv[2] + xf->bt[k];
+    const float *n = pose->normals[i];
+    float dot = n[0] * xf->lm[0] + n[1] * xf->lm[1] + n[2] * xf->lm[2];
+    o->sv.l = ew_alias_light_row(p->ambient + (dot > 0 ? (int)((float)p->shade * dot) : 0));
+    const ew_mdl_st *st = &M->st[i];
+    o->sv.s = st->s << 16 < xf->smax ? st->s << 16 : xf->smax;
+    o->sv.t = st->t << 16 < xf->tmax ? st->t << 16 : xf->tmax;
+    int32_t sb = (st->s + (st->onseam ? M->skinwidth / 2 : 0)) << 16;
+    o->sback = sb < xf->smax ? sb : xf->smax;
+    float zi = 1.0f / q[2];
+    o->sv.zi = zi;
+    o->sv.x = snap_px(R->view.xcenter + R->view.xscale * q[0] * zi, R->target.width - 1);
+    o->sv.y = snap_px(R->view.ycenter - R->view.yscale * q[1] * zi, R->target.height - 1);
+}
+
+static inline void lab_tri(ew_araster *ra, const ew_mdl_tri *t, const lab_v *a, const lab_v *b, const lab_v *c) {
+    ew_avert x = a->sv, y = b->sv, z = c->sv;
+    if (!ew_alias_tri_visible(&x, &y, &z)) return;
+    if (!t->facesfront) x.s = a->sback, y.s = b->sback, z.s = c->sback;
+    ew_alias_affine_tri(ra, &x, &y, &z);
+}
+
+static void lab_raster(ew_araster *ra, const ew_alias_xf *xf) {
+    memset(ra, 0, sizeof *ra);
+    ra->target = &R->target;
+    ra->rgba = R->target.rgba;
+    ra->x0 = 0, ra->y0 = 0, ra->x1 = R->target.width, ra->y1 = R->target.height;
+    ra->skin = M->skinpixels + (size_t)xf->image * M->skinwidth * M->skinheight;
+    ra->skinw = M->skinwidth, ra->skinh = M->skinheight;
+    ra->colormap = R->colormap;
+}
+
+static void draw_pool(const ew_model_pose *p, const ew_mdl_tri *tris, lab_v *pool) {
+    for (int i = 0; i < N; i++) {
+        ew_alias_xf xf;
+        if (!ew_alias_place(R, M, &p[i], &xf) || !xf.accept) continue;
+        const ew_mdl_pose *pose = &M->poses[xf.pose];
+        for (int v = 0; v < M->numverts; v++) lab_vert(&xf, pose, &p[i], v, &pool[v]);
+        ew_araster ra;
+        lab_raster(&ra, &xf);
+        for (int t = 0; t < M->numtris; t++)
+            lab_tri(&ra, &tris[t], &pool[tris[t].v[0]], &pool[tris[t].v[1]], &pool[tris[t].v[2]]);
+    }
+}
+
+static void draw_stack(const ew_model_pose *p, const stream *st) {
+    lab_v stack[64];
+    for (int i = 0; i < N; i++) {
+        ew_alias_xf xf;
+        if (!ew_alias_place(R, M, &p[i], &xf) || !xf.accept) continue;
+        const ew_mdl_pose *pose = &M->poses[xf.pose];
+        ew_araster ra;
+        lab_raster(&ra, &xf);
+        for (int k = 0; k < st->ncmd;) {
+            int c = st->cmd[k++];
+            if (c >= 0) {
+                lab_vert(&xf, pose, &p[i], c & 0xFFFFF, &stack[c >> 20]);
+            } else {
+                const ew_mdl_tri *t = &M->tris[-c - 1];
+                lab_tri(&ra, t, &stack[st->cmd[k]], &stack[st->cmd[k + 1]], &stack[st->cmd[k + 2]]);
+                k += 3;
+            }
+        }
+    }
+}
+
+static stream compile_stream(int K) {
+    stream s = {0, 0, malloc(sizeof(int) * (size_t)M->numtris * 7)};
+    int slot_v[64], slot_age[64], clock = 0;
+    for (int k = 0; k < K; k++) slot_v[k] = -1, slot_age[k] = 0;
+    uint8_t *done = calloc((size_t)M->numtris, 1);
+    for (int n = 0; n < M->numtris; n++) {
+        int best = -1, best_in = -1;
+        for (int t = 0; t < M->numtris; t++) {  /* greedy: most vertices already in the slots */
+            if (done[t]) continue;
+            int in = 0;
+            for (int j = 0; j < 3; j++)
+                for (int k = 0; k < K; k++) in += slot_v[k] == M->tris[t].v[j];
+            if (in > best_in) best_in = in, best = t;
+            if (in == 3) break;
+        }
+        done[best] = 1;
+        int slots[3];
+        for (int j = 0; j < 3; j++) {
+            int v = M->tris[best].v[j], at = -1;
+            for (int k = 0; k < K; k++)
+                if (slot_v[k] == v) at = k;
+            if (at < 0) {  /* push into the least recently used slot not used by this triangle */
+                int lru = -1;
+                for (int k = 0; k < K; k++) {
+                    int mine = 0;
+                    for (int q = 0; q < j; q++) mine |= slots[q] == k;
+                    if (!mine && (lru < 0 || slot_age[k] < slot_age[lru])) lru = k;
+                }
+                at = lru, slot_v[at] = v;
+                s.cmd[s.ncmd++] = at << 20 | v;
+                s.npush++;
+            }
+            slot_age[at] = ++clock;
+            slots[j] = at;
+        }
+        s.cmd[s.ncmd++] = -(1 + best);
+        for (int j = 0; j < 3; j++) s.cmd[s.ncmd++] = slots[j];
+    }
+    free(done);
+    return s;
+}
+
+static void table_5(const ew_view *v, float units_tall) {
+    enum { NK = 3 };
+    static const int ks[NK] = {8, 16, 32};
+    stream st[NK];
+    for (int i = 0; i < NK; i++) st[i] = compile_stream(ks[i]);
+    ew_mdl_tri *shuffled = malloc(sizeof *shuffled * (size_t)M->numtris);
+    memcpy(shuffled, M->tris, sizeof *shuffled * (size_t)M->numtris);
+    seed = 5;
+    for (int i = M->numtris - 1; i > 0; i--) {
+        int j = (int)(frand() * (float)(i + 1));
+        if (j > i) j = i;
+        ew_mdl_tri t = shuffled[i];
+        shuffled[i] = shuffled[j], shuffled[j] = t;
+    }
+    lab_v *pool = malloc(sizeof *pool * (size_t)M->numverts);
+    printf("\n## 5. stack-based rendering (lab): CPU us/model, models wholly in view, best of %d\n\n", REPS);
+    printf("vertex transforms per model: pool %d; stack of 8: %d, 16: %d, 32: %d\n\n", M->numverts, st[0].npush,
+           st[1].npush, st[2].npush);
+    printf("| height px | pool, file order | pool, shuffled | stack 8 | stack 16 | stack 32 | stack 16 / pool | "
+           "coverage differs, stack 16 vs pool |\n|---|---|---|---|---|---|---|---|\n");
+    ew_model_pose p[N];
+    for (int b = 0; b < NB; b++) {
+        place(p, v, units_tall * v->yscale / bucket_px[b], 99u + (uint32_t)b);
+        double us[5] = {1e30, 1e30, 1e30, 1e30, 1e30};
+        for (int rep = 0; rep < REPS; rep++)
+            for (int k = 0; k < 5; k++) {
+                clear_target();
+                double t0 = cpu_ms();
+                if (k == 0) draw_pool(p, M->tris, pool);
+                else if (k == 1) draw_pool(p, shuffled, pool);
+                else draw_stack(p, &st[k - 2]);
+                double t = (cpu_ms() - t0) * 1000.0 / N;
+                if (t < us[k]) us[k] = t;
+            }
+        /* The same pixels either way (the order of equal depths aside). */
+        size_t n = (size_t)R->target.width * R->target.height;
+        float *z0 = malloc(n * sizeof *z0);
+        clear_target();
+        draw_pool(p, M->tris, pool);
+        memcpy(z0, R->target.zbuf, n * sizeof *z0);
+        long px = R->stats.alias_pixels;
+        clear_target();
+        draw_stack(p, &st[1]);
+        long differ = 0;
+        for (size_t i = 0; i < n; i++) differ += (z0[i] != 0) != (R->target.zbuf[i] != 0);
+        free(z0);
+        (void)px;
+        printf("| %.0f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %ld |\n", bucket_px[b], us[0], us[1], us[2], us[3],
+               us[4], us[3] / us[0], differ);
+        fflush(stdout);
+    }
+    free(pool), free(shuffled);
+    for (int i = 0; i < NK; i++) free(st[i].cmd);
+}
+
 /* ---- 4. e1m1 with its monsters --------------------------------------------- */
 
 static void table_4(ew_assets *a, const char *data) {
@@ -522,6 +718,8 @@ int main(int argc, char **argv) {
     ew_sprite_cache_set_tol(R, &tol);  /* the tolerances live in the renderer */
     tables_1_2(&R->view, units_tall);
     table_3(&views[0], units_tall, argc > 2 ? argv[2] : NULL, a->palette);
+    ew_view_setup(&R->view, &views[0], R->target.width, R->target.height);
+    if (!getenv("MODELS_LAB_SKIP_STACK")) table_5(&R->view, units_tall);
     R->zf.all = 0;
     for (int i = 0; i < N; i++) ew_sprite_cache_slot_free(&SLOT[i]);
     table_4(a, data);
