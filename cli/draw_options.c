@@ -34,7 +34,7 @@ static const struct draw_def {
 } draw_defs[D_COUNT] = {
     [D_NOENT] = { "--no-entities", NULL, "the world only: no doors, monsters, items, flames", NULL },
     [D_ARASTER] = { "--alias-raster", "MODE", "how triangle models are drawn",
-                    "auto (by size, the default), affine or subdiv" },
+                    "auto (by size, the default), affine, subdiv, masks or sprite-cache" },
     [D_SUBTHRESH] = { "--subdiv-threshold", "PX", "auto: subdivide models shorter than PX on screen",
                       "a number of pixels above 0, at most 10000 (default 40)" },
     [D_FULLZ] = { "--full-zfill", NULL, "z-fill under every world span (default: only under moving things)",
@@ -123,6 +123,8 @@ static int set_value(draw_opts *d, int k, const char *v) {
         if (strcmp(v, "auto") == 0) d->alias_raster = EW_ALIAS_AUTO;
         else if (strcmp(v, "affine") == 0) d->alias_raster = EW_ALIAS_AFFINE;
         else if (strcmp(v, "subdiv") == 0) d->alias_raster = EW_ALIAS_SUBDIV;
+        else if (strcmp(v, "masks") == 0) d->alias_raster = EW_ALIAS_MASKS;
+        else if (strcmp(v, "sprite-cache") == 0) d->alias_raster = EW_ALIAS_SPRITE_CACHE;
         else return bad_value(k, v);
         return 0;
     case D_SUBTHRESH:
@@ -288,7 +290,7 @@ int draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene) {
 }
 
 void draw_opts_json(FILE *f, const draw_opts *d) {
-    static const char *const modes[] = { "auto", "affine", "subdiv" };
+    static const char *const modes[] = { "auto", "affine", "subdiv", "masks", "sprite-cache" };
     fprintf(f, ",\"entities\":%s,\"alias_raster\":\"%s\",\"subdiv_threshold\":",
             d->no_entities ? "false" : "true", modes[d->alias_raster]);
     json_number(f, d->subdiv_threshold > 0 ? d->subdiv_threshold : 40);

@@ -17,7 +17,7 @@ _edgewise()
 
     # The values of options.
     case $prev in
-        --alias-raster) COMPREPLY=($(compgen -W 'auto affine subdiv' -- "$cur")); return 0 ;;
+        --alias-raster) COMPREPLY=($(compgen -W 'auto affine subdiv masks sprite-cache' -- "$cur")); return 0 ;;
         --hsr)          COMPREPLY=($(compgen -W 'edge reference' -- "$cur")); return 0 ;;
         --methods)      COMPREPLY=($(compgen -W 'edge reference' -- "$cur")); return 0 ;;
         --json|--svg)   compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;

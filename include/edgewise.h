@@ -312,8 +312,15 @@ EW_API int ew_hsr_available(ew_hsr_method method);
 /* How alias (triangle) models are rasterized: affine triangles with
  * Gouraud shading, Carmack's recursive subdivision (for small models), or
  * automatic choice by the model's projected size (subdivision when its
- * screen height is below a threshold).  Default: auto, 40 pixels. */
-typedef enum ew_alias_raster { EW_ALIAS_AUTO, EW_ALIAS_AFFINE, EW_ALIAS_SUBDIV } ew_alias_raster;
+ * screen height is below a threshold).  Default: auto, 40 pixels.
+ * Two experiments of Black Book chapter 69 (docs/hsr_models.md): masks
+ * (triangles within 5x5 pixels drawn from a table of precalculated pixel
+ * masks, larger ones affine) and sprite-cache (a model shorter than the
+ * threshold drawn once into an image with its depth and reused as a
+ * z-tested sprite while its pose, angle and size change little). */
+typedef enum ew_alias_raster {
+    EW_ALIAS_AUTO, EW_ALIAS_AFFINE, EW_ALIAS_SUBDIV, EW_ALIAS_MASKS, EW_ALIAS_SPRITE_CACHE
+} ew_alias_raster;
 
 /* What ew_renderer_create makes.  Zero-initialise it and set what you need:
  * every field left 0 takes its default. */
@@ -359,6 +366,8 @@ typedef struct ew_stats {
     int    alias_tris;          /* alias triangles drawn (front-facing, in view) */
     int    alias_tris_subdiv;   /* ... of which by the subdivision rasterizer */
     long   alias_pixels;        /* alias/sprite pixels that passed the z test */
+    int    alias_sprite_hits;   /* sprite-cache: models drawn from their cached image */
+    int    alias_sprite_misses; /* ... and models (re)drawn into it */
     int    particles;           /* particles drawn */
     int    surfaces_rebuilt_by_dlights;
     /* see-through surfaces, fog and the underwater view (none in classic mode) */

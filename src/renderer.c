@@ -41,8 +41,7 @@ static int resolve_desc(const ew_renderer_desc *in, ew_renderer_desc *d, ew_erro
         return ew_fail(err, "renderer: unknown colour mode %d", (int)d->color);
     if (!ew_hsr_get((int)d->hsr))
         return ew_fail(err, "renderer: hidden-surface method %d is not one this build has", (int)d->hsr);
-    if (d->alias_raster != EW_ALIAS_AUTO && d->alias_raster != EW_ALIAS_AFFINE &&
-        d->alias_raster != EW_ALIAS_SUBDIV)
+    if (d->alias_raster < EW_ALIAS_AUTO || d->alias_raster > EW_ALIAS_SPRITE_CACHE)
         return ew_fail(err, "renderer: unknown alias rasterizer %d", (int)d->alias_raster);
     if (!(d->alias_threshold >= 0 && d->alias_threshold < 1e6f))
         return ew_fail(err, "renderer: alias threshold %g (0 for 40 pixels)", (double)d->alias_threshold);
@@ -217,6 +216,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     ew_blend_free(&r->blend);
     ew_debug_free(r);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
+    ew_sprite_cache_free(r->ents.sprite_cache);
     free(r->ents.tint_rgba), free(r->ents.tint_remap);
     free(r);
 }
@@ -635,6 +635,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         st->entities_drawn += m->entities_drawn, st->entities_culled += m->entities_culled;
         st->alias_tris += m->alias_tris, st->alias_tris_subdiv += m->alias_tris_subdiv;
         st->alias_pixels += m->alias_pixels, st->particles += m->particles;
+        st->alias_sprite_hits += m->alias_sprite_hits, st->alias_sprite_misses += m->alias_sprite_misses;
         st->fence_pixels += m->fence_pixels, st->translucent_pixels += m->translucent_pixels;
         st->fog_pixels += m->fog_pixels;
         models_ms += b->model_ms;

@@ -91,7 +91,12 @@ typedef struct ew_ents {
     int          *alias_list; int nalias;       /* visible alias entities, the parallel work */
     uint32_t     *tint_rgba;                    /* per entity, 256: the palette in its light's colour */
     uint8_t      *tint_remap;                   /* per entity, 256: 8-bit, the nearest colours of that */
+    /* EW_ALIAS_SPRITE_CACHE: per entity, its image kept across frames
+     * (raster/alias_sprite_cache.c; sized in the prepare, slot i written only
+     * by the pose work of entity i, read by the bands) */
+    struct ew_sprite_cache *sprite_cache;
 } ew_ents;
+void ew_sprite_cache_free(struct ew_sprite_cache *c);
 
 /* See-through polygons of this frame (world/divert.c collects them from the
  * front end, raster/seethrough.c draws them): fences first, then the

@@ -72,6 +72,8 @@ static void options_accepted(void) {
     } opts[] = {
         {{"--no-entities"}, "\"entities\":false"},
         {{"--alias-raster", "affine"}, "\"alias_raster\":\"affine\""},
+        {{"--alias-raster", "masks"}, "\"alias_raster\":\"masks\""},
+        {{"--alias-raster", "sprite-cache"}, "\"alias_raster\":\"sprite-cache\""},
         {{"--subdiv-threshold", "20"}, "\"subdiv_threshold\":20"},
         {{"--full-zfill"}, "\"zfill\":\"full\""},
         {{"--classic"}, "\"classic\":true"},

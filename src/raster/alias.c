@@ -53,10 +53,7 @@ static inline void edge_next(edge_walk *e) {
     }
 }
 
-/* Per-triangle gradients of one attribute over the screen. */
-typedef struct grad {
-    float dx, dy, v0;  /* value at the triangle's first (top) vertex */
-} grad;
+typedef ew_agrad grad;
 
 static inline grad make_grad(float a0, float a1, float a2, float x1, float y1, float x2, float y2,
                              float inv) {
@@ -82,8 +79,9 @@ static inline int32_t f2i(float f) {
     return (int32_t)f;
 }
 
-static void draw_span(ew_araster *ra, int y, int xs, int xe, const ew_avert *top, const grad *gs,
-                      const grad *gt, const grad *gl, const grad *gz) {
+void ew_alias_span(ew_araster *ra, const ew_atri *tri, int y, int xs, int xe) {
+    const ew_avert *top = tri->v0;
+    const grad *gs = &tri->gs, *gt = &tri->gt, *gl = &tri->gl, *gz = &tri->gz;
     int n = xe - xs;
     float fx = (float)(xs - top->x), fy = (float)(y - top->y);
     int32_t s = f2i(gs->v0 + gs->dx * fx + gs->dy * fy);
@@ -118,29 +116,35 @@ static void draw_span(ew_araster *ra, int y, int xs, int xe, const ew_avert *top
     ra->pixels += count;
 }
 
-void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c) {
-    int64_t cross = ew_alias_cross(a, b, c);
-    if (cross <= 0) return;
+void ew_alias_tri_setup(ew_atri *t, const ew_avert *a, const ew_avert *b, const ew_avert *c) {
     /* Sort by y: top, mid, bottom. */
     const ew_avert *v0 = a, *v1 = b, *v2 = c, *tmp;
     if (v1->y < v0->y) tmp = v0, v0 = v1, v1 = tmp;
     if (v2->y < v1->y) tmp = v1, v1 = v2, v2 = tmp;
     if (v1->y < v0->y) tmp = v0, v0 = v1, v1 = tmp;
-    int32_t ytop = v0->y, ymid = v1->y, ybot = v2->y;
-    int32_t ya = ytop > ra->y0 ? ytop : ra->y0;
-    int32_t yb = ybot < ra->y1 ? ybot : ra->y1;
-    if (ya >= yb) return;
-
+    t->v0 = v0, t->v1 = v1, t->v2 = v2;
     /* Gradients over the screen from the top vertex (the cross is their
      * common denominator). */
     float x1 = (float)(v1->x - v0->x), y1 = (float)(v1->y - v0->y);
     float x2 = (float)(v2->x - v0->x), y2 = (float)(v2->y - v0->y);
     float det = x1 * y2 - x2 * y1;  /* +-cross: sorting may have swapped the order */
     float inv = 1.0f / det;
-    grad gs = make_grad((float)v0->s, (float)v1->s, (float)v2->s, x1, y1, x2, y2, inv);
-    grad gt = make_grad((float)v0->t, (float)v1->t, (float)v2->t, x1, y1, x2, y2, inv);
-    grad gl = make_grad((float)v0->l, (float)v1->l, (float)v2->l, x1, y1, x2, y2, inv);
-    grad gz = make_grad(v0->zi, v1->zi, v2->zi, x1, y1, x2, y2, inv);
+    t->gs = make_grad((float)v0->s, (float)v1->s, (float)v2->s, x1, y1, x2, y2, inv);
+    t->gt = make_grad((float)v0->t, (float)v1->t, (float)v2->t, x1, y1, x2, y2, inv);
+    t->gl = make_grad((float)v0->l, (float)v1->l, (float)v2->l, x1, y1, x2, y2, inv);
+    t->gz = make_grad(v0->zi, v1->zi, v2->zi, x1, y1, x2, y2, inv);
+}
+
+void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c) {
+    int64_t cross = ew_alias_cross(a, b, c);
+    if (cross <= 0) return;
+    ew_atri tri;
+    ew_alias_tri_setup(&tri, a, b, c);
+    const ew_avert *v0 = tri.v0, *v1 = tri.v1, *v2 = tri.v2;
+    int32_t ytop = v0->y, ymid = v1->y, ybot = v2->y;
+    int32_t ya = ytop > ra->y0 ? ytop : ra->y0;
+    int32_t yb = ybot < ra->y1 ? ybot : ra->y1;
+    if (ya >= yb) return;
 
     /* Is the middle vertex right of the long edge (then the long edge is the
      * left one)?  The x range of a scanline is [ceil(xl), ceil(xr)): left
@@ -157,7 +161,7 @@ void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, c
             int32_t xl = mid_right ? lng.x : sh.x, xr = mid_right ? sh.x : lng.x;
             if (xl < ra->x0) xl = ra->x0;
             if (xr > ra->x1) xr = ra->x1;
-            if (xl < xr) draw_span(ra, y, xl, xr, v0, &gs, &gt, &gl, &gz);
+            if (xl < xr) ew_alias_span(ra, &tri, y, xl, xr);
         }
     }
     if (y < yb) {
@@ -166,7 +170,7 @@ void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, c
             int32_t xl = mid_right ? lng.x : sh.x, xr = mid_right ? sh.x : lng.x;
             if (xl < ra->x0) xl = ra->x0;
             if (xr > ra->x1) xr = ra->x1;
-            if (xl < xr) draw_span(ra, y, xl, xr, v0, &gs, &gt, &gl, &gz);
+            if (xl < xr) ew_alias_span(ra, &tri, y, xl, xr);
         }
     }
 }
@@ -266,8 +270,7 @@ static int clip_poly(const clip_planes *cp, int mask, cvert *in, int n, cvert *s
     return n;
 }
 
-int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
-                       ew_xvert *xv) {
+int ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf) {
     xf->visible = 0;
     xf->rgba = NULL, xf->remap = NULL;
     for (int k = 0; k < 3; k++)
@@ -325,18 +328,31 @@ int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pos
                             (r->cfg.alias_raster == EW_ALIAS_AUTO && vmax - vmin < r->cfg.alias_threshold));
 
     /* Byte vertex -> view space. */
-    float bm[3][3], bt[3];
     for (int i = 0; i < 3; i++) {
-        bt[i] = mt[i];
+        xf->bt[i] = mt[i];
         for (int j = 0; j < 3; j++) {
-            bm[i][j] = mm[i][j] * m->scale[j];
-            bt[i] += mm[i][j] * m->translate[j];
+            xf->bm[i][j] = mm[i][j] * m->scale[j];
+            xf->bt[i] += mm[i][j] * m->translate[j];
         }
     }
     /* The light direction in model space. */
-    float lm[3];
     for (int j = 0; j < 3; j++)
-        lm[j] = light_towards[0] * axis[j][0] + light_towards[1] * axis[j][1] + light_towards[2] * axis[j][2];
+        xf->lm[j] = light_towards[0] * axis[j][0] + light_towards[1] * axis[j][1] + light_towards[2] * axis[j][2];
+    xf->visible = 1, xf->accept = accept, xf->behind = behind, xf->subdiv = subdiv;
+    xf->umin = umin, xf->umax = umax, xf->vmin = vmin, xf->vmax = vmax;
+    xf->image = image, xf->pose = (int)(pose - m->poses);
+    memcpy(xf->rot, mm, sizeof mm), memcpy(xf->org, mt, sizeof mt);
+    xf->xv = NULL;
+    return 1;
+}
+
+void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+                         ew_xvert *xv) {
+    const ew_view *v = &r->view;
+    const ew_mdl_pose *pose = &m->poses[xf->pose];
+    const clip_planes cp = xf->cp;
+    int accept = xf->accept;
+    const float(*bm)[3] = xf->bm, *bt = xf->bt, *lm = xf->lm;
     int ambient = p->ambient, shade = p->shade;
 
     int32_t smax = (m->skinwidth << 16) - 1, tmax = (m->skinheight << 16) - 1;
@@ -365,11 +381,15 @@ int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pos
         }
     }
 
-    xf->visible = 1, xf->accept = accept, xf->behind = behind, xf->subdiv = subdiv;
-    xf->umin = umin, xf->umax = umax, xf->vmin = vmin, xf->vmax = vmax;
     xf->minx = minx, xf->miny = miny, xf->maxx = maxx, xf->maxy = maxy;
-    xf->image = image, xf->smax = smax, xf->tmax = tmax;
+    xf->smax = smax, xf->tmax = tmax;
     xf->xv = xv;
+}
+
+int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+                       ew_xvert *xv) {
+    if (!ew_alias_place(r, m, p, xf)) return 0;
+    ew_alias_pose_verts(r, m, p, xf, xv);
     return 1;
 }
 
@@ -379,6 +399,7 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
     const clip_planes cp = xf->cp;
     const xvert *xv = xf->xv;
     int accept = xf->accept, behind = xf->behind, subdiv = xf->subdiv, image = xf->image;
+    int masks = r->cfg.alias_raster == EW_ALIAS_MASKS;
     float umin = xf->umin, umax = xf->umax, vmin = xf->vmin, vmax = xf->vmax;
     int minx = xf->minx, miny = xf->miny, maxx = xf->maxx, maxy = xf->maxy;
     int32_t smax = xf->smax, tmax = xf->tmax;
@@ -436,6 +457,8 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
             if (subdiv) {
                 ew_alias_subdiv_tri(&ra, &a, &b, &c);
                 drawn_subdiv++;
+            } else if (masks) {
+                ew_alias_masks_tri(&ra, &a, &b, &c);
             } else {
                 ew_alias_affine_tri(&ra, &a, &b, &c);
             }

@@ -115,6 +115,32 @@ static inline int ew_alias_tri_visible(const ew_avert *a, const ew_avert *b, con
  * on a top or left edge.  Clipped to the rectangle; culls by the cross. */
 void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c);
 
+/* A triangle set up for spans: its vertices sorted by y (v0 top) and the
+ * screen gradients of texel, light and 1/z from v0.  ew_alias_span draws
+ * row y over [xs, xe) with them exactly as the affine filler does (z-tested,
+ * counted in ra->pixels); the caller clips xs, xe and y. */
+typedef struct ew_agrad {
+    float dx, dy, v0;  /* value at the triangle's first (top) vertex */
+} ew_agrad;
+typedef struct ew_atri {
+    const ew_avert *v0, *v1, *v2;
+    ew_agrad gs, gt, gl, gz;
+} ew_atri;
+void ew_alias_tri_setup(ew_atri *t, const ew_avert *a, const ew_avert *b, const ew_avert *c);
+void ew_alias_span(ew_araster *ra, const ew_atri *t, int y, int xs, int xe);
+
+/* Precalculated drawing masks (alias_masks.c, Black Book chapter 69's
+ * suggestion): a triangle whose snapped vertices fit a 5x5-pixel box
+ * (x and y extents at most EW_MASK_BOX - 1) looks its covered pixels up in
+ * a table made once (the same top-left rule on pixel centres as the affine
+ * filler, so the same pixels), and draws each covered row with
+ * ew_alias_span; larger triangles go to the affine filler.  Returns 1 if
+ * the table drew it. */
+#define EW_MASK_BOX 5
+int    ew_alias_masks_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c);
+/* The table: 25^3 entries of a 25-bit mask (bit y * 5 + x); its bytes. */
+const uint32_t *ew_alias_mask_table(size_t *bytes);
+
 /* Recursive subdivision: the longest edge is split at its (rounded)
  * midpoint while it is longer than one pixel in x or y; the split vertex
  * takes the average of the endpoints' texel, light and 1/z.  Shared edges
@@ -155,6 +181,9 @@ typedef struct ew_alias_xf {
     float            umin, umax, vmin, vmax;   /* screen box of its bounds */
     int              minx, miny, maxx, maxy;   /* of its projected vertices */
     int              image;                    /* skin picture */
+    int              pose;                     /* vertex frame (m->poses) */
+    float            rot[3][3], org[3];        /* model axes and origin in view space */
+    float            bm[3][3], bt[3], lm[3];   /* byte vertex -> view space; light direction in model space */
     int32_t          smax, tmax;
     ew_view_planes_t cp;
     const ew_xvert  *xv;                       /* numverts of them */
@@ -163,6 +192,74 @@ typedef struct ew_alias_xf {
 } ew_alias_xf;
 int  ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
                         ew_xvert *xv);
+/* The transform in two steps: place (the pose's frame, skin, axes, origin,
+ * the frustum test of its bounds, the screen box umin..vmax: no vertex;
+ * 0 if culled) and then its vertices (xv, minx..maxy).  The sprite-cache
+ * decides between the two. */
+int  ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf);
+void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+                         ew_xvert *xv);
 int  ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const ew_rows *rows);
+
+/* ---- sprite-cache (alias_sprite_cache.c) ----------------------------------
+ * A posed model shorter on screen than cfg.alias_threshold, wholly in view,
+ * is drawn (exactly, affine) into an image of its own: its pixels (target
+ * format) and 1/z over its projected box.  Later frames draw that image as a
+ * z-tested sprite, moved by how far the model's origin moved on screen and
+ * its 1/z corrected by how far the origin moved in depth, as long as the
+ * key holds (tolerances in ew_sc_tol, defaults in ew_sprite_cache_tol_default):
+ * the same model, vertex frame, skin and light tint; the light within a few
+ * levels; the model's axes in view space and the direction from the eye to
+ * it each within an angle; its distance within a ratio; reused at most
+ * max_reuse frames in a row.  Otherwise it is drawn again (a miss). */
+typedef struct ew_sc_tol {
+    float angle_deg;   /* axes and eye direction: largest change, degrees */
+    float scale;       /* distance ratio: within 1 +- scale */
+    int   light;       /* ambient and shade levels: largest change */
+    int   max_reuse;   /* frames drawn from one image before it is redrawn */
+} ew_sc_tol;
+ew_sc_tol ew_sprite_cache_tol_default(void);
+/* The renderer's tolerances (set serially, between frames; every image is
+ * redrawn after a change), and the ones in use. */
+int              ew_sprite_cache_set_tol(ew_renderer *r, const ew_sc_tol *tol);
+const ew_sc_tol *ew_sprite_cache_tol(const ew_renderer *r);
+
+typedef struct ew_sc_slot {
+    /* the key of the image */
+    const ew_mdl *model;
+    int           pose, image, ambient, shade, reused, valid;
+    uint32_t      tint;                 /* hash of the light's colour table */
+    float         rot[3][3], dir[3], dist;
+    float         ox, oy, oz;           /* the origin on screen and its view depth when drawn */
+    /* the image: w * h pixels of bpp bytes, their 1/z (0: not covered) */
+    int           x0, y0, w, h, bpp;
+    uint8_t      *pix;
+    float        *zi;
+    size_t        cap;
+    int           ntris;                /* triangles drawn into it */
+    /* this frame */
+    int           use, hit;             /* draw the image; it was reused */
+    int           dx, dy;               /* where: moved by (dx, dy) */
+    float         dz;                   /* view depth added to every pixel */
+} ew_sc_slot;
+
+/* The slot of entity i, or NULL (not the sprite-cache mode, no memory). */
+ew_sc_slot *ew_sprite_cache_slot(ew_renderer *r, int i);
+/* Called serially: slots for n entities (mode sprite-cache only); 0 or -1. */
+int  ew_sprite_cache_reserve(ew_renderer *r, int n);
+/* Per model and frame, touching only the slot: after ew_alias_place (and
+ * the light's tint in xf), reuse returns 1 if the image is reused this frame
+ * (no vertex needs posing); if not, pose the vertices
+ * (ew_alias_pose_verts) and redraw draws the image again, or leaves
+ * slot->use 0 (too large, crossing the frame's edge: draw the model
+ * exactly with ew_alias_draw). */
+int  ew_sprite_cache_reuse(const ew_renderer *r, ew_sc_slot *slot, const ew_mdl *m, const ew_alias_xf *xf,
+                           const ew_model_pose *p, const ew_sc_tol *tol);
+void ew_sprite_cache_redraw(const ew_renderer *r, ew_sc_slot *slot, const ew_mdl *m, const ew_alias_xf *xf,
+                            const ew_model_pose *p);
+/* Draws the slot's image into rows (z-filled, z-tested); counts pixels and,
+ * when rows->first, the hit or miss. */
+void ew_sprite_cache_draw(ew_renderer *r, const ew_sc_slot *slot, const ew_rows *rows);
+void ew_sprite_cache_slot_free(ew_sc_slot *slot);
 
 #endif

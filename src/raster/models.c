@@ -52,6 +52,8 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
     return in_view;
 }
 
+static void tint_palette(ew_renderer *r, const ew_ent_frame *ef, int i, ew_alias_xf *xf);
+
 /* An entity's pose this frame. */
 static ew_model_pose entity_pose(const ew_renderer *r, const ew_scene_entity *e, const ew_scene_model *m,
                                  const ew_ent_frame *ef) {
@@ -76,8 +78,18 @@ void ew_pose_alias(ew_renderer *r, int item) {
     const ew_ent_frame *ef = &r->ents.ent_frame[i];
     ew_model_pose pose = entity_pose(r, e, m, ef);
     ew_alias_xf *xf = &r->ents.xf[i];
-    ew_alias_transform(r, m->data, &pose, xf, r->ents.xverts + ef->xvert0);
-    if (!ef->tinted) return;
+    /* Sprite-cache: a reused image needs no vertex posed. */
+    ew_sc_slot *slot = ew_sprite_cache_slot(r, i);
+    if (slot) slot->use = 0;  /* not last frame's decision, whatever happens below */
+    if (!ew_alias_place(r, m->data, &pose, xf)) return;
+    if (ef->tinted) tint_palette(r, ef, i, xf);
+    if (slot && ew_sprite_cache_reuse(r, slot, m->data, xf, &pose, ew_sprite_cache_tol(r))) return;
+    ew_alias_pose_verts(r, m->data, &pose, xf, r->ents.xverts + ef->xvert0);
+    if (slot) ew_sprite_cache_redraw(r, slot, m->data, xf, &pose);
+}
+
+/* The palette in the colour of the light under model i. */
+static void tint_palette(ew_renderer *r, const ew_ent_frame *ef, int i, ew_alias_xf *xf) {
     /* The palette in the colour of the light under the model: a pixel table
      * in true colour, the nearest colours in 8-bit. */
     const ew_lightcurve *lc = &r->lit.curve;
@@ -106,9 +118,16 @@ void ew_draw_models(ew_renderer *r, const ew_rows *rows) {
         ew_model_pose pose = entity_pose(r, e, m, ef);
         int drawn = 0;
         if (m->kind == EW_MODEL_ALIAS) {
-            /* Posed once for the frame (ew_pose_alias), unless that had no memory. */
-            drawn = r->ents.nalias ? ew_alias_draw(r, m->data, &r->ents.xf[i], rows)
-                                   : ew_draw_alias_rows(r, m->data, &pose, rows);
+            /* Posed once for the frame (ew_pose_alias), unless that had no
+             * memory; from its cached image in sprite-cache mode. */
+            const ew_sc_slot *slot = r->ents.nalias ? ew_sprite_cache_slot(r, i) : NULL;
+            if (slot && slot->use) {
+                ew_sprite_cache_draw(r, slot, rows);
+                drawn = 1;
+            } else {
+                drawn = r->ents.nalias ? ew_alias_draw(r, m->data, &r->ents.xf[i], rows)
+                                       : ew_draw_alias_rows(r, m->data, &pose, rows);
+            }
         } else if (m->kind == EW_MODEL_SPRITE) {
             drawn = ew_draw_sprite_rows(r, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_BOX) {

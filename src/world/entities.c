@@ -76,6 +76,7 @@ int ew_prepare_entities(ew_renderer *r) {
         if (m->kind == EW_MODEL_BOX && ew_prepare_box(r, e->model, m->data) < 0) r->stats.dropped++;
     }
     r->ents.nent_frame = sc->nents;
+    if (ew_sprite_cache_reserve(r, sc->nents) < 0) r->stats.dropped++;  /* models drawn exactly then */
     if (nxverts > en->max_xverts) {
         ew_xvert *xv = realloc(en->xverts, sizeof *xv * nxverts);
         if (!xv) {  /* each band poses its own then */
