@@ -19,7 +19,8 @@
  * counted apart, so with them on a pixel seen only through one can be left
  * unwritten by the spans; the crack test then compares with the reference
  * path, which diverts the same surfaces.  With --hsr reference there are no
- * spans: only the pixel count and the drops are checked ("checks" in the
+ * spans, and painter, zbuffer and raycast do not promise one write per
+ * pixel: only the pixel count and the drops are checked ("checks" in the
  * JSON line says which ran).
  * Prints one JSON line at the end: frames per second, anomalies (frame,
  * camera, what), budget drops, open views and peak memory (ru_maxrss).  Exit 1 if any
