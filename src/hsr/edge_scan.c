@@ -205,7 +205,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
 
 /* ---- the edge list as a hidden-surface method ---- */
 
-static void edge_begin(ew_renderer *r) {
+void ew_edge_begin(ew_renderer *r) {
     ew_edge_list *el = &r->el;
     el->nedges = 0;
     el->nsurfs = 1;  /* surface 0: the background, behind everything */
@@ -215,4 +215,4 @@ static void edge_begin(ew_renderer *r) {
 
 static void edge_resolve(ew_renderer *r, ew_band *b) { ew_scan_band(&r->el, r->target.width, b); }
 
-const ew_hsr ew_hsr_edge = {"edge", edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0, {NULL}, 1, NULL};
+const ew_hsr ew_hsr_edge = {"edge", ew_edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0, {NULL}, 1, NULL};

@@ -53,6 +53,8 @@ typedef struct ew_hsr {
 
 extern const ew_hsr ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */
 extern const ew_hsr ew_hsr_reference;  /* hsr/reference.c */
+extern const ew_hsr ew_hsr_beamtree;   /* hsr/beamtree.c (+ surf_poly.c) */
+extern const ew_hsr ew_hsr_raycast;    /* hsr/raycast.c (+ surf_poly.c) */
 
 /* hsr/methods.c: the method for an ew_hsr_method, NULL if not built. */
 const ew_hsr *ew_hsr_get(int method);
@@ -137,5 +139,10 @@ void ew_band_span(ew_band *b, int surf, int u0, int u1, int v);
  * the edge list: the edge method's face and poly. */
 void ew_emit_face(ew_renderer *r, int face, int clipflags, int key);
 void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
+/* hsr/edge_scan.c: the edge list's begin (empty lists, the background surface). */
+void ew_edge_begin(ew_renderer *r);
+/* hsr/surf_poly.c: frees r->spolys, the screen polygons of beamtree and raycast. */
+struct ew_spolys;
+void ew_spolys_free(struct ew_spolys *sp);
 
 #endif

@@ -13,6 +13,8 @@ static const char *const names[EW_HSR_COUNT] = {
 static const ew_hsr *const methods[EW_HSR_COUNT] = {
     [EW_HSR_EDGE] = &ew_hsr_edge,
     [EW_HSR_REFERENCE] = &ew_hsr_reference,
+    [EW_HSR_BEAMTREE] = &ew_hsr_beamtree,
+    [EW_HSR_RAYCAST] = &ew_hsr_raycast,
 };
 
 const ew_hsr *ew_hsr_get(int method) { return method >= 0 && method < EW_HSR_COUNT ? methods[method] : NULL; }
