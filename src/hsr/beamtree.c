@@ -26,7 +26,8 @@
 #include <math.h>
 #include <string.h>
 
-#define EPS 1e-7      /* pixels: a vertex this near a line is on it */
+#define EPS 1e-9      /* pixels: a vertex this near a line is on it */
+#define MIN_AREA 1e-6 /* square pixels: a fragment less than this is no fragment */
 #define EMPTY (-1)    /* leaves: EMPTY, or SOLID(s) = -2 - s */
 #define SOLID(s) (-2 - (s))
 
@@ -101,6 +102,32 @@ static int *slot_at(ew_band *b, int slot) {
     return slot < 0 ? &HDR(b)->root : &ARR(b, A_NODES, bt_node)[slot >> 1].child[slot & 1];
 }
 
+/* x * y == z * w exactly (fma gives each product's rounding error). */
+static int prod_eq(double x, double y, double z, double w) {
+    double p = x * y, q = z * w;
+    return p == q && fma(x, y, -p) == fma(z, w, -q);
+}
+
+/* 1 if m is the line l, -1 if its negation, 0 if another line (exact for
+ * grid lines; others only when bitwise equal). */
+static int same_line(const ew_line *l, const ew_line *m) {
+    if (l->a == m->a && l->b == m->b && l->c == m->c) return 1;
+    if (l->a == -m->a && l->b == -m->b && l->c == -m->c) return -1;
+    if (!l->grid || !m->grid) return 0;
+    if (!prod_eq(l->a, m->b, m->a, l->b) || !prod_eq(l->a, m->c, m->a, l->c) || !prod_eq(l->b, m->c, m->b, l->c))
+        return 0;
+    return l->a * m->a + l->b * m->b > 0 ? 1 : -1;
+}
+
+static double frag_area(const bt_vert *v, int n) {
+    double area = 0;
+    for (int i = 0; i < n; i++) {
+        int j = i + 1 == n ? 0 : i + 1;
+        area += v[i].x * v[j].y - v[j].x * v[i].y;
+    }
+    return area * 0.5;
+}
+
 /* Appends the part of fragment (v0, n) on one side of l (keep 1: inside,
  * 0: outside) to the pool; the edge the cut makes lies on l and gets add.
  * Returns its vertex count (0: nothing there), its first vertex in *out. */
@@ -112,7 +139,7 @@ static int clip(ew_band *b, int v0, int n, const ew_line *l, int keep, int add, 
     double d[EW_MAX_POLY * 2];
     if (n > EW_MAX_POLY * 2 - 2) return 0;
     ew_line cut = keep ? *l : ew_line_neg(*l);
-    for (int i = 0; i < n; i++) d[i] = cut.a * src[i].x + cut.b * src[i].y + cut.c;
+    for (int i = 0; i < n; i++) d[i] = ew_line_dist(&cut, src[i].x, src[i].y);
     int m = 0;
     for (int i = 0; i < n; i++) {
         int j = i + 1 == n ? 0 : i + 1;
@@ -134,12 +161,7 @@ static int clip(ew_band *b, int v0, int n, const ew_line *l, int keep, int add, 
             dst[m++] = q;
         }
     }
-    double area = 0;
-    for (int i = 0; i < m; i++) {
-        int j = i + 1 == m ? 0 : i + 1;
-        area += dst[i].x * dst[j].y - dst[j].x * dst[i].y;
-    }
-    if (m < 3 || area < 1e-9) return 0;  /* a sliver no pixel centre can be in */
+    if (m < 3 || !(frag_area(dst, m) > 0)) return 0;
     *out = HDR(b)->nverts;
     HDR(b)->nverts += m;
     return m;
@@ -157,11 +179,20 @@ static int insert(ew_band *b, int s, int v0, int n) {
         if (at >= 0) {
             ew_line l = ARR(b, A_NODES, bt_node)[at].l;
             bt_vert *f = ARR(b, A_VERTS, bt_vert) + it.v0;
+            /* The pixel tests are exact and the clipping is not: a vertex
+             * near the line counts on both sides, so the fragment reaches
+             * every leaf it might own a pixel centre of (the leaf's pixels
+             * are then settled by the fragment's exact lines).  Only the
+             * ends of an edge lying on the line itself are known to be on it. */
             int in = 0, out = 0;
-            double d[EW_MAX_POLY * 2];
+            uint8_t on[EW_MAX_POLY * 2];
+            for (int i = 0; i < it.n; i++) on[i] = 0;
+            for (int i = 0; i < it.n; i++)
+                if (same_line(&l, &f[i].l)) on[i] = on[i + 1 == it.n ? 0 : i + 1] = 1;
             for (int i = 0; i < it.n; i++) {
-                d[i] = l.a * f[i].x + l.b * f[i].y + l.c;
-                in |= d[i] > EPS, out |= d[i] < -EPS;
+                if (on[i]) continue;
+                double d = ew_line_dist(&l, f[i].x, f[i].y);
+                in |= d > -EPS, out |= d < EPS;
             }
             if (in && out) {
                 int fv = 0, bv = 0, fn = clip(b, it.v0, it.n, &l, 1, 0, &fv), bn = clip(b, it.v0, it.n, &l, 0, 0, &bv);
@@ -170,14 +201,17 @@ static int insert(ew_band *b, int s, int v0, int n) {
                 if (fn) items[nitems++] = (bt_item){fv, fn, at * 2};
                 if (bn) items[nitems++] = (bt_item){bv, bn, at * 2 + 1};
             } else if (in || out) {
-                /* Wholly on one side: its edges lying on the line need no node of their own. */
+                /* Wholly on one side: its edges on the line need no node of their own. */
                 for (int i = 0; i < it.n; i++)
-                    if (fabs(d[i]) <= EPS && fabs(d[i + 1 == it.n ? 0 : i + 1]) <= EPS) f[i].add = 0;
+                    if (on[i] && on[i + 1 == it.n ? 0 : i + 1] && same_line(&l, &f[i].l)) f[i].add = 0;
                 ARR(b, A_ITEMS, bt_item)[nitems++] = (bt_item){it.v0, it.n, at * 2 + (in ? 0 : 1)};
             }
             continue;
         }
         if (at != EMPTY) continue;  /* solid: hidden */
+        /* A sliver (the near-miss of two lines) would take the whole leaf
+         * if none of its edges were lines to add: none of its area is real. */
+        if (frag_area(ARR(b, A_VERTS, bt_vert) + it.v0, it.n) < MIN_AREA) continue;
         /* Visible: the leaf becomes the fragment's edges, ending solid. */
         drawn++;
         int slot = it.slot;
@@ -237,6 +271,7 @@ static int band_rect(ew_band *b, double w, ew_line rect[4]) {
     ew_line_norm(-1, 0, w - 0.5, &rect[1]);     /* x < w - 0.5 */
     ew_line_norm(0, 1, 0.5 - b->y0, &rect[2]);  /* y > y0 - 0.5 */
     ew_line_norm(0, -1, b->y1 - 0.5, &rect[3]); /* y < y1 - 0.5 */
+    for (int k = 0; k < 4; k++) rect[k].grid = 1;
     return 4;
 }
 

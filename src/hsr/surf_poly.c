@@ -9,14 +9,15 @@
 int ew_line_norm(double a, double b, double c, ew_line *out) {
     double len = sqrt(a * a + b * b);
     if (!(len > 0)) return 0;
-    /* (-a)^2 = a^2, so a line and its negation divide by the same length. */
-    out->a = a / len, out->b = b / len, out->c = c / len;
+    out->a = a, out->b = b, out->c = c, out->inv = 1 / len, out->grid = 0;
     return 1;
 }
 
 int ew_line_through(double x0, double y0, double x1, double y1, ew_line *out) {
     /* Each term changes sign exactly when the ends swap. */
-    return ew_line_norm(y0 - y1, x1 - x0, x0 * y1 - x1 * y0, out);
+    if (!ew_line_norm(y0 - y1, x1 - x0, x0 * y1 - x1 * y0, out)) return 0;
+    out->grid = 1;
+    return 1;
 }
 
 /* Doubles *cap (from first) until it holds need elements; 0 if it could. */
@@ -73,8 +74,9 @@ static void record(ew_renderer *r, int s, float (*p)[3], int n) {
         float t[3];
         ew_view_transform(v, p[i], t);
         double zi = 1.0 / (t[2] < 0.01f ? 0.01 : (double)t[2]);
-        out[i].x = v->xcenter + v->xscale * t[0] * zi;
-        out[i].y = v->ycenter - v->yscale * t[1] * zi;
+        /* on a 1/1024 pixel grid: exact lines (surf_poly.h) */
+        out[i].x = nearbyint((v->xcenter + v->xscale * t[0] * zi) * 1024) / 1024;
+        out[i].y = nearbyint((v->ycenter - v->yscale * t[1] * zi) * 1024) / 1024;
     }
     for (int i = 0; i < n; i++) {
         int j = i + 1 == n ? 0 : i + 1;

@@ -7,17 +7,20 @@
  * world face -> surface map of the frame.
  *
  * Every polygon winds so that its inside is a*x + b*y + c > 0 for each of
- * its edge lines, normalised (a^2 + b^2 = 1, so distances are in pixels).
- * An edge's line is computed from its two ends in a form that is exactly
- * negated when the ends are swapped, so the two faces sharing an edge get
- * exactly opposite lines, and ew_line_in's tie rule gives a pixel centre
- * on the line to exactly one of them. */
+ * its edge lines.  Vertices are snapped to 1/1024 pixel, so a line's
+ * coefficients, computed from its two ends, are exact, and so is the test
+ * of a pixel centre against it: edges on one line (shared, or meeting at a
+ * T-junction) agree on every pixel, and a pixel centre on the line goes by
+ * ew_line_in's tie rule to exactly one side.  inv scales the test to a
+ * distance in pixels for the geometry. */
 #ifndef EW_HSR_SURF_POLY_H
 #define EW_HSR_SURF_POLY_H
 
 #include "renderer.h"
 
-typedef struct ew_line { double a, b, c; } ew_line;
+/* grid: made from two points of the 1/1024 grid (or axis-aligned through
+ * one): a, b, c exact, so two such lines can be compared exactly. */
+typedef struct ew_line { double a, b, c, inv; int grid; } ew_line;
 
 /* A vertex and the line of the edge leaving it. */
 typedef struct ew_spoly_vert {
@@ -47,12 +50,14 @@ static inline int ew_line_in(const ew_line *l, double x, double rowc) {
 }
 static inline double ew_line_row(const ew_line *l, double y) { return l->b * y + l->c; }
 /* Exact negation: the same line, the other side inside. */
-static inline ew_line ew_line_neg(ew_line l) { return (ew_line){-l.a, -l.b, -l.c}; }
+static inline ew_line ew_line_neg(ew_line l) { return (ew_line){-l.a, -l.b, -l.c, l.inv, l.grid}; }
+/* Signed distance in pixels (positive inside). */
+static inline double ew_line_dist(const ew_line *l, double x, double y) { return (l->a * x + l->b * y + l->c) * l->inv; }
 /* The line through (x0, y0) -> (x1, y1), inside where a polygon wound
  * that way (positive sum of x_i y_j - x_j y_i, the winding surf_poly.c
  * gives every polygon) lies; 0 if degenerate. */
 int ew_line_through(double x0, double y0, double x1, double y1, ew_line *out);
-/* Normalises (a, b, c); 0 if a and b are both 0. */
+/* The line (a, b, c) with its inv; 0 if a and b are both 0. */
 int ew_line_norm(double a, double b, double c, ew_line *out);
 
 /* The frame's polygons (r->spolys, made on first use), begun with the
