@@ -88,6 +88,20 @@ static void record(ew_renderer *r, int s, float (*p)[3], int n) {
             ew_spoly_vert t = out[i];
             out[i] = out[j], out[j] = t;
         }
+    /* A face's vertices in a row along one world edge (T-junctions) are
+     * not quite in a row on the screen: where one makes the polygon bend
+     * in, it goes, or the pixel centres just inside the bend would belong
+     * to no polygon.  (Exact on the grid: every product fits a double.) */
+    for (int again = 1; again && n >= 3;) {
+        again = 0;
+        for (int i = 0; i < n && n >= 3; i++) {
+            const ew_spoly_vert *a = &out[i == 0 ? n - 1 : i - 1], *c = &out[i + 1 == n ? 0 : i + 1];
+            double cross = (out[i].x - a->x) * (c->y - out[i].y) - (out[i].y - a->y) * (c->x - out[i].x);
+            if (cross > 0) continue;
+            memmove(out + i, out + i + 1, sizeof *out * (size_t)(n - i - 1));
+            n--, again = 1;
+        }
+    }
     /* Edges too short for a line are dropped: their neighbours meet anyway. */
     int m = 0;
     for (int i = 0; i < n; i++) {
