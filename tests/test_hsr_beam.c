@@ -61,8 +61,8 @@ static double agree(const int *a, const int *b) {
     return (double)n / NPX;
 }
 
-/* The raycast's floor: measured on these views (worst 97.6%, e1m1), with room. */
-#define RAY_FLOOR 0.95
+/* The raycast's floor: measured on these views (worst 99.34%, lqdm7 view 20), with room. */
+#define RAY_FLOOR 0.98
 
 static void check_map(const char *map, uint8_t *hits, frame *ref, frame *beam, frame *ray, frame *again) {
     ew_assets *a = ew_t_load_map(map);

@@ -169,7 +169,15 @@ static int clip(ew_band *b, int v0, int n, const ew_line *l, int keep, int add, 
 
 /* Fragment (v0, n) of surface s filtered down the tree from the root:
  * drawn into every empty leaf it reaches; returns how many. */
-static int insert(ew_band *b, int s, int v0, int n) {
+/* Every pixel centre of the band is inside l: its outside would be an
+ * empty leaf no polygon can fill, and the tree would never be solid. */
+static int covers_band(const ew_line *l, const ew_band *b, int w) {
+    double top = ew_line_row(l, b->y0), bottom = ew_line_row(l, b->y1 - 1);
+    return ew_line_in(l, 0, top) && ew_line_in(l, w - 1, top) && ew_line_in(l, 0, bottom) &&
+           ew_line_in(l, w - 1, bottom);
+}
+
+static int insert(ew_band *b, int w, int s, int v0, int n) {
     int drawn = 0, nitems = 0;
     if (!need(b, A_ITEMS, 1)) return 0;
     ARR(b, A_ITEMS, bt_item)[nitems++] = (bt_item){v0, n, -1};
@@ -217,7 +225,7 @@ static int insert(ew_band *b, int s, int v0, int n) {
         int slot = it.slot;
         for (int i = 0; i < it.n; i++) {
             const bt_vert *v = ARR(b, A_VERTS, bt_vert) + it.v0 + i;
-            if (!v->add) continue;
+            if (!v->add || covers_band(&v->l, b, w)) continue;
             if (!need(b, A_NODES, (size_t)HDR(b)->nnodes + 1)) return drawn;
             int k = HDR(b)->nnodes++;
             ARR(b, A_NODES, bt_node)[k] = (bt_node){ARR(b, A_VERTS, bt_vert)[it.v0 + i].l, {EMPTY, EMPTY}};
@@ -380,7 +388,7 @@ static void beam_resolve(ew_renderer *r, ew_band *b) {
             int shown = 0;
             for (int p = 0; p < npieces; p++) {
                 bt_item x = ARR(b, A_PIECES, bt_item)[p];
-                if (x.n) shown += insert(b, s, x.v0, x.n);
+                if (x.n) shown += insert(b, w, s, x.v0, x.n);
             }
             drawn += shown;
             rejected += shown == 0;

@@ -30,6 +30,7 @@ typedef struct ray_ctx {
     double o[3], d[3];     /* eye, and direction with a forward part of 1 (t is the view depth) */
     int    last_node;      /* the last plane the ray crossed, and where */
     double last_t;
+    int    faceless;       /* it went into solid without meeting a face */
 } ray_ctx;
 
 /* Signed distance of p (on face f's plane) from f's outline, in world
@@ -75,9 +76,12 @@ static int face_at(const ray_ctx *c, int n, double t, double tol) {
     return best;
 }
 
-/* The first surface met in [t0, t1] below node n: its index, -1 if the
- * ray only crossed open space, -2 if it went into solid without meeting a
- * face (a crack between faces: the caller looks at the last plane). */
+/* The first surface met in [t0, t1] below node n: its index, or -1.  A
+ * ray that goes into solid without meeting a face either slipped between
+ * two faces (a crack: the nearest face on the plane it crossed, if one is
+ * close, is the one) or went into solid that has no faces here (brushes a
+ * map leaves unseen): it goes on through, as every other method sees
+ * through it. */
 static int trace(ray_ctx *c, int n, double t0, double t1, int depth, double *thit) {
     const ew_world *w = c->w;
     while (n >= 0) {
@@ -107,23 +111,24 @@ static int trace(ray_ctx *c, int n, double t0, double t1, int depth, double *thi
         }
         depth++;
     }
-    return w->leaves[-1 - n].contents == EW_CONTENTS_SOLID ? -2 : -1;
+    if (w->leaves[-1 - n].contents != EW_CONTENTS_SOLID) return -1;
+    c->faceless++;
+    if (c->last_node < 0) return -1;
+    int s = face_at(c, c->last_node, c->last_t, 1.0);
+    if (s >= 0) *thit = c->last_t;
+    return s;
 }
 
 /* The surface seen through pixel centre (x, y); *lost counts rays that
  * found none where the world is solid. */
 static int cast(const ew_renderer *r, const int *brush, int nbrush, int x, int y, long *lost) {
     const ew_view *v = &r->view;
-    ray_ctx c = {r, r->world, r->spolys, {v->origin[0], v->origin[1], v->origin[2]}, {0, 0, 0}, -1, 0};
+    ray_ctx c = {r, r->world, r->spolys, {v->origin[0], v->origin[1], v->origin[2]}, {0, 0, 0}, -1, 0, 0};
     double dx = (x - v->xcenter) / (double)v->xscale, dy = (v->ycenter - y) / (double)v->yscale;
     for (int k = 0; k < 3; k++) c.d[k] = v->forward[k] + dx * v->right[k] + dy * v->up[k];
     double thit = 0;
     int s = trace(&c, r->world->models[0].headnode, 0, 1e6, 0, &thit);
-    if (s == -2) {  /* into solid between faces: the nearest face on that plane */
-        s = c.last_node >= 0 ? face_at(&c, c.last_node, c.last_t, 1e30) : -1;
-        thit = c.last_t;
-        if (s < 0) ++*lost;
-    }
+    *lost += c.faceless > 0;
     if (s < 0) s = 0, thit = 0;
     /* Brush model fragments: the nearest one whose polygon holds the pixel, if nearer than the world. */
     double best = thit > 0 ? 1.0 / thit * (1 - 1e-6) : 0;
