@@ -33,24 +33,16 @@ typedef struct ray_ctx {
     int    faceless;       /* it went into solid without meeting a face */
 } ray_ctx;
 
-/* Signed distance of p (on face f's plane) from f's outline, in world
- * units: positive inside. */
-static double inside_dist(const ew_world *w, const ew_face *f, const double p[3]) {
-    const float *n = w->planes[f->plane].normal;
-    double dist[EW_MAX_POLY], wind = 0;
-    int m = f->numedges < EW_MAX_POLY ? f->numedges : EW_MAX_POLY;
-    for (int i = 0; i < m; i++) {
-        const float *a = w->verts[ew_face_vertex(w, f, i)], *b = w->verts[ew_face_vertex(w, f, i + 1 == m ? 0 : i + 1)];
-        double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, q[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
-        double cx = e[1] * q[2] - e[2] * q[1], cy = e[2] * q[0] - e[0] * q[2], cz = e[0] * q[1] - e[1] * q[0];
-        double len = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-        dist[i] = len > 0 ? (cx * n[0] + cy * n[1] + cz * n[2]) / len : 1e30;
-        /* the winding's own normal against the plane's: which side is in */
-        wind += n[0] * ((double)a[1] * b[2] - (double)a[2] * b[1]) + n[1] * ((double)a[2] * b[0] - (double)a[0] * b[2]) +
-                n[2] * ((double)a[0] * b[1] - (double)a[1] * b[0]);
+/* Signed distance of p (on the face's plane) from surface s's face
+ * outline, in world units, positive inside; below floor it stops early. */
+static double inside_dist(const ew_spolys *sp, int s, const double p[3], double floor) {
+    const ew_spoly *pl = &sp->polys[s];
+    double worst = 1e30;
+    for (int i = 0; i < pl->neplanes; i++) {
+        const float *e = sp->eplanes[pl->eplane0 + i];
+        double d = e[0] * p[0] + e[1] * p[1] + e[2] * p[2] - e[3];
+        if (d < worst && (worst = d) < floor) break;
     }
-    double sign = wind >= 0 ? 1 : -1, worst = 1e30;
-    for (int i = 0; i < m; i++) worst = fmin(worst, sign * dist[i]);
     return worst;
 }
 
@@ -70,7 +62,7 @@ static int face_at(const ray_ctx *c, int n, double t, double tol) {
         const ew_face *f = &w->faces[fi];
         if (c->sp->face_frame[fi] != c->sp->frame) continue;  /* no surface: not drawn by any method */
         if (((f->flags & EW_SURF_PLANEBACK) != 0) != back) continue;
-        double d = inside_dist(w, f, p);
+        double d = inside_dist(c->sp, c->sp->face_surf[fi], p, best_d);
         if (d >= best_d) best_d = d, best = c->sp->face_surf[fi];
     }
     return best;

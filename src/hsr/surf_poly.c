@@ -49,9 +49,10 @@ ew_spolys *ew_spolys_begin(ew_renderer *r) {
     sp->frame++;
     sp->nverts = 0;
     sp->norder = 0;
+    sp->neplanes = 0;
     sp->failed = sp->nfaces != nf;
     if (reserve((void **)&sp->polys, &sp->cap_polys, r->el.max_surfs, sizeof *sp->polys, 256) < 0) sp->failed = 1;
-    else sp->polys[0] = (ew_spoly){0, 0, 0, 0, 0, 0};  /* the background has no polygon */
+    else sp->polys[0] = (ew_spoly){0, 0, 0, 0, 0, 0, 0, 0};  /* the background has no polygon */
     return sp;
 }
 
@@ -61,7 +62,8 @@ static void record(ew_renderer *r, int s, float (*p)[3], int n) {
     ew_spolys *sp = r->spolys;
     if (!sp || sp->failed) return;
     ew_spoly *pl = &sp->polys[s];
-    *pl = (ew_spoly){sp->nverts, 0, 1e30f, 1e30f, -1e30f, -1e30f};
+    pl->first = sp->nverts, pl->n = 0;
+    pl->x0 = pl->y0 = 1e30f, pl->x1 = pl->y1 = -1e30f;
     if (reserve((void **)&sp->verts, &sp->cap_verts, sp->nverts + n, sizeof *sp->verts, 4096) < 0 ||
         reserve((void **)&sp->order, &sp->cap_order, sp->norder + 1, sizeof(int), 1024) < 0) {
         sp->failed = 1;
@@ -132,12 +134,49 @@ static void record(ew_renderer *r, int s, float (*p)[3], int n) {
     sp->norder++;
 }
 
+/* Face fi's edge planes for surface s. */
+static void edge_planes(ew_renderer *r, int s, int fi) {
+    ew_spolys *sp = r->spolys;
+    const ew_world *w = r->world;
+    const ew_face *f = &w->faces[fi];
+    int n = f->numedges;
+    if (reserve((void **)&sp->eplanes, &sp->cap_eplanes, sp->neplanes + n, sizeof *sp->eplanes, 4096) < 0) {
+        sp->failed = 1;
+        return;
+    }
+    const float *nm = w->planes[f->plane].normal;
+    double wind = 0;
+    for (int i = 0; i < n; i++) {
+        const float *a = w->verts[ew_face_vertex(w, f, i)], *b = w->verts[ew_face_vertex(w, f, i + 1 == n ? 0 : i + 1)];
+        wind += nm[0] * ((double)a[1] * b[2] - (double)a[2] * b[1]) + nm[1] * ((double)a[2] * b[0] - (double)a[0] * b[2]) +
+                nm[2] * ((double)a[0] * b[1] - (double)a[1] * b[0]);
+    }
+    double sign = wind >= 0 ? 1 : -1;
+    float (*ep)[4] = sp->eplanes + sp->neplanes;
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        const float *a = w->verts[ew_face_vertex(w, f, i)], *b = w->verts[ew_face_vertex(w, f, i + 1 == n ? 0 : i + 1)];
+        double e[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        /* inward: normal x edge, for a polygon wound counter-clockwise about the normal */
+        double q[3] = {nm[1] * e[2] - nm[2] * e[1], nm[2] * e[0] - nm[0] * e[2], nm[0] * e[1] - nm[1] * e[0]};
+        double len = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+        if (!(len > 0)) continue;
+        for (int k = 0; k < 3; k++) ep[m][k] = (float)(sign * q[k] / len);
+        ep[m][3] = ep[m][0] * a[0] + ep[m][1] * a[1] + ep[m][2] * a[2];
+        m++;
+    }
+    sp->polys[s].eplane0 = sp->neplanes, sp->polys[s].neplanes = m;
+    sp->neplanes += m;
+}
+
 void ew_spolys_face(ew_renderer *r, int fi, int clipflags, int key) {
     int s = r->el.nsurfs;
     ew_emit_face(r, fi, clipflags, key);
     if (r->el.nsurfs == s || !r->spolys || r->spolys->failed) return;
     ew_spolys *sp = r->spolys;
     sp->face_surf[fi] = s, sp->face_frame[fi] = sp->frame;
+    sp->polys[s] = (ew_spoly){0, 0, 0, 0, 0, 0, 0, 0};
+    edge_planes(r, s, fi);
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[fi];
     float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
@@ -160,6 +199,7 @@ void ew_spolys_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_v
     int s = r->el.nsurfs;
     ew_emit_poly(r, verts, n, fi, v, key);
     if (r->el.nsurfs == s || !r->spolys || r->spolys->failed) return;
+    r->spolys->polys[s] = (ew_spoly){0, 0, 0, 0, 0, 0, 0, 0};
     float out[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
     for (int i = 0; i < n; i++) tin[i] = -1;
@@ -175,11 +215,11 @@ size_t ew_spolys_memory(const ew_renderer *r) {
     const ew_spolys *sp = r->spolys;
     if (!sp) return 0;
     return sizeof *sp->polys * (size_t)sp->cap_polys + sizeof *sp->verts * (size_t)sp->cap_verts +
-           sizeof(int) * ((size_t)sp->cap_order + 2 * (size_t)sp->nfaces);
+           sizeof(int) * ((size_t)sp->cap_order + 2 * (size_t)sp->nfaces) + sizeof *sp->eplanes * (size_t)sp->cap_eplanes;
 }
 
 void ew_spolys_free(ew_spolys *sp) {
     if (!sp) return;
-    free(sp->polys), free(sp->verts), free(sp->order), free(sp->face_surf), free(sp->face_frame);
+    free(sp->polys), free(sp->verts), free(sp->order), free(sp->face_surf), free(sp->face_frame), free(sp->eplanes);
     free(sp);
 }

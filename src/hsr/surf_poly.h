@@ -30,6 +30,7 @@ typedef struct ew_spoly_vert {
 
 typedef struct ew_spoly {
     int   first, n;              /* into verts; n 0: no polygon */
+    int   eplane0, neplanes;     /* world faces: into eplanes */
     float x0, y0, x1, y1;        /* bounding box, screen units */
 } ew_spoly;
 
@@ -38,6 +39,9 @@ typedef struct ew_spolys {
     ew_spoly_vert *verts;  int nverts, cap_verts;
     int           *order;  int norder, cap_order;  /* surfaces by BSP key, nearest first (stable) */
     int           *face_surf, *face_frame;         /* world face -> its surface, when face_frame is this frame */
+    /* World faces' edges as planes through them, perpendicular to the face,
+     * normals inward (x, y, z, dist): the raycast's point-in-face test. */
+    float        (*eplanes)[4]; int neplanes, cap_eplanes;
     int            nfaces, frame, failed;          /* failed: out of memory this frame */
 } ew_spolys;
 
