@@ -239,10 +239,9 @@ static int insert(ew_band *b, int w, int s, int v0, int n) {
     return drawn;
 }
 
-/* Pieces of fragment (v0, n) of surface p not hidden by surface q of the
- * same leaf, into the piece list from *npieces on (p's pieces before q
- * are in [*first, *npieces)). */
-static void subtract(ew_band *b, const ew_spolys *sp, const ew_surf *surfs, int p, int q, int first, int *npieces) {
+/* Surface p's pieces [0, *npieces) made into the pieces not hidden by
+ * surface q of the same leaf (emptied pieces keep n 0; new ones appended). */
+static void subtract(ew_band *b, const ew_spolys *sp, const ew_surf *surfs, int p, int q, int *npieces) {
     const ew_surf *P = &surfs[p], *Q = &surfs[q];
     ew_line hl[EW_MAX_POLY + 1];
     int nh = 0;
@@ -254,7 +253,7 @@ static void subtract(ew_band *b, const ew_spolys *sp, const ew_surf *surfs, int 
     const ew_spoly *qp = &sp->polys[q];
     for (int i = 0; i < qp->n && nh <= EW_MAX_POLY; i++) hl[nh++] = sp->verts[qp->first + i].l;
     int end = *npieces;
-    for (int k = first; k < end; k++) {
+    for (int k = 0; k < end; k++) {
         bt_item x = ARR(b, A_PIECES, bt_item)[k];
         ARR(b, A_PIECES, bt_item)[k].n = 0;  /* replaced by what is left of it */
         int rv = x.v0, rn = x.n;
@@ -273,14 +272,12 @@ static void subtract(ew_band *b, const ew_spolys *sp, const ew_surf *surfs, int 
 }
 
 /* The band's rectangle of pixel areas, as lines with their insides in. */
-static int band_rect(ew_band *b, double w, ew_line rect[4]) {
-    (void)b;
+static void band_rect(const ew_band *b, double w, ew_line rect[4]) {
     ew_line_norm(1, 0, 0.5, &rect[0]);          /* x > -0.5 */
     ew_line_norm(-1, 0, w - 0.5, &rect[1]);     /* x < w - 0.5 */
     ew_line_norm(0, 1, 0.5 - b->y0, &rect[2]);  /* y > y0 - 0.5 */
     ew_line_norm(0, -1, b->y1 - 0.5, &rect[3]); /* y < y1 - 0.5 */
     for (int k = 0; k < 4; k++) rect[k].grid = 1;
-    return 4;
 }
 
 /* Surface s's polygon clipped to the band: the first of the pieces. */
@@ -383,7 +380,7 @@ static void beam_resolve(ew_renderer *r, ew_band *b) {
                 int qs = sp->order[q];
                 const ew_spoly *qp = &sp->polys[qs];
                 if (qs == s || qp->x1 < pl->x0 || qp->x0 > pl->x1 || qp->y1 < pl->y0 || qp->y0 > pl->y1) continue;
-                subtract(b, sp, surfs, s, qs, 0, &npieces);
+                subtract(b, sp, surfs, s, qs, &npieces);
             }
             int shown = 0;
             for (int p = 0; p < npieces; p++) {
