@@ -14,8 +14,9 @@
  * with an interval of x, each node's line cutting the interval where its
  * pixel test changes, so every pixel of the band reaches exactly one leaf:
  * written once, by construction, in spans left to right.  Polygon geometry
- * (clipped in doubles with a small tolerance) only decides which leaves a
- * fragment reaches.
+ * (clipped in doubles, a vertex near a line going both ways) only decides
+ * which leaves a fragment reaches; the lines themselves are exact
+ * (surf_poly.h), so a frame does not depend on how it is cut into bands.
  *
  * Brush model fragments in one leaf share a BSP key and may overlap; the
  * edge list orders them by 1/z at each pixel.  Here each one first loses
@@ -167,8 +168,6 @@ static int clip(ew_band *b, int v0, int n, const ew_line *l, int keep, int add, 
     return m;
 }
 
-/* Fragment (v0, n) of surface s filtered down the tree from the root:
- * drawn into every empty leaf it reaches; returns how many. */
 /* Every pixel centre of the band is inside l: its outside would be an
  * empty leaf no polygon can fill, and the tree would never be solid. */
 static int covers_band(const ew_line *l, const ew_band *b, int w) {
@@ -177,6 +176,8 @@ static int covers_band(const ew_line *l, const ew_band *b, int w) {
            ew_line_in(l, w - 1, bottom);
 }
 
+/* Fragment (v0, n) of surface s filtered down the tree from the root:
+ * drawn into every empty leaf it reaches; returns how many. */
 static int insert(ew_band *b, int w, int s, int v0, int n) {
     int drawn = 0, nitems = 0;
     if (!need(b, A_ITEMS, 1)) return 0;
