@@ -84,11 +84,33 @@ void draw_opts_json(FILE *f, const draw_opts *d);
 int  draw_opts_scene(const draw_opts *d, const ew_assets *a, const char *map, const char *data,
                      int need_scene, int quiet, ew_scene **out);
 
-/* Loads MAP ('builtin' too) and prints its warnings unless quiet, one
+/* builtin:detail=N, the stress hall of `edgewise hsr --stress`
+ * (src/mapgen/stress_level.c), is a MAP of every command: N, -1 for
+ * another MAP, -2 for a bad N. */
+#define STRESS_MAP_PREFIX "builtin:detail="
+int  stress_detail(const char *map);
+/* Loads MAP ('builtin' and builtin:detail=N too) and prints its warnings unless quiet, one
  * "edgewise: warning: ..." line each; NULL with the error printed. */
 ew_assets *load_map(const char *map, const char *data, int quiet);
 void print_world_warnings(const ew_world *w, int quiet);
 void print_scene_warnings(const ew_scene *s, int quiet);
+
+/* ---- the benchmark protocol (cli/cmd_bench.c), shared by bench and hsr ----
+ * The view set rendered once untimed (the warm-up: pages in the frame and
+ * fills the surface cache), then `passes` times with each frame timed on
+ * the monotonic clock: frames[(pass - 1) * nviews + v] in ms, and the
+ * frame's counters in stats[] alike (stats may be NULL).  hooks (may be
+ * NULL) are called before every frame (pass 0 is the warm-up) and after
+ * every timed one.  Returns 0, or -1 - v when view v cannot be rendered. */
+typedef struct bench_hooks {
+    void (*before)(void *ctx, int pass, int view);
+    void (*after)(void *ctx, int pass, int view);
+    void *ctx;
+} bench_hooks;
+int    bench_run_views(ew_renderer *r, const ew_camera *views, int nviews, int passes, double *frames,
+                       ew_stats *stats, const bench_hooks *hooks);
+/* The median of n values (sorts v). */
+double bench_median(double *v, int n);
 
 /* edgewise bench (cli/cmd_bench.c): argv[1] is "bench". */
 int cmd_bench(int argc, char **argv);
@@ -100,5 +122,7 @@ int cmd_view(int argc, char **argv);
 int cmd_shots(int argc, char **argv);
 /* edgewise fly (cli/cmd_fly.c): argv[1] is "fly". */
 int cmd_fly(int argc, char **argv);
+/* edgewise hsr (cli/cmd_hsr.c): argv[1] is "hsr". */
+int cmd_hsr(int argc, char **argv);
 
 #endif

@@ -352,7 +352,7 @@ static const struct counter_def {
     COUNTER(entities_unknown), COUNTER(models_missing), COUNTER(alias_tris),
     COUNTER(alias_tris_subdiv), COUNTER(alias_pixels), COUNTER(particles),
     COUNTER(surfaces_rebuilt_by_dlights), COUNTER(seethrough_surfaces), COUNTER(fence_pixels),
-    COUNTER(translucent_pixels), COUNTER(fog_pixels), COUNTER(underwater),
+    COUNTER(translucent_pixels), COUNTER(fog_pixels), COUNTER(underwater), COUNTER(hsr_bytes),
 };
 #undef COUNTER
 enum { NCOUNTERS = sizeof counter_defs / sizeof counter_defs[0], C_SEETHROUGH = 19 };
@@ -539,6 +539,52 @@ static int bench_floor(const bench_opts *o, FILE *json) {
 /* Loads one map, or NULL with the error printed. */
 static ew_assets *bench_load(const bench_opts *o, const char *map) { return load_map(map, o->data, o->quiet); }
 
+/* The protocol itself, shared with `edgewise hsr` (cli.h). */
+int bench_run_views(ew_renderer *rd, const ew_camera *views, int nviews, int passes, double *frames,
+                    ew_stats *stats, const bench_hooks *hooks) {
+    for (int pass = 0; pass <= passes; pass++) {
+        for (int v = 0; v < nviews; v++) {
+            if (hooks && hooks->before)
+                hooks->before(hooks->ctx, pass, v);
+            ew_stats st;
+            /* Pass 0 is the warm-up: page in the frame and fill the surface cache. */
+            ew_stats *sp = pass && stats ? &stats[(size_t)(pass - 1) * nviews + v] : &st;
+            double t0 = now_ms();
+            int ok = ew_render(rd, &views[v], sp);
+            double t1 = now_ms();
+            if (ok < 0)
+                return -1 - v;
+            if (pass) {
+                frames[(size_t)(pass - 1) * nviews + v] = t1 - t0;
+                if (hooks && hooks->after)
+                    hooks->after(hooks->ctx, pass, v);
+            }
+        }
+    }
+    return 0;
+}
+
+double bench_median(double *v, int n) { return median_of(v, n); }
+
+/* bench_row's progress line before each frame, a floor sample after every
+ * other timed one. */
+typedef struct bench_row_hooks_ctx {
+    const row     *r;
+    int            passes, nviews;
+    floor_sampler *fl;
+} bench_row_hooks_ctx;
+
+static void row_before(void *ctx, int pass, int v) {
+    const bench_row_hooks_ctx *c = ctx;
+    progress(c->r->map, c->r->w, c->r->h, c->r->threads, pass, c->passes, v, c->nviews);
+}
+
+static void row_after(void *ctx, int pass, int v) {
+    (void)pass;
+    const bench_row_hooks_ctx *c = ctx;
+    if (c->fl && v % 2) floor_rep(c->fl);
+}
+
 /* One map at one size and thread count; returns 0 or 1 (error printed).
  * scene is an ew_scene or NULL (world only). */
 static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
@@ -591,25 +637,13 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         error_line("bench: out of memory");
         goto done;
     }
-    for (int pass = 0; pass <= o->passes; pass++) {
-        for (int v = 0; v < nviews; v++) {
-            progress(r->map, w, h, r->threads, pass, o->passes, v, nviews);
-            ew_stats st;
-            /* Pass 0 is the warm-up: page in the frame and fill the surface cache. */
-            ew_stats *sp = pass ? &stats[(size_t)(pass - 1) * nviews + v] : &st;
-            double t0 = now_ms();
-            int ok = ew_render(rd, &views[v], sp);
-            double t1 = now_ms();
-            if (ok < 0) {
-                progress_clear();
-                error_line("%s: view %d: cannot render this camera", r->map, v);
-                goto done;
-            }
-            if (pass) {
-                frames[(size_t)(pass - 1) * nviews + v] = t1 - t0;
-                if (fl_ok && v % 2) floor_rep(&fl);
-            }
-        }
+    bench_row_hooks_ctx hc = { r, o->passes, nviews, fl_ok ? &fl : NULL };
+    bench_hooks hooks = { row_before, row_after, &hc };
+    int bad = bench_run_views(rd, views, nviews, o->passes, frames, stats, &hooks);
+    if (bad) {
+        progress_clear();
+        error_line("%s: view %d: cannot render this camera", r->map, -bad - 1);
+        goto done;
     }
     if (fl_ok)
         r->floor_ms = floor_end(&fl);

@@ -10,6 +10,7 @@
 #include "cli.h"
 #include "edgewise.h"
 #include "edgewise_tools.h"  /* ew_set_full_zfill */
+#include "mapgen/mapgen.h"   /* ew_stress_generate: builtin:detail=N */
 
 #include <ctype.h>
 #include <errno.h>
@@ -382,8 +383,42 @@ static int refuse_map_path(const char *map) {
     return 0;
 }
 
+int stress_detail(const char *map) {
+    size_t n = strlen(STRESS_MAP_PREFIX);
+    long l;
+    if (strncmp(map, STRESS_MAP_PREFIX, n) != 0)
+        return -1;
+    if (parse_long(map + n, &l) < 0 || l < 0 || l > EW_STRESS_MAX_DETAIL)
+        return -2;
+    return (int)l;
+}
+
+/* The stress hall (src/mapgen/stress_level.c) at detail d, as assets. */
+static ew_assets *stress_assets(const char *map, int d) {
+    ew_error err = { "" };
+    ew_assets *a = calloc(1, sizeof *a);
+    uint8_t *bsp = NULL;
+    size_t size = 0;
+    if (a && ew_stress_generate(d, &bsp, &size, a->palette, a->colormap, &err) == 0)
+        a->world = ew_world_create(bsp, size, map, &err);
+    free(bsp);
+    if (!a || !a->world) {
+        error_line("%s", err.msg[0] ? err.msg : "builtin: out of memory");
+        free(a);
+        return NULL;
+    }
+    return a;
+}
+
 ew_assets *load_map(const char *map, const char *data, int quiet) {
     ew_error err = { "" };
+    int detail = stress_detail(map);
+    if (detail == -2) {
+        error_line("%s: the detail must be a whole number from 0 to %d", map, EW_STRESS_MAX_DETAIL);
+        return NULL;
+    }
+    if (detail >= 0)
+        return stress_assets(map, detail);
     if (!is_builtin(map) && refuse_map_path(map) < 0)
         return NULL;
     ew_assets *a = is_builtin(map) ? ew_assets_create_builtin(&err) : ew_assets_create(map, data, &err);
@@ -400,7 +435,8 @@ int draw_opts_scene(const draw_opts *d, const ew_assets *a, const char *map, con
     *out = NULL;
     if (d->no_entities && !need_scene)
         return 0;
-    ew_scene *s = d->no_entities    ? ew_scene_create(a->world, &err)
+    /* the stress hall has no moving things: an empty scene */
+    ew_scene *s = d->no_entities || stress_detail(map) >= 0 ? ew_scene_create(a->world, &err)
                   : is_builtin(map) ? ew_scene_create_builtin(a->world, &err)
                                     : ew_scene_create_from_map(a->world, map, data, &err);
     if (!s) {

@@ -45,6 +45,7 @@ static const char usage_head[] =
     "  views MAP [--data DIR] list the view set: INDEX X Y Z PITCH YAW ROLL\n"
     "  info MAP [--data DIR]  BSP version, lumps and counts\n"
     "  bench MAP... [options] time the view set (see edgewise bench --help)\n"
+    "  hsr MAP... [options]   the hidden-surface lab: every method timed and checked\n"
     "  view MAP [options]     walk through MAP in a window (see edgewise view --help)\n"
     "  soak MAP --frames N    render N frames and check every frame's counters\n"
     "  shots MAP|DIR|PAK...   pictures of many maps (see edgewise shots --help)\n"
@@ -530,6 +531,16 @@ static void print_stats(const char *name, const options *o, int view, const ew_c
             s->seethrough_surfaces, s->fence_pixels, s->translucent_pixels, s->fog_pixels,
             s->underwater ? "true" : "false");
     fprintf(f, ",\"dark\":%s", dark ? "true" : "false");
+    /* the hidden-surface method's own counters, by the names it gives them */
+    fprintf(f, ",\"hsr_bytes\":%ld,\"hsr_counters\":{", s->hsr_bytes);
+    for (int i = 0, n = 0; i < EW_HSR_COUNTERS; i++) {
+        const char *name = ew_hsr_counter_name((ew_hsr_method)o->draw.hsr, i);
+        if (!name) continue;
+        fputs(n++ ? "," : "", f);
+        json_string(f, name);
+        fprintf(f, ":%ld", s->hsr_counters[i]);
+    }
+    fputs("}", f);
     draw_opts_json(f, &o->draw);
     const char *ms_names[5] = { "ms_front", "ms_scan", "ms_draw", "ms_models", "ms_total" };
     const double ms[5] = { s->ms_front, s->ms_scan, s->ms_draw, s->ms_models, s->ms_total };
@@ -758,6 +769,8 @@ int main(int argc, char **argv) {
         return cmd_bench(argc, argv);
     if (strcmp(cmd, "soak") == 0)
         return cmd_soak(argc, argv);
+    if (strcmp(cmd, "hsr") == 0)
+        return cmd_hsr(argc, argv);
     if (strcmp(cmd, "view") == 0)
         return cmd_view(argc, argv);
     if (strcmp(cmd, "shots") == 0)

@@ -9,7 +9,7 @@ _edgewise()
     [ "$COMP_CWORD" -gt 0 ] && prev=${COMP_WORDS[COMP_CWORD-1]}
     COMPREPLY=()
 
-    local commands='render demo views info bench soak shots fly view help'
+    local commands='render demo views info bench hsr soak shots fly view help'
     if [ "$COMP_CWORD" -le 1 ]; then
         COMPREPLY=($(compgen -W "$commands --help --version" -- "$cur"))
         return 0
@@ -19,6 +19,9 @@ _edgewise()
     case $prev in
         --alias-raster) COMPREPLY=($(compgen -W 'auto affine subdiv' -- "$cur")); return 0 ;;
         --hsr)          COMPREPLY=($(compgen -W 'edge reference' -- "$cur")); return 0 ;;
+        --methods)      COMPREPLY=($(compgen -W 'edge reference' -- "$cur")); return 0 ;;
+        --json|--svg)   compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
+        --heatmap)      compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         --color)        COMPREPLY=($(compgen -W '8bit true' -- "$cur")); return 0 ;;
         --debug)        COMPREPLY=($(compgen -W 'spans edges overdraw lighting textures mips builds' -- "$cur"))
                         return 0 ;;
@@ -31,7 +34,8 @@ _edgewise()
         --data)         compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         --out)          compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         --size|--view|--pos|--angles|--fov|--time|--dlight|--particles|--threads|\
-        --subdiv-threshold|--wateralpha|--fog|--gamma|--passes|--frames|--seed|--scale|--jobs|--seconds|--fps)
+        --subdiv-threshold|--wateralpha|--fog|--gamma|--passes|--frames|--seed|--scale|--jobs|--seconds|--fps|\
+        --repeat|--stress)
                         return 0 ;;
     esac
 
@@ -46,6 +50,8 @@ _edgewise()
                       --quiet --help $drawn" ;;
         views|info) opts='--data --quiet --help' ;;
         bench)  opts="--data --size --threads --passes --table --out --floor --quiet --help $drawn" ;;
+        hsr)    opts="--data --methods --size --threads --repeat --json --heatmap --svg --stress --quiet --help
+                      $drawn" ;;
         soak)   opts="--data --frames --size --seed --threads --quiet --help $drawn" ;;
         shots)  opts="--data --out --size --views --jobs --force --manifest --contact-sheet --quiet --help $drawn" ;;
         fly)    opts="--data --path --seconds --fps --size --out --cameras --quiet --help $drawn" ;;

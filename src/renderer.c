@@ -80,9 +80,11 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->draw.target = r->zf.target = &r->target;
     r->draw.view = &r->view;
 
-    /* Budgets grow with the frame: more pixels can show more polygons. */
+    /* Budgets grow with the frame (more pixels can show more polygons) and
+     * with the world: a frame may show every face of a map at once (the
+     * stress hall of `edgewise hsr --stress` puts 20,000 in view at 320x200). */
     long px = (long)width * height;
-    r->el.max_surfs = (int)(4096 + px / 256);
+    r->el.max_surfs = (int)(4096 + (px / 256 > w->numfaces ? px / 256 : w->numfaces));
     if (r->el.max_surfs > 65535) r->el.max_surfs = 65535;  /* surface numbers are 16-bit */
     r->el.max_edges = r->el.max_surfs * 6;
     int max_spans = height * 192;

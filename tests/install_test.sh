@@ -159,7 +159,7 @@ done
 opts_of() {
     case $1 in
         render) "$P/bin/edgewise" help | sed -n '/^render options:/,/^demo options/p' ;;
-        bench|soak|shots|view) "$P/bin/edgewise" "$1" --help ;;
+        bench|hsr|soak|shots|view) "$P/bin/edgewise" "$1" --help ;;
         views|info) echo "--data --quiet" ;;
         demo) "$P/bin/edgewise" help | sed -n '/^demo options/,/^$/p; /^what is drawn/,/^$/p' ;;
     esac | grep -o -- '--[a-z][a-z-]*' | grep -vx -- --version | sort -u

@@ -401,9 +401,15 @@ static void beam_resolve(ew_renderer *r, ew_band *b) {
     b->counters[3] = skipped;
 }
 
+/* The polygons, and what the bands' trees use of their scratch (another
+ * method may have grown it further). */
 static size_t beam_memory(const ew_renderer *r) {
     size_t n = ew_spolys_memory(r);
-    for (int i = 0; i < r->sched.nbands; i++) n += r->sched.bands[i].scratch_bytes;
+    for (int i = 0; i < r->sched.nbands; i++) {
+        const ew_band *b = &r->sched.bands[i];
+        const bt_hdr *h = b->scratch_bytes >= sizeof(bt_hdr) ? b->scratch : NULL;
+        if (h && h->magic == MAGIC) n += h->off[A_N - 1] + h->cap[A_N - 1] * elem[A_N - 1];
+    }
     return n;
 }
 

@@ -53,6 +53,12 @@ typedef struct ew_hsr {
 
 extern const ew_hsr ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */
 extern const ew_hsr ew_hsr_reference;  /* hsr/reference.c */
+extern const ew_hsr ew_hsr_edge_z;     /* hsr/edge_z.c: the edge list sorted by 1/z */
+/* Polygon by polygon over the edge list's polygons (hsr/poly_rows.h). */
+extern const ew_hsr ew_hsr_spans;      /* hsr/spans.c */
+extern const ew_hsr ew_hsr_zbuffer;    /* hsr/zbuffer.c */
+extern const ew_hsr ew_hsr_painter;    /* hsr/painter.c */
+extern const ew_hsr ew_hsr_drawbuffer; /* hsr/drawbuffer.c */
 extern const ew_hsr ew_hsr_beamtree;   /* hsr/beamtree.c (+ surf_poly.c) */
 extern const ew_hsr ew_hsr_raycast;    /* hsr/raycast.c (+ surf_poly.c) */
 
@@ -139,7 +145,7 @@ void ew_band_span(ew_band *b, int surf, int u0, int u1, int v);
  * the edge list: the edge method's face and poly. */
 void ew_emit_face(ew_renderer *r, int face, int clipflags, int key);
 void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
-/* hsr/edge_scan.c: the edge list's begin (empty lists, the background surface). */
+/* hsr/edge_scan.c: the edge list emptied for a frame (the edge method's begin). */
 void ew_edge_begin(ew_renderer *r);
 /* hsr/surf_poly.c: frees r->spolys, the screen polygons of beamtree and raycast. */
 struct ew_spolys;

@@ -13,6 +13,11 @@ static const char *const names[EW_HSR_COUNT] = {
 static const ew_hsr *const methods[EW_HSR_COUNT] = {
     [EW_HSR_EDGE] = &ew_hsr_edge,
     [EW_HSR_REFERENCE] = &ew_hsr_reference,
+    [EW_HSR_EDGE_Z] = &ew_hsr_edge_z,
+    [EW_HSR_SPANS] = &ew_hsr_spans,
+    [EW_HSR_ZBUFFER] = &ew_hsr_zbuffer,
+    [EW_HSR_PAINTER] = &ew_hsr_painter,
+    [EW_HSR_DRAWBUFFER] = &ew_hsr_drawbuffer,
     [EW_HSR_BEAMTREE] = &ew_hsr_beamtree,
     [EW_HSR_RAYCAST] = &ew_hsr_raycast,
 };

@@ -31,6 +31,8 @@ typedef struct ray_ctx {
     int    last_node;      /* the last plane the ray crossed, and where */
     double last_t;
     int    faceless;       /* it went into solid without meeting a face */
+    int    solid_node;     /* the first time: the plane it crossed, and where */
+    double solid_t;
 } ray_ctx;
 
 /* Signed distance of p (on the face's plane) from surface s's face
@@ -104,7 +106,7 @@ static int trace(ray_ctx *c, int n, double t0, double t1, int depth, double *thi
         depth++;
     }
     if (w->leaves[-1 - n].contents != EW_CONTENTS_SOLID) return -1;
-    c->faceless++;
+    if (!c->faceless++) c->solid_node = c->last_node, c->solid_t = c->last_t;
     if (c->last_node < 0) return -1;
     int s = face_at(c, c->last_node, c->last_t, 1.0);
     if (s >= 0) *thit = c->last_t;
@@ -115,12 +117,18 @@ static int trace(ray_ctx *c, int n, double t0, double t1, int depth, double *thi
  * found none where the world is solid. */
 static int cast(const ew_renderer *r, const int *brush, int nbrush, int x, int y, long *lost) {
     const ew_view *v = &r->view;
-    ray_ctx c = {r, r->world, r->spolys, {v->origin[0], v->origin[1], v->origin[2]}, {0, 0, 0}, -1, 0, 0};
+    ray_ctx c = {r, r->world, r->spolys, {v->origin[0], v->origin[1], v->origin[2]}, {0, 0, 0}, -1, 0, 0, -1, 0};
     double dx = (x - v->xcenter) / (double)v->xscale, dy = (v->ycenter - y) / (double)v->yscale;
     for (int k = 0; k < 3; k++) c.d[k] = v->forward[k] + dx * v->right[k] + dy * v->up[k];
     double thit = 0;
     int s = trace(&c, r->world->models[0].headnode, 0, 1e6, 0, &thit);
     *lost += c.faceless > 0;
+    /* Through solid and out into nothing: a crack after all, wider than
+     * the tolerance; the nearest face where it first went in. */
+    if (s < 0 && c.solid_node >= 0) {
+        s = face_at(&c, c.solid_node, c.solid_t, 1e30);
+        thit = c.solid_t;
+    }
     if (s < 0) s = 0, thit = 0;
     /* Brush model fragments: the nearest one whose polygon holds the pixel, if nearer than the world. */
     double best = thit > 0 ? 1.0 / thit * (1 - 1e-6) : 0;
@@ -194,14 +202,14 @@ static void ray_resolve(ew_renderer *r, ew_band *b) {
     if (k.ry1 > h - 1) k.ry1 = h - 1;
     size_t nrays = (size_t)(k.ry1 - k.ry0 + 1) * w, nout = (size_t)(b->y1 - b->y0) * w;
     size_t nbrush = sp ? (size_t)sp->norder : 0;
-    unsigned long long *hdr = (!sp || sp->failed) ? NULL
-                              : ew_band_scratch(b, sizeof *hdr * 2 + sizeof(int) * (nrays + nout + nbrush));
+    size_t bytes = sizeof(unsigned long long) * 2 + sizeof(int) * (nrays + nout + nbrush);
+    unsigned long long *hdr = (!sp || sp->failed) ? NULL : ew_band_scratch(b, bytes);
     if (!hdr) {  /* out of memory: the background alone, counted */
         b->dropped++;
         for (int y = b->y0; y < b->y1; y++) ew_band_span(b, 0, 0, w, y);
         return;
     }
-    hdr[0] = MAGIC;
+    hdr[0] = MAGIC, hdr[1] = bytes;  /* whose scratch, and how much of it this frame used */
     k.rays = (int *)(hdr + 2), k.out = k.rays + nrays, k.brush = k.out + nout;
     for (size_t i = 0; i < nrays; i++) k.rays[i] = UNKNOWN;
     /* The brush model fragments that can reach the rows this band traces. */
@@ -224,9 +232,14 @@ static void ray_resolve(ew_renderer *r, ew_band *b) {
     b->counters[3] = k.lost;
 }
 
+/* The polygons, and what the bands used of their scratch this frame. */
 static size_t ray_memory(const ew_renderer *r) {
     size_t n = ew_spolys_memory(r);
-    for (int i = 0; i < r->sched.nbands; i++) n += r->sched.bands[i].scratch_bytes;
+    for (int i = 0; i < r->sched.nbands; i++) {
+        const ew_band *b = &r->sched.bands[i];
+        const unsigned long long *h = b->scratch_bytes >= 16 ? b->scratch : NULL;
+        if (h && h[0] == MAGIC) n += (size_t)h[1];
+    }
     return n;
 }
 

@@ -55,6 +55,17 @@ int ew_builtin_generate_ex(const ew_mapgen_options *o, uint8_t **bsp, size_t *bs
  * n: what a light-map sample there holds. */
 int ew_builtin_light_at(const ew_mapgen_options *o, const float p[3], const float n[3], uint8_t rgb[3]);
 
+/* The stress level (stress_level.c): a hall whose floor and far walls
+ * carry detail cells of 16 units laid as checkerboards, each cell a face of
+ * its own, for timing hidden-surface methods against the polygons in view
+ * (about one visible polygon per detail cell from its one view, an
+ * intermission camera).  detail 0..EW_STRESS_MAX_DETAIL; a malloc'd BSP29
+ * image as ew_builtin_generate's.  Deterministic; more detail only adds
+ * cells. */
+#define EW_STRESS_MAX_DETAIL 26000
+int ew_stress_generate(int detail, uint8_t **bsp, size_t *bsp_size, uint8_t palette[768],
+                       uint8_t colormap[EW_COLORMAP_SIZE], ew_error *err);
+
 /* Textures, in the order of the textures lump. */
 enum { BI_T_BRICK, BI_T_METAL, BI_T_FLOOR, BI_T_STONE, BI_T_WOOD, BI_T_WATER,
        BI_T_SKY, BI_T_BUTTON0, BI_T_BUTTON1, BI_T_DOOR, BI_NUM_TEXTURES };

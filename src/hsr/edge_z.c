@@ -1,0 +1,265 @@
+/* The edge list sorted by 1/z instead of BSP order: the experiment of
+ * chapter 51 that id tried for Quake and dropped.  The front end and the
+ * edge list are the edge method's (world/edges.c); every surface, world
+ * faces too, carries its 1/z plane over the screen, and the scan of each
+ * row keeps the set of surfaces the scan position is inside and, as the
+ * top, the one nearest there:
+ *
+ *  - a leading edge at pixel u: the new surface's 1/z at u against the
+ *    top's; the nearer becomes the top;
+ *  - abutting (the two 1/z within a hair of each other at u, as where a
+ *    door starts on a wall): the one whose 1/z grows faster to the right
+ *    is in front from there on, as the book describes;
+ *  - intersecting: between two edge events the top can only be overtaken
+ *    by a surface whose 1/z grows faster to the right; each such one is
+ *    tested at the last pixel before the next event, and where one wins
+ *    there, the pixel where their planes cross is computed and the span
+ *    is split there (the book's two-point test and split);
+ *  - a trailing edge of the top: the nearest of the rest at u becomes the
+ *    top (a search of the set, not the next one down a stack: without BSP
+ *    order nothing keeps the ones below sorted once planes cross).
+ *
+ * No BSP key is read.  Every pixel of a row is emitted once, left to right,
+ * for the surface nearest at its centre (1/z evaluated as the reference
+ * path evaluates it), or the background where none is. */
+#include "renderer.h"
+
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { C_COMPARES, C_SPLITS, C_TIES };
+
+/* Relative width of a 1/z tie: float error of evaluating two planes at a
+ * pixel, where surfaces that meet along an edge are equal in exact math. */
+#define TIE_EPS (1.0f / (1 << 20))
+
+/* One row's scan state: the set of surfaces (doubly linked, head 0) and
+ * the top. */
+typedef struct zscan {
+    const ew_surf *surfs;
+    int32_t *next, *prev;
+    float *zrow;          /* per surface: zi_v * v + zi_0 for this row */
+    float v;
+    long compares, splits, ties;
+} zscan;
+
+static inline float zi_at(const zscan *z, int s, int u) { return z->surfs[s].zi_u * (float)u + z->zrow[s]; }
+
+/* Is surface a in front of surface b at pixel u of this row (and so from
+ * u on to the right, unless they cross)? */
+static inline int front(zscan *z, int a, int b, int u) {
+    float za = zi_at(z, a, u), zb = zi_at(z, b, u), tol = TIE_EPS * (za + zb);
+    z->compares++;
+    if (za - zb > tol) return 1;
+    if (zb - za > tol) return 0;
+    z->ties++;
+    return z->surfs[a].zi_u > z->surfs[b].zi_u;
+}
+
+/* The first pixel of [a, last] where s is in front of t, given that it is
+ * at last and its 1/z grows faster: where the planes cross, adjusted to
+ * the comparison itself. */
+static int crossing(zscan *z, int s, int t, int a, int last) {
+    const ew_surf *ss = &z->surfs[s], *st = &z->surfs[t];
+    double x = -((double)z->zrow[s] - z->zrow[t]) / ((double)ss->zi_u - st->zi_u);
+    if (!(x >= a)) x = a;  /* NaN too */
+    if (x > last) x = last;
+    int u = (int)x;
+    while (u > a && front(z, s, t, u - 1)) u--;
+    while (u < last && !front(z, s, t, u)) u++;
+    return u;
+}
+
+/* The nearest surface of the set at pixel u; 0 (the background) if the
+ * set is empty. */
+static int nearest(zscan *z, int u) {
+    int best = z->next[0];
+    if (best <= 0) return 0;
+    for (int s = z->next[best]; s > 0; s = z->next[s])
+        if (front(z, s, best, u)) best = s;
+    return best;
+}
+
+/* Pixels [a, b) of the row, with *top nearest at a: wherever another
+ * surface overtakes it, the top's span ends and the other's starts. */
+static void advance(zscan *z, ew_band *b, int *top, int *start, int a, int end, int v) {
+    int t = *top;
+    while (t > 0 && a < end) {
+        float tu = z->surfs[t].zi_u;
+        int best = 0, bu = end;
+        for (int s = z->next[0]; s > 0; s = z->next[s]) {
+            if (s == t || z->surfs[s].zi_u <= tu || !front(z, s, t, end - 1)) continue;
+            int u = crossing(z, s, t, a, end - 1);
+            if (u < bu || (u == bu && front(z, s, best, u))) best = s, bu = u;
+        }
+        if (!best) break;
+        ew_band_span(b, t, *start, bu, v);
+        z->splits++;
+        t = best, *start = bu, a = bu;
+    }
+    *top = t;
+}
+
+/* ---- the active edges (the edge method's, kept apart so its scan is untouched) ---- */
+
+static int grow_aet(ew_band *b) {
+    if (b->cap_aet >= b->max_aet) return -1;
+    int n = b->cap_aet * 2 > b->max_aet ? b->max_aet : b->cap_aet * 2;
+    ew_active *p = realloc(b->aet, sizeof *p * (size_t)n);
+    if (!p) return -1;
+    b->aet = p, b->cap_aet = n;
+    return 0;
+}
+
+static void add_active(ew_band *b, const ew_edge *e, int v) {
+    if (b->naet >= b->cap_aet && grow_aet(b) < 0) {
+        b->dropped++;
+        return;
+    }
+    ew_active *a = &b->aet[b->naet++];
+    a->u = e->u + (v - e->v_first) * e->u_step;
+    a->u_step = e->u_step;
+    a->v_last = e->v_last;
+    a->surfs[0] = e->surfs[0];
+    a->surfs[1] = e->surfs[1];
+}
+
+/* The edge method's order: by u, then heading left first, then edges that
+ * only lead before edges that trail. */
+static int after(const ew_active *a, const ew_active *b) {
+    if (a->u != b->u) return a->u > b->u;
+    if (a->u_step != b->u_step) return a->u_step > b->u_step;
+    return a->surfs[0] != 0 && b->surfs[0] == 0;
+}
+
+static int cmp_active(const void *pa, const void *pb) {
+    const ew_active *a = pa, *b = pb;
+    return after(a, b) ? 1 : after(b, a) ? -1 : 0;
+}
+
+static void sort_active(ew_active *a, int n) {
+    for (int i = 1; i < n; i++) {
+        ew_active x = a[i];
+        int j = i - 1;
+        while (j >= 0 && after(&a[j], &x)) {
+            a[j + 1] = a[j];
+            j--;
+        }
+        a[j + 1] = x;
+    }
+}
+
+static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
+    const ew_edge *edges = el->edges;
+    int32_t *state = b->st_state;
+    b->nspans = 0;
+    b->naet = 0;
+    memset(b->has_spans, 0, (size_t)el->nsurfs);
+    zscan z = {el->surfs, b->st_next, b->st_prev, ew_band_scratch(b, sizeof(float) * (size_t)el->nsurfs), 0, 0, 0, 0};
+    if (!z.zrow) {  /* out of memory: the band stays background */
+        b->dropped++;
+        for (int v = b->y0; v < b->y1; v++) ew_band_span(b, 0, 0, width, v);
+        return;
+    }
+
+    for (int v = 0; v < b->y0; v++)
+        for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new)
+            if (edges[i].v_last >= b->y0) add_active(b, &edges[i], b->y0);
+    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, cmp_active);
+
+    for (int v = b->y0; v < b->y1; v++) {
+        for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
+        ew_active *aet = b->aet;
+        const int naet = b->naet;
+        sort_active(aet, naet);
+
+        z.v = (float)v;
+        z.next[0] = -1, z.prev[0] = -1;
+        int top = 0, start = 0, at = 0;  /* the top is nearest over [start, at) */
+        for (int i = 0; i < naet; i++) {
+            const ew_active *a = &aet[i];
+            int iu = (int)(((int64_t)a->u + 0xFFFF) >> 16);  /* first pixel centre right of the edge */
+            iu = iu < 0 ? 0 : iu > width ? width : iu;
+            if (iu > at) {
+                advance(&z, b, &top, &start, at, iu, v);
+                at = iu;
+            }
+            int s = a->surfs[0];
+            if (s && --state[s] == 0) {  /* trailing edge: out of the set */
+                int p = z.prev[s], n = z.next[s];
+                z.next[p] = n;
+                if (n > 0) z.prev[n] = p;
+                if (s == top) {
+                    ew_band_span(b, s, start, iu, v);
+                    top = nearest(&z, iu);
+                    start = iu;
+                }
+            }
+            s = a->surfs[1];
+            if (s && ++state[s] == 1) {  /* leading edge: into the set */
+                const ew_surf *sf = &z.surfs[s];
+                z.zrow[s] = sf->zi_v * z.v + sf->zi_0;  /* the reference's order of operations */
+                int n = z.next[0];
+                z.next[s] = n, z.prev[s] = 0;
+                if (n > 0) z.prev[n] = s;
+                z.next[0] = s;
+                if (top == 0 || front(&z, s, top, iu)) {
+                    ew_band_span(b, top, start, iu, v);
+                    top = s;
+                    start = iu;
+                }
+            }
+        }
+        advance(&z, b, &top, &start, at, width, v);
+        ew_band_span(b, top, start, width, v);
+
+        int n = 0;
+        for (int i = 0; i < naet; i++) {
+            ew_active a = aet[i];
+            state[a.surfs[0]] = state[a.surfs[1]] = 0;
+            if (a.v_last <= v) continue;
+            a.u += a.u_step;
+            aet[n++] = a;
+        }
+        b->naet = n;
+    }
+    b->counters[C_COMPARES] += z.compares;
+    b->counters[C_SPLITS] += z.splits;
+    b->counters[C_TIES] += z.ties;
+}
+
+/* ---- the method: the edge method's front end, planes for every surface ---- */
+
+static void z_begin(ew_renderer *r) {
+    ew_edge_list *el = &r->el;
+    el->nedges = 0;
+    el->nsurfs = 1;  /* surface 0: the background, 1/z 0 everywhere */
+    el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->view};
+    for (int v = 0; v <= r->target.height; v++) el->new_edges[v] = -1;
+}
+
+/* ew_emit_face gives only brush-model fragments a plane; here world faces
+ * get theirs, seen from the camera. */
+static void z_face(ew_renderer *r, int fi, int clipflags, int key) {
+    int s = r->el.nsurfs;
+    ew_emit_face(r, fi, clipflags, key);
+    if (r->el.nsurfs == s) return;
+    ew_gradients g;
+    ew_face_gradients(r->world, &r->view, &r->world->faces[fi], 0, &g);
+    ew_surf *sf = &r->el.surfs[s];
+    sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
+}
+
+static void z_resolve(ew_renderer *r, ew_band *b) { scan_band_z(&r->el, r->target.width, b); }
+
+static size_t z_memory(const ew_renderer *r) {
+    size_t n = 0;
+    for (int i = 0; i < r->sched.nbands; i++) n += r->sched.bands[i].scratch_bytes;
+    return n;
+}
+
+const ew_hsr ew_hsr_edge_z = {
+    "edge-z", z_begin, z_face, ew_emit_poly, z_resolve, 0,
+    {[C_COMPARES] = "1/z comparisons", [C_SPLITS] = "intersections split", [C_TIES] = "abutting ties"},
+    1, z_memory};
