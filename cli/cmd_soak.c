@@ -358,11 +358,13 @@ int cmd_soak(int argc, char **argv) {
         return 1;
     }
     draw_opts_apply(&o.draw, r, scene);
-    /* The methods that write every world pixel exactly once are held to it;
-     * the reference draws no spans, painter's order and the z-buffer
-     * overdraw by design, and the raycast approximates (docs/hsr.md). */
+    /* The methods that write every world pixel exactly once are held to it
+     * (the raycast too: it approximates which surface, not how often); the
+     * reference draws no spans, painter's order and the z-buffer overdraw
+     * by design (docs/hsr.md). */
     int spans_checked = o.draw.hsr == EW_HSR_EDGE || o.draw.hsr == EW_HSR_EDGE_Z || o.draw.hsr == EW_HSR_SPANS ||
-                        o.draw.hsr == EW_HSR_DRAWBUFFER || o.draw.hsr == EW_HSR_BEAMTREE;
+                        o.draw.hsr == EW_HSR_DRAWBUFFER || o.draw.hsr == EW_HSR_BEAMTREE ||
+                        o.draw.hsr == EW_HSR_RAYCAST;
     ew_camera views[EW_MAX_VIEWS];
     int nviews = ew_benchmark_views(w, views);
     long seethrough_frames = 0, underwater_frames = 0, fog_frames = 0;

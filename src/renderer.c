@@ -212,6 +212,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
     free(r->el.edges), free(r->el.new_edges), free(r->el.surfs), free(r->lit.blocklights);
     free(r->ref.polys);
+    ew_spolys_free(r->spolys);
     free(r->see.polys), free(r->see.order), free(r->warp_copy);
     ew_blend_free(&r->blend);
     ew_debug_free(r);

@@ -135,6 +135,7 @@ struct ew_renderer {
     ew_lit      lit;
     ew_ents     ents;
     ew_ref      ref;
+    struct ew_spolys *spolys;                    /* beamtree, raycast: surfaces' screen polygons (hsr/surf_poly.c) */
     ew_see      see;
     ew_blend    blend;                           /* 8-bit blend, fog and tint tables */
     int         eye_contents;                    /* EW_CONTENTS_* of the eye's leaf this frame */

@@ -25,8 +25,9 @@
 #define H 200
 
 static int exact_once_expected(int m) {
+    /* (the raycast approximates which surface, but still writes each pixel once) */
     return m == EW_HSR_EDGE || m == EW_HSR_EDGE_Z || m == EW_HSR_SPANS || m == EW_HSR_BEAMTREE ||
-           m == EW_HSR_DRAWBUFFER;
+           m == EW_HSR_DRAWBUFFER || m == EW_HSR_RAYCAST;
 }
 
 static double floor_for(int m) { return m == EW_HSR_RAYCAST ? 0.90 : 0.99; }

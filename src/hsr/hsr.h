@@ -59,6 +59,8 @@ extern const ew_hsr ew_hsr_spans;      /* hsr/spans.c */
 extern const ew_hsr ew_hsr_zbuffer;    /* hsr/zbuffer.c */
 extern const ew_hsr ew_hsr_painter;    /* hsr/painter.c */
 extern const ew_hsr ew_hsr_drawbuffer; /* hsr/drawbuffer.c */
+extern const ew_hsr ew_hsr_beamtree;   /* hsr/beamtree.c (+ surf_poly.c) */
+extern const ew_hsr ew_hsr_raycast;    /* hsr/raycast.c (+ surf_poly.c) */
 
 /* hsr/methods.c: the method for an ew_hsr_method, NULL if not built. */
 const ew_hsr *ew_hsr_get(int method);
@@ -145,5 +147,8 @@ void ew_emit_face(ew_renderer *r, int face, int clipflags, int key);
 void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
 /* hsr/edge_scan.c: the edge list emptied for a frame (the edge method's begin). */
 void ew_edge_begin(ew_renderer *r);
+/* hsr/surf_poly.c: frees r->spolys, the screen polygons of beamtree and raycast. */
+struct ew_spolys;
+void ew_spolys_free(struct ew_spolys *sp);
 
 #endif

@@ -18,6 +18,8 @@ static const ew_hsr *const methods[EW_HSR_COUNT] = {
     [EW_HSR_ZBUFFER] = &ew_hsr_zbuffer,
     [EW_HSR_PAINTER] = &ew_hsr_painter,
     [EW_HSR_DRAWBUFFER] = &ew_hsr_drawbuffer,
+    [EW_HSR_BEAMTREE] = &ew_hsr_beamtree,
+    [EW_HSR_RAYCAST] = &ew_hsr_raycast,
 };
 
 const ew_hsr *ew_hsr_get(int method) { return method >= 0 && method < EW_HSR_COUNT ? methods[method] : NULL; }
