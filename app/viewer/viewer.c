@@ -298,6 +298,19 @@ static void press(viewer *v, SDL_Keycode k) {
         ew_set_scene(v->r, v->entities ? v->scene : v->empty);
         fprintf(stderr, "entities: %s\n", v->entities ? "on" : "off");
         break;
+    case SDLK_h: {  /* the next hidden-surface method this build has */
+        int m = v->o->draw.hsr;
+        for (int i = 1; i <= EW_HSR_COUNT; i++) {
+            int c = (v->o->draw.hsr + i) % EW_HSR_COUNT;
+            if (ew_hsr_available((ew_hsr_method)c)) {
+                m = c;
+                break;
+            }
+        }
+        if (ew_set_hsr(v->r, (ew_hsr_method)m) == 0) v->o->draw.hsr = m;
+        fprintf(stderr, "hsr: %s\n", ew_hsr_name((ew_hsr_method)v->o->draw.hsr));
+        break;
+    }
     case SDLK_r:
         v->alias_raster = (v->alias_raster + 1) % 3;
         ew_set_alias_raster(v->r, (ew_alias_raster)v->alias_raster, 0);
@@ -566,7 +579,7 @@ static int run(viewer *v) {
     double step = 1.0 / 60.0;
     long frame = 0, script_frames = 0;
     double script_t = 0, last = now_s(), start = last, fps_t0 = last, fps = 0;
-    double ms_present, shown_present = 0, win_present = 0, sum_present = 0, sum_render = 0;
+    double ms_present = 0, shown_present = 0, win_present = 0, sum_present = 0, sum_render = 0;
     int fps_frames = 0;
     int rc = 0;
     ew_stats st;
@@ -677,8 +690,18 @@ static int run(viewer *v) {
         }
         sum_render += (now_s() - r0) * 1000.0;
         if (v->overlay) {
-            ew_overlay_info info = { fps, shown_present, &cam, 0, 0 };
+            /* present: the last half second's mean (the last frame's before one has passed) */
+            ew_overlay_info info = { fps, fps > 0 ? shown_present : ms_present, &cam, 0, 0 };
             ew_draw_stats_overlay(v->r, &st, &info);
+            /* below it: the hidden-surface method (H) and how frames are shown */
+            char text[1024], line[128];
+            int scale = v->fh / 480 < 1 ? 1 : v->fh / 480 > 4 ? 4 : v->fh / 480, tw, th;
+            ew_format_stats_overlay(text, sizeof text, &st, &info);
+            if (ew_text_size(text, scale, &tw, &th) == 0) {
+                snprintf(line, sizeof line, "hsr %s\npresent %s", ew_hsr_name((ew_hsr_method)o->draw.hsr),
+                         present_names[v->mode]);
+                ew_draw_text(v->r, 4 * scale, 4 * scale + th + 2 * scale, scale, line, NULL);
+            }
         }
         for (int i = 0; i < nshots; i++)
             screenshot(v, cmds[shots[i]].path, &cam);
