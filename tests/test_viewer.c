@@ -13,7 +13,9 @@
  *   - real input in walk mode on the built-in map: F drops the player onto
  *     the floor, W stops at a wall 16 units short and climbs stairs step
  *     by step (the recorded path against point traces of the map);
- *   - without a display, view says so in one line and fails.
+ *   - H cycles the available hidden-surface methods;
+ *   - without a display, view says so in one line and fails; a bad
+ *     --present value is refused.
  * In a build without SDL2, only that `view` says it was built without it.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -612,6 +614,11 @@ int main(void) {
     CHECK(r.status != 0 && strstr(r.err, "no display") && ew_t_count_lines(r.err) == 1, "no display: %d %s",
           r.status, r.err);
 
+    const char *argsp[] = { "view", "builtin", "--present", "bogus", NULL };
+    ew_t_run_cli(&r, tmpdir, argsp);
+    CHECK(r.status == 2 && strstr(r.err, "--present bogus") && ew_t_count_lines(r.err) == 1, "--present bogus: %d %s",
+          r.status, r.err);
+
     if (!have_tool("Xvfb")) {
         printf("skip: no Xvfb\n");
         return ew_t_finish();
@@ -629,6 +636,28 @@ int main(void) {
         const char *args1[] = { "view", "builtin", "--script", tpath("b.script"), NULL };
         ew_t_run_cli(&r, tmpdir, args1);
         CHECK(r.status == 0 && strstr(r.err, "frames"), "view builtin: %d %s", r.status, r.err);
+        /* H: the next available hidden-surface method, twice */
+        {
+            int m1 = EW_HSR_EDGE, m2;
+            for (int i = 1; i <= EW_HSR_COUNT; i++)
+                if (ew_hsr_available((ew_hsr_method)((EW_HSR_EDGE + i) % EW_HSR_COUNT))) {
+                    m1 = (EW_HSR_EDGE + i) % EW_HSR_COUNT;
+                    break;
+                }
+            m2 = m1;
+            for (int i = 1; i <= EW_HSR_COUNT; i++)
+                if (ew_hsr_available((ew_hsr_method)((m1 + i) % EW_HSR_COUNT))) {
+                    m2 = (m1 + i) % EW_HSR_COUNT;
+                    break;
+                }
+            char want[128];
+            snprintf(want, sizeof want, "hsr: %s\nhsr: %s\n", ew_hsr_name((ew_hsr_method)m1),
+                     ew_hsr_name((ew_hsr_method)m2));
+            write_text(tpath("h.script"), "at 0 key H\nat 0.1 key H\nat 0.2 quit\n");
+            const char *argsh[] = { "view", "builtin", "--size", "320x240", "--script", tpath("h.script"), NULL };
+            ew_t_run_cli(&r, tmpdir, argsh);
+            CHECK(r.status == 0 && strstr(r.err, want), "H twice: want '%s': %s", want, r.err);
+        }
         if (have_tool("xdotool")) test_xdotool_walk();
         if (ew_t_have_shared("data/librequake/maps/e1m1.bsp")) {
             const char *data = ew_t_shared_abs("data/librequake");
