@@ -27,6 +27,7 @@ _edgewise()
                         return 0 ;;
         --lightstyle)   return 0 ;;
         --views)        COMPREPLY=($(compgen -W 'best all' -- "$cur")); return 0 ;;
+        --present)      COMPREPLY=($(compgen -W 'auto surface texture software' -- "$cur")); return 0 ;;
         --script|--record|--manifest|--contact-sheet|--cameras)
                         compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         --path)         compopt -o filenames 2>/dev/null
@@ -55,7 +56,7 @@ _edgewise()
         soak)   opts="--data --frames --size --seed --threads --quiet --help $drawn" ;;
         shots)  opts="--data --out --size --views --jobs --force --manifest --contact-sheet --quiet --help $drawn" ;;
         fly)    opts="--data --path --seconds --fps --size --out --cameras --quiet --help $drawn" ;;
-        view)   opts="--data --size --scale --threads --fov --view --fullscreen --script --record --quiet --help
+        view)   opts="--data --size --scale --threads --fov --view --fullscreen --present --script --record --quiet --help
                       $drawn" ;;
         *)      return 0 ;;
     esac

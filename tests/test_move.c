@@ -373,7 +373,109 @@ static void test_corrupt(const char *name) {
     free(data);
 }
 
+/* The point-hull floor under (x, y) from z, and the first wall from p
+ * along yaw (point traces: the map's faces themselves). */
+static float floor_under(const ew_world *w, float x, float y, float z) {
+    float a[3] = {x, y, z}, b[3] = {x, y, z - 1000};
+    ew_trace_result t;
+    ew_trace(w, EW_HULL_POINT, a, b, &t);
+    return t.fraction < 1 ? t.end[2] - EPS : -1e9f;
+}
+
+/* The built-in map's own player hulls (src/mapgen/clip_hull.c: the level's
+ * solid boxes grown by the hull's box): dropped over the courtyard floor
+ * the player rests 24 over it; walking into the hall's east wall it stops
+ * 16 from it (hull 2: 32); walking north up the hall's wooden stairs it
+ * climbs their three 16-unit steps into the stone room. */
+static void test_builtin(void) {
+    ew_error err = {""};
+    ew_assets *a = ew_assets_create_builtin(&err);
+    CHECK(a != NULL, "builtin: %s", err.msg);
+    if (!a) return;
+    const ew_world *w = a->world;
+    CHECK(w->clip_ok && !ew_world_warning(w, 0), "builtin: clip hulls refused");
+    CHECK(w->models[0].cliphead[0] > 0 && w->models[0].cliphead[1] > w->models[0].cliphead[0],
+          "builtin: hull heads %d %d", w->models[0].cliphead[0], w->models[0].cliphead[1]);
+    printf("builtin: %d clipnodes, hull 1 at %d, hull 2 at %d\n", w->numclipnodes, w->models[0].cliphead[0],
+           w->models[0].cliphead[1]);
+
+    /* gravity: from 150 over the courtyard (the player start's x, y) */
+    float fz = floor_under(w, 230, 290, 150);
+    CHECK(fabsf(fz - 64) < 0.01f, "builtin: courtyard floor at %g (the grid says 64)", fz);
+    ew_player p;
+    float eye[3] = {230, 290, 150 + EW_EYE_HEIGHT};
+    ew_player_set_eye(&p, eye, EW_MOVE_WALK);
+    ew_move_input in = still();
+    run(w, &p, &in, 2);
+    CHECK(p.on_ground && fabsf(p.origin[2] - (fz + 24)) < 0.05f, "builtin: landed at z %.3f, floor %.3f + 24",
+          p.origin[2], fz);
+    CHECK(p.origin[0] == 230 && p.origin[1] == 290, "builtin: drifted to %g %g", p.origin[0], p.origin[1]);
+    printf("builtin: dropped from z 150, landed at z %.3f (floor %.3f + 24)\n", p.origin[2], fz);
+    ew_trace_result t;
+    float from[3] = {230, 290, 150}, to[3] = {230, 290, 0};
+    ew_trace(w, EW_HULL_LARGE, from, to, &t);
+    CHECK(fabsf(t.end[2] - (fz + 24)) < 0.05f, "builtin: hull 2 rests at %g", t.end[2]);
+
+    /* a wall: the hall's east wall, walking east from (800, 100) */
+    float hz = floor_under(w, 800, 100, 150), wall;
+    {
+        float s[3] = {800, 100, hz + 24}, e[3] = {1800, 100, hz + 24};
+        ew_trace(w, EW_HULL_POINT, s, e, &t);
+        wall = t.end[0] + EPS;
+        CHECK(t.fraction < 1 && fabsf(wall - 896) < 0.01f && t.normal[0] < -0.99f, "builtin: hall wall at %g", wall);
+        ew_trace(w, EW_HULL_LARGE, s, e, &t);
+        CHECK(fabsf(t.end[0] - (wall - 32)) < 0.05f, "builtin: hull 2 stops at %g (wall %g - 32)", t.end[0], wall);
+    }
+    eye[0] = 800, eye[1] = 100, eye[2] = hz + 24 + EW_EYE_HEIGHT;
+    ew_player_set_eye(&p, eye, EW_MOVE_WALK);
+    in.angles[1] = 0;
+    in.forward = 1;
+    in.run = 1;
+    float most = 0;
+    for (int i = 0; i < 3 * 60; i++) {
+        ew_player_move(w, &p, &in, DT);
+        if (p.origin[0] > most) most = p.origin[0];
+    }
+    CHECK(most <= wall - 16 && fabsf(p.origin[0] - (wall - 16)) < 0.05f && fabsf(p.origin[2] - (hz + 24)) < 0.05f,
+          "builtin: walked east to x %.3f (furthest %.3f), wall at %.3f", p.origin[0], most, wall);
+    printf("builtin: walked into the hall's east wall (x %.3f): stopped at x %.3f, %.3f from it\n", wall,
+           p.origin[0], wall - p.origin[0]);
+
+    /* stairs: north from (736, 300) up the three steps into the stone room */
+    float tops[4] = {hz, floor_under(w, 736, 400, 150), floor_under(w, 736, 432, 150),
+                   floor_under(w, 736, 500, 150)};
+    CHECK(fabsf(tops[1] - tops[0] - 16) < 0.01f && fabsf(tops[2] - tops[1] - 16) < 0.01f &&
+              fabsf(tops[3] - tops[2] - 16) < 0.01f,
+          "builtin: stair tops %g %g %g %g", tops[0], tops[1], tops[2], tops[3]);
+    eye[0] = 736, eye[1] = 300, eye[2] = hz + 24 + EW_EYE_HEIGHT;
+    ew_player_set_eye(&p, eye, EW_MOVE_WALK);
+    in = still();
+    in.angles[1] = 90;
+    in.forward = 1;
+    int stood[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 180 && p.origin[1] < 512; i++) {  /* (a dais further on) */
+        ew_player_move(w, &p, &in, DT);
+        for (int k = 0; k < 4; k++)
+            if (p.on_ground && fabsf(p.origin[2] - (tops[k] + 24)) < 0.05f) stood[k]++;
+    }
+    CHECK(stood[0] && stood[1] && stood[2] && stood[3], "builtin: stood on the levels %d %d %d %d", stood[0],
+          stood[1], stood[2], stood[3]);
+    CHECK(p.origin[1] > 480 + 16 && fabsf(p.origin[2] - (tops[3] + 24)) < 0.05f && fabsf(p.origin[0] - 736) < 0.01f,
+          "builtin: after the stairs at %g %g %g", p.origin[0], p.origin[1], p.origin[2]);
+    printf("builtin: climbed steps %.0f -> %.0f -> %.0f -> %.0f: at y %.3f, z %.3f (room floor %.3f + 24)\n",
+           tops[0], tops[1], tops[2], tops[3], p.origin[1], p.origin[2], tops[3]);
+
+    /* the generic gravity and jump check at its start (not test_wall: the
+     * courtyard's walls stand on a plinth, a step) */
+    ew_camera v[EW_MAX_VIEWS];
+    int nv = ew_benchmark_views(w, v);
+    CHECK(nv > 0, "builtin: no views");
+    if (nv > 0) test_gravity(w, "builtin view 0", &v[0]);
+    ew_assets_destroy(a);
+}
+
 int main(void) {
+    test_builtin();
     ew_assets *e1 = ew_t_load_map("e1m1"), *st = ew_t_load_map("start");
     if (!e1 || !st) {
         ew_assets_destroy(e1);

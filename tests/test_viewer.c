@@ -10,7 +10,12 @@
  *     gravity lands the player on the floor (checked with ew_trace);
  *   - real input: xdotool key and mouse events move and turn the camera
  *     (from the --record file);
- *   - without a display, view says so in one line and fails.
+ *   - real input in walk mode on the built-in map: F drops the player onto
+ *     the floor, W stops at a wall 16 units short and climbs stairs step
+ *     by step (the recorded path against point traces of the map);
+ *   - H cycles the available hidden-surface methods;
+ *   - without a display, view says so in one line and fails; a bad
+ *     --present value is refused.
  * In a build without SDL2, only that `view` says it was built without it.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -106,6 +111,7 @@ static void stop_xvfb(void) {
 }
 
 static int run_tool(const char *const *args) {
+    fflush(stdout);  /* not twice: a child's freopen would flush the copy */
     pid_t pid = fork();
     if (pid == 0) {
         freopen("/dev/null", "w", stdout);
@@ -387,6 +393,207 @@ static void test_xdotool(const char *data) {
     }
 }
 
+/* ---- real input in walk mode on the built-in map ---------------------------- */
+
+/* Every line of a record file (at most max): time x y z pitch yaw roll. */
+static int record_all(const char *path, double (*v)[7], int max) {
+    FILE *f = fopen(path, "r");
+    if (!f) return 0;
+    int n = 0;
+    double l[7];
+    while (n < max && fscanf(f, "%lf %lf %lf %lf %lf %lf %lf", &l[0], &l[1], &l[2], &l[3], &l[4], &l[5], &l[6]) == 7)
+        memcpy(v[n++], l, sizeof l);
+    fclose(f);
+    return n;
+}
+
+/* The viewer on the built-in map with a script that only places the
+ * camera, its window found and focused, its first frame recorded; the
+ * pid, or -1. */
+static pid_t start_builtin_viewer(const char *script, const char *rec, const char *errfile) {
+    remove(rec);
+    fflush(stdout);
+    pid_t pid = fork();
+    if (pid == 0) {
+        freopen("/dev/null", "w", stdout);
+        freopen(errfile, "w", stderr);
+        execl(cli(), cli(), "view", "builtin", "--size", "320x240", "--threads", "0", "--script", script,
+              "--record", rec, (char *)NULL);
+        _exit(127);
+    }
+    if (pid < 0) return -1;
+    viewer_pid = pid;
+    const char *search[] = { "xdotool", "search", "--sync", "--onlyvisible", "--name", "edgewise - builtin", NULL };
+    CHECK(run_tool(search) == 0, "xdotool found the builtin window");
+    const char *act[] = { "xdotool", "search", "--onlyvisible", "--name", "edgewise - builtin", "windowfocus",
+                          "--sync", NULL };
+    run_tool(act);
+    double a[7], b[7];
+    for (int i = 0; i < 100 && record_lines(rec, a, b) == 0; i++) sleep_ms(100);
+    return pid;
+}
+
+/* Esc quits (the mouse is not grabbed); 1 when the viewer exited 0. */
+static int stop_viewer(pid_t pid, const char *errfile) {
+    const char *esc[] = { "xdotool", "key", "Escape", NULL };
+    run_tool(esc);
+    int st = 0, done = 0;
+    for (int i = 0; i < 100 && !done; i++) {
+        if (waitpid(pid, &st, WNOHANG) == pid) done = 1;
+        else sleep_ms(50);
+    }
+    if (!done) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &st, 0);
+    }
+    viewer_pid = -1;
+    int ok = done && WIFEXITED(st) && WEXITSTATUS(st) == 0;
+    if (!ok) {
+        char err[4096];
+        ew_t_slurp(errfile, err, sizeof err);
+        fprintf(stderr, "viewer stderr: %s\n", err);
+    }
+    return ok;
+}
+
+/* Polls the record until the last line satisfies done(line, arg) or
+ * seconds pass; the number of lines then. */
+static int wait_record(const char *rec, int (*done)(const double *, const double *), const double *arg,
+                       double seconds) {
+    double a[7], b[7];
+    int n = 0;
+    for (int i = 0; i < (int)(seconds * 10); i++) {
+        sleep_ms(100);
+        n = record_lines(rec, a, b);
+        if (n > 0 && done(b, arg)) break;
+    }
+    return n;
+}
+static int at_z(const double *l, const double *z) { return fabs(l[3] - z[0]) < 0.05; }
+static int at_x_least(const double *l, const double *x) { return l[1] >= x[0]; }
+static int at_y_least(const double *l, const double *y) { return l[2] >= y[0]; }
+
+/* The map's geometry by point traces: the floor under (x, y) below z,
+ * the first wall from p along +x or +y. */
+static float floor_at(const ew_world *w, float x, float y, float z) {
+    float a[3] = { x, y, z }, b[3] = { x, y, z - 1000 };
+    ew_trace_result t;
+    ew_trace(w, EW_HULL_POINT, a, b, &t);
+    return t.fraction < 1 ? t.end[2] - 1.0f / 32 : -1e9f;
+}
+static float wall_at(const ew_world *w, const float p[3], int axis) {
+    float b[3] = { p[0], p[1], p[2] };
+    b[axis] += 2000;
+    ew_trace_result t;
+    ew_trace(w, EW_HULL_POINT, p, b, &t);
+    return t.fraction < 1 ? t.end[axis] + 1.0f / 32 : 1e9f;
+}
+
+/* xdotool keys in walk mode on the built-in map (its player hulls:
+ * src/mapgen/clip_hull.c), checked on the recorded path against the
+ * map's faces: F drops the player from 50 units up onto the hall's floor
+ * (eye = floor + 24 + 22); W held walks it into the hall's east wall,
+ * which stops it 16 units short; W held at the foot of the wooden stairs
+ * climbs their three 16-unit steps one by one into the stone room. */
+static void test_xdotool_walk(void) {
+    ew_error err = { "" };
+    ew_assets *a = ew_assets_create_builtin(&err);
+    CHECK(a != NULL, "builtin: %s", err.msg);
+    if (!a) return;
+    const ew_world *w = a->world;
+    const double eye = 24 + EW_EYE_HEIGHT;  /* the eye over the floor when standing */
+    static double path[20000][7];
+
+    /* gravity and a wall: the hall, 50 units over its floor, facing east */
+    float fz = floor_at(w, 800, 100, 150);
+    float p0[3] = { 800, 100, fz + 8 };
+    float wall = wall_at(w, p0, 0);
+    CHECK(fabsf(fz - 64) < 0.01f && fabsf(wall - 896) < 0.01f, "hall floor %g, east wall %g", fz, wall);
+    char script[256];
+    snprintf(script, sizeof script, "at 0 camera 800,100,%.1f 0,0,0\n", fz + eye + 50);
+    write_text(tpath("wa.script"), script);
+    pid_t pid = start_builtin_viewer(tpath("wa.script"), tpath("wa.rec"), tpath("wa.err"));
+    if (pid < 0) { ew_assets_destroy(a); return; }
+    int n0 = wait_record(tpath("wa.rec"), at_z, (double[]){ fz + eye + 50 }, 5);
+    const char *kf[] = { "xdotool", "key", "f", NULL };
+    run_tool(kf);
+    int n1 = wait_record(tpath("wa.rec"), at_z, (double[]){ fz + eye }, 10);
+    const char *wd[] = { "xdotool", "keydown", "w", NULL }, *wu[] = { "xdotool", "keyup", "w", NULL };
+    run_tool(wd);
+    int n2 = wait_record(tpath("wa.rec"), at_x_least, (double[]){ wall - 16 - 0.05 }, 10);
+    sleep_ms(300);  /* pushing on the wall a while */
+    run_tool(wu);
+    sleep_ms(200);
+    CHECK(stop_viewer(pid, tpath("wa.err")), "Esc quit the viewer (fall and wall)");
+    int n = record_all(tpath("wa.rec"), path, 20000);
+    CHECK(n0 > 0 && n1 > n0 && n2 > n1 && n > n2, "frames recorded %d %d %d %d", n0, n1, n2, n);
+    if (n > n2 && n0 > 0) {
+        double top = path[0][3], low = 1e9, most_x = -1e9;
+        int falling = 0;
+        for (int i = 0; i < n; i++) {
+            if (path[i][3] < low) low = path[i][3];
+            if (path[i][1] > most_x) most_x = path[i][1];
+            if (i > 0 && path[i][3] < path[i - 1][3] - 0.5) falling++;
+        }
+        const double *l = path[n - 1];
+        CHECK(fabs(top - (fz + eye + 50)) < 0.01 && falling >= 3, "a fall from %.3f (%d falling frames)", top,
+              falling);
+        CHECK(low >= fz + eye - 0.05 && fabs(l[3] - (fz + eye)) < 0.05, "landed at eye z %.3f (lowest %.3f), floor %g",
+              l[3], low, fz);
+        CHECK(most_x <= wall - 16 + 1e-3 && fabs(l[1] - (wall - 16)) < 0.05 && fabs(l[2] - 100) < 1e-3,
+              "stopped at x %.3f (furthest %.3f), the wall at %g", l[1], most_x, wall);
+        printf("xdotool walk: fell from eye z %.3f to %.3f (floor %.3f + 46) in %d frames; W: stopped at x %.3f, "
+               "%.3f from the wall at %.3f\n", top, l[3], fz, falling, l[1], wall - l[1], wall);
+    }
+
+    /* stairs: at their foot in the hall, facing north */
+    float riser[3], tops[4] = { fz, 0, 0, 0 };
+    for (int k = 0; k < 3; k++) {
+        float q[3] = { 736, 300 + 32.0f * k, tops[k] + 8 };
+        riser[k] = wall_at(w, q, 1);
+        tops[k + 1] = floor_at(w, 736, riser[k] + 8, tops[k] + 60);
+    }
+    CHECK(fabsf(riser[0] - 384) < 0.01f && fabsf(riser[1] - 416) < 0.01f && fabsf(riser[2] - 448) < 0.01f &&
+              fabsf(tops[1] - 80) < 0.01f && fabsf(tops[2] - 96) < 0.01f && fabsf(tops[3] - 112) < 0.01f,
+          "stairs: risers %g %g %g, tops %g %g %g", riser[0], riser[1], riser[2], tops[1], tops[2], tops[3]);
+    snprintf(script, sizeof script, "at 0 camera 736,300,%.1f 0,90,0\n", fz + eye);
+    write_text(tpath("wb.script"), script);
+    pid = start_builtin_viewer(tpath("wb.script"), tpath("wb.rec"), tpath("wb.err"));
+    if (pid < 0) { ew_assets_destroy(a); return; }
+    run_tool(kf);
+    sleep_ms(200);
+    run_tool(wd);
+    int m1 = wait_record(tpath("wb.rec"), at_y_least, (double[]){ riser[2] + 40 }, 10);
+    run_tool(wu);
+    sleep_ms(200);
+    CHECK(stop_viewer(pid, tpath("wb.err")), "Esc quit the viewer (stairs)");
+    n = record_all(tpath("wb.rec"), path, 20000);
+    CHECK(m1 > 0 && n >= m1, "stairs: frames recorded %d %d", m1, n);
+    int seen[4] = { 0, 0, 0, 0 }, early = 0, back = 0, drift = 0;
+    double first_y[4] = { 0, 0, 0, 0 };
+    for (int i = 0; i < n; i++) {
+        for (int k = 0; k < 4; k++)
+            if (fabs(path[i][3] - (tops[k] + eye)) < 0.05) {
+                if (!seen[k]++) first_y[k] = path[i][2];
+                /* on a step only once the box is over it: origin past the riser - 16 */
+                if (k > 0 && path[i][2] < riser[k - 1] - 16 - 0.05) early++;
+            }
+        /* up the stairs, never down (further on, a dais in the room is stepped up and off) */
+        if (i > 0 && path[i][2] < riser[2] + 32 && path[i][3] < path[i - 1][3] - 0.05) back++;
+        if (fabs(path[i][1] - 736) >= 1e-3) drift++;
+    }
+    CHECK(drift == 0, "stairs: x left 736 in %d frames", drift);
+    CHECK(seen[0] && seen[1] && seen[2] && seen[3], "stairs: frames on each level %d %d %d %d", seen[0], seen[1],
+          seen[2], seen[3]);
+    CHECK(early == 0 && back == 0, "stairs: %d frames up a step before its riser, %d going down", early, back);
+    CHECK(n > 0 && path[n - 1][2] > riser[2] && path[n - 1][3] >= tops[3] + eye - 0.05, "stairs: ended at y %.3f z %.3f",
+          n > 0 ? path[n - 1][2] : 0, n > 0 ? path[n - 1][3] : 0);
+    printf("xdotool walk: stairs climbed, eye z %.0f/%.0f/%.0f/%.0f first reached at y %.3f/%.3f/%.3f/%.3f (risers "
+           "at y %.0f/%.0f/%.0f), %d frames\n", tops[0] + eye, tops[1] + eye, tops[2] + eye, tops[3] + eye,
+           first_y[0], first_y[1], first_y[2], first_y[3], riser[0], riser[1], riser[2], n);
+    ew_assets_destroy(a);
+}
+
 #endif /* EW_HAVE_SDL2 */
 
 int main(void) {
@@ -407,6 +614,11 @@ int main(void) {
     CHECK(r.status != 0 && strstr(r.err, "no display") && ew_t_count_lines(r.err) == 1, "no display: %d %s",
           r.status, r.err);
 
+    const char *argsp[] = { "view", "builtin", "--present", "bogus", NULL };
+    ew_t_run_cli(&r, tmpdir, argsp);
+    CHECK(r.status == 2 && strstr(r.err, "--present bogus") && ew_t_count_lines(r.err) == 1, "--present bogus: %d %s",
+          r.status, r.err);
+
     if (!have_tool("Xvfb")) {
         printf("skip: no Xvfb\n");
         return ew_t_finish();
@@ -424,6 +636,29 @@ int main(void) {
         const char *args1[] = { "view", "builtin", "--script", tpath("b.script"), NULL };
         ew_t_run_cli(&r, tmpdir, args1);
         CHECK(r.status == 0 && strstr(r.err, "frames"), "view builtin: %d %s", r.status, r.err);
+        /* H: the next available hidden-surface method, twice */
+        {
+            int m1 = EW_HSR_EDGE, m2;
+            for (int i = 1; i <= EW_HSR_COUNT; i++)
+                if (ew_hsr_available((ew_hsr_method)((EW_HSR_EDGE + i) % EW_HSR_COUNT))) {
+                    m1 = (EW_HSR_EDGE + i) % EW_HSR_COUNT;
+                    break;
+                }
+            m2 = m1;
+            for (int i = 1; i <= EW_HSR_COUNT; i++)
+                if (ew_hsr_available((ew_hsr_method)((m1 + i) % EW_HSR_COUNT))) {
+                    m2 = (m1 + i) % EW_HSR_COUNT;
+                    break;
+                }
+            char want[128];
+            snprintf(want, sizeof want, "hsr: %s\nhsr: %s\n", ew_hsr_name((ew_hsr_method)m1),
+                     ew_hsr_name((ew_hsr_method)m2));
+            write_text(tpath("h.script"), "at 0 key H\nat 0.1 key H\nat 0.2 quit\n");
+            const char *argsh[] = { "view", "builtin", "--size", "320x240", "--script", tpath("h.script"), NULL };
+            ew_t_run_cli(&r, tmpdir, argsh);
+            CHECK(r.status == 0 && strstr(r.err, want), "H twice: want '%s': %s", want, r.err);
+        }
+        if (have_tool("xdotool")) test_xdotool_walk();
         if (ew_t_have_shared("data/librequake/maps/e1m1.bsp")) {
             const char *data = ew_t_shared_abs("data/librequake");
             char databuf[512];

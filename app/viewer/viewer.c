@@ -37,13 +37,25 @@ static const char view_usage[] =
     "  --fov DEG         horizontal field of view, " FOV_RULE " (default 90)\n"
     "  --view N          start at camera N of the view set (default 0)\n"
     "  --fullscreen      fill the screen\n"
+    "  --present MODE    how frames reach the window: auto (default), surface, texture, software\n"
     "  --script FILE     play timed commands (deterministic frames: time from the script)\n"
     "  --record FILE     write the camera path: one line 'time x y z pitch yaw roll' a frame\n"
     "  --quiet           no warning lines about the map's optional data\n"
     "drawing options (as render):\n";
 
+/* How finished frames reach the window (README "view"): the window's own
+ * surface (the frame converted straight into its pixel format, scaled in
+ * the same pass, shown with SDL_UpdateWindowSurface: on X11 a shared-memory
+ * put image), a streaming texture of the default (accelerated) SDL
+ * renderer scaled by the GPU, or the same through SDL's software
+ * renderer.  auto: the texture when OpenGL is a real GPU, else the
+ * surface. */
+typedef enum present_mode { PRESENT_AUTO, PRESENT_SURFACE, PRESENT_TEXTURE, PRESENT_SOFTWARE } present_mode;
+static const char *const present_names[] = { "auto", "surface", "texture", "software" };
+
 typedef struct view_opts {
     const char *map, *data, *script, *record;
+    present_mode present;
     int         width, height, size_given, scale, threads, view, fullscreen, quiet;
     double      fov;
     draw_opts   draw;
@@ -74,7 +86,7 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
         if (strcmp(a, "--quiet") == 0) { o->quiet = 1; continue; }
         if (a[0] == '-' && a[1] == '-') {
             static const char *const with_value[] = { "--data", "--size", "--scale", "--threads", "--fov",
-                                                      "--view", "--script", "--record" };
+                                                      "--view", "--script", "--record", "--present" };
             int k = -1;
             for (int j = 0; j < (int)(sizeof with_value / sizeof *with_value); j++)
                 if (strcmp(a, with_value[j]) == 0) k = j;
@@ -125,6 +137,17 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
                 break;
             case 6: o->script = v; break;
             case 7: o->record = v; break;
+            case 8: {
+                int m = -1;
+                for (int j = 0; j < 4; j++)
+                    if (strcmp(v, present_names[j]) == 0) m = j;
+                if (m < 0) {
+                    error_line("--present %s: must be auto, surface, texture or software", v);
+                    return -1;
+                }
+                o->present = (present_mode)m;
+                break;
+            }
             }
             continue;
         }
@@ -151,9 +174,16 @@ typedef struct viewer {
     ew_renderer  *r;
     SDL_Window   *win;
     SDL_Renderer *sdl;
-    SDL_Texture  *tex;
+    SDL_Texture  *tex;        /* texture and software modes */
+    present_mode  mode;       /* the mode in use (never auto) */
+    Uint32        tex_format; /* the texture's pixel format */
     int           fw, fh;     /* frame size */
-    uint32_t      table[256]; /* palette as R,G,B,A */
+    uint32_t      table[256]; /* palette in the destination's pixel format */
+    int          *xmap;       /* scaling: source column of each destination column */
+    int           xmap_n, xmap_dw, xmap_fw;
+    char          gl_name[128]; /* OpenGL's renderer string when probed */
+    SDL_PixelFormat *tfmt;    /* the texture's format, for blit_frame */
+    double        phase[3];   /* present ms summed: convert, upload + copy, show */
     ew_camera     views[EW_MAX_VIEWS];
     int           nviews, cur_view;
     ew_player     player;
@@ -196,8 +226,8 @@ static int make_renderer(viewer *v, int w, int h) {
     if (v->exact) ew_set_subdivision(r, 1);
     if (!v->threads_all) ew_set_threads(r, 1);
     ew_set_alias_raster(r, (ew_alias_raster)v->alias_raster, 0);
-    SDL_Texture *tex = SDL_CreateTexture(v->sdl, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, w, h);
-    if (!tex) {
+    SDL_Texture *tex = NULL;
+    if (v->sdl && !(tex = SDL_CreateTexture(v->sdl, v->tex_format, SDL_TEXTUREACCESS_STREAMING, w, h))) {
         error_line("SDL: cannot create a %dx%d texture: %s", w, h, SDL_GetError());
         ew_renderer_destroy(r);
         return -1;
@@ -218,7 +248,7 @@ static void set_grab(viewer *v, int on) {
 
 static const char *const debug_names[] = { "normal", "spans", "edges", "overdraw", "lighting", "textures",
                                            "mips", "builds" };
-static const char *const raster_names[] = { "auto", "affine", "subdiv" };
+static const char *const raster_names[] = { "auto", "affine", "subdiv", "masks", "sprite-cache" };
 
 /* A key press (from the keyboard or a script's "key NAME"). */
 static void press(viewer *v, SDL_Keycode k) {
@@ -268,8 +298,21 @@ static void press(viewer *v, SDL_Keycode k) {
         ew_set_scene(v->r, v->entities ? v->scene : v->empty);
         fprintf(stderr, "entities: %s\n", v->entities ? "on" : "off");
         break;
+    case SDLK_h: {  /* the next hidden-surface method this build has */
+        int m = v->o->draw.hsr;
+        for (int i = 1; i <= EW_HSR_COUNT; i++) {
+            int c = (v->o->draw.hsr + i) % EW_HSR_COUNT;
+            if (ew_hsr_available((ew_hsr_method)c)) {
+                m = c;
+                break;
+            }
+        }
+        if (ew_set_hsr(v->r, (ew_hsr_method)m) == 0) v->o->draw.hsr = m;
+        fprintf(stderr, "hsr: %s\n", ew_hsr_name((ew_hsr_method)v->o->draw.hsr));
+        break;
+    }
     case SDLK_r:
-        v->alias_raster = (v->alias_raster + 1) % 3;
+        v->alias_raster = (v->alias_raster + 1) % (int)(sizeof raster_names / sizeof raster_names[0]);
         ew_set_alias_raster(v->r, (ew_alias_raster)v->alias_raster, 0);
         fprintf(stderr, "alias raster: %s\n", raster_names[v->alias_raster]);
         break;
@@ -386,32 +429,137 @@ static int load_script(const char *path, script_cmd **out, int *count) {
 
 /* ---- presenting ------------------------------------------------------------------- */
 
-/* The frame into the streaming texture (8-bit through the palette in one
- * pass, true colour as it is), then onto the window.  Returns ms spent. */
-static double present(viewer *v) {
-    double t0 = now_s();
-    void *dst;
-    int pitch;
-    if (SDL_LockTexture(v->tex, NULL, &dst, &pitch) == 0) {
-        const uint8_t *px = ew_frame_pixels(v->r);
-        const uint32_t *rgba = ew_frame_rgba(v->r);
-        if (px) {
-            ew_palette_rgba(ew_frame_palette(v->r), v->table);
-            if (pitch == v->fw * 4)
-                ew_pixels_to_rgba(px, (size_t)v->fw * v->fh, v->table, dst);
-            else
-                for (int y = 0; y < v->fh; y++)
-                    ew_pixels_to_rgba(px + (size_t)y * v->fw, (size_t)v->fw, v->table,
-                                      (uint32_t *)((uint8_t *)dst + (size_t)y * pitch));
-        } else if (rgba) {
-            for (int y = 0; y < v->fh; y++)
-                memcpy((uint8_t *)dst + (size_t)y * pitch, rgba + (size_t)y * v->fw, (size_t)v->fw * 4);
-        }
-        SDL_UnlockTexture(v->tex);
+/* The frame into dst (dw x dh pixels of format fmt, 4 bytes each, pitch
+ * bytes a row) in one pass: 8-bit pixels through the palette mapped to
+ * fmt, true colour swizzled, and when the sizes differ a nearest-pixel
+ * scale (each destination row from its source row, repeated rows copied). */
+static void blit_frame(viewer *v, uint8_t *dst, int pitch, int dw, int dh, const SDL_PixelFormat *fmt) {
+    const uint8_t *px = ew_frame_pixels(v->r);
+    const uint32_t *rgba = ew_frame_rgba(v->r);
+    int fw = v->fw, fh = v->fh;
+    if (px) {
+        const uint8_t *pal = ew_frame_palette(v->r);
+        for (int i = 0; i < 256; i++)
+            v->table[i] = SDL_MapRGB(fmt, pal[3 * i], pal[3 * i + 1], pal[3 * i + 2]);
     }
-    SDL_RenderCopy(v->sdl, v->tex, NULL, NULL);
-    SDL_RenderPresent(v->sdl);
-    return (now_s() - t0) * 1000.0;
+    if (dw == fw && dh == fh) {
+        if (px && pitch == fw * 4) {
+            ew_pixels_to_rgba(px, (size_t)fw * fh, v->table, (uint32_t *)dst);
+            return;
+        }
+        for (int y = 0; y < fh; y++) {
+            uint32_t *d = (uint32_t *)(dst + (size_t)y * pitch);
+            if (px) {
+                ew_pixels_to_rgba(px + (size_t)y * fw, (size_t)fw, v->table, d);
+            } else if (fmt->format == SDL_PIXELFORMAT_RGBA32) {
+                memcpy(d, rgba + (size_t)y * fw, (size_t)fw * 4);
+            } else {
+                const uint8_t *s = (const uint8_t *)(rgba + (size_t)y * fw);
+                for (int x = 0; x < fw; x++, s += 4)
+                    d[x] = ((Uint32)s[0] << fmt->Rshift) | ((Uint32)s[1] << fmt->Gshift) |
+                           ((Uint32)s[2] << fmt->Bshift) | fmt->Amask;
+            }
+        }
+        return;
+    }
+    if (v->xmap_dw != dw || v->xmap_fw != fw) {
+        if (dw > v->xmap_n) {
+            int *m = realloc(v->xmap, (size_t)dw * sizeof *m);
+            if (!m) return;
+            v->xmap = m;
+            v->xmap_n = dw;
+        }
+        for (int x = 0; x < dw; x++) v->xmap[x] = (int)((long long)x * fw / dw);
+        v->xmap_dw = dw;
+        v->xmap_fw = fw;
+    }
+    const int *xm = v->xmap;
+    int prev = -1;
+    for (int y = 0; y < dh; y++) {
+        int sy = (int)((long long)y * fh / dh);
+        uint32_t *d = (uint32_t *)(dst + (size_t)y * pitch);
+        if (sy == prev) {
+            memcpy(d, dst + (size_t)(y - 1) * pitch, (size_t)dw * 4);
+            continue;
+        }
+        prev = sy;
+        if (px) {
+            const uint8_t *s = px + (size_t)sy * fw;
+            for (int x = 0; x < dw; x++) d[x] = v->table[s[xm[x]]];
+        } else {
+            const uint8_t *s = (const uint8_t *)(rgba + (size_t)sy * fw);
+            for (int x = 0; x < dw; x++) {
+                const uint8_t *q = s + 4 * xm[x];
+                d[x] = ((Uint32)q[0] << fmt->Rshift) | ((Uint32)q[1] << fmt->Gshift) |
+                       ((Uint32)q[2] << fmt->Bshift) | fmt->Amask;
+            }
+        }
+    }
+}
+
+/* The finished frame onto the window by the mode in use.  Returns the ms
+ * spent, all of it: until SDL_UpdateWindowSurface / SDL_RenderPresent
+ * return (on X11 both wait for the server to take the image: SDL syncs
+ * after its shared-memory put, Mesa's swap after its own); the phases are
+ * summed in v->phase. */
+static double present(viewer *v) {
+    double t0 = now_s(), t1 = t0, t2 = t0;
+    if (v->mode == PRESENT_SURFACE) {
+        SDL_Surface *s = SDL_GetWindowSurface(v->win);
+        if (s && s->format->BytesPerPixel == 4) {
+            if (SDL_MUSTLOCK(s)) SDL_LockSurface(s);
+            blit_frame(v, s->pixels, s->pitch, s->w, s->h, s->format);
+            if (SDL_MUSTLOCK(s)) SDL_UnlockSurface(s);
+            t1 = t2 = now_s();
+            SDL_UpdateWindowSurface(v->win);
+        } else {
+            t1 = t2 = now_s();
+        }
+    } else {
+        void *dst;
+        int pitch;
+        if (SDL_LockTexture(v->tex, NULL, &dst, &pitch) == 0) {
+            blit_frame(v, dst, pitch, v->fw, v->fh, v->tfmt);
+            t1 = now_s();
+            SDL_UnlockTexture(v->tex);
+        } else {
+            t1 = now_s();
+        }
+        SDL_RenderCopy(v->sdl, v->tex, NULL, NULL);
+        t2 = now_s();
+        SDL_RenderPresent(v->sdl);
+    }
+    double t3 = now_s();
+    v->phase[0] += (t1 - t0) * 1000.0;
+    v->phase[1] += (t2 - t1) * 1000.0;
+    v->phase[2] += (t3 - t2) * 1000.0;
+    return (t3 - t0) * 1000.0;
+}
+
+/* Whether OpenGL here is a software rasterizer (or missing): a hidden
+ * window with a GL context asked for GL_RENDERER, copied into name. */
+static int gl_probe(char *name, size_t n) {
+    name[0] = '\0';
+    SDL_Window *w = SDL_CreateWindow("edgewise probe", 0, 0, 16, 16, SDL_WINDOW_OPENGL | SDL_WINDOW_HIDDEN);
+    if (!w) return 1;
+    int soft = 1;
+    SDL_GLContext c = SDL_GL_CreateContext(w);
+    if (c) {
+        typedef const unsigned char *(*get_string_fn)(unsigned int);
+        get_string_fn get = (get_string_fn)SDL_GL_GetProcAddress("glGetString");
+        const char *r = get ? (const char *)get(0x1F01 /* GL_RENDERER */) : NULL;
+        if (r) {
+            snprintf(name, n, "%s", r);
+            static const char *const sw[] = { "llvmpipe", "softpipe", "swrast", "Software", "software",
+                                              "SwiftShader", "GDI Generic", "Basic Render" };
+            soft = 0;
+            for (size_t i = 0; i < sizeof sw / sizeof *sw; i++)
+                if (strstr(r, sw[i])) soft = 1;
+        }
+        SDL_GL_DeleteContext(c);
+    }
+    SDL_DestroyWindow(w);
+    return soft;
 }
 
 /* ---- the main loop ------------------------------------------------------------------ */
@@ -431,7 +579,7 @@ static int run(viewer *v) {
     double step = 1.0 / 60.0;
     long frame = 0, script_frames = 0;
     double script_t = 0, last = now_s(), start = last, fps_t0 = last, fps = 0;
-    double ms_present = 0, sum_present = 0, sum_render = 0;
+    double ms_present = 0, shown_present = 0, win_present = 0, sum_present = 0, sum_render = 0;
     int fps_frames = 0;
     int rc = 0;
     ew_stats st;
@@ -542,8 +690,18 @@ static int run(viewer *v) {
         }
         sum_render += (now_s() - r0) * 1000.0;
         if (v->overlay) {
-            ew_overlay_info info = { fps, ms_present, &cam, 0, 0 };
+            /* present: the last half second's mean (the last frame's before one has passed) */
+            ew_overlay_info info = { fps, fps > 0 ? shown_present : ms_present, &cam, 0, 0 };
             ew_draw_stats_overlay(v->r, &st, &info);
+            /* below it: the hidden-surface method (H) and how frames are shown */
+            char text[1024], line[128];
+            int scale = v->fh / 480 < 1 ? 1 : v->fh / 480 > 4 ? 4 : v->fh / 480, tw, th;
+            ew_format_stats_overlay(text, sizeof text, &st, &info);
+            if (ew_text_size(text, scale, &tw, &th) == 0) {
+                snprintf(line, sizeof line, "hsr %s\npresent %s", ew_hsr_name((ew_hsr_method)o->draw.hsr),
+                         present_names[v->mode]);
+                ew_draw_text(v->r, 4 * scale, 4 * scale + th + 2 * scale, scale, line, NULL);
+            }
         }
         for (int i = 0; i < nshots; i++)
             screenshot(v, cmds[shots[i]].path, &cam);
@@ -552,23 +710,29 @@ static int run(viewer *v) {
                     cam.origin[2], cam.angles[0], cam.angles[1], cam.angles[2]);
         ms_present = present(v);
         sum_present += ms_present;
+        win_present += ms_present;
         frame++;
         script_frames++;
         fps_frames++;
         double t1 = now_s();
         if (t1 - fps_t0 >= 0.5) {
             fps = fps_frames / (t1 - fps_t0);
+            shown_present = win_present / fps_frames;  /* the overlay: the mean of the last half second */
+            win_present = 0;
             fps_frames = 0;
             fps_t0 = t1;
         }
     }
     double total = now_s() - start;
+    const char *how = "window surface";
     SDL_RendererInfo ri;
-    if (SDL_GetRendererInfo(v->sdl, &ri) != 0) ri.name = "?";
+    if (v->sdl) how = SDL_GetRendererInfo(v->sdl, &ri) == 0 ? ri.name : "?";
     if (frame > 0)
         fprintf(stderr, "view: %ld frames %dx%d in %.2f s: fps %.1f, render %.2f ms, present %.2f ms a frame "
-                "(SDL renderer %s)\n", frame, v->fw, v->fh, total, frame / total, sum_render / frame,
-                sum_present / frame, ri.name);
+                "(present %s through %s%s%s: convert %.2f, upload and copy %.2f, show %.2f ms)\n", frame, v->fw,
+                v->fh, total, frame / total, sum_render / frame, sum_present / frame, present_names[v->mode], how,
+                v->gl_name[0] ? ", GL " : "", v->gl_name, v->phase[0] / frame, v->phase[1] / frame,
+                v->phase[2] / frame);
     if (rec && fclose(rec) != 0) {
         error_line("%s: %s", o->record, strerror(errno));
         rc = 1;
@@ -626,15 +790,43 @@ int cmd_view(int argc, char **argv) {
         goto done;
     }
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "0");
+    SDL_SetHint(SDL_HINT_RENDER_VSYNC, "0");
     SDL_SetHint(SDL_HINT_MOUSE_RELATIVE_MODE_WARP, "1");
     int fw = o.size_given ? o.width : 640 / o.scale, fh = o.size_given ? o.height : 480 / o.scale;
     if (fw < 320) fw = 320;
     if (fh < 200) fh = 200;
+    v.mode = o.present;
+    if (v.mode == PRESENT_AUTO || v.mode == PRESENT_TEXTURE) {
+        int soft = gl_probe(v.gl_name, sizeof v.gl_name);
+        if (v.mode == PRESENT_AUTO) v.mode = soft ? PRESENT_SURFACE : PRESENT_TEXTURE;
+    }
+    if (v.mode == PRESENT_SURFACE || v.mode == PRESENT_SOFTWARE)  /* SDL's own window surface, not a GL texture */
+        SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
+    if (v.mode == PRESENT_SOFTWARE)
+        SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
+    v.tex_format = SDL_PIXELFORMAT_ARGB8888;
+    if (!(v.tfmt = SDL_AllocFormat(v.tex_format))) {
+        error_line("view: SDL: %s", SDL_GetError());
+        goto sdl_done;
+    }
     char title[300];
     snprintf(title, sizeof title, "edgewise - %s", o.map);
-    v.win = SDL_CreateWindow(title, SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, fw * o.scale, fh * o.scale,
-                             SDL_WINDOW_RESIZABLE | (o.fullscreen ? SDL_WINDOW_FULLSCREEN_DESKTOP : 0));
-    if (!v.win || !(v.sdl = SDL_CreateRenderer(v.win, -1, 0))) {
+    for (int attempt = 0; attempt < 2 && !v.win; attempt++) {
+        v.win = SDL_CreateWindow(title, SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, fw * o.scale, fh * o.scale,
+                                 SDL_WINDOW_RESIZABLE | (o.fullscreen ? SDL_WINDOW_FULLSCREEN_DESKTOP : 0));
+        if (!v.win) break;
+        if (v.mode == PRESENT_SURFACE) {
+            SDL_Surface *ws = SDL_GetWindowSurface(v.win);
+            if (ws && ws->format->BytesPerPixel == 4) break;
+            /* a window surface of another depth: the texture instead */
+            SDL_DestroyWindow(v.win);
+            v.win = NULL;
+            v.mode = PRESENT_TEXTURE;
+            continue;
+        }
+        v.sdl = SDL_CreateRenderer(v.win, -1, 0);
+    }
+    if (!v.win || (v.mode != PRESENT_SURFACE && !v.sdl)) {
         error_line("view: cannot open a window: %s", SDL_GetError());
         goto sdl_done;
     }
@@ -651,6 +843,8 @@ sdl_done:
     if (v.tex) SDL_DestroyTexture(v.tex);
     if (v.sdl) SDL_DestroyRenderer(v.sdl);
     if (v.win) SDL_DestroyWindow(v.win);
+    if (v.tfmt) SDL_FreeFormat(v.tfmt);
+    free(v.xmap);
     SDL_Quit();
 done:
     ew_renderer_destroy(v.r);

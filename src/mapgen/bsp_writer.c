@@ -98,8 +98,9 @@ typedef struct ctx {
     int    nplanes;
     texinfo_def *texinfo; int ntexinfo, captexinfo;
     sface  sfaces[BI_MAX_SUBMODELS * 6]; int nsfaces;
-    int    extra_planes[BI_MAX_SUBMODELS * 6][2];  /* planes off the grid: axis, dist */
-    int    nextra_planes;
+    int  (*extra_planes)[2];                    /* planes off the grid: axis, dist */
+    int    nextra_planes, capextra;
+    int    hull_head[2];                        /* clipnode heads of hulls 1 and 2 */
 } ctx;
 
 /* All lump payloads, written one after another into the image. */
@@ -736,6 +737,7 @@ static int plane_of(ctx *c, bi_buf *planes, int axis, int dist) {
         return c->planes[axis][dist / BI_CELL];
     for (int i = 0; i < c->nextra_planes; i++)
         if (c->extra_planes[i][0] == axis && c->extra_planes[i][1] == dist) return c->nplanes - c->nextra_planes + i;
+    if (GROW(c, c->extra_planes, c->nextra_planes, c->capextra, 1)) return 0;
     c->extra_planes[c->nextra_planes][0] = axis, c->extra_planes[c->nextra_planes][1] = dist;
     c->nextra_planes++;
     for (int k = 0; k < 3; k++) bi_put_f32(planes, k == axis ? 1.0f : 0.0f);
@@ -869,6 +871,32 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
         bi_put_i16(cb, (int16_t)(high ? EW_CONTENTS_EMPTY : cin));
         bi_put_i16(cb, (int16_t)(high ? cin : EW_CONTENTS_EMPTY));
     }
+    /* the player's clip hulls (clip_hull.c) after those: hull 1, hull 2 */
+    static const int hull_mins[2][3] = {{-16, -16, -24}, {-32, -32, -24}};
+    static const int hull_maxs[2][3] = {{16, 16, 32}, {32, 32, 64}};
+    int next = c->numnodes_out + c->nsfaces;
+    for (int h = 0; h < 2; h++) {
+        bi_clipnode *cn;
+        int ncn;
+        if (bi_build_clip_hull(c->g, hull_mins[h], hull_maxs[h], &cn, &ncn)) {
+            free(firstface), free(visofs);
+            c->oom = 1;
+            return -1;
+        }
+        c->hull_head[h] = next;
+        if (next + ncn > 32767) {  /* int16 children: too big a hull; no collision rather than a bad one */
+            c->hull_head[h] = 0;
+            ncn = 0;
+        }
+        for (int i = 0; i < ncn; i++) {
+            bi_buf *cb = &L->l[EW_LUMP_CLIPNODES];
+            bi_put_i32(cb, plane_of(c, &L->l[EW_LUMP_PLANES], cn[i].axis, cn[i].dist));
+            for (int k = 0; k < 2; k++)
+                bi_put_i16(cb, (int16_t)(cn[i].child[k] >= 0 ? next + cn[i].child[k] : cn[i].child[k]));
+        }
+        next += ncn;
+        free(cn);
+    }
     for (int i = 0; i < c->ntexinfo; i++) {
         bi_buf *b = &L->l[EW_LUMP_TEXINFO];
         int sa, ss, ta, ts;
@@ -956,7 +984,8 @@ static int write_lumps(ctx *c, const uint8_t palette[768], lumps *L) {
     for (int k = 0; k < 3; k++) bi_put_f32(m, (float)(c->g->n[k] * BI_CELL));
     for (int k = 0; k < 3; k++) bi_put_f32(m, 0.0f);
     bi_put_i32(m, 0);  /* hull 0: node 0 */
-    for (int k = 1; k < 4; k++) bi_put_i32(m, 0);  /* clip hulls: clipnode 0 */
+    bi_put_i32(m, c->hull_head[0]), bi_put_i32(m, c->hull_head[1]);  /* the player's hulls */
+    bi_put_i32(m, 0);  /* hull 3 (unused by Quake): the rendering tree's copy at clipnode 0 */
     bi_put_i32(m, c->numleaves_out - 1);
     bi_put_i32(m, 0);
     bi_put_i32(m, c->nfaces);
@@ -1115,6 +1144,7 @@ done:
     if (c) {
         free(c->nodes), free(c->faces), free(c->node_of_out), free(c->leaf_of_out);
         free(c->polys), free(c->verts), free(c->edges), free(c->surfedges), free(c->texinfo);
+        free(c->extra_planes);
         imap_free(&c->vmap), imap_free(&c->emap);
     }
     if (L) {

@@ -112,6 +112,16 @@ int bi_light_point_rgb(const bi_scene *s, const float p[3], const float n[3], ui
 int bi_compute_pvs(int nleaves, const int (*lo)[3], const int (*hi)[3], const uint8_t *open,
                    uint8_t *vis);
 
+/* clip_hull.c: a clip hull of the grid for a box of extents mins..maxs
+ * (the player's: -16,-16,-24 .. 16,16,32): nodes on the axial plane
+ * coordinate[axis] = dist, children node indices into *nodes (>= 0) or
+ * EW_CONTENTS_EMPTY / EW_CONTENTS_SOLID; node 0 is the head.  0, or -1
+ * when out of memory. */
+typedef struct bi_clipnode {
+    int axis, dist, child[2];
+} bi_clipnode;
+int bi_build_clip_hull(const bi_grid *g, const int mins[3], const int maxs[3], bi_clipnode **nodes, int *count);
+
 /* bsp_writer.c: builds the BSP image of a scene into out. */
 int bi_build_bsp(const bi_scene *s, const uint8_t palette[768], bi_buf *out, ew_error *err);
 
