@@ -216,6 +216,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->see.polys), free(r->see.order), free(r->warp_copy);
     ew_blend_free(&r->blend);
     ew_debug_free(r);
+    ew_front_par_free(r->fpar);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
     ew_sprite_cache_free(r->ents.sprite_cache);
     free(r->ents.tint_rgba), free(r->ents.tint_remap);
@@ -594,7 +595,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     if (ew_frame_begin(r, cam) < 0) return -1;
     ew_pool_wake(r->sched.pool);
     ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
-    ew_walk_world(r);
+    if (ew_walk_world_parallel(r) < 0) ew_walk_world(r);
     ew_walk_brush_models(r);
     double t1 = ew_now_ms();
 

@@ -145,6 +145,7 @@ struct ew_renderer {
     ew_sched    sched;
     int        *face_ids;                        /* test hook: per pixel, or NULL */
     ew_debug    dbg;                             /* debug modes (raster/debug.c) */
+    struct ew_front_par *fpar;                   /* the parallel front end's lists (world/front_par.c), or NULL */
 };
 
 /* output/gamma.c: the table of a channel through gamma g (out = 255 *

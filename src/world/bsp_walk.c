@@ -2,13 +2,15 @@
  * tested against the frustum planes it is not already known to be inside
  * of (clipflags bit i = plane i still needs testing); leaves in the PVS and
  * the frustum mark their surfaces; each node then hands its marked faces
- * that face the camera to the frame's hidden-surface method, all with one
- * BSP-order key. */
+ * that face the camera to the frame's hidden-surface method (or to another
+ * sink: world/front_par.c lists them), all with one BSP-order key. */
 #include "renderer.h"
 
 #define EW_MAX_WALK_DEPTH 4096
 
-static void walk(ew_renderer *r, int n, int clipflags, int depth, int *key) {
+typedef void (*face_sink)(ew_renderer *r, int face, int clipflags, int key);
+
+static void walk(ew_renderer *r, face_sink sink, int n, int clipflags, int depth, int *key) {
     const ew_world *w = r->world;
     if (depth > EW_MAX_WALK_DEPTH) {
         r->stats.dropped++;
@@ -38,7 +40,7 @@ static void walk(ew_renderer *r, int n, int clipflags, int depth, int *key) {
     float d = o[0] * pl->normal[0] + o[1] * pl->normal[1] + o[2] * pl->normal[2] - pl->dist;
     int side = d >= 0 ? 0 : 1;
 
-    walk(r, node->children[side], clipflags, depth + 1, key);
+    walk(r, sink, node->children[side], clipflags, depth + 1, key);
 
     /* Faces on this node: only those facing the camera can be seen. */
     int want_back = side;  /* camera behind the plane sees PLANEBACK faces */
@@ -51,7 +53,7 @@ static void walk(ew_renderer *r, int n, int clipflags, int depth, int *key) {
         float alpha;
         int kind = ew_see_kind(r, f, 1, &alpha);
         if (ew_see_to_hsr(r, kind)) {
-            r->cfg.hsr->face(r, fi, clipflags, *key);
+            sink(r, fi, clipflags, *key);
         } else if (f->numedges <= EW_MAX_POLY - 8) {
             float p[EW_MAX_POLY][3];
             for (int k = 0; k < f->numedges; k++) {
@@ -63,13 +65,15 @@ static void walk(ew_renderer *r, int n, int clipflags, int depth, int *key) {
     }
     (*key)++;
 
-    walk(r, node->children[!side], clipflags, depth + 1, key);
+    walk(r, sink, node->children[!side], clipflags, depth + 1, key);
 }
 
-void ew_walk_world(ew_renderer *r) {
+void ew_walk_world_to(ew_renderer *r, void (*face)(ew_renderer *r, int face, int clipflags, int key)) {
     int key = 0;  /* BSP order: grows front to back */
-    walk(r, r->world->models[0].headnode, 15, 0, &key);
+    walk(r, face, r->world->models[0].headnode, 15, 0, &key);
 }
+
+void ew_walk_world(ew_renderer *r) { ew_walk_world_to(r, r->cfg.hsr->face); }
 
 /* Does a world-space box touch any leaf of this frame's PVS?  (Entities in
  * no visible leaf are hidden however near they are.) */

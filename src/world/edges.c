@@ -4,52 +4,27 @@
  * other side reuses it (filling the edge's other surface slot) instead of
  * clipping and projecting it again. */
 #include "renderer.h"
+#include "world/edge_math.h"
 
-#include <math.h>
+typedef ew_proj proj;
 
-#define NEAR_Z 0.01f
-
-typedef struct proj { float u, v, zi; } proj;
-
-static void project(const ew_renderer *r, const float p[3], proj *out) {
-    const ew_view *v = &r->view;
-    float t[3];
-    ew_view_transform(v, p, t);
-    float z = t[2] < NEAR_Z ? NEAR_Z : t[2];
-    float zi = 1.0f / z;
-    float u = v->xcenter + v->xscale * t[0] * zi;
-    float y = v->ycenter - v->yscale * t[1] * zi;
-    /* Frustum clipping leaves points on the screen's borders; float error
-     * must not push them past, or spans would leave the frame. */
-    float umax = v->width - 0.5f, vmax = v->height - 0.5f;
-    out->u = u < -0.5f ? -0.5f : u > umax ? umax : u;
-    out->v = y < -0.5f ? -0.5f : y > vmax ? vmax : y;
-    out->zi = zi;
-}
+static void project(const ew_renderer *r, const float p[3], proj *out) { ew_project(&r->view, p, out); }
 
 /* Adds the edge a->b for surface s; returns its index, or -1 if it crosses
  * no scanline centre (horizontal or too short) and so never bounds a span. */
 static int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) {
-    int down = b->v > a->v;
-    const proj *top = down ? a : b, *bot = down ? b : a;
-    int first = (int)ceilf(top->v), last = (int)ceilf(bot->v) - 1;
-    if (first > last) return -1;
-    if (r->el.nedges >= r->el.max_edges) {
+    ew_edge spill, *e = r->el.nedges < r->el.max_edges ? &r->el.edges[r->el.nedges] : &spill;
+    if (!ew_edge_setup(a, b, e)) return -1;
+    if (e == &spill) {
         r->stats.dropped++;
         return -1;
     }
-    ew_edge *e = &r->el.edges[r->el.nedges];
-    double slope = (double)(bot->u - top->u) / (double)(bot->v - top->v);
-    double u = top->u + (first - top->v) * slope;
-    e->u = (int32_t)floor(u * 65536.0 + 0.5);
-    e->u_step = first == last ? 0 : (int32_t)floor(slope * 65536.0 + 0.5);
-    e->v_first = first;
-    e->v_last = last;
+    int down = b->v > a->v;
     e->surfs[0] = down ? (uint16_t)s : 0;  /* going down on screen: right side */
     e->surfs[1] = down ? 0 : (uint16_t)s;
     e->nearzi = a->zi > b->zi ? a->zi : b->zi;
-    e->next_new = r->el.new_edges[first];
-    r->el.new_edges[first] = r->el.nedges;
+    e->next_new = r->el.new_edges[e->v_first];
+    r->el.new_edges[e->v_first] = r->el.nedges;
     return r->el.nedges++;
 }
 

@@ -29,6 +29,16 @@ int  ew_point_leaf(const ew_world *w, int headnode, const float p[3]);
 /* world/bsp_walk.c: front-to-back walk handing every visible face to the
  * frame's hidden-surface method. */
 void ew_walk_world(ew_renderer *r);
+/* The same walk handing the faces to `face` instead of the method's. */
+void ew_walk_world_to(ew_renderer *r, void (*face)(ew_renderer *r, int face, int clipflags, int key));
+/* world/front_par.c: the same walk and ew_emit_face of its faces, with the
+ * clipping, projection and edge setup spread over the pool's threads and
+ * the edge list made exactly as one thread makes it; -1 (nothing done) if
+ * there is one thread, the method's faces do not go to ew_emit_face, or
+ * memory runs out: then ew_walk_world. */
+int  ew_walk_world_parallel(ew_renderer *r);
+struct ew_front_par;
+void ew_front_par_free(struct ew_front_par *fp);
 /* 1 if a world-space box touches a leaf in this frame's PVS. */
 int  ew_box_in_pvs(const ew_renderer *r, const float lo[3], const float hi[3]);
 

@@ -1,0 +1,157 @@
+/* The front end on several threads (world/front_par.c) makes exactly the
+ * edge list one thread makes: for every view of e1m1, lqdm7, e4m1 and
+ * start (with their entities, so brush models follow the parallel faces)
+ * and of the built-in scene, at 640x480 and 1920x1080, on 2, 3 and 8
+ * threads, the edges (position, surfaces, per-scanline lists), the
+ * surfaces, the counters, every span and every pixel equal one thread's.
+ * The methods that share the edge list's front end (spans, painter,
+ * drawbuffer) are checked the same way at 640x480. */
+#include "renderer.h"
+#include "util.h"
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const maps[] = {"e1m1", "lqdm7", "e4m1", "start", "builtin"};
+static const int sizes[][2] = {{640, 480}, {1920, 1080}};
+static const int thread_counts[] = {2, 3, 8};
+
+typedef struct fnv { uint64_t h; } fnv;
+static void mix(fnv *f, const void *p, size_t n) {
+    const uint8_t *b = p;
+    for (size_t i = 0; i < n; i++) f->h = (f->h ^ b[i]) * 1099511628211ull;
+}
+static void mix_int(fnv *f, long v) { mix(f, &v, sizeof v); }
+
+/* What one frame made: its edge list, its spans (bands in row order: the
+ * whole frame's, whatever the banding), its counters and its pixels. */
+typedef struct frame_sig {
+    uint64_t edges, surfs, spans, pixels;
+    long nedges, edges_cached, nsurfs, nspans, dropped;
+} frame_sig;
+
+static frame_sig sign_frame(const ew_renderer *r, const ew_stats *st) {
+    frame_sig s = {0};
+    fnv f = {1469598103934665603ull};
+    const ew_edge_list *el = &r->el;
+    for (int i = 0; i < el->nedges; i++) {
+        const ew_edge *e = &el->edges[i];
+        mix_int(&f, e->u), mix_int(&f, e->u_step), mix_int(&f, e->v_first), mix_int(&f, e->v_last);
+        mix_int(&f, e->surfs[0]), mix_int(&f, e->surfs[1]), mix_int(&f, e->next_new);
+        mix(&f, &e->nearzi, sizeof e->nearzi);
+    }
+    for (int v = 0; v <= r->target.height; v++) mix_int(&f, el->new_edges[v]);
+    s.edges = f.h;
+    f.h = 1469598103934665603ull;
+    for (int i = 0; i < el->nsurfs; i++) {
+        const ew_surf *sf = &el->surfs[i];
+        mix_int(&f, sf->key), mix_int(&f, sf->face), mix_int(&f, sf->flags), mix_int(&f, sf->insubmodel);
+        mix(&f, &sf->nearzi, sizeof sf->nearzi);
+        /* which camera: the frame's, or the n-th moved brush model's */
+        mix_int(&f, sf->view == &r->view ? -1 : (long)(sf->view - r->ents.ent_views));
+        if (sf->insubmodel) mix(&f, &sf->zi_u, sizeof sf->zi_u * 3);
+    }
+    s.surfs = f.h;
+    f.h = 1469598103934665603ull;
+    for (int b = 0; b < r->sched.nbands; b++) {
+        const ew_band *bd = &r->sched.bands[b];
+        for (int i = 0; i < bd->nspans; i++) {
+            const ew_span *sp = &bd->spans[i];
+            mix_int(&f, sp->u), mix_int(&f, sp->v), mix_int(&f, sp->count), mix_int(&f, sp->surf);
+        }
+    }
+    s.spans = f.h;
+    f.h = 1469598103934665603ull;
+    mix(&f, r->target.pixels, (size_t)r->target.width * r->target.height * r->target.bpp);
+    s.pixels = f.h;
+    s.nedges = st->edges, s.edges_cached = st->edges_cached, s.nsurfs = st->surfaces;
+    s.nspans = st->spans, s.dropped = st->dropped;
+    return s;
+}
+
+static ew_renderer *make(const ew_assets *a, ew_scene *sc, int w, int h, int threads, ew_hsr_method hsr) {
+    ew_error err;
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette,
+                                                             .colormap = a->colormap, .width = w, .height = h,
+                                                             .threads = 1, .hsr = hsr}, &err);
+    CHECK(r != NULL, "%s", err.msg);
+    if (!r) return NULL;
+    CHECK(ew_set_threads(r, threads) == threads, "%d threads", threads);
+    ew_set_scene(r, sc);
+    return r;
+}
+
+static long frames, parallel_faces;
+
+/* Renders every view on one thread and on each thread count; compares. */
+static void check(const char *map, const ew_assets *a, ew_scene *sc, const ew_camera *views, int nv, int w, int h,
+                  ew_hsr_method hsr) {
+    ew_renderer *one = make(a, sc, w, h, 1, hsr);
+    ew_renderer *many[3];
+    for (int t = 0; t < 3; t++) many[t] = make(a, sc, w, h, thread_counts[t], hsr);
+    for (int v = 0; v < nv && one; v++) {
+        ew_stats st;
+        CHECK(ew_render(one, &views[v], &st) == 0, "%s view %d", map, v);
+        frame_sig want = sign_frame(one, &st);
+        CHECK(one->fpar == NULL, "one thread takes the serial front end");
+        for (int t = 0; t < 3; t++) {
+            ew_renderer *r = many[t];
+            if (!r) continue;
+            CHECK(ew_render(r, &views[v], &st) == 0, "%s view %d", map, v);
+            frame_sig got = sign_frame(r, &st);
+            frames++;
+            CHECK(r->fpar != NULL, "%d threads take the parallel front end", thread_counts[t]);
+            if (want.nsurfs > 64) parallel_faces++;
+            const char *m = ew_hsr_name(hsr);
+            CHECK(got.nedges == want.nedges && got.edges_cached == want.edges_cached && got.nsurfs == want.nsurfs &&
+                      got.dropped == want.dropped,
+                  "%s %s %dx%d view %d, %d threads: edges %ld/%ld cached %ld/%ld surfaces %ld/%ld dropped %ld/%ld",
+                  map, m, w, h, v, thread_counts[t], got.nedges, want.nedges, got.edges_cached, want.edges_cached,
+                  got.nsurfs, want.nsurfs, got.dropped, want.dropped);
+            CHECK(got.edges == want.edges, "%s %s %dx%d view %d, %d threads: edge list differs", map, m, w, h, v,
+                  thread_counts[t]);
+            CHECK(got.surfs == want.surfs, "%s %s %dx%d view %d, %d threads: surfaces differ", map, m, w, h, v,
+                  thread_counts[t]);
+            CHECK(got.spans == want.spans && got.nspans == want.nspans,
+                  "%s %s %dx%d view %d, %d threads: spans differ", map, m, w, h, v, thread_counts[t]);
+            CHECK(got.pixels == want.pixels, "%s %s %dx%d view %d, %d threads: pixels differ", map, m, w, h, v,
+                  thread_counts[t]);
+        }
+    }
+    ew_renderer_destroy(one);
+    for (int t = 0; t < 3; t++) ew_renderer_destroy(many[t]);
+}
+
+int main(void) {
+    for (size_t m = 0; m < sizeof maps / sizeof *maps; m++) {
+        ew_assets *a = NULL;
+        ew_error err;
+        ew_scene *sc = NULL;
+        if (!strcmp(maps[m], "builtin")) {
+            CHECK((a = ew_assets_create_builtin(&err)) != NULL, "builtin: %s", err.msg);
+            if (!a) continue;
+            sc = ew_scene_create_builtin(a->world, &err);
+        } else {
+            if (!(a = ew_t_load_map(maps[m]))) continue;
+            char rel[256];
+            snprintf(rel, sizeof rel, "data/librequake/maps/%s.bsp", maps[m]);
+            sc = ew_scene_create_from_map(a->world, ew_t_shared(rel), NULL, &err);
+        }
+        CHECK(sc != NULL, "%s: scene: %s", maps[m], err.msg);
+        ew_camera views[EW_MAX_VIEWS];
+        int nv = ew_benchmark_views(a->world, views);
+        CHECK(nv > 0, "%s: no views", maps[m]);
+        for (size_t s = 0; s < sizeof sizes / sizeof *sizes; s++)
+            check(maps[m], a, sc, views, nv, sizes[s][0], sizes[s][1], EW_HSR_EDGE);
+        const ew_hsr_method shared_front[] = {EW_HSR_SPANS, EW_HSR_PAINTER, EW_HSR_DRAWBUFFER};
+        for (size_t k = 0; k < sizeof shared_front / sizeof *shared_front; k++)
+            if (ew_hsr_available(shared_front[k])) check(maps[m], a, sc, views, nv, 640, 480, shared_front[k]);
+        ew_scene_destroy(sc);
+        ew_assets_destroy(a);
+    }
+    printf("%ld frames on several threads compared with one thread's (%ld with over 64 surfaces)\n", frames,
+           parallel_faces);
+    CHECK(parallel_faces > 100, "%ld frames of any size", parallel_faces);
+    return ew_t_finish();
+}
