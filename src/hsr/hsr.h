@@ -27,7 +27,9 @@ typedef struct ew_hsr {
     /* A frame starts (serial, after the view and the PVS are set). */
     void (*begin)(ew_renderer *r);
     /* A visible world face facing the camera, in BSP order front to back;
-     * key grows from front to back (serial, from the walk). */
+     * key grows from front to back (serial, from the walk).  With several
+     * threads, a method whose face is ew_emit_face gets the same edge list
+     * from world/front_par.c instead, which does not call it. */
     void (*face)(ew_renderer *r, int face, int clipflags, int key);
     /* A brush-model polygon in world space: face fi of a moved model seen
      * through v (the camera in the model's space), sorting at BSP key key
