@@ -19,15 +19,20 @@
  * of the world tree is on one node, visited once); if a malformed tree
  * shows more, the faces listed so far are merged and the rest of the walk
  * emits one face at a time, as the serial front end does. */
+#define _POSIX_C_SOURCE 200809L  /* sched_yield */
 #include "renderer.h"
 #include "world/edge_math.h"
 
 #include <limits.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define CHUNK 32       /* faces a thread prepares at a time */
+/* Threads that prepare besides the calling one: preparing is about twice
+ * the walk and merge, so a few keep up with it; more would only spin. */
+#define HELPERS 3
 #define PE_CLIP INT32_MIN  /* a prepared edge the clip made (no world edge) */
 
 typedef struct pface {
@@ -58,7 +63,14 @@ struct ew_front_par {
     int         direct;                /* overflowed: the rest of the walk emits directly */
 };
 
-static inline void relax(void) {
+/* One round of waiting on another thread; after a while the processor is
+ * given up each round, so a waiting thread on a busy machine does not keep
+ * the thread it waits for off its core. */
+static inline void relax(int *rounds) {
+    if (++*rounds > 256) {
+        sched_yield();
+        return;
+    }
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
 #endif
@@ -221,7 +233,7 @@ static void merge_ready(ew_renderer *r, struct ew_front_par *fp, int end) {
 /* The walk is over (or the lists are full): publishes the last faces, then
  * merges every chunk in order, preparing unclaimed ones itself meanwhile. */
 static void finish(ew_renderer *r, struct ew_front_par *fp) {
-    int end = fp->nfaces, nchunks = (end + CHUNK - 1) / CHUNK, take = 1;
+    int end = fp->nfaces, nchunks = (end + CHUNK - 1) / CHUNK, take = 1, rounds = 0;
     atomic_store_explicit(&fp->published, end, memory_order_release);
     atomic_store_explicit(&fp->walk_done, 1, memory_order_release);
     while (fp->merged < nchunks) {
@@ -235,7 +247,7 @@ static void finish(ew_renderer *r, struct ew_front_par *fp) {
             }
             take = 0;
         }
-        relax();
+        relax(&rounds);
     }
 }
 
@@ -265,7 +277,7 @@ static void collect(ew_renderer *r, int fi, int clipflags, int key) {
 
 static void worker(ew_renderer *r, struct ew_front_par *fp) {
     for (;;) {
-        int c = atomic_fetch_add(&fp->next_chunk, 1), lo = c * CHUNK, end;
+        int c = atomic_fetch_add(&fp->next_chunk, 1), lo = c * CHUNK, end, rounds = 0;
         for (;;) {
             int done = atomic_load_explicit(&fp->walk_done, memory_order_acquire);
             int pub = atomic_load_explicit(&fp->published, memory_order_acquire);
@@ -278,7 +290,7 @@ static void worker(ew_renderer *r, struct ew_front_par *fp) {
                 end = pub;
                 break;
             }
-            relax();
+            relax(&rounds);
         }
         prepare_chunk(r, fp, c, end);
     }
@@ -288,7 +300,7 @@ static void job_front(void *ctx, int thread) {
     ew_renderer *r = ctx;
     struct ew_front_par *fp = r->fpar;
     if (thread != 0) {
-        worker(r, fp);
+        if (thread <= HELPERS) worker(r, fp);
         return;
     }
     ew_walk_world_to(r, collect);
