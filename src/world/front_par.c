@@ -21,6 +21,7 @@
  * emits one face at a time, as the serial front end does. */
 #define _POSIX_C_SOURCE 200809L  /* sched_yield */
 #include "renderer.h"
+#include "ew_util.h"
 #include "world/edge_math.h"
 
 #include <limits.h>
@@ -55,6 +56,7 @@ struct ew_front_par {
     _Alignas(64) atomic_int next_chunk; /* the next chunk to prepare */
     _Alignas(64) pface *faces;
     pedge      *pedges;
+    pedge      *own;                   /* EW_MAX_POLY: the calling thread's, for a chunk it will not wait for */
     atomic_int *chunk_gen;             /* gen: prepared this frame */
     int         cap_faces, cap_pedges;
     int         gen;
@@ -78,7 +80,7 @@ static inline void relax(int *rounds) {
 
 void ew_front_par_free(struct ew_front_par *fp) {
     if (!fp) return;
-    free(fp->faces), free(fp->pedges), free(fp->chunk_gen);
+    free(fp->faces), free(fp->pedges), free(fp->chunk_gen), free(fp->own);
     free(fp);
 }
 
@@ -93,8 +95,9 @@ static struct ew_front_par *front_par_new(const ew_world *w) {
     int nchunks = fp->cap_faces / CHUNK + 2;
     fp->faces = malloc(sizeof(pface) * (size_t)fp->cap_faces);
     fp->pedges = malloc(sizeof(pedge) * (size_t)fp->cap_pedges);
+    fp->own = malloc(sizeof(pedge) * EW_MAX_POLY);
     fp->chunk_gen = malloc(sizeof(atomic_int) * (size_t)nchunks);
-    if (!fp->faces || !fp->pedges || !fp->chunk_gen) {
+    if (!fp->faces || !fp->pedges || !fp->chunk_gen || !fp->own) {
         ew_front_par_free(fp);
         return NULL;
     }
@@ -230,13 +233,31 @@ static void merge_ready(ew_renderer *r, struct ew_front_par *fp, int end) {
         merge_chunk(r, fp, fp->merged++, end);
 }
 
+/* Chunk c, whose preparing thread is late (descheduled on a busy machine):
+ * the calling thread prepares each face again in its own buffer and merges
+ * it, leaving the other thread's copy alone (it is never read). */
+static void merge_own(ew_renderer *r, struct ew_front_par *fp, int c, int end) {
+    int hi = (c + 1) * CHUNK < end ? (c + 1) * CHUNK : end;
+    for (int i = c * CHUNK; i < hi; i++) {
+        const pface *q = &fp->faces[i];  /* face, clipflags, key: written by this thread */
+        pface pf = {q->face, q->clipflags, q->key, 0, -1};
+        prepare(r, &pf, fp->own);
+        merge_face(r, &pf, fp->own);
+    }
+}
+
 /* The walk is over (or the lists are full): publishes the last faces, then
- * merges every chunk in order, preparing unclaimed ones itself meanwhile. */
+ * merges every chunk in order, preparing unclaimed ones itself meanwhile;
+ * a claimed chunk not ready after WAIT_MS it prepares again itself, so the
+ * front end never waits a time slice for a thread the system put aside. */
+#define WAIT_MS 0.02
 static void finish(ew_renderer *r, struct ew_front_par *fp) {
     int end = fp->nfaces, nchunks = (end + CHUNK - 1) / CHUNK, take = 1, rounds = 0;
+    double since = -1;
     atomic_store_explicit(&fp->published, end, memory_order_release);
     atomic_store_explicit(&fp->walk_done, 1, memory_order_release);
     while (fp->merged < nchunks) {
+        int before = fp->merged;
         merge_ready(r, fp, end);
         if (fp->merged >= nchunks) break;
         if (take) {
@@ -247,7 +268,16 @@ static void finish(ew_renderer *r, struct ew_front_par *fp) {
             }
             take = 0;
         }
-        relax(&rounds);
+        if (fp->merged != before || since < 0) {
+            since = ew_now_ms(), rounds = 0;
+        } else if ((++rounds & 15) == 0 && ew_now_ms() - since > WAIT_MS) {
+            merge_own(r, fp, fp->merged++, end);
+            since = -1;
+            continue;
+        }
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#endif
     }
 }
 
