@@ -482,6 +482,20 @@ static void job_scan(void *ctx, int thread) {
     }
 }
 
+/* The serial end of the front end: brush models into the edge list (after
+ * every world face), its time, and the bands placed for the scan. */
+typedef struct front_tail_arg {
+    ew_renderer *r;
+    double       t1;  /* when the front end ended */
+} front_tail_arg;
+static void front_tail(void *arg) {
+    front_tail_arg *a = arg;
+    ew_walk_brush_models(a->r);
+    a->t1 = ew_now_ms();
+    place_bands(a->r);
+    atomic_store(&a->r->sched.next_band, 0);
+}
+
 /* Builds the lit surfaces that must be built, then computes the surfaces'
  * gradients, a few dozen at a time. */
 static void job_build(void *ctx, int thread) {
@@ -595,13 +609,16 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     if (ew_frame_begin(r, cam) < 0) return -1;
     ew_pool_wake(r->sched.pool);
     ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
-    if (ew_walk_world_parallel(r) < 0) ew_walk_world(r);
-    ew_walk_brush_models(r);
-    double t1 = ew_now_ms();
-
-    place_bands(r);
-    atomic_store(&r->sched.next_band, 0);
-    ew_pool_run(r->sched.pool, job_scan, r);
+    /* The walk, brush models, then the bands scanned; with threads the
+     * walk's faces are clipped and set up in parallel and the scan follows
+     * in the same pool run (world/front_par.c). */
+    front_tail_arg ft = {r, 0};
+    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan) < 0) {
+        ew_walk_world(r);
+        front_tail(&ft);
+        ew_pool_run(r->sched.pool, job_scan, r);
+    }
+    double t1 = ft.t1;
     double t2 = ew_now_ms();
     prepare_surfaces(r);
     double te = ew_now_ms();

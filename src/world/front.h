@@ -33,10 +33,12 @@ void ew_walk_world(ew_renderer *r);
 void ew_walk_world_to(ew_renderer *r, void (*face)(ew_renderer *r, int face, int clipflags, int key));
 /* world/front_par.c: the same walk and ew_emit_face of its faces, with the
  * clipping, projection and edge setup spread over the pool's threads and
- * the edge list made exactly as one thread makes it; -1 (nothing done) if
- * there is one thread, the method's faces do not go to ew_emit_face, or
- * memory runs out: then ew_walk_world. */
-int  ew_walk_world_parallel(ew_renderer *r);
+ * the edge list made exactly as one thread makes it; then, on the calling
+ * thread, tail(arg), and then then(r, thread) on every thread of the pool
+ * (one pool run for both).  -1 (nothing done) if there is one thread, the
+ * method's faces do not go to ew_emit_face, or memory runs out: then
+ * ew_walk_world and the rest as before. */
+int  ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread));
 struct ew_front_par;
 void ew_front_par_free(struct ew_front_par *fp);
 /* 1 if a world-space box touches a leaf in this frame's PVS. */

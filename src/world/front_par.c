@@ -15,6 +15,11 @@
  * So the edge list, and every span and pixel after it, are the same for
  * any thread count.
  *
+ * The phase that follows (the scan of the bands) runs in the same pool
+ * run: the calling thread, done with the walk, the merge and `tail` (the
+ * brush models), releases the others into it, so the parallel front end
+ * adds no wait for all threads to the frame.
+ *
  * Faces and prepared edges live in arrays sized for the world (each face
  * of the world tree is on one node, visited once); if a malformed tree
  * shows more, the faces listed so far are merged and the rest of the walk
@@ -63,6 +68,11 @@ struct ew_front_par {
     /* Only the calling thread: */
     int         nfaces, npe, merged;   /* chunks merged */
     int         direct;                /* overflowed: the rest of the walk emits directly */
+    /* What follows in the same pool phase (ew_walk_world_parallel). */
+    void      (*tail)(void *arg);
+    void       *tail_arg;
+    void      (*then)(void *ctx, int thread);
+    _Alignas(64) atomic_int front_done; /* the tail has run: the edge list is complete */
 };
 
 /* One round of waiting on another thread; after a while the processor is
@@ -331,13 +341,18 @@ static void job_front(void *ctx, int thread) {
     struct ew_front_par *fp = r->fpar;
     if (thread != 0) {
         if (thread <= HELPERS) worker(r, fp);
-        return;
+        int rounds = 0;
+        while (!atomic_load_explicit(&fp->front_done, memory_order_acquire)) relax(&rounds);
+    } else {
+        ew_walk_world_to(r, collect);
+        if (!fp->direct) finish(r, fp);
+        fp->tail(fp->tail_arg);
+        atomic_store_explicit(&fp->front_done, 1, memory_order_release);
     }
-    ew_walk_world_to(r, collect);
-    if (!fp->direct) finish(r, fp);
+    fp->then(r, thread);
 }
 
-int ew_walk_world_parallel(ew_renderer *r) {
+int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread)) {
     if (r->sched.nthreads < 2 || !r->sched.pool || r->cfg.hsr->face != ew_emit_face) return -1;
     if (!r->fpar && !(r->fpar = front_par_new(r->world))) return -1;
     struct ew_front_par *fp = r->fpar;
@@ -347,9 +362,11 @@ int ew_walk_world_parallel(ew_renderer *r) {
         fp->gen = 1;
     }
     fp->nfaces = fp->npe = fp->merged = fp->direct = 0;
+    fp->tail = tail, fp->tail_arg = arg, fp->then = then;
     atomic_store(&fp->published, 0);
     atomic_store(&fp->walk_done, 0);
     atomic_store(&fp->next_chunk, 0);
+    atomic_store(&fp->front_done, 0);
     ew_pool_run(r->sched.pool, job_front, r);
     return 0;
 }
