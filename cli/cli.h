@@ -24,8 +24,8 @@ void error_line(const char *fmt, ...) EW_CLI_PRINTF(1, 2);
 /* Whole decimal numbers, no blanks; 0 or -1 (nothing printed). */
 int  parse_long(const char *s, long *out);
 /* --threads N, the same rule in every command (help and error). */
-#define THREADS_RULE "0 (one per core) to 16"
-_Static_assert(EW_MAX_THREADS == 16, "THREADS_RULE states EW_MAX_THREADS");
+#define THREADS_RULE "0 (one per core) to 64"
+_Static_assert(EW_MAX_THREADS == 64, "THREADS_RULE states EW_MAX_THREADS");
 /* --threads N: 0 to EW_MAX_THREADS; 0 or -1 (error printed). */
 int  parse_threads(const char *v, int *out);
 /* "WxH" within the renderer's limits; 0 or -1 (error printed). */
