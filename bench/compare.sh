@@ -79,6 +79,7 @@ build() {
     grep -q ew_set_threads "$src/include/edgewise.h" || defs=-DEW_BENCH_NO_THREADS
     grep -q ew_set_scene "$src/include/edgewise.h" || defs="$defs -DEW_BENCH_NO_SCENE"
     grep -q ew_set_full_zfill "$src/include/edgewise.h" || defs="$defs -DEW_BENCH_NO_ZFILL"
+    grep -q ms_serial "$src/include/edgewise.h" || defs="$defs -DEW_BENCH_NO_SERIAL"
     # shellcheck disable=SC2086
     if ! ${CC:-cc} -std=c11 -O3 -DNDEBUG $defs -I"$src/include" -I"$src/src" "$ROOT"/cli/*.c \
             "$dir/libedgewise.a" $png -lm -pthread -o "$dir/edgewise-harness" >>"$log" 2>&1; then
