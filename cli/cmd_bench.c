@@ -427,13 +427,15 @@ typedef struct row {
     double stages[NSTAGES];        /* median per frame */
     double counters[NCOUNTERS];    /* mean per frame */
     double serial;                 /* median ms_serial per frame */
-    double serial_phase[NPHASES];  /* median of each part, and of the rest */
+    double serial_mean;            /* its mean */
+    double serial_phase[NPHASES];  /* mean of each part, and of the rest */
     double serial_share;           /* serial / a one-thread median (serial_base) */
     int    serial_base_own;        /* 1: this row's median (no one-thread row before it) */
     int    nbands;                 /* --bands: */
     int    bands[MAX_BAND_COUNTS];
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS];  /* over views: median, worst */
     double speedup[MAX_BAND_COUNTS];                                    /* predicted on that many cores */
+    double sched_imbalance[MAX_BAND_COUNTS], sched_speedup[MAX_BAND_COUNTS];  /* the renderer's own bands */
 } row;
 
 /* The one-thread figures of a map and size, for the rows after it. */
@@ -441,7 +443,7 @@ typedef struct size_ctx {
     int    have_one;               /* a one-thread row was measured */
     double one_median;
     int    have_profile;           /* the band imbalances were measured */
-    double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS];
+    double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS], sched_imbalance[MAX_BAND_COUNTS];
 } size_ctx;
 
 /* Fills r from frames[views * passes] and their stats. */
@@ -483,10 +485,14 @@ static void summarize(row *r, double *frames, const ew_stats *stats, double *scr
     for (int i = 0; i < n; i++) scratch[i] = phase_of(&stats[i], PH_OTHER) + phase_of(&stats[i], PH_BEGIN) +
                                              phase_of(&stats[i], PH_WALK) + phase_of(&stats[i], PH_BRUSH) +
                                              phase_of(&stats[i], PH_PREPARE) + phase_of(&stats[i], PH_PASSES);
+    r->serial_mean = 0;
+    for (int i = 0; i < n; i++) r->serial_mean += scratch[i] / n;
     r->serial = median_of(scratch, n);
+    /* The parts as means, so they add up to serial_mean (medians of a
+     * skewed view set would not). */
     for (int ph = 0; ph < NPHASES; ph++) {
-        for (int i = 0; i < n; i++) scratch[i] = phase_of(&stats[i], ph);
-        r->serial_phase[ph] = median_of(scratch, n);
+        r->serial_phase[ph] = 0;
+        for (int i = 0; i < n; i++) r->serial_phase[ph] += phase_of(&stats[i], ph) / n;
     }
     for (int c = 0; c < NCOUNTERS; c++) {
         double total = 0;
@@ -533,7 +539,9 @@ static void print_row_json(FILE *f, const row *r) {
     json_number(f, r->serial);
     fputs(",\"serial_share\":", f);
     json_number(f, r->serial_share);
-    fprintf(f, ",\"serial_share_base\":\"%s\",\"serial_phases\":{", r->serial_base_own ? "own" : "threads1");
+    fprintf(f, ",\"serial_share_base\":\"%s\",\"serial_mean_ms\":", r->serial_base_own ? "own" : "threads1");
+    json_number(f, r->serial_mean);
+    fputs(",\"serial_phases\":{", f);
     for (int ph = 0; ph < NPHASES; ph++) {
         fprintf(f, "%s\"%s\":", ph ? "," : "", phase_names[ph]);
         json_number(f, r->serial_phase[ph]);
@@ -546,6 +554,10 @@ static void print_row_json(FILE *f, const row *r) {
         json_number(f, r->imbalance_max[b]);
         fprintf(f, ",\"predicted_speedup_%d\":", r->bands[b]);
         json_number(f, r->speedup[b]);
+        fprintf(f, ",\"sched_imbalance_%d\":", r->bands[b]);
+        json_number(f, r->sched_imbalance[b]);
+        fprintf(f, ",\"sched_speedup_%d\":", r->bands[b]);
+        json_number(f, r->sched_speedup[b]);
     }
     fputs(",\"stages\":{", f);
     for (int s = 0; s < NSTAGES; s++) {
@@ -565,10 +577,11 @@ static void print_table_header(const bench_opts *o) {
            "size", "thr", "views", "median", "mean", "p99", "max", "@", "level", "vlev", "ns/px",
            "floor", "xfloor", "front", "scan", "draw", "models", "seethr", "serial", "ser%");
     for (int b = 0; b < o->nbands; b++) {
-        char imb[16], x[16];
+        char imb[16], x[16], xs[16];
         snprintf(imb, sizeof imb, "imb%d", o->bands[b]);
         snprintf(x, sizeof x, "x%d", o->bands[b]);
-        printf(" %6s %6s", imb, x);
+        snprintf(xs, sizeof xs, "xs%d", o->bands[b]);
+        printf(" %6s %6s %6s", imb, x, xs);
     }
     putchar('\n');
 }
@@ -582,7 +595,8 @@ static void print_table_row(const row *r) {
            r->level, r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->stages[ST_FRONT],
            r->stages[ST_SCAN], r->stages[ST_DRAW], r->stages[ST_MODELS], r->counters[C_SEETHROUGH]);
     printf(" %7.3f %6.2f", r->serial, 100 * r->serial_share);
-    for (int b = 0; b < r->nbands; b++) printf(" %6.3f %6.2f", r->imbalance[b], r->speedup[b]);
+    for (int b = 0; b < r->nbands; b++)
+        printf(" %6.3f %6.2f %6.2f", r->imbalance[b], r->speedup[b], r->sched_speedup[b]);
     putchar('\n');
 }
 
@@ -703,6 +717,29 @@ static double band_imbalance(const float *cost, int h, int n) {
     return total > 0 ? slowest / (total / n) : NAN;
 }
 
+/* The renderer itself on n threads: n * 4 bands (at most h/8) cut by the
+ * last frame's costs (placed_by), handed out in order to whichever thread
+ * is free first; its finishing time over a perfect share, total / n. */
+static double sched_imbalance(const float *placed_by, const float *cost, int h, int n) {
+    int nb = n * 4 < h / 8 ? n * 4 : h / 8;
+    int bounds[MAX_BANDS * 4 + 1];
+    double busy[MAX_BANDS] = { 0 }, total = 0, end = 0;
+    ew_place_bands(placed_by, h, nb, bounds);
+    for (int b = 0; b < nb; b++) {
+        double c = 0;
+        for (int v = bounds[b]; v < bounds[b + 1]; v++) c += cost[v];
+        int t = 0;
+        for (int k = 1; k < n; k++)
+            if (busy[k] < busy[t])
+                t = k;
+        busy[t] += c;
+        total += c;
+        if (busy[t] > end)
+            end = busy[t];
+    }
+    return total > 0 ? end / (total / n) : NAN;
+}
+
 static float median3(float a, float b, float c) {
     float lo = a < b ? a : b, hi = a < b ? b : a;
     return c < lo ? lo : c > hi ? hi : c;
@@ -717,17 +754,18 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
                          size_ctx *sx) {
 #ifdef EW_BENCH_NO_SERIAL
     (void)rd, (void)views, (void)nviews, (void)h;
-    for (int b = 0; b < o->nbands; b++) sx->imbalance[b] = sx->imbalance_max[b] = NAN;
+    for (int b = 0; b < o->nbands; b++) sx->imbalance[b] = sx->imbalance_max[b] = sx->sched_imbalance[b] = NAN;
     sx->have_profile = 1;
     return 0;
 #else
-    float *rows = malloc(sizeof(float) * (size_t)h * (PROFILE_PASSES + 1));
-    double *imb = malloc(sizeof(double) * (size_t)nviews * (size_t)o->nbands);
+    float *rows = malloc(sizeof(float) * (size_t)h * (PROFILE_PASSES + (size_t)nviews));
+    double *imb = malloc(sizeof(double) * (size_t)nviews * (size_t)o->nbands * 2);
     int rc = -1;
     if (!rows || !imb || ew_set_threads(rd, 1) < 0 || ew_set_row_profile(rd, 1) < 0)
         goto out;
-    float *med = rows + (size_t)h * PROFILE_PASSES;
+    double *simb = imb + (size_t)nviews * o->nbands;
     for (int v = 0; v < nviews; v++) {
+        float *med = rows + (size_t)h * (PROFILE_PASSES + (size_t)v);
         for (int p = 0; p < PROFILE_PASSES; p++) {
             if (ew_render(rd, &views[v], NULL) < 0)
                 goto out;
@@ -738,10 +776,19 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
         for (int b = 0; b < o->nbands; b++)
             imb[(size_t)b * nviews + v] = band_imbalance(med, h, o->bands[b]);
     }
+    /* The bench's frames follow each other view after view, the first after
+     * the last: each is cut by the one before. */
+    for (int v = 0; v < nviews; v++) {
+        const float *cur = rows + (size_t)h * (PROFILE_PASSES + (size_t)v);
+        const float *prev = rows + (size_t)h * (PROFILE_PASSES + (size_t)((v + nviews - 1) % nviews));
+        for (int b = 0; b < o->nbands; b++)
+            simb[(size_t)b * nviews + v] = sched_imbalance(prev, cur, h, o->bands[b]);
+    }
     for (int b = 0; b < o->nbands; b++) {
         double *col = imb + (size_t)b * nviews;
         sx->imbalance[b] = median_of(col, nviews);  /* sorts col */
         sx->imbalance_max[b] = col[nviews - 1];
+        sx->sched_imbalance[b] = median_of(simb + (size_t)b * nviews, nviews);
     }
     sx->have_profile = 1;
     rc = 0;
@@ -828,7 +875,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->serial_base_own = !sx->have_one;
     r->serial_share = r->serial / (sx->have_one ? sx->one_median : r->median);
 #ifdef EW_BENCH_NO_SERIAL
-    r->serial = r->serial_share = NAN;
+    r->serial = r->serial_share = r->serial_mean = NAN;
     for (int ph = 0; ph < NPHASES; ph++) r->serial_phase[ph] = NAN;
 #endif
     if (o->nbands && !sx->have_profile && profile_bands(o, rd, views, nviews, h, sx) < 0) {
@@ -846,6 +893,8 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         /* Amdahl with imbalance: the serial share stays, the rest is cut
          * into n bands on n cores and waits for the slowest. */
         r->speedup[b] = 1 / (s + (1 - s) * imb / n);
+        r->sched_imbalance[b] = sx->sched_imbalance[b];
+        r->sched_speedup[b] = 1 / (s + (1 - s) * r->sched_imbalance[b] / n);
     }
     rc = 0;
 done:

@@ -52,7 +52,7 @@ static void check_row(const char *what, const char *line, int w, int h, int view
         "pixels_written", "pixels_covered", "edges", "edges_cached", "surfaces", "spans",
         "surfaces_built", "surfaces_cached", "visible_leaves", "dropped", "entities_drawn",
         "alias_tris", "particles", "serial_ms", "serial_share", "begin_ms", "walk_ms", "brush_ms",
-        "prepare_ms", "passes_ms",
+        "prepare_ms", "passes_ms", "serial_mean_ms",
     };
     CHECK(line[0] == '{' && strstr(line, "\"map\":\"") && strstr(line, "\"stages\":{") &&
               strstr(line, "\"counters\":{"), "%s: %s", what, line);
@@ -84,7 +84,9 @@ static void check_row(const char *what, const char *line, int w, int h, int view
               "%s: serial %g share %g median %g: %s", what, ser, share, med, line);
     double parts = field(line, "begin_ms") + field(line, "walk_ms") + field(line, "brush_ms") +
                    field(line, "prepare_ms") + field(line, "passes_ms");
-    CHECK(parts <= 2 * ser, "%s: serial parts %g of %g: %s", what, parts, ser, line);
+    double smean = field(line, "serial_mean_ms");
+    CHECK(fabs(parts + field(line, "other_ms") - smean) <= 1e-3 * smean + 1e-5, "%s: serial parts %g of %g: %s",
+          what, parts, smean, line);
 }
 
 /* --bands: per N, the imbalance (>= 1, at most N: the slowest band holds at
