@@ -101,6 +101,11 @@ static void check_bands(const char *what, const char *line, const int *bands, in
         CHECK(imb >= 1 && imb <= bands[i] && worst >= imb && worst <= bands[i], "%s: %s %g, %s %g in %s", what,
               k1, imb, k2, worst, line);
         CHECK(x >= 1 && x <= bands[i], "%s: %s %g in %s", what, k3, x, line);
+        snprintf(k1, sizeof k1, "sched_imbalance_%d", bands[i]);
+        snprintf(k3, sizeof k3, "sched_speedup_%d", bands[i]);
+        double simb = field(line, k1), sx = field(line, k3);
+        CHECK(simb >= 1 && simb <= bands[i] && sx >= 1 && sx <= bands[i], "%s: %s %g, %s %g in %s", what, k1, simb,
+              k3, sx, line);
         double s = field(line, "serial_share");
         CHECK(fabs(x - 1 / (s + (1 - s) * imb / bands[i])) < 1e-3 * x, "%s: %s %g is not Amdahl's: %s", what, k3,
               x, line);
