@@ -41,7 +41,7 @@ enum {
     MAX_THREAD_COUNTS = 8,
     MAX_BAND_COUNTS = 8,
     MAX_BANDS = 256,          /* as many as the renderer makes (64 threads, 4 each) */
-    PROFILE_PASSES = 3,       /* the row profile: per strip, the median of these */
+    PROFILE_PASSES = 3,       /* the row profile: per strip, the least of these */
     MAX_MAPS = 64,
     MAX_PASSES = 1000,
     MAX_THREADS = EW_MAX_THREADS,
@@ -740,13 +740,16 @@ static double sched_imbalance(const float *placed_by, const float *cost, int h, 
     return total > 0 ? end / (total / n) : NAN;
 }
 
-static float median3(float a, float b, float c) {
-    float lo = a < b ? a : b, hi = a < b ? b : a;
-    return c < lo ? lo : c > hi ? hi : c;
+static float min3(float a, float b, float c) {
+    float m = a < b ? a : b;
+    return c < m ? c : m;
 }
 
-/* --bands: the one-thread frame's cost per row (strips of 8 rows, each
- * view rendered PROFILE_PASSES times and each strip's median kept), cut
+/* --bands: the one-thread frame's cost per row (strips of 8 rows, the
+ * view set rendered PROFILE_PASSES times and each strip's least time kept:
+ * a time slice lost to another process, 4 ms here, hits a strip of one
+ * pass in a hundred, so its median of three still caught one view a map
+ * on this shared machine), cut
  * into each N bands; per N the median over the views of slowest band /
  * mean band, and the worst view's.  rd is left on one thread, without
  * the profile.  0, or -1 when out of memory or a camera fails. */
@@ -758,29 +761,35 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
     sx->have_profile = 1;
     return 0;
 #else
-    float *rows = malloc(sizeof(float) * (size_t)h * (PROFILE_PASSES + (size_t)nviews));
+    /* per pass and view, each row's time; then per view the medians */
+    size_t hv = (size_t)h * (size_t)nviews;
+    float *rows = malloc(sizeof(float) * hv * (PROFILE_PASSES + 1));
     double *imb = malloc(sizeof(double) * (size_t)nviews * (size_t)o->nbands * 2);
     int rc = -1;
     if (!rows || !imb || ew_set_threads(rd, 1) < 0 || ew_set_row_profile(rd, 1) < 0)
         goto out;
     double *simb = imb + (size_t)nviews * o->nbands;
-    for (int v = 0; v < nviews; v++) {
-        float *med = rows + (size_t)h * (PROFILE_PASSES + (size_t)v);
-        for (int p = 0; p < PROFILE_PASSES; p++) {
+    /* Pass after pass over the view set, so one stall of the machine hits
+     * a view's strip in one pass, not in all three. */
+    for (int p = 0; p < PROFILE_PASSES; p++)
+        for (int v = 0; v < nviews; v++) {
             if (ew_render(rd, &views[v], NULL) < 0)
                 goto out;
-            ew_frame_row_ms(rd, rows + (size_t)p * h, h);
+            ew_frame_row_ms(rd, rows + hv * p + (size_t)h * v, h);
         }
+    for (int v = 0; v < nviews; v++) {
+        const float *r0 = rows + (size_t)h * v, *r1 = r0 + hv, *r2 = r1 + hv;
+        float *best = rows + hv * PROFILE_PASSES + (size_t)h * v;
         for (int y = 0; y < h; y++)
-            med[y] = median3(rows[y], rows[h + y], rows[2 * h + y]);
+            best[y] = min3(r0[y], r1[y], r2[y]);
         for (int b = 0; b < o->nbands; b++)
-            imb[(size_t)b * nviews + v] = band_imbalance(med, h, o->bands[b]);
+            imb[(size_t)b * nviews + v] = band_imbalance(best, h, o->bands[b]);
     }
     /* The bench's frames follow each other view after view, the first after
      * the last: each is cut by the one before. */
     for (int v = 0; v < nviews; v++) {
-        const float *cur = rows + (size_t)h * (PROFILE_PASSES + (size_t)v);
-        const float *prev = rows + (size_t)h * (PROFILE_PASSES + (size_t)((v + nviews - 1) % nviews));
+        const float *cur = rows + hv * PROFILE_PASSES + (size_t)h * v;
+        const float *prev = rows + hv * PROFILE_PASSES + (size_t)h * ((v + nviews - 1) % nviews);
         for (int b = 0; b < o->nbands; b++)
             simb[(size_t)b * nviews + v] = sched_imbalance(prev, cur, h, o->bands[b]);
     }
@@ -800,7 +809,7 @@ out:
     return rc;
 #endif
 }
-_Static_assert(PROFILE_PASSES == 3, "median3 takes three");
+_Static_assert(PROFILE_PASSES == 3, "min3 takes three");
 
 /* One map at one size and thread count; returns 0 or 1 (error printed).
  * scene is an ew_scene or NULL (world only). */
