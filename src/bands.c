@@ -2,6 +2,7 @@
  * `edgewise bench --bands`), and the per-row cost profile bench reads to
  * predict the imbalance of many bands on a machine with few cores. */
 #include "renderer.h"
+#include "ew_util.h"  /* edgewise_tools.h: the public declarations */
 
 void ew_place_bands(const float *row_cost, int h, int n, int *bounds) {
     bounds[0] = 0;
