@@ -44,10 +44,10 @@ EW_API int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pi
  * and exists to measure what deferring saves. */
 EW_API void ew_set_full_zfill(ew_renderer *r, int on);
 
-/* How the renderer cuts a frame of height rows into n bands (n >= 1,
- * height >= 8 * n): each band ends where the running sum of row_cost
- * first reaches its share of the total, after at least 8 rows, so every
- * band costs about the same.  The renderer passes the last frame's costs
+/* How the renderer cuts a frame of height rows into n >= 1 bands: each
+ * band ends where the running sum of row_cost first reaches its share of
+ * the total, after at least 8 rows, so every band costs about the same
+ * (with fewer than 8 * n rows: equal rows).  The renderer passes the last frame's costs
  * (each band's time spread over its rows); `edgewise bench --bands` the
  * one-thread frame's own.  Writes bounds[0..n]: band i is rows
  * bounds[i] .. bounds[i+1]-1. */

@@ -6,8 +6,8 @@
 
 void ew_place_bands(const float *row_cost, int h, int n, int *bounds) {
     bounds[0] = 0;
-    if (n <= 1) {
-        if (n == 1) bounds[1] = h;
+    if (n <= 1 || h < 8 * n) {  /* one band, or too few rows for 8 a band: equal rows */
+        for (int i = 1; i <= n; i++) bounds[i] = (int)((long)h * i / n);
         return;
     }
     double total = 0;
