@@ -136,6 +136,32 @@ static void sort_active(ew_active *a, int n) {
     }
 }
 
+/* The line's edges in order: a[0..nold) are last line's, stepped, nearly in
+ * order already; a[nold..n) start on this line, in the order they were
+ * added.  The result is the insertion sort's of the whole array, which is a
+ * stable sort (after() compares the keys u, u_step and "has a trailing
+ * side" in turn): the old part sorted in place, the new ones sorted among
+ * themselves, then merged from the back, an old edge staying before a new
+ * one it ties with.  The new edges would otherwise each travel from the end
+ * of the list to their place. */
+#define MERGE_MAX 64
+static void sort_edges(ew_active *a, int nold, int n) {
+    int k = n - nold;
+    if (k <= 0 || k > MERGE_MAX || nold == 0) {
+        sort_active(a, n);
+        return;
+    }
+    sort_active(a, nold);
+    ew_active x[MERGE_MAX];
+    memcpy(x, a + nold, sizeof(ew_active) * (size_t)k);
+    sort_active(x, k);
+    int i = nold - 1, j = k - 1, d = n - 1;
+    while (j >= 0) {
+        if (i >= 0 && after(&a[i], &x[j])) a[d--] = a[i--];
+        else a[d--] = x[j--];
+    }
+}
+
 void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     const ew_surf *surfs = el->surfs;
     const ew_edge *edges = el->edges;
@@ -157,12 +183,13 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, cmp_active);
 
     for (int v = b->y0; v < b->y1; v++) {
+        const int nold = b->naet;  /* last line's edges, stepped: nearly in order */
         for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
         /* Read once per line: emit_span's stores could alias them, so
          * the compiler would reload both at every edge. */
         ew_active *aet = b->aet;
         const int naet = b->naet;
-        sort_active(aet, naet);
+        sort_edges(aet, nold, naet);
 
         int top = 0;  /* the background, always at the bottom of the stack */
         next[0] = -1, prev[0] = -1, lastu[0] = 0;
