@@ -27,6 +27,7 @@ int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
     b->spans = malloc(sizeof(ew_span) * b->cap_spans);
     b->aet = malloc(sizeof(ew_active) * b->cap_aet);
     b->st_neg = malloc(sizeof(int32_t) * b->cap_aet);
+    b->cap_neg = b->st_neg ? b->cap_aet : 0;
     b->max_spans = max_spans;
     b->max_aet = max_aet;
     return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->has_spans && b->spans && b->aet && b->st_neg
@@ -84,21 +85,24 @@ static inline void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
 
 void ew_band_span(ew_band *b, int surf, int u0, int u1, int v) { emit_span(b, surf, u0, u1, v); }
 
-/* The active edges and st_neg grow together: a line has at most as many
- * counts going below zero as it has edges. */
-static int grow_aet(ew_band *b) {
-    int cap = b->cap_aet;
-    if (grow((void **)&b->aet, &cap, b->max_aet, sizeof(ew_active)) < 0) return -1;
-    int32_t *neg = realloc(b->st_neg, sizeof(int32_t) * (size_t)cap);
-    if (!neg) return -1;  /* aet is larger, but cap_aet stays what st_neg holds */
-    b->st_neg = neg, b->cap_aet = cap;
-    return 0;
+/* st_neg holds at least cap_aet entries, since a line has at most as many
+ * counts going below zero as it has edges.  Another method may have grown
+ * aet on the same band (hsr/edge_z.c); if st_neg cannot follow, cap_aet comes
+ * down to it (the array itself stays as large as it is). */
+static void fit_neg(ew_band *b) {
+    if (b->cap_neg >= b->cap_aet) return;
+    int32_t *neg = realloc(b->st_neg, sizeof(int32_t) * (size_t)b->cap_aet);
+    if (neg) b->st_neg = neg, b->cap_neg = b->cap_aet;
+    else b->cap_aet = b->cap_neg;
 }
 
 static void add_active(ew_band *b, const ew_edge *e, int v) {
-    if (b->naet >= b->cap_aet && grow_aet(b) < 0) {
-        b->dropped++;
-        return;
+    if (b->naet >= b->cap_aet) {
+        if (grow((void **)&b->aet, &b->cap_aet, b->max_aet, sizeof(ew_active)) == 0) fit_neg(b);
+        if (b->naet >= b->cap_aet) {
+            b->dropped++;
+            return;
+        }
     }
     ew_active *a = &b->aet[b->naet++];
     a->u = e->u + (v - e->v_first) * e->u_step;
@@ -171,6 +175,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
      * clearing every count it left above or below zero. */
     b->nspans = 0;
     b->naet = 0;
+    fit_neg(b);
     memset(b->has_spans, 0, (size_t)el->nsurfs);
 
     /* Edges that began above the band and are still alive at its top: only
@@ -193,8 +198,8 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
 
         int top = 0;  /* the background, always at the bottom of the stack */
         next[0] = -1, prev[0] = -1, lastu[0] = 0;
-        /* Surfaces whose count went below zero on this line: cap_aet >= naet
-         * entries, at most one per edge. */
+        /* Surfaces whose count went below zero on this line: cap_neg >=
+         * cap_aet >= naet entries, at most one per edge. */
         int32_t *neg = b->st_neg;
         int nneg = 0, n = 0;
         for (int i = 0; i < naet; i++) {
