@@ -13,6 +13,10 @@
 # Sources and builds are kept in bench/.cache (ignored by git) and reused.
 # A revision from before `edgewise bench` existed is measured with the
 # current tree's CLI (cli/*.c) linked against that revision's library.
+# OLD_ARGS and NEW_ARGS (split at spaces) go to one side only, for options
+# that one side does not have or spells differently: a revision from before
+# `--classic` drew the classic look by default, so
+#   NEW_ARGS=--classic bench/compare.sh cde885f WORKTREE e1m1 --size 320x200
 set -eu
 
 usage() {
@@ -99,9 +103,11 @@ rm -rf "$RUN" && mkdir -p "$RUN"
 i=1
 while [ "$i" -le "$ROUNDS" ]; do
     echo "compare: round $i/$ROUNDS: $OLD" >&2
-    "$A" bench "$@" --out "$RUN/old.$i.jsonl" >/dev/null
+    # shellcheck disable=SC2086
+    "$A" bench "$@" ${OLD_ARGS:-} --out "$RUN/old.$i.jsonl" >/dev/null
     echo "compare: round $i/$ROUNDS: $NEW" >&2
-    "$B" bench "$@" --out "$RUN/new.$i.jsonl" >/dev/null
+    # shellcheck disable=SC2086
+    "$B" bench "$@" ${NEW_ARGS:-} --out "$RUN/new.$i.jsonl" >/dev/null
     i=$((i + 1))
 done
 

@@ -313,7 +313,7 @@ EW_API int ew_hsr_available(ew_hsr_method method);
  * Gouraud shading, Carmack's recursive subdivision (for small models), or
  * automatic choice by the model's projected size (subdivision when its
  * screen height is below a threshold).  Default: auto, 40 pixels.
- * Two experiments of Black Book chapter 69 (docs/hsr_models.md): masks
+ * Two experiments of Black Book chapter 69 (docs/hsr.md, part 6): masks
  * (triangles within 5x5 pixels drawn from a table of precalculated pixel
  * masks, larger ones affine) and sprite-cache (a model shorter than the
  * threshold drawn once into an image with its depth and reused as a

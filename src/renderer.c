@@ -371,7 +371,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     memset(&r->stats, 0, sizeof r->stats);
     ew_styles_frame(r->cfg.lightstyle, r->cfg.style_set, w->styles_start_off, r->cfg.classic, cam->time);
     ew_view_setup(&r->view, cam, r->target.width, r->target.height);
-    ew_turb_table(r->draw.turb, cam->time);
+    ew_turb_table(r->draw.turb, &r->draw.turb_phase, cam->time);
     r->draw.sky_scroll = ew_sky_scroll(r->view.time);
     r->draw.subdiv_shift = r->cfg.subdiv_shift;
     r->draw.rgba = r->lit.curve.rgba;
