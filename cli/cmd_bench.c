@@ -95,50 +95,19 @@ typedef struct bench_opts {
 
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int bench_parse(int argc, char **argv, bench_opts *o) {
-    int only_positional = 0, passes_given = 0;
+    int passes_given = 0;
+    static const char *const flags[] = { "--quiet", "--table", "--floor", "--help", "-h", NULL };
+    static const char *const valued[] = { "--data", "--size", "--threads", "--passes", "--out", "--bands", NULL };
+    cli_args args = { "bench", flags, valued, o->maps, 0, MAX_MAPS, 0, &o->draw };
     for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (!only_positional && strcmp(a, "--") == 0) {
-            only_positional = 1;
-            continue;
-        }
-        if (only_positional || a[0] != '-' || !a[1]) {
-            if (!*a) {
-                error_line("bench: empty map name");
-                return -1;
-            }
-            if (o->nmaps == MAX_MAPS) {
-                error_line("bench: more than %d maps", MAX_MAPS);
-                return -1;
-            }
-            o->maps[o->nmaps++] = a;
-            continue;
-        }
-        int dr = draw_option(&o->draw, "bench", argc, argv, &i);
-        if (dr < 0)
-            return -1;
-        if (dr > 0)
-            continue;
-        const char *eq = strchr(a, '=');
-        size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
         char name[32];
-        snprintf(name, sizeof name, "%.*s", (int)(nlen < sizeof name ? nlen : sizeof name - 1),
-                 a);
-        int is_flag = strcmp(name, "--quiet") == 0 || strcmp(name, "--table") == 0 ||
-                      strcmp(name, "--floor") == 0 || strcmp(name, "--help") == 0 ||
-                      strcmp(name, "-h") == 0;
-        int has_value = strcmp(name, "--data") == 0 || strcmp(name, "--size") == 0 ||
-                        strcmp(name, "--threads") == 0 || strcmp(name, "--passes") == 0 ||
-                        strcmp(name, "--out") == 0 || strcmp(name, "--bands") == 0;
-        if (!is_flag && !has_value) {
-            error_line("bench: unknown option '%.*s' (see edgewise bench --help)", (int)nlen, a);
-            return -1;
+        const char *v;
+        int ar = cli_next_arg(&args, argc, argv, &i, name, &v);
+        if (ar <= 0) {
+            if (ar < 0) return -1;
+            continue;
         }
-        if (is_flag) {
-            if (eq) {
-                error_line("bench: option '%s' takes no value", name);
-                return -1;
-            }
+        if (!v) {
             if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
                 fputs(bench_usage, stdout);
                 draw_opts_usage(stdout);
@@ -153,35 +122,13 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
                 o->floor_only = 1;
             continue;
         }
-        const char *v;
-        if (eq)
-            v = eq + 1;
-        else if (i + 1 < argc)
-            v = argv[++i];
-        else {
-            error_line("bench: option '%s' needs a value", name);
-            return -1;
-        }
         long l;
         if (strcmp(name, "--data") == 0 || strcmp(name, "--out") == 0) {
-            const char **slot = name[2] == 'd' ? &o->data : &o->out;
-            if (!*v) {
-                error_line("bench: %s: empty name", name);
+            if (cli_set_once("bench", name, v, name[2] == 'd' ? &o->data : &o->out) < 0)
                 return -1;
-            }
-            if (*slot) {
-                error_line("bench: %s given twice", name);
-                return -1;
-            }
-            *slot = v;
         } else if (strcmp(name, "--size") == 0) {
-            if (o->nsizes == MAX_SIZES) {
-                error_line("bench: more than %d sizes", MAX_SIZES);
+            if (cli_add_size("bench", v, o->sizes, &o->nsizes, MAX_SIZES) < 0)
                 return -1;
-            }
-            if (parse_size(v, &o->sizes[o->nsizes][0], &o->sizes[o->nsizes][1]) < 0)
-                return -1;
-            o->nsizes++;
         } else if (strcmp(name, "--threads") == 0) {
             if (o->nthreads == MAX_THREAD_COUNTS) {
                 error_line("bench: more than %d --threads values", MAX_THREAD_COUNTS);
@@ -212,6 +159,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             o->passes = (int)l;
         }
     }
+    o->nmaps = args.nmaps;
     if (o->floor_only && o->nmaps) {
         error_line("bench: --floor takes no MAP (it measures the machine, not a map)");
         return -1;
