@@ -378,6 +378,7 @@ typedef struct row {
     double serial_mean;            /* its mean */
     double serial_phase[NPHASES];  /* mean of each part, and of the rest */
     double serial_share;           /* serial / a one-thread median (serial_base) */
+    double predict_share;          /* the one-thread row's share, at most 1: the predictions' */
     int    serial_base_own;        /* 1: this row's median (no one-thread row before it) */
     int    nbands;                 /* --bands: */
     int    bands[MAX_BAND_COUNTS];
@@ -390,6 +391,7 @@ typedef struct row {
 typedef struct size_ctx {
     int    have_one;               /* a one-thread row was measured */
     double one_median;
+    double one_share;              /* that row's serial share: what the predictions use */
     int    have_profile;           /* the band imbalances were measured */
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS], sched_imbalance[MAX_BAND_COUNTS];
 } size_ctx;
@@ -487,6 +489,8 @@ static void print_row_json(FILE *f, const row *r) {
     json_number(f, r->serial);
     fputs(",\"serial_share\":", f);
     json_number(f, r->serial_share);
+    fputs(",\"predict_share\":", f);
+    json_number(f, r->predict_share);
     fprintf(f, ",\"serial_share_base\":\"%s\",\"serial_mean_ms\":", r->serial_base_own ? "own" : "threads1");
     json_number(f, r->serial_mean);
     fputs(",\"serial_phases\":{", f);
@@ -827,10 +831,20 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     /* The serial share is of the one-thread frame: this row's if it is
      * one, else the one-thread row of this map and size measured before
      * it, else (none) of this row's own median. */
-    if (r->threads == 1 && !sx->have_one)
+    int first_one = r->threads == 1 && !sx->have_one;
+    if (first_one)
         sx->have_one = 1, sx->one_median = r->median;
     r->serial_base_own = !sx->have_one;
     r->serial_share = r->serial / (sx->have_one ? sx->one_median : r->median);
+    if (first_one)
+        sx->one_share = r->serial_share;
+    /* The predictions model the work of one frame, so they take the
+     * one-thread row's share: a row on more threads measures its serial
+     * part with the pool's wake-ups in it, and on a busy machine that part
+     * can outgrow the one-thread frame (a share above 1). */
+    r->predict_share = sx->have_one ? sx->one_share : r->serial_share;
+    if (r->predict_share > 1)
+        r->predict_share = 1;
 #ifdef EW_BENCH_NO_SERIAL
     r->serial = r->serial_share = r->serial_mean = NAN;
     for (int ph = 0; ph < NPHASES; ph++) r->serial_phase[ph] = NAN;
@@ -843,7 +857,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->nbands = o->nbands;
     for (int b = 0; b < o->nbands; b++) {
         int n = o->bands[b];
-        double s = r->serial_share, imb = sx->imbalance[b];
+        double s = r->predict_share, imb = sx->imbalance[b];
         r->bands[b] = n;
         r->imbalance[b] = imb;
         r->imbalance_max[b] = sx->imbalance_max[b];

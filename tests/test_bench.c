@@ -106,7 +106,8 @@ static void check_bands(const char *what, const char *line, const int *bands, in
         double simb = field(line, k1), sx = field(line, k3);
         CHECK(simb >= 1 && simb <= bands[i] && sx >= 1 && sx <= bands[i], "%s: %s %g, %s %g in %s", what, k1, simb,
               k3, sx, line);
-        double s = field(line, "serial_share");
+        double s = field(line, "predict_share");
+        CHECK(s > 0 && s <= 1, "%s: predict_share %g in %s", what, s, line);
         CHECK(fabs(x - 1 / (s + (1 - s) * imb / bands[i])) < 1e-3 * x, "%s: %s %g is not Amdahl's: %s", what, k3,
               x, line);
     }
