@@ -13,6 +13,10 @@
 # Sources and builds are kept in bench/.cache (ignored by git) and reused.
 # A revision from before `edgewise bench` existed is measured with the
 # current tree's CLI (cli/*.c) linked against that revision's library.
+# OLD_ARGS and NEW_ARGS (split at spaces) go to one side only, for options
+# that one side does not have or spells differently: a revision from before
+# `--classic` drew the classic look by default, so
+#   NEW_ARGS=--classic bench/compare.sh cde885f WORKTREE e1m1 --size 320x200
 set -eu
 
 usage() {
@@ -79,6 +83,7 @@ build() {
     grep -q ew_set_threads "$src/include/edgewise.h" || defs=-DEW_BENCH_NO_THREADS
     grep -q ew_set_scene "$src/include/edgewise.h" || defs="$defs -DEW_BENCH_NO_SCENE"
     grep -q ew_set_full_zfill "$src/include/edgewise.h" || defs="$defs -DEW_BENCH_NO_ZFILL"
+    grep -q ms_serial "$src/include/edgewise.h" || defs="$defs -DEW_BENCH_NO_SERIAL"
     # shellcheck disable=SC2086
     if ! ${CC:-cc} -std=c11 -O3 -DNDEBUG $defs -I"$src/include" -I"$src/src" "$ROOT"/cli/*.c \
             "$dir/libedgewise.a" $png -lm -pthread -o "$dir/edgewise-harness" >>"$log" 2>&1; then
@@ -98,9 +103,11 @@ rm -rf "$RUN" && mkdir -p "$RUN"
 i=1
 while [ "$i" -le "$ROUNDS" ]; do
     echo "compare: round $i/$ROUNDS: $OLD" >&2
-    "$A" bench "$@" --out "$RUN/old.$i.jsonl" >/dev/null
+    # shellcheck disable=SC2086
+    "$A" bench "$@" ${OLD_ARGS:-} --out "$RUN/old.$i.jsonl" >/dev/null
     echo "compare: round $i/$ROUNDS: $NEW" >&2
-    "$B" bench "$@" --out "$RUN/new.$i.jsonl" >/dev/null
+    # shellcheck disable=SC2086
+    "$B" bench "$@" ${NEW_ARGS:-} --out "$RUN/new.$i.jsonl" >/dev/null
     i=$((i + 1))
 done
 

@@ -1,5 +1,5 @@
 /* models_lab: the alias-model ideas of Black Book chapter 69 measured
- * (docs/hsr_models.md).  Built as a target (build/models_lab); run
+ * (docs/hsr.md, part 6).  Built as a target (build/models_lab); run
  *
  *     ./build/models_lab [DATA_DIR [PICTURE.png]]   (default ../shared/data/librequake)
  *

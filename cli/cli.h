@@ -24,8 +24,8 @@ void error_line(const char *fmt, ...) EW_CLI_PRINTF(1, 2);
 /* Whole decimal numbers, no blanks; 0 or -1 (nothing printed). */
 int  parse_long(const char *s, long *out);
 /* --threads N, the same rule in every command (help and error). */
-#define THREADS_RULE "0 (one per core) to 16"
-_Static_assert(EW_MAX_THREADS == 16, "THREADS_RULE states EW_MAX_THREADS");
+#define THREADS_RULE "0 (one per core) to 64"
+_Static_assert(EW_MAX_THREADS == 64, "THREADS_RULE states EW_MAX_THREADS");
 /* --threads N: 0 to EW_MAX_THREADS; 0 or -1 (error printed). */
 int  parse_threads(const char *v, int *out);
 /* "WxH" within the renderer's limits; 0 or -1 (error printed). */
@@ -73,6 +73,28 @@ void draw_opts_init(draw_opts *d);
 int  draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i);
 /* The help lines of every drawing option (the rules the errors print). */
 void draw_opts_usage(FILE *f);
+
+/* One step through the arguments of a command that takes MAPs, the drawing
+ * options and its own flags[] and valued[] options (NULL-terminated lists):
+ * "--" ends the options, a positional argument is a map (at most max_maps),
+ * a drawing option goes to draw.  Otherwise name gets the option's name
+ * (before any '=') and *value its value ("--name=V" or the next argument),
+ * NULL for a flag.  Returns 1 when the caller must handle name/value, 0
+ * when the argument was consumed here, -1 after one error line. */
+typedef struct cli_args {
+    const char *cmd;
+    const char *const *flags, *const *valued;
+    const char **maps;
+    int nmaps, max_maps, only_positional;
+    draw_opts *draw;
+} cli_args;
+int  cli_next_arg(cli_args *a, int argc, char **argv, int *i, char name[32], const char **value);
+/* *slot = v for an option naming a file or folder given at most once;
+ * 0, or -1 after one error line. */
+int  cli_set_once(const char *cmd, const char *name, const char *v, const char **slot);
+/* Appends the size WxH of v to sizes[*n] (at most max); 0, or -1 after one
+ * error line. */
+int  cli_add_size(const char *cmd, const char *v, int (*sizes)[2], int *n, int max);
 /* Sets every drawing setting of r (defaults included) and its scene. */
 int  draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene);
 /* ,"entities":..,"alias_raster":..,"subdiv_threshold":..,"zfill":..,

@@ -2,7 +2,8 @@
  * edgewise bench: the benchmark protocol of ../shared/BENCHMARK.md.
  *
  *   edgewise bench MAP... [--data DIR] [--size WxH]... [--threads N]...
- *                  [--passes P] [drawing options] [--table] [--out FILE.jsonl]
+ *                  [--passes P] [--bands N]... [drawing options] [--table]
+ *                  [--out FILE.jsonl]
  *   edgewise bench --floor [--size WxH]... [--table] [--out FILE.jsonl]
  *
  * Per map, size and thread count: load the map, render the whole view set
@@ -11,6 +12,10 @@
  * field).  Each row also carries this machine's "fill floor" for its size:
  * the time to texture every pixel once with the cheapest loop there is, so
  * a figure can be read as "N times the cost of touching every pixel".
+ * Each row reports the frame's serial time (outside the parallel sections)
+ * and, with --bands N, the imbalance of N bands cut from the one-thread
+ * frame's per-row costs and the speed-up Amdahl's law then predicts on N
+ * cores (bench/README.md, "Speed II").
  *
  * A benchmark is read, never asserted on: nothing here fails on a time.
  */
@@ -34,6 +39,9 @@ enum {
     BENCH_EXIT_USAGE = 2,
     MAX_SIZES = 16,
     MAX_THREAD_COUNTS = 8,
+    MAX_BAND_COUNTS = 8,
+    MAX_BANDS = 256,          /* as many as the renderer makes (64 threads, 4 each) */
+    PROFILE_PASSES = 3,       /* the row profile: per strip, the least of these */
     MAX_MAPS = 64,
     MAX_PASSES = 1000,
     MAX_THREADS = EW_MAX_THREADS,
@@ -53,6 +61,9 @@ static const char bench_usage[] =
     "  --size WxH        frame size; repeat for several (default 640x480)\n"
     "  --threads N       render threads, " THREADS_RULE "; repeat for several (default 1)\n"
     "  --passes P        timed passes over the view set, 1 to 1000 (default 5)\n"
+    "  --bands N         also report the imbalance of N bands and the speed-up\n"
+    "                    predicted on N cores, N 1 to 256 and at most height/8;\n"
+    "                    repeat for several\n"
     "  --table           a human-readable table on stdout (JSON then only to --out)\n"
     "  --out FILE.jsonl  write the JSON lines to FILE instead of stdout\n"
     "  --floor           only measure the fill floor for each --size\n"
@@ -73,6 +84,8 @@ typedef struct bench_opts {
     int         nsizes;
     int         threads[MAX_THREAD_COUNTS];
     int         nthreads;
+    int         bands[MAX_BAND_COUNTS];
+    int         nbands;
     int         passes;
     int         table, floor_only, quiet;
     draw_opts   draw;           /* what is drawn (cli/draw_options.c) */
@@ -82,50 +95,19 @@ typedef struct bench_opts {
 
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int bench_parse(int argc, char **argv, bench_opts *o) {
-    int only_positional = 0, passes_given = 0;
+    int passes_given = 0;
+    static const char *const flags[] = { "--quiet", "--table", "--floor", "--help", "-h", NULL };
+    static const char *const valued[] = { "--data", "--size", "--threads", "--passes", "--out", "--bands", NULL };
+    cli_args args = { "bench", flags, valued, o->maps, 0, MAX_MAPS, 0, &o->draw };
     for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (!only_positional && strcmp(a, "--") == 0) {
-            only_positional = 1;
-            continue;
-        }
-        if (only_positional || a[0] != '-' || !a[1]) {
-            if (!*a) {
-                error_line("bench: empty map name");
-                return -1;
-            }
-            if (o->nmaps == MAX_MAPS) {
-                error_line("bench: more than %d maps", MAX_MAPS);
-                return -1;
-            }
-            o->maps[o->nmaps++] = a;
-            continue;
-        }
-        int dr = draw_option(&o->draw, "bench", argc, argv, &i);
-        if (dr < 0)
-            return -1;
-        if (dr > 0)
-            continue;
-        const char *eq = strchr(a, '=');
-        size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
         char name[32];
-        snprintf(name, sizeof name, "%.*s", (int)(nlen < sizeof name ? nlen : sizeof name - 1),
-                 a);
-        int is_flag = strcmp(name, "--quiet") == 0 || strcmp(name, "--table") == 0 ||
-                      strcmp(name, "--floor") == 0 || strcmp(name, "--help") == 0 ||
-                      strcmp(name, "-h") == 0;
-        int has_value = strcmp(name, "--data") == 0 || strcmp(name, "--size") == 0 ||
-                        strcmp(name, "--threads") == 0 || strcmp(name, "--passes") == 0 ||
-                        strcmp(name, "--out") == 0;
-        if (!is_flag && !has_value) {
-            error_line("bench: unknown option '%.*s' (see edgewise bench --help)", (int)nlen, a);
-            return -1;
+        const char *v;
+        int ar = cli_next_arg(&args, argc, argv, &i, name, &v);
+        if (ar <= 0) {
+            if (ar < 0) return -1;
+            continue;
         }
-        if (is_flag) {
-            if (eq) {
-                error_line("bench: option '%s' takes no value", name);
-                return -1;
-            }
+        if (!v) {
             if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
                 fputs(bench_usage, stdout);
                 draw_opts_usage(stdout);
@@ -140,35 +122,13 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
                 o->floor_only = 1;
             continue;
         }
-        const char *v;
-        if (eq)
-            v = eq + 1;
-        else if (i + 1 < argc)
-            v = argv[++i];
-        else {
-            error_line("bench: option '%s' needs a value", name);
-            return -1;
-        }
         long l;
         if (strcmp(name, "--data") == 0 || strcmp(name, "--out") == 0) {
-            const char **slot = name[2] == 'd' ? &o->data : &o->out;
-            if (!*v) {
-                error_line("bench: %s: empty name", name);
+            if (cli_set_once("bench", name, v, name[2] == 'd' ? &o->data : &o->out) < 0)
                 return -1;
-            }
-            if (*slot) {
-                error_line("bench: %s given twice", name);
-                return -1;
-            }
-            *slot = v;
         } else if (strcmp(name, "--size") == 0) {
-            if (o->nsizes == MAX_SIZES) {
-                error_line("bench: more than %d sizes", MAX_SIZES);
+            if (cli_add_size("bench", v, o->sizes, &o->nsizes, MAX_SIZES) < 0)
                 return -1;
-            }
-            if (parse_size(v, &o->sizes[o->nsizes][0], &o->sizes[o->nsizes][1]) < 0)
-                return -1;
-            o->nsizes++;
         } else if (strcmp(name, "--threads") == 0) {
             if (o->nthreads == MAX_THREAD_COUNTS) {
                 error_line("bench: more than %d --threads values", MAX_THREAD_COUNTS);
@@ -177,6 +137,16 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             if (parse_threads(v, &o->threads[o->nthreads]) < 0)
                 return -1;
             o->nthreads++;
+        } else if (strcmp(name, "--bands") == 0) {
+            if (o->nbands == MAX_BAND_COUNTS) {
+                error_line("bench: more than %d --bands values", MAX_BAND_COUNTS);
+                return -1;
+            }
+            if (parse_long(v, &l) < 0 || l < 1 || l > MAX_BANDS) {
+                error_line("bench: --bands %s: expected 1 to %d", v, MAX_BANDS);
+                return -1;
+            }
+            o->bands[o->nbands++] = (int)l;
         } else { /* --passes */
             if (parse_long(v, &l) < 0 || l < 1 || l > MAX_PASSES) {
                 error_line("bench: --passes %s: expected 1 to %d", v, MAX_PASSES);
@@ -189,6 +159,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             o->passes = (int)l;
         }
     }
+    o->nmaps = args.nmaps;
     if (o->floor_only && o->nmaps) {
         error_line("bench: --floor takes no MAP (it measures the machine, not a map)");
         return -1;
@@ -197,7 +168,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
         error_line("bench: missing MAP (a .bsp path, a map name with --data, or 'builtin')");
         return -1;
     }
-    if (o->floor_only && (o->data || o->nthreads || passes_given || o->draw.given || o->quiet)) {
+    if (o->floor_only && (o->data || o->nthreads || passes_given || o->draw.given || o->quiet || o->nbands)) {
         error_line("bench: --floor takes only --size, --table and --out");
         return -1;
     }
@@ -206,6 +177,13 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
         o->sizes[0][1] = 480;
         o->nsizes = 1;
     }
+    for (int b = 0; b < o->nbands; b++)
+        for (int i = 0; i < o->nsizes; i++)
+            if (o->bands[b] * 8 > o->sizes[i][1]) {
+                error_line("bench: --bands %d: a band has at least 8 rows, %dx%d has %d rows", o->bands[b],
+                           o->sizes[i][0], o->sizes[i][1], o->sizes[i][1]);
+                return -1;
+            }
     if (!o->nthreads)
         o->threads[o->nthreads++] = 1;
     if (!passes_given)
@@ -364,6 +342,27 @@ static double counter_value(const ew_stats *s, const struct counter_def *d) {
 }
 
 enum { ST_FRONT, ST_SCAN, ST_DRAW, ST_MODELS, ST_TOTAL, NSTAGES };
+/* ew_stats' parts of ms_serial, and what is left of it. */
+enum { PH_BEGIN, PH_WALK, PH_BRUSH, PH_PREPARE, PH_PASSES, PH_OTHER, NPHASES };
+static const char *const phase_names[NPHASES] = { "begin_ms", "walk_ms", "brush_ms", "prepare_ms",
+                                                  "passes_ms", "other_ms" };
+static double phase_of(const ew_stats *st, int ph) {
+#ifdef EW_BENCH_NO_SERIAL  /* a library from before ms_serial (compare.sh) */
+    (void)st, (void)ph;
+    return NAN;
+#else
+    switch (ph) {
+    case PH_BEGIN: return st->ms_serial_begin;
+    case PH_WALK: return st->ms_serial_walk;
+    case PH_BRUSH: return st->ms_serial_brush;
+    case PH_PREPARE: return st->ms_serial_prepare;
+    case PH_PASSES: return st->ms_serial_passes;
+    default:
+        return st->ms_serial - st->ms_serial_begin - st->ms_serial_walk - st->ms_serial_brush -
+               st->ms_serial_prepare - st->ms_serial_passes;
+    }
+#endif
+}
 static const char *const stage_names[NSTAGES] = { "front", "scan", "draw", "models", "total" };
 
 typedef struct row {
@@ -375,7 +374,27 @@ typedef struct row {
     double view_level;    /* slow_view's median / median: level without one-off spikes */
     double stages[NSTAGES];        /* median per frame */
     double counters[NCOUNTERS];    /* mean per frame */
+    double serial;                 /* median ms_serial per frame */
+    double serial_mean;            /* its mean */
+    double serial_phase[NPHASES];  /* mean of each part, and of the rest */
+    double serial_share;           /* serial / a one-thread median (serial_base) */
+    double predict_share;          /* the one-thread row's share, at most 1: the predictions' */
+    int    serial_base_own;        /* 1: this row's median (no one-thread row before it) */
+    int    nbands;                 /* --bands: */
+    int    bands[MAX_BAND_COUNTS];
+    double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS];  /* over views: median, worst */
+    double speedup[MAX_BAND_COUNTS];                                    /* predicted on that many cores */
+    double sched_imbalance[MAX_BAND_COUNTS], sched_speedup[MAX_BAND_COUNTS];  /* the renderer's own bands */
 } row;
+
+/* The one-thread figures of a map and size, for the rows after it. */
+typedef struct size_ctx {
+    int    have_one;               /* a one-thread row was measured */
+    double one_median;
+    double one_share;              /* that row's serial share: what the predictions use */
+    int    have_profile;           /* the band imbalances were measured */
+    double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS], sched_imbalance[MAX_BAND_COUNTS];
+} size_ctx;
 
 /* Fills r from frames[views * passes] and their stats. */
 static void summarize(row *r, double *frames, const ew_stats *stats, double *scratch) {
@@ -412,6 +431,18 @@ static void summarize(row *r, double *frames, const ew_stats *stats, double *scr
                                                                      : st->ms_total;
         }
         r->stages[s] = median_of(scratch, n);
+    }
+    for (int i = 0; i < n; i++) scratch[i] = phase_of(&stats[i], PH_OTHER) + phase_of(&stats[i], PH_BEGIN) +
+                                             phase_of(&stats[i], PH_WALK) + phase_of(&stats[i], PH_BRUSH) +
+                                             phase_of(&stats[i], PH_PREPARE) + phase_of(&stats[i], PH_PASSES);
+    r->serial_mean = 0;
+    for (int i = 0; i < n; i++) r->serial_mean += scratch[i] / n;
+    r->serial = median_of(scratch, n);
+    /* The parts as means, so they add up to serial_mean (medians of a
+     * skewed view set would not). */
+    for (int ph = 0; ph < NPHASES; ph++) {
+        r->serial_phase[ph] = 0;
+        for (int i = 0; i < n; i++) r->serial_phase[ph] += phase_of(&stats[i], ph) / n;
     }
     for (int c = 0; c < NCOUNTERS; c++) {
         double total = 0;
@@ -454,6 +485,32 @@ static void print_row_json(FILE *f, const row *r) {
     json_number(f, r->floor_ms);
     fputs(",\"floor_ratio\":", f);
     json_number(f, r->floor_ratio);
+    fputs(",\"serial_ms\":", f);
+    json_number(f, r->serial);
+    fputs(",\"serial_share\":", f);
+    json_number(f, r->serial_share);
+    fputs(",\"predict_share\":", f);
+    json_number(f, r->predict_share);
+    fprintf(f, ",\"serial_share_base\":\"%s\",\"serial_mean_ms\":", r->serial_base_own ? "own" : "threads1");
+    json_number(f, r->serial_mean);
+    fputs(",\"serial_phases\":{", f);
+    for (int ph = 0; ph < NPHASES; ph++) {
+        fprintf(f, "%s\"%s\":", ph ? "," : "", phase_names[ph]);
+        json_number(f, r->serial_phase[ph]);
+    }
+    fputc('}', f);
+    for (int b = 0; b < r->nbands; b++) {
+        fprintf(f, ",\"imbalance_%d\":", r->bands[b]);
+        json_number(f, r->imbalance[b]);
+        fprintf(f, ",\"imbalance_max_%d\":", r->bands[b]);
+        json_number(f, r->imbalance_max[b]);
+        fprintf(f, ",\"predicted_speedup_%d\":", r->bands[b]);
+        json_number(f, r->speedup[b]);
+        fprintf(f, ",\"sched_imbalance_%d\":", r->bands[b]);
+        json_number(f, r->sched_imbalance[b]);
+        fprintf(f, ",\"sched_speedup_%d\":", r->bands[b]);
+        json_number(f, r->sched_speedup[b]);
+    }
     fputs(",\"stages\":{", f);
     for (int s = 0; s < NSTAGES; s++) {
         fprintf(f, "%s\"%s\":", s ? "," : "", stage_names[s]);
@@ -467,20 +524,32 @@ static void print_row_json(FILE *f, const row *r) {
     fputs("}}\n", f);
 }
 
-static void print_table_header(void) {
-    printf("%-10s %9s %3s %5s %8s %8s %8s %8s %4s %5s %5s %6s %7s %6s %7s %7s %7s %7s %6s\n", "map",
+static void print_table_header(const bench_opts *o) {
+    printf("%-10s %9s %3s %5s %8s %8s %8s %8s %4s %5s %5s %6s %7s %6s %7s %7s %7s %7s %6s %7s %6s", "map",
            "size", "thr", "views", "median", "mean", "p99", "max", "@", "level", "vlev", "ns/px",
-           "floor", "xfloor", "front", "scan", "draw", "models", "seethr");
+           "floor", "xfloor", "front", "scan", "draw", "models", "seethr", "serial", "ser%");
+    for (int b = 0; b < o->nbands; b++) {
+        char imb[16], x[16], xs[16];
+        snprintf(imb, sizeof imb, "imb%d", o->bands[b]);
+        snprintf(x, sizeof x, "x%d", o->bands[b]);
+        snprintf(xs, sizeof xs, "xs%d", o->bands[b]);
+        printf(" %6s %6s %6s", imb, x, xs);
+    }
+    putchar('\n');
 }
 
 static void print_table_row(const row *r) {
     char size[24];
     snprintf(size, sizeof size, "%dx%d", r->w, r->h);
     printf("%-10.10s %9s %3d %5d %8.3f %8.3f %8.3f %8.3f %4d %5.2f %5.2f %6.2f %7.3f %6.2f %7.3f "
-           "%7.3f %7.3f %7.3f %6.1f\n",
+           "%7.3f %7.3f %7.3f %6.1f",
            r->map, size, r->threads, r->views, r->median, r->mean, r->p99, r->max, r->max_view,
            r->level, r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->stages[ST_FRONT],
            r->stages[ST_SCAN], r->stages[ST_DRAW], r->stages[ST_MODELS], r->counters[C_SEETHROUGH]);
+    printf(" %7.3f %6.2f", r->serial, 100 * r->serial_share);
+    for (int b = 0; b < r->nbands; b++)
+        printf(" %6.3f %6.2f %6.2f", r->imbalance[b], r->speedup[b], r->sched_speedup[b]);
+    putchar('\n');
 }
 
 /* A progress line on stderr, only for a person watching a terminal. */
@@ -585,11 +654,120 @@ static void row_after(void *ctx, int pass, int v) {
     if (c->fl && v % 2) floor_rep(c->fl);
 }
 
+/* Slowest band over the mean when rows [0, h) of per-row costs cost are
+ * cut into n bands by the renderer's rule (ew_place_bands). */
+static double band_imbalance(const float *cost, int h, int n) {
+    int bounds[MAX_BANDS + 1];
+    ew_place_bands(cost, h, n, bounds);
+    double total = 0, slowest = 0;
+    for (int b = 0; b < n; b++) {
+        double c = 0;
+        for (int v = bounds[b]; v < bounds[b + 1]; v++) c += cost[v];
+        total += c;
+        if (c > slowest) slowest = c;
+    }
+    return total > 0 ? slowest / (total / n) : NAN;
+}
+
+/* The renderer itself on n threads: n * 4 bands (at most h/8) cut by the
+ * last frame's costs (placed_by), handed out in order to whichever thread
+ * is free first; its finishing time over a perfect share, total / n. */
+static double sched_imbalance(const float *placed_by, const float *cost, int h, int n) {
+    int nb = n * 4 < h / 8 ? n * 4 : h / 8;
+    int bounds[MAX_BANDS * 4 + 1];
+    double busy[MAX_BANDS] = { 0 }, total = 0, end = 0;
+    ew_place_bands(placed_by, h, nb, bounds);
+    for (int b = 0; b < nb; b++) {
+        double c = 0;
+        for (int v = bounds[b]; v < bounds[b + 1]; v++) c += cost[v];
+        int t = 0;
+        for (int k = 1; k < n; k++)
+            if (busy[k] < busy[t])
+                t = k;
+        busy[t] += c;
+        total += c;
+        if (busy[t] > end)
+            end = busy[t];
+    }
+    return total > 0 ? end / (total / n) : NAN;
+}
+
+static float min3(float a, float b, float c) {
+    float m = a < b ? a : b;
+    return c < m ? c : m;
+}
+
+/* --bands: the one-thread frame's cost per row (strips of 8 rows, the
+ * view set rendered PROFILE_PASSES times and each strip's least time kept:
+ * a time slice lost to another process, 4 ms here, hits a strip of one
+ * pass in a hundred, so its median of three still caught one view a map
+ * on this shared machine), cut
+ * into each N bands; per N the median over the views of slowest band /
+ * mean band, and the worst view's.  rd is left on one thread, without
+ * the profile.  0, or -1 when out of memory or a camera fails. */
+static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *views, int nviews, int h,
+                         size_ctx *sx) {
+#ifdef EW_BENCH_NO_SERIAL
+    (void)rd, (void)views, (void)nviews, (void)h;
+    for (int b = 0; b < o->nbands; b++) sx->imbalance[b] = sx->imbalance_max[b] = sx->sched_imbalance[b] = NAN;
+    sx->have_profile = 1;
+    return 0;
+#else
+    /* per pass and view, each row's time; then per view the medians */
+    size_t hv = (size_t)h * (size_t)nviews;
+    float *rows = malloc(sizeof(float) * hv * (PROFILE_PASSES + 1));
+    double *imb = malloc(sizeof(double) * (size_t)nviews * (size_t)o->nbands * 2);
+    int rc = -1;
+    if (!rows || !imb || ew_set_threads(rd, 1) < 0 || ew_set_row_profile(rd, 1) < 0)
+        goto out;
+    double *simb = imb + (size_t)nviews * o->nbands;
+    /* Pass after pass over the view set, so one stall of the machine hits
+     * a view's strip in one pass, not in all three. */
+    for (int p = 0; p < PROFILE_PASSES; p++)
+        for (int v = 0; v < nviews; v++) {
+            if (ew_render(rd, &views[v], NULL) < 0)
+                goto out;
+            ew_frame_row_ms(rd, rows + hv * p + (size_t)h * v, h);
+        }
+    for (int v = 0; v < nviews; v++) {
+        const float *r0 = rows + (size_t)h * v, *r1 = r0 + hv, *r2 = r1 + hv;
+        float *best = rows + hv * PROFILE_PASSES + (size_t)h * v;
+        for (int y = 0; y < h; y++)
+            best[y] = min3(r0[y], r1[y], r2[y]);
+        for (int b = 0; b < o->nbands; b++)
+            imb[(size_t)b * nviews + v] = band_imbalance(best, h, o->bands[b]);
+    }
+    /* The bench's frames follow each other view after view, the first after
+     * the last: each is cut by the one before. */
+    for (int v = 0; v < nviews; v++) {
+        const float *cur = rows + hv * PROFILE_PASSES + (size_t)h * v;
+        const float *prev = rows + hv * PROFILE_PASSES + (size_t)h * ((v + nviews - 1) % nviews);
+        for (int b = 0; b < o->nbands; b++)
+            simb[(size_t)b * nviews + v] = sched_imbalance(prev, cur, h, o->bands[b]);
+    }
+    for (int b = 0; b < o->nbands; b++) {
+        double *col = imb + (size_t)b * nviews;
+        sx->imbalance[b] = median_of(col, nviews);  /* sorts col */
+        sx->imbalance_max[b] = col[nviews - 1];
+        sx->sched_imbalance[b] = median_of(simb + (size_t)b * nviews, nviews);
+    }
+    sx->have_profile = 1;
+    rc = 0;
+out:
+    if (ew_set_row_profile(rd, 0) < 0)
+        rc = -1;
+    free(rows);
+    free(imb);
+    return rc;
+#endif
+}
+_Static_assert(PROFILE_PASSES == 3, "min3 takes three");
+
 /* One map at one size and thread count; returns 0 or 1 (error printed).
  * scene is an ew_scene or NULL (world only). */
 static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
                      const ew_scene *scene, const ew_camera *views, int nviews, int w, int h,
-                     int threads, floor_cache *fc, row *r) {
+                     int threads, floor_cache *fc, size_ctx *sx, row *r) {
     memset(r, 0, sizeof *r);
     map_basename(map, r->map, sizeof r->map);
     r->w = w;
@@ -650,6 +828,45 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     else  /* no memory for the interleaved samples: measured on its own */
         r->floor_ms = floor_for(fc, w, h);
     summarize(r, frames, stats, scratch);
+    /* The serial share is of the one-thread frame: this row's if it is
+     * one, else the one-thread row of this map and size measured before
+     * it, else (none) of this row's own median. */
+    int first_one = r->threads == 1 && !sx->have_one;
+    if (first_one)
+        sx->have_one = 1, sx->one_median = r->median;
+    r->serial_base_own = !sx->have_one;
+    r->serial_share = r->serial / (sx->have_one ? sx->one_median : r->median);
+    if (first_one)
+        sx->one_share = r->serial_share;
+    /* The predictions model the work of one frame, so they take the
+     * one-thread row's share: a row on more threads measures its serial
+     * part with the pool's wake-ups in it, and on a busy machine that part
+     * can outgrow the one-thread frame (a share above 1). */
+    r->predict_share = sx->have_one ? sx->one_share : r->serial_share;
+    if (r->predict_share > 1)
+        r->predict_share = 1;
+#ifdef EW_BENCH_NO_SERIAL
+    r->serial = r->serial_share = r->serial_mean = NAN;
+    for (int ph = 0; ph < NPHASES; ph++) r->serial_phase[ph] = NAN;
+#endif
+    if (o->nbands && !sx->have_profile && profile_bands(o, rd, views, nviews, h, sx) < 0) {
+        progress_clear();
+        error_line("bench: %s at %dx%d: the row profile failed (out of memory?)", r->map, w, h);
+        goto done;
+    }
+    r->nbands = o->nbands;
+    for (int b = 0; b < o->nbands; b++) {
+        int n = o->bands[b];
+        double s = r->predict_share, imb = sx->imbalance[b];
+        r->bands[b] = n;
+        r->imbalance[b] = imb;
+        r->imbalance_max[b] = sx->imbalance_max[b];
+        /* Amdahl with imbalance: the serial share stays, the rest is cut
+         * into n bands on n cores and waits for the slowest. */
+        r->speedup[b] = 1 / (s + (1 - s) * imb / n);
+        r->sched_imbalance[b] = sx->sched_imbalance[b];
+        r->sched_speedup[b] = 1 / (s + (1 - s) * r->sched_imbalance[b] / n);
+    }
     rc = 0;
 done:
     floor_end(&fl);
@@ -687,7 +904,7 @@ int cmd_bench(int argc, char **argv) {
         floor_cache fc;
         memset(&fc, 0, sizeof fc);
         if (o.table)
-            print_table_header();
+            print_table_header(&o);
         for (int m = 0; m < o.nmaps && !rc; m++) {
             ew_assets *a = bench_load(&o, o.maps[m]);
             if (!a) {
@@ -707,11 +924,13 @@ int cmd_bench(int argc, char **argv) {
                            o.maps[m]);
                 rc = 1;
             }
-            for (int s = 0; s < o.nsizes && !rc; s++)
+            for (int s = 0; s < o.nsizes && !rc; s++) {
+                size_ctx sx;
+                memset(&sx, 0, sizeof sx);
                 for (int t = 0; t < o.nthreads && !rc; t++) {
                     row r;
                     rc = bench_row(&o, o.maps[m], a, scene, views, nviews, o.sizes[s][0],
-                                   o.sizes[s][1], o.threads[t], &fc, &r);
+                                   o.sizes[s][1], o.threads[t], &fc, &sx, &r);
                     if (rc)
                         break;
                     progress_clear();
@@ -724,6 +943,7 @@ int cmd_bench(int argc, char **argv) {
                         fflush(stdout);
                     }
                 }
+            }
             ew_scene_destroy(sc);
             ew_assets_destroy(a);
         }

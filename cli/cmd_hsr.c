@@ -174,53 +174,25 @@ bad:
 
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int hsr_parse(int argc, char **argv, hsr_opts *o) {
-    int only_positional = 0, repeat_given = 0, threads_given = 0, methods_given = 0;
+    int repeat_given = 0, threads_given = 0, methods_given = 0;
+    static const char *const flags[] = { "--quiet", "--help", "-h", NULL };
+    static const char *const valued[] = { "--data", "--methods", "--size", "--threads", "--repeat",
+                                          "--json", "--heatmap", "--svg", "--stress", NULL };
+    cli_args args = { "hsr", flags, valued, o->maps, 0, MAX_MAPS, 0, &o->draw };
     for (int i = 2; i < argc; i++) {
         const char *a = argv[i];
-        if (!only_positional && strcmp(a, "--") == 0) {
-            only_positional = 1;
-            continue;
-        }
-        if (only_positional || a[0] != '-' || !a[1]) {
-            if (!*a) {
-                error_line("hsr: empty map name");
-                return -1;
-            }
-            if (o->nmaps == MAX_MAPS) {
-                error_line("hsr: more than %d maps", MAX_MAPS);
-                return -1;
-            }
-            o->maps[o->nmaps++] = a;
-            continue;
-        }
-        if (strcmp(a, "--hsr") == 0 || strncmp(a, "--hsr=", 6) == 0) {
+        if (!args.only_positional && (strcmp(a, "--hsr") == 0 || strncmp(a, "--hsr=", 6) == 0)) {
             error_line("hsr: --hsr: the lab runs every method of --methods LIST");
             return -1;
         }
-        int dr = draw_option(&o->draw, "hsr", argc, argv, &i);
-        if (dr < 0)
-            return -1;
-        if (dr > 0)
-            continue;
-        const char *eq = strchr(a, '=');
-        size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
         char name[32];
-        snprintf(name, sizeof name, "%.*s", (int)(nlen < sizeof name ? nlen : sizeof name - 1), a);
-        static const char *const flags[] = { "--quiet", "--help", "-h" };
-        static const char *const valued[] = { "--data", "--methods", "--size", "--threads", "--repeat",
-                                              "--json", "--heatmap", "--svg", "--stress" };
-        int is_flag = 0, has_value = 0;
-        for (size_t k = 0; k < sizeof flags / sizeof *flags; k++) is_flag |= strcmp(name, flags[k]) == 0;
-        for (size_t k = 0; k < sizeof valued / sizeof *valued; k++) has_value |= strcmp(name, valued[k]) == 0;
-        if (!is_flag && !has_value) {
-            error_line("hsr: unknown option '%.*s' (see edgewise hsr --help)", (int)nlen, a);
-            return -1;
+        const char *v;
+        int ar = cli_next_arg(&args, argc, argv, &i, name, &v);
+        if (ar <= 0) {
+            if (ar < 0) return -1;
+            continue;
         }
-        if (is_flag) {
-            if (eq) {
-                error_line("hsr: option '%s' takes no value", name);
-                return -1;
-            }
+        if (!v) {
             if (strcmp(name, "--quiet") == 0) {
                 o->quiet = 1;
                 continue;
@@ -230,29 +202,13 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
             fputs(hsr_usage_tail, stdout);
             return 1;
         }
-        const char *v;
-        if (eq)
-            v = eq + 1;
-        else if (i + 1 < argc)
-            v = argv[++i];
-        else {
-            error_line("hsr: option '%s' needs a value", name);
-            return -1;
-        }
         long l;
         if (strcmp(name, "--data") == 0 || strcmp(name, "--json") == 0 || strcmp(name, "--heatmap") == 0 ||
             strcmp(name, "--svg") == 0) {
             const char **slot = name[2] == 'd' ? &o->data : name[2] == 'j' ? &o->json
                                 : name[2] == 'h' ? &o->heatmap : &o->svg;
-            if (!*v) {
-                error_line("hsr: %s: empty name", name);
+            if (cli_set_once("hsr", name, v, slot) < 0)
                 return -1;
-            }
-            if (*slot) {
-                error_line("hsr: %s given twice", name);
-                return -1;
-            }
-            *slot = v;
         } else if (strcmp(name, "--methods") == 0) {
             if (methods_given++) {
                 error_line("hsr: --methods given twice");
@@ -261,13 +217,8 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
             if (parse_methods(v, o) < 0)
                 return -1;
         } else if (strcmp(name, "--size") == 0) {
-            if (o->nsizes == MAX_SIZES) {
-                error_line("hsr: more than %d sizes", MAX_SIZES);
+            if (cli_add_size("hsr", v, o->sizes, &o->nsizes, MAX_SIZES) < 0)
                 return -1;
-            }
-            if (parse_size(v, &o->sizes[o->nsizes][0], &o->sizes[o->nsizes][1]) < 0)
-                return -1;
-            o->nsizes++;
         } else if (strcmp(name, "--threads") == 0) {
             if (threads_given++) {
                 error_line("hsr: --threads given twice");
@@ -294,6 +245,7 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
                 return -1;
         }
     }
+    o->nmaps = args.nmaps;
     if (o->nstress && o->nmaps) {
         error_line("hsr: --stress takes no MAP (it makes its own: builtin:detail=N)");
         return -1;

@@ -449,3 +449,79 @@ int draw_opts_scene(const draw_opts *d, const ew_assets *a, const char *map, con
     *out = s;
     return 0;
 }
+
+static int in_list(const char *name, const char *const *list) {
+    for (; list && *list; list++)
+        if (strcmp(name, *list) == 0) return 1;
+    return 0;
+}
+
+int cli_next_arg(cli_args *a, int argc, char **argv, int *i, char name[32], const char **value) {
+    const char *arg = argv[*i];
+    if (!a->only_positional && strcmp(arg, "--") == 0) {
+        a->only_positional = 1;
+        return 0;
+    }
+    if (a->only_positional || arg[0] != '-' || !arg[1]) {
+        if (!*arg) {
+            error_line("%s: empty map name", a->cmd);
+            return -1;
+        }
+        if (a->nmaps == a->max_maps) {
+            error_line("%s: more than %d maps", a->cmd, a->max_maps);
+            return -1;
+        }
+        a->maps[a->nmaps++] = arg;
+        return 0;
+    }
+    int dr = draw_option(a->draw, a->cmd, argc, argv, i);
+    if (dr != 0) return dr < 0 ? -1 : 0;
+    const char *eq = strchr(arg, '=');
+    size_t nlen = eq ? (size_t)(eq - arg) : strlen(arg);
+    snprintf(name, 32, "%.*s", (int)(nlen < 32 ? nlen : 31), arg);
+    int is_flag = in_list(name, a->flags), has_value = in_list(name, a->valued);
+    if (!is_flag && !has_value) {
+        error_line("%s: unknown option '%.*s' (see edgewise %s --help)", a->cmd, (int)nlen, arg, a->cmd);
+        return -1;
+    }
+    *value = NULL;
+    if (is_flag) {
+        if (eq) {
+            error_line("%s: option '%s' takes no value", a->cmd, name);
+            return -1;
+        }
+        return 1;
+    }
+    if (eq)
+        *value = eq + 1;
+    else if (*i + 1 < argc)
+        *value = argv[++*i];
+    else {
+        error_line("%s: option '%s' needs a value", a->cmd, name);
+        return -1;
+    }
+    return 1;
+}
+
+int cli_set_once(const char *cmd, const char *name, const char *v, const char **slot) {
+    if (!*v) {
+        error_line("%s: %s: empty name", cmd, name);
+        return -1;
+    }
+    if (*slot) {
+        error_line("%s: %s given twice", cmd, name);
+        return -1;
+    }
+    *slot = v;
+    return 0;
+}
+
+int cli_add_size(const char *cmd, const char *v, int (*sizes)[2], int *n, int max) {
+    if (*n == max) {
+        error_line("%s: more than %d sizes", cmd, max);
+        return -1;
+    }
+    if (parse_size(v, &sizes[*n][0], &sizes[*n][1]) < 0) return -1;
+    (*n)++;
+    return 0;
+}

@@ -545,9 +545,9 @@ static void print_stats(const char *name, const options *o, int view, const ew_c
     }
     fputs("}", f);
     draw_opts_json(f, &o->draw);
-    const char *ms_names[5] = { "ms_front", "ms_scan", "ms_draw", "ms_models", "ms_total" };
-    const double ms[5] = { s->ms_front, s->ms_scan, s->ms_draw, s->ms_models, s->ms_total };
-    for (int i = 0; i < 5; i++) {
+    const char *ms_names[6] = { "ms_front", "ms_scan", "ms_draw", "ms_models", "ms_total", "ms_serial" };
+    const double ms[6] = { s->ms_front, s->ms_scan, s->ms_draw, s->ms_models, s->ms_total, s->ms_serial };
+    for (int i = 0; i < 6; i++) {
         fprintf(f, ",\"%s\":", ms_names[i]);
         json_number(f, ms[i]);
     }

@@ -35,7 +35,7 @@ _edgewise()
         --data)         compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         --out)          compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         --size|--view|--pos|--angles|--fov|--time|--dlight|--particles|--threads|\
-        --subdiv-threshold|--wateralpha|--fog|--gamma|--passes|--frames|--seed|--scale|--jobs|--seconds|--fps|\
+        --subdiv-threshold|--wateralpha|--fog|--gamma|--passes|--bands|--frames|--seed|--scale|--jobs|--seconds|--fps|\
         --repeat|--stress)
                         return 0 ;;
     esac
@@ -50,7 +50,7 @@ _edgewise()
         demo)   opts="--size --view --fov --time --out --stats --dlight --particles --threads
                       --quiet --help $drawn" ;;
         views|info) opts='--data --quiet --help' ;;
-        bench)  opts="--data --size --threads --passes --table --out --floor --quiet --help $drawn" ;;
+        bench)  opts="--data --size --threads --passes --bands --table --out --floor --quiet --help $drawn" ;;
         hsr)    opts="--data --methods --size --threads --repeat --json --heatmap --svg --stress --quiet --help
                       $drawn" ;;
         soak)   opts="--data --frames --size --seed --threads --quiet --help $drawn" ;;

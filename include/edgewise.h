@@ -267,7 +267,7 @@ EW_API void ew_player_set_eye(ew_player *p, const float eye[3], ew_move_mode mod
 typedef struct ew_renderer ew_renderer;
 
 /* Largest thread count a renderer uses. */
-#define EW_MAX_THREADS 16
+#define EW_MAX_THREADS 64
 
 /* Pixel format of the frame. */
 typedef enum ew_color_mode {
@@ -313,7 +313,7 @@ EW_API int ew_hsr_available(ew_hsr_method method);
  * Gouraud shading, Carmack's recursive subdivision (for small models), or
  * automatic choice by the model's projected size (subdivision when its
  * screen height is below a threshold).  Default: auto, 40 pixels.
- * Two experiments of Black Book chapter 69 (docs/hsr_models.md): masks
+ * Two experiments of Black Book chapter 69 (docs/hsr.md, part 6): masks
  * (triangles within 5x5 pixels drawn from a table of precalculated pixel
  * masks, larger ones affine) and sprite-cache (a model shorter than the
  * threshold drawn once into an image with its depth and reused as a
@@ -380,6 +380,15 @@ typedef struct ew_stats {
     long   hsr_counters[EW_HSR_COUNTERS];
     long   hsr_bytes;           /* memory the method holds beyond the edge list and spans */
     double ms_front, ms_scan, ms_draw, ms_models, ms_total;
+    /* Serial time: the frame's wall time outside its parallel sections (the
+     * worker pool's runs), start of frame to the stats, on any thread
+     * count; by Amdahl's law it bounds what more cores can give.  Then its
+     * parts: frame begin (view, PVS, dynamic lights), the BSP walk with
+     * edge emission, brush models, band placement and the surface-cache
+     * lookups (prepare), the passes' preparation; the rest of ms_serial is
+     * the warp set-up and the stats. */
+    double ms_serial;
+    double ms_serial_begin, ms_serial_walk, ms_serial_brush, ms_serial_prepare, ms_serial_passes;
 } ew_stats;
 
 /* Renders one frame of the world into the renderer's 8-bit frame buffer and
@@ -401,7 +410,7 @@ EW_API ew_color_mode   ew_frame_color(const ew_renderer *r);
  * frame, the first time it is asked for. */
 EW_API const float   *ew_frame_zbuffer(ew_renderer *r);
 
-/* Threads that render bands of each frame (0 = one per core, at most 16).
+/* Threads that render bands of each frame (0 = one per core, at most 64).
  * Returns the count in use, or -1 when out of memory. */
 EW_API int ew_set_threads(ew_renderer *r, int n);
 EW_API int ew_get_threads(const ew_renderer *r);

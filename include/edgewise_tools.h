@@ -44,6 +44,25 @@ EW_API int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pi
  * and exists to measure what deferring saves. */
 EW_API void ew_set_full_zfill(ew_renderer *r, int on);
 
+/* How the renderer cuts a frame of height rows into n >= 1 bands: each
+ * band ends where the running sum of row_cost first reaches its share of
+ * the total, after at least 8 rows, so every band costs about the same
+ * (with fewer than 8 * n rows: equal rows).  The renderer passes the last frame's costs
+ * (each band's time spread over its rows); `edgewise bench --bands` the
+ * one-thread frame's own.  Writes bounds[0..n]: band i is rows
+ * bounds[i] .. bounds[i+1]-1. */
+EW_API void ew_place_bands(const float *row_cost, int height, int n, int *bounds);
+
+/* Per-row cost profile (for `edgewise bench --bands`).  On: the frame is
+ * cut into fixed strips of 8 rows, whatever the thread count, each strip's
+ * work timed (scan, spans, moving things in its rows); the frames are
+ * the same as ever.  Re-makes the bands like ew_set_threads and returns
+ * what it does.  Off: the bands as usual. */
+EW_API int ew_set_row_profile(ew_renderer *r, int on);
+/* The last frame's cost per row in ms (its band's time over its rows) into
+ * ms[0 .. min(n, height)-1]; returns the frame's height. */
+EW_API int ew_frame_row_ms(const ew_renderer *r, float *ms, int n);
+
 /* ---- files --------------------------------------------------------------- */
 
 /* Reads an RGB/RGBA/gray PNG to malloc'd RGB8 (used by the fidelity tests). */

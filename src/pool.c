@@ -31,6 +31,7 @@ struct ew_pool {
     atomic_int       quit;
     void           (*job)(void *ctx, int index);
     void            *ctx;
+    double           run_ms;      /* time inside ew_pool_run (the caller's thread only) */
 };
 
 typedef struct worker_arg { ew_pool *p; int index; } worker_arg;
@@ -131,8 +132,10 @@ void ew_pool_wake(ew_pool *p) {
     pthread_mutex_unlock(&p->mu);
 }
 
-void ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
-    if (!p || p->threads == 1) {
+double ew_pool_parallel_ms(const ew_pool *p) { return p ? p->run_ms : 0; }
+
+static void run_job(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
+    if (p->threads == 1) {
         job(ctx, 0);
         return;
     }
@@ -148,6 +151,16 @@ void ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
         while (atomic_load(&p->pending) > 0) pthread_cond_wait(&p->done, &p->mu);
         pthread_mutex_unlock(&p->mu);
     }
+}
+
+void ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
+    if (!p) {
+        job(ctx, 0);
+        return;
+    }
+    double t0 = ew_now_ms();
+    run_job(p, job, ctx);
+    p->run_ms += ew_now_ms() - t0;
 }
 
 void ew_pool_free(ew_pool *p) {

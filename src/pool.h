@@ -2,7 +2,7 @@
 #ifndef EW_POOL_H
 #define EW_POOL_H
 
-#define EW_MAX_THREADS 16
+#define EW_MAX_THREADS 64
 #define EW_BANDS_PER_THREAD 4
 #define EW_MAX_BANDS (EW_MAX_THREADS * EW_BANDS_PER_THREAD)
 
@@ -10,8 +10,14 @@ typedef struct ew_pool ew_pool;
 ew_pool *ew_pool_create(int threads);
 void     ew_pool_free(ew_pool *p);
 int      ew_pool_threads(const ew_pool *p);
-/* Runs job(ctx, i) for every thread index i, 0 on the caller; waits for all. */
+/* Runs job(ctx, i) for every thread index i, 0 on the caller; waits for all.
+ * A pool of one thread (no workers) runs job(ctx, 0) on the caller, as
+ * does p == NULL. */
 void     ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx);
+/* Wall time (ms) spent inside ew_pool_run since the pool was made, call to
+ * return: the frame's parallel sections, whatever calls them; everything
+ * else a frame does is serial (ew_stats.ms_serial).  0 for NULL. */
+double   ew_pool_parallel_ms(const ew_pool *p);
 /* Gets sleeping workers polling for a while (a frame's serial front end is
  * starting), so the first parallel phase does not wait on a kernel wake-up. */
 void     ew_pool_wake(ew_pool *p);

@@ -174,12 +174,14 @@ int ew_set_threads(ew_renderer *r, int n) {
     /* The old bands' spans are gone, and the z-buffer is complete. */
     memset(r->zf.row_nspans, 0, sizeof(int32_t) * (size_t)r->target.height);
     ew_zfill_mark_all(&r->zf);
-    r->sched.pool = n > 1 ? ew_pool_create(n) : NULL;
-    if (n > 1 && r->sched.pool) n = ew_pool_threads(r->sched.pool);
-    if (n > 1 && !r->sched.pool) n = 1;
+    /* A pool even for one thread (no workers): it times the parallel
+     * sections (ew_stats.ms_serial is the rest). */
+    r->sched.pool = ew_pool_create(n);
+    n = r->sched.pool ? ew_pool_threads(r->sched.pool) : 1;
     /* One band alone; with threads, several each (at least 8 rows a band),
-     * so a thread that finishes early takes the next band instead of idling. */
-    int nb = n == 1 ? 1 : n * EW_BANDS_PER_THREAD;
+     * so a thread that finishes early takes the next band instead of idling.
+     * The row profile: strips of 8 rows. */
+    int nb = r->sched.profile_rows ? r->target.height / 8 : n == 1 ? 1 : n * EW_BANDS_PER_THREAD;
     if (nb > r->target.height / 8) nb = r->target.height / 8;
     /* Aligned like ew_band, so no two bands' counters share a cache line. */
     r->sched.bands = aligned_alloc(_Alignof(ew_band), sizeof(ew_band) * (size_t)nb);
@@ -370,7 +372,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     memset(&r->stats, 0, sizeof r->stats);
     ew_styles_frame(r->cfg.lightstyle, r->cfg.style_set, w->styles_start_off, r->cfg.classic, cam->time);
     ew_view_setup(&r->view, cam, r->target.width, r->target.height);
-    ew_turb_table(r->draw.turb, cam->time);
+    ew_turb_table(r->draw.turb, &r->draw.turb_phase, cam->time);
     r->draw.sky_scroll = ew_sky_scroll(r->view.time);
     r->draw.subdiv_shift = r->cfg.subdiv_shift;
     r->draw.rgba = r->lit.curve.rgba;
@@ -436,33 +438,18 @@ static void record_face_ids(ew_renderer *r, const ew_band *b) {
  * within each band).  Without history, equal rows. */
 static void place_bands(ew_renderer *r) {
     int n = r->sched.nbands, h = r->target.height;
-    if (r->sched.bands_sized_for != n) {
+    if (r->sched.bands_sized_for != n || r->sched.profile_rows) {
         for (int i = 0; i < n; i++) r->sched.bands[i].y0 = h * i / n, r->sched.bands[i].y1 = h * (i + 1) / n;
         return;
     }
-    double total = 0;
     for (int i = 0; i < n; i++) {
         const ew_band *b = &r->sched.bands[i];
         double per_row = b->ms / (b->y1 - b->y0) + 1e-6;
         for (int v = b->y0; v < b->y1; v++) r->sched.row_cost[v] = (float)per_row;
-        total += per_row * (b->y1 - b->y0);
     }
-    double acc = 0;
-    int band = 0, y0 = 0;
-    for (int v = 0; v < h && band < n - 1; v++) {
-        acc += r->sched.row_cost[v];
-        int rows_left = h - (v + 1), bands_left = n - band - 1;
-        if ((acc >= total * (band + 1) / n && v + 1 - y0 >= 8) || rows_left == 8 * bands_left) {
-            r->sched.bands[band].y0 = y0, r->sched.bands[band].y1 = v + 1;
-            y0 = v + 1;
-            band++;
-        }
-    }
-    for (; band < n; band++) {  /* the last band takes the rest */
-        int y1 = band == n - 1 ? h : y0 + 8;
-        r->sched.bands[band].y0 = y0, r->sched.bands[band].y1 = y1;
-        y0 = y1;
-    }
+    int bounds[EW_MAX_BANDS + 1];
+    ew_place_bands(r->sched.row_cost, h, n, bounds);  /* bands.c */
+    for (int i = 0; i < n; i++) r->sched.bands[i].y0 = bounds[i], r->sched.bands[i].y1 = bounds[i + 1];
 }
 
 /* Each phase hands out its work with an atomic counter: a thread takes the
@@ -486,14 +473,16 @@ static void job_scan(void *ctx, int thread) {
  * every world face), its time, and the bands placed for the scan. */
 typedef struct front_tail_arg {
     ew_renderer *r;
-    double       t1;  /* when the front end ended */
+    double       t_tail, t1, t_end;  /* walk done, front end done (brush models), bands placed */
 } front_tail_arg;
 static void front_tail(void *arg) {
     front_tail_arg *a = arg;
+    a->t_tail = ew_now_ms();
     ew_walk_brush_models(a->r);
     a->t1 = ew_now_ms();
     place_bands(a->r);
     atomic_store(&a->r->sched.next_band, 0);
+    a->t_end = ew_now_ms();
 }
 
 /* Builds the lit surfaces that must be built, then computes the surfaces'
@@ -604,26 +593,49 @@ static void prepare_surfaces(ew_renderer *r) {
     }
 }
 
+/* The serial time of the frame's phases: wall time between two marks less
+ * the time spent inside ew_pool_run (the parallel sections) in between. */
+typedef struct serial_clock { double t, par; } serial_clock;
+static double serial_lap(const ew_renderer *r, serial_clock *c) {
+    double t = ew_now_ms(), par = ew_pool_parallel_ms(r->sched.pool);
+    double ms = (t - c->t) - (par - c->par);
+    c->t = t, c->par = par;
+    return ms;
+}
+
 int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double t0 = ew_now_ms();
+    serial_clock sc = {t0, ew_pool_parallel_ms(r->sched.pool)}, sc0 = sc;
+    double ser[6];  /* begin, walk, brush, prepare, passes; then all */
     if (ew_frame_begin(r, cam) < 0) return -1;
     ew_pool_wake(r->sched.pool);
     ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
+    ser[0] = serial_lap(r, &sc);
     /* The walk, brush models, then the bands scanned; with threads the
      * walk's faces are clipped and set up in parallel and the scan follows
-     * in the same pool run (world/front_par.c). */
-    front_tail_arg ft = {r, 0};
+     * in the same pool run (world/front_par.c), where the calling thread's
+     * walk, merge, brush models and band placement are serial all the
+     * same: they are counted in ms_serial by their own clocks. */
+    front_tail_arg ft = {r, 0, 0, 0};
+    double tw = ew_now_ms(), serial_in_run = 0;
     if (ew_walk_world_parallel(r, front_tail, &ft, job_scan) < 0) {
         ew_walk_world(r);
         front_tail(&ft);
+        serial_lap(r, &sc);
         ew_pool_run(r->sched.pool, job_scan, r);
+    } else {
+        serial_in_run = ft.t_end - tw;
     }
+    ser[1] = ft.t_tail - tw, ser[2] = ft.t1 - ft.t_tail, ser[3] = ft.t_end - ft.t1;
     double t1 = ft.t1;
     double t2 = ew_now_ms();
+    serial_lap(r, &sc);
     prepare_surfaces(r);
+    ser[3] += serial_lap(r, &sc);
     double te = ew_now_ms();
     ew_passes_prepare(r);
     double prep_ms = ew_now_ms() - te;
+    ser[4] = serial_lap(r, &sc);
     atomic_store(&r->sched.next_build, 0);
     atomic_store(&r->sched.next_grad, 0);
     ew_pool_run(r->sched.pool, job_build, r);
@@ -669,6 +681,11 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     models_ms = models_ms / r->sched.nthreads + prep_ms;
     st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2 - models_ms;
     st->ms_models = models_ms, st->ms_total = t3 - t0;
+    /* Serial: from the start of the frame to here, outside ew_pool_run. */
+    ser[5] = serial_lap(r, &sc0) + serial_in_run;
+    st->ms_serial = ser[5];
+    st->ms_serial_begin = ser[0], st->ms_serial_walk = ser[1], st->ms_serial_brush = ser[2];
+    st->ms_serial_prepare = ser[3], st->ms_serial_passes = ser[4];
     if (stats) *stats = *st;
     return 0;
 }

@@ -57,6 +57,7 @@ typedef struct ew_sched {
     ew_band *bands;
     float   *row_cost;                            /* per scanline, from the bands' cost */
     int      bands_sized_for;                     /* row_cost valid for this many bands */
+    int      profile_rows;                        /* ew_set_row_profile: strips of 8 rows */
     _Alignas(64) _Atomic int next_band;           /* work handed out in a phase */
     _Alignas(64) _Atomic int next_build;
     _Alignas(64) _Atomic int next_grad;

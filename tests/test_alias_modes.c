@@ -1,4 +1,4 @@
-/* The two alias-model modes of Black Book chapter 69 (docs/hsr_models.md):
+/* The two alias-model modes of Black Book chapter 69 (docs/hsr.md, part 6):
  *   - masks: the table holds, for every triple of vertices on a 5x5 grid,
  *     exactly the pixels a reference top-left rule on pixel centres covers;
  *     small and large random triangles (also clipped) draw the same pixels,

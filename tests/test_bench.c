@@ -51,7 +51,8 @@ static void check_row(const char *what, const char *line, int w, int h, int view
         "floor_ms", "floor_ratio", "front", "scan", "draw", "models", "total", "pixels",
         "pixels_written", "pixels_covered", "edges", "edges_cached", "surfaces", "spans",
         "surfaces_built", "surfaces_cached", "visible_leaves", "dropped", "entities_drawn",
-        "alias_tris", "particles",
+        "alias_tris", "particles", "serial_ms", "serial_share", "begin_ms", "walk_ms", "brush_ms",
+        "prepare_ms", "passes_ms", "serial_mean_ms",
     };
     CHECK(line[0] == '{' && strstr(line, "\"map\":\"") && strstr(line, "\"stages\":{") &&
               strstr(line, "\"counters\":{"), "%s: %s", what, line);
@@ -72,6 +73,44 @@ static void check_row(const char *what, const char *line, int w, int h, int view
     CHECK(field(line, "max_view") < field(line, "views"), "%s: max_view in %s", what, line);
     CHECK(field(line, "pixels_written") > 0 && field(line, "spans") > 0, "%s: counters: %s",
           what, line);
+    /* The serial time: a part of the frame, and its parts of it (medians of
+     * different frames, so with some slack). */
+    double ser = field(line, "serial_ms"), share = field(line, "serial_share");
+    CHECK(ser > 0 && share > 0, "%s: serial %g share %g in %s", what, ser, share, line);
+    /* Each frame's serial time is part of it, so the medians are ordered
+     * too; a row on more threads is compared with another row's frames. */
+    if (field(line, "threads") == 1)
+        CHECK(ser <= med && share < 1 && strstr(line, "\"serial_share_base\":\"threads1\""),
+              "%s: serial %g share %g median %g: %s", what, ser, share, med, line);
+    double parts = field(line, "begin_ms") + field(line, "walk_ms") + field(line, "brush_ms") +
+                   field(line, "prepare_ms") + field(line, "passes_ms");
+    double smean = field(line, "serial_mean_ms");
+    CHECK(fabs(parts + field(line, "other_ms") - smean) <= 1e-3 * smean + 1e-5, "%s: serial parts %g of %g: %s",
+          what, parts, smean, line);
+}
+
+/* --bands: per N, the imbalance (>= 1, at most N: the slowest band holds at
+ * most all the work) and Amdahl's speed-up on N cores (1 to N). */
+static void check_bands(const char *what, const char *line, const int *bands, int n) {
+    for (int i = 0; i < n; i++) {
+        char k1[32], k2[32], k3[48];
+        snprintf(k1, sizeof k1, "imbalance_%d", bands[i]);
+        snprintf(k2, sizeof k2, "imbalance_max_%d", bands[i]);
+        snprintf(k3, sizeof k3, "predicted_speedup_%d", bands[i]);
+        double imb = field(line, k1), worst = field(line, k2), x = field(line, k3);
+        CHECK(imb >= 1 && imb <= bands[i] && worst >= imb && worst <= bands[i], "%s: %s %g, %s %g in %s", what,
+              k1, imb, k2, worst, line);
+        CHECK(x >= 1 && x <= bands[i], "%s: %s %g in %s", what, k3, x, line);
+        snprintf(k1, sizeof k1, "sched_imbalance_%d", bands[i]);
+        snprintf(k3, sizeof k3, "sched_speedup_%d", bands[i]);
+        double simb = field(line, k1), sx = field(line, k3);
+        CHECK(simb >= 1 && simb <= bands[i] && sx >= 1 && sx <= bands[i], "%s: %s %g, %s %g in %s", what, k1, simb,
+              k3, sx, line);
+        double s = field(line, "predict_share");
+        CHECK(s > 0 && s <= 1, "%s: predict_share %g in %s", what, s, line);
+        CHECK(fabs(x - 1 / (s + (1 - s) * imb / bands[i])) < 1e-3 * x, "%s: %s %g is not Amdahl's: %s", what, k3,
+              x, line);
+    }
 }
 
 static void test_start(void) {
@@ -101,6 +140,25 @@ static void test_start(void) {
     check_row("start --no-entities", r->out, 320, 200, 20, 1);
     CHECK(field(r->out, "entities") == 0 && field(r->out, "entities_drawn") == 0 &&
               field(r->out, "alias_tris") == 0, "--no-entities: %s", r->out);
+
+    /* --bands, on one thread and then two: the same imbalances (one
+     * profile per map and size), the two-thread row's serial share of the
+     * one-thread row's frame. */
+    expect_ok(r, "start --bands", ARGS("bench", "start", "--data", data, "--size", "320x200", "--passes", "1",
+                                       "--threads", "1", "--threads", "2", "--bands", "4", "--bands=25"));
+    static const int bands[] = {4, 25};
+    CHECK(count_lines(r->out) == 2, "--bands: want two lines: %s", r->out);
+    char *second = strchr(r->out, '\n');
+    if (second) {
+        *second++ = '\0';
+        check_row("start --bands, 1 thread", r->out, 320, 200, 20, 1);
+        check_row("start --bands, 2 threads", second, 320, 200, 20, 1);
+        check_bands("start --bands, 1 thread", r->out, bands, 2);
+        check_bands("start --bands, 2 threads", second, bands, 2);
+        CHECK(field(r->out, "imbalance_25") == field(second, "imbalance_25") &&
+                  strstr(second, "\"serial_share_base\":\"threads1\""),
+              "--bands: rows differ: %s / %s", r->out, second);
+    }
     free(r);
 }
 
@@ -157,6 +215,14 @@ static void test_bad_args(void) {
     expect_fail(ARGS("bench", "builtin", "--passes", "1", "--passes", "2"), "twice");
     expect_fail(ARGS("bench", "builtin", "--passes"), "needs a value");
     expect_fail(ARGS("bench", "builtin", "--threads", "-1"), "--threads");
+    expect_fail(ARGS("bench", "builtin", "--bands", "0"), "--bands 0: expected 1 to 256");
+    expect_fail(ARGS("bench", "builtin", "--bands", "257"), "--bands 257: expected 1 to 256");
+    expect_fail(ARGS("bench", "builtin", "--bands", "x"), "--bands x: expected 1 to 256");
+    expect_fail(ARGS("bench", "builtin", "--bands", "4.5"), "--bands 4.5");
+    expect_fail(ARGS("bench", "builtin", "--bands"), "needs a value");
+    expect_fail(ARGS("bench", "builtin", "--size", "320x200", "--bands", "26"),
+                "--bands 26: a band has at least 8 rows, 320x200 has 200 rows");
+    expect_fail(ARGS("bench", "--floor", "--bands", "4"), "--floor");
     expect_fail(ARGS("bench", "builtin", "--size", "10x10"), "10x10");
     expect_fail(ARGS("bench", "builtin", "--size", "abc"), "abc");
     expect_fail(ARGS("bench", "builtin", "--wibble"), "--wibble");

@@ -217,7 +217,7 @@ static void check_stats_json(const char *what, const char *out) {
         "map", "width", "height", "view", "pixels", "pixels_written", "pixels_covered",
         "overdraw", "edges", "edges_cached", "surfaces", "spans", "surfaces_built",
         "surfaces_cached", "visible_leaves", "dropped", "ms_front", "ms_scan", "ms_draw",
-        "ms_total",
+        "ms_total", "ms_serial",
     };
     CHECK(out[0] == '{' && count_lines(out) == 1 && strstr(out, "}\n"), "%s: stdout: %s", what,
           out);

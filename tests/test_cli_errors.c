@@ -133,22 +133,22 @@ static void rules(void) {
                 "commas, e.g. 128,-64,40");
     expect_line(ARGS("render", "builtin", "--pos", "0,0,2e6", "--angles", "0,0,0"), 2,
                 "--pos 0,0,2e6: must be three numbers from -1000000 to 1000000 separated by commas, e.g. 128,-64,40");
-    /* --threads: 0 to 16 (EW_MAX_THREADS) in every command. */
-    const char *want = "--threads 17: must be 0 (one per core) to 16";
-    expect_line(ARGS("render", "builtin", "--threads", "17"), 2, want);
-    expect_line(ARGS("demo", "--threads", "17"), 2, want);
-    expect_line(ARGS("soak", "builtin", "--frames", "1", "--threads", "17"), 2, want);
-    expect_line(ARGS("bench", "builtin", "--threads", "17"), 2, want);
+    /* --threads: 0 to 64 (EW_MAX_THREADS) in every command. */
+    const char *want = "--threads 65: must be 0 (one per core) to 64";
+    expect_line(ARGS("render", "builtin", "--threads", "65"), 2, want);
+    expect_line(ARGS("demo", "--threads", "65"), 2, want);
+    expect_line(ARGS("soak", "builtin", "--frames", "1", "--threads", "65"), 2, want);
+    expect_line(ARGS("bench", "builtin", "--threads", "65"), 2, want);
     /* The help states the same rules. */
     ew_t_run *r = run(ARGS("--help"));
-    CHECK(strstr(r->out, "--threads N") && strstr(r->out, "0 (one per core) to 16") &&
+    CHECK(strstr(r->out, "--threads N") && strstr(r->out, "0 (one per core) to 64") &&
           strstr(r->out, "more than 1 and less than 179 degrees") &&
           strstr(r->out, "three numbers from -1000000 to 1000000 separated by commas"),
           "help: %s", r->out);
     r = run(ARGS("soak", "--help"));
-    CHECK(strstr(r->out, "0 (one per core) to 16") != NULL, "soak help: %s", r->out);
+    CHECK(strstr(r->out, "0 (one per core) to 64") != NULL, "soak help: %s", r->out);
     r = run(ARGS("bench", "--help"));
-    CHECK(strstr(r->out, "0 (one per core) to 16") != NULL, "bench help: %s", r->out);
+    CHECK(strstr(r->out, "0 (one per core) to 64") != NULL, "bench help: %s", r->out);
     /* --view past the map's views: a usage error (2) like --view -1, naming the map's stem. */
     expect_line(ARGS("render", "builtin", "--view", "-1"), 2, "--view -1: out of range (views are numbered from 0)");
     expect_line(ARGS("render", "builtin", "--view", "32"), 2, "--view 32: out of range, builtin has 5 views (0 to 4)");

@@ -2,6 +2,7 @@
  * sharing, light styles, animated textures, budgets, sizes and bad input. */
 #include "util.h"
 #include "renderer.h"
+#include "edgewise_tools.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -98,6 +99,38 @@ int main(void) {
           "second frame built %d cached %d (first built %d)", s2.surfaces_built,
           s2.surfaces_cached, s1.surfaces_built);
     CHECK(count_diff(first, ew_frame_pixels(r), n) == 0, "same view, same pixels");
+
+    /* The serial time, and its parts within it. */
+    CHECK(s2.ms_serial > 0 &&
+              s2.ms_serial_begin + s2.ms_serial_walk + s2.ms_serial_brush + s2.ms_serial_prepare +
+                      s2.ms_serial_passes <= s2.ms_serial + 1e-6,
+          "serial %g of %g ms", s2.ms_serial, s2.ms_total);
+    /* The row profile: strips of 8 rows, the same frame, a time per row. */
+    CHECK(ew_set_row_profile(r, 1) == 1, "row profile on one thread");
+    CHECK(ew_render(r, &views[0], NULL) == 0 && count_diff(first, ew_frame_pixels(r), n) == 0,
+          "the row profile changes the frame");
+    float row_ms[200];
+    CHECK(ew_frame_row_ms(r, row_ms, 200) == 200, "row costs: height");
+    int positive = 0;
+    for (int y = 0; y < 200; y++) positive += row_ms[y] >= 0 && (y % 8 == 0 || row_ms[y] == row_ms[y - 1]);
+    CHECK(positive == 200, "row costs: %d of 200 rows non-negative and even within their strip", positive);
+    CHECK(ew_set_row_profile(r, 0) == 1, "row profile off");
+    /* The placement rule: even costs give even bands; a costly row gets a
+     * band of 8 rows to itself (at least 8 a band); too few rows, equal rows. */
+    float cost[200];
+    int bounds[26];
+    for (int y = 0; y < 200; y++) cost[y] = 1;
+    ew_place_bands(cost, 200, 4, bounds);
+    CHECK(bounds[0] == 0 && bounds[1] == 50 && bounds[2] == 100 && bounds[3] == 150 && bounds[4] == 200,
+          "even bands: %d %d %d %d %d", bounds[0], bounds[1], bounds[2], bounds[3], bounds[4]);
+    cost[100] = 1000;
+    ew_place_bands(cost, 200, 4, bounds);
+    CHECK(bounds[1] >= 92 && bounds[1] <= 101 && bounds[2] - bounds[1] >= 8 && bounds[4] == 200,
+          "a costly row: %d %d %d %d %d", bounds[0], bounds[1], bounds[2], bounds[3], bounds[4]);
+    ew_place_bands(cost, 200, 25, bounds);
+    for (int i = 0; i < 25; i++) CHECK(bounds[i + 1] - bounds[i] == 8, "25 bands of 200 rows: band %d", i);
+    ew_place_bands(cost, 100, 25, bounds);
+    CHECK(bounds[25] == 100 && bounds[1] == 4, "too few rows: %d %d", bounds[1], bounds[25]);
 
     /* Neighbouring faces share emitted edges. */
     CHECK(s1.edges_cached > 0 && s1.edges > 0, "edges %d, reused %d", s1.edges, s1.edges_cached);

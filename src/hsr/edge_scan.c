@@ -26,9 +26,13 @@ int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
     b->cap_aet = max_aet < FIRST_AET ? max_aet : FIRST_AET;
     b->spans = malloc(sizeof(ew_span) * b->cap_spans);
     b->aet = malloc(sizeof(ew_active) * b->cap_aet);
+    b->st_neg = malloc(sizeof(int32_t) * b->cap_aet);
+    b->cap_neg = b->st_neg ? b->cap_aet : 0;
     b->max_spans = max_spans;
     b->max_aet = max_aet;
-    return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->has_spans && b->spans && b->aet ? 0 : -1;
+    return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->has_spans && b->spans && b->aet && b->st_neg
+               ? 0
+               : -1;
 }
 
 /* Doubles an array of *cap elements, at most to max; 0 if it could. */
@@ -43,7 +47,7 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
 
 void ew_band_free(ew_band *b) {
     free(b->st_next), free(b->st_prev), free(b->st_state), free(b->st_lastu);
-    free(b->has_spans), free(b->spans), free(b->aet), free(b->rowmark), free(b->scratch);
+    free(b->has_spans), free(b->spans), free(b->aet), free(b->st_neg), free(b->rowmark), free(b->scratch);
 }
 
 void *ew_band_scratch(ew_band *b, size_t bytes) {
@@ -81,10 +85,24 @@ static inline void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
 
 void ew_band_span(ew_band *b, int surf, int u0, int u1, int v) { emit_span(b, surf, u0, u1, v); }
 
+/* st_neg holds at least cap_aet entries, since a line has at most as many
+ * counts going below zero as it has edges.  Another method may have grown
+ * aet on the same band (hsr/edge_z.c); if st_neg cannot follow, cap_aet comes
+ * down to it (the array itself stays as large as it is). */
+static void fit_neg(ew_band *b) {
+    if (b->cap_neg >= b->cap_aet) return;
+    int32_t *neg = realloc(b->st_neg, sizeof(int32_t) * (size_t)b->cap_aet);
+    if (neg) b->st_neg = neg, b->cap_neg = b->cap_aet;
+    else b->cap_aet = b->cap_neg;
+}
+
 static void add_active(ew_band *b, const ew_edge *e, int v) {
-    if (b->naet >= b->cap_aet && grow((void **)&b->aet, &b->cap_aet, b->max_aet, sizeof(ew_active)) < 0) {
-        b->dropped++;
-        return;
+    if (b->naet >= b->cap_aet) {
+        if (grow((void **)&b->aet, &b->cap_aet, b->max_aet, sizeof(ew_active)) == 0) fit_neg(b);
+        if (b->naet >= b->cap_aet) {
+            b->dropped++;
+            return;
+        }
     }
     ew_active *a = &b->aet[b->naet++];
     a->u = e->u + (v - e->v_first) * e->u_step;
@@ -111,13 +129,40 @@ static int cmp_active(const void *pa, const void *pb) {
 /* Insertion sort: the list is nearly sorted every line. */
 static void sort_active(ew_active *a, int n) {
     for (int i = 1; i < n; i++) {
+        if (!after(&a[i - 1], &a[i])) continue;  /* in place already: most edges, most lines */
         ew_active x = a[i];
         int j = i - 1;
-        while (j >= 0 && after(&a[j], &x)) {
+        do {
             a[j + 1] = a[j];
             j--;
-        }
+        } while (j >= 0 && after(&a[j], &x));
         a[j + 1] = x;
+    }
+}
+
+/* The line's edges in order: a[0..nold) are last line's, stepped, nearly in
+ * order already; a[nold..n) start on this line, in the order they were
+ * added.  The result is the insertion sort's of the whole array, which is a
+ * stable sort (after() compares the keys u, u_step and "has a trailing
+ * side" in turn): the old part sorted in place, the new ones sorted among
+ * themselves, then merged from the back, an old edge staying before a new
+ * one it ties with.  The new edges would otherwise each travel from the end
+ * of the list to their place. */
+#define MERGE_MAX 64
+static void sort_edges(ew_active *a, int nold, int n) {
+    int k = n - nold;
+    if (k <= 0 || k > MERGE_MAX || nold == 0) {
+        sort_active(a, n);
+        return;
+    }
+    sort_active(a, nold);
+    ew_active x[MERGE_MAX];
+    memcpy(x, a + nold, sizeof(ew_active) * (size_t)k);
+    sort_active(x, k);
+    int i = nold - 1, j = k - 1, d = n - 1;
+    while (j >= 0) {
+        if (i >= 0 && after(&a[i], &x[j])) a[d--] = a[i--];
+        else a[d--] = x[j--];
     }
 }
 
@@ -126,10 +171,11 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     const ew_edge *edges = el->edges;
     int32_t *next = b->st_next, *prev = b->st_prev, *state = b->st_state, *lastu = b->st_lastu;
 
-    /* The stack's counts are all zero here: calloc'd, and the stepping pass
-     * clears every count an active edge touched at the end of each line. */
+    /* The stack's counts are all zero here: calloc'd, and each line ends by
+     * clearing every count it left above or below zero. */
     b->nspans = 0;
     b->naet = 0;
+    fit_neg(b);
     memset(b->has_spans, 0, (size_t)el->nsurfs);
 
     /* Edges that began above the band and are still alive at its top: only
@@ -142,35 +188,45 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, cmp_active);
 
     for (int v = b->y0; v < b->y1; v++) {
+        const int nold = b->naet;  /* last line's edges, stepped: nearly in order */
         for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
         /* Read once per line: emit_span's stores could alias them, so
          * the compiler would reload both at every edge. */
         ew_active *aet = b->aet;
         const int naet = b->naet;
-        sort_active(aet, naet);
+        sort_edges(aet, nold, naet);
 
         int top = 0;  /* the background, always at the bottom of the stack */
         next[0] = -1, prev[0] = -1, lastu[0] = 0;
+        /* Surfaces whose count went below zero on this line: cap_neg >=
+         * cap_aet >= naet entries, at most one per edge. */
+        int32_t *neg = b->st_neg;
+        int nneg = 0, n = 0;
         for (int i = 0; i < naet; i++) {
-            const ew_active *a = &aet[i];
-            int iu = (int)(((int64_t)a->u + 0xFFFF) >> 16);  /* first pixel centre right of the edge */
+            const ew_active a = aet[i];
+            int iu = (int)(((int64_t)a.u + 0xFFFF) >> 16);  /* first pixel centre right of the edge */
             iu = iu < 0 ? 0 : iu > width ? width : iu;
-            int s = a->surfs[0];
+            int s = a.surfs[0];
             /* A trailing edge met before its leading edge (crossed by rounding,
              * or a zero-width sliver) drives the count negative, and the
              * late leading edge then brings it back to zero without a push. */
-            if (s && --state[s] == 0) {                          /* trailing edge */
-                if (s == top) {
-                    emit_span(b, s, lastu[s], iu, v);
-                    top = next[s];
-                    prev[top] = -1;
-                    lastu[top] = iu;
-                } else {
-                    next[prev[s]] = next[s];
-                    if (next[s] >= 0) prev[next[s]] = prev[s];
+            if (s) {                                             /* trailing edge */
+                int c = --state[s];
+                if (c == 0) {
+                    if (s == top) {
+                        emit_span(b, s, lastu[s], iu, v);
+                        top = next[s];
+                        prev[top] = -1;
+                        lastu[top] = iu;
+                    } else {
+                        next[prev[s]] = next[s];
+                        if (next[s] >= 0) prev[next[s]] = prev[s];
+                    }
+                } else if (c < 0) {
+                    neg[nneg++] = s;
                 }
             }
-            s = a->surfs[1];
+            s = a.surfs[1];
             if (s && ++state[s] == 1) {                          /* leading edge */
                 if (nearer(&surfs[s], &surfs[top], iu, v)) {
                     emit_span(b, top, lastu[top], iu, v);
@@ -186,19 +242,22 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
                     next[p] = s;
                 }
             }
+            /* Stepped to the next line in the same pass (n <= i: that slot
+             * has been read). */
+            if (a.v_last > v) {
+                aet[n] = a;
+                aet[n].u = a.u + a.u_step;
+                n++;
+            }
         }
         emit_span(b, top, lastu[top], width, v);
 
-        /* Step the edges that go on to the next line, and clear the counts:
-         * ones left unbalanced by inconsistent edges must not leak into it. */
-        int n = 0;
-        for (int i = 0; i < naet; i++) {
-            ew_active a = aet[i];
-            state[a.surfs[0]] = state[a.surfs[1]] = 0;
-            if (a.v_last <= v) continue;
-            a.u += a.u_step;
-            aet[n++] = a;
-        }
+        /* Every count back to zero for the next line.  A count above zero is
+         * a surface still on the stack (pushed at 0 -> 1, taken off at
+         * 1 -> 0), one below zero is in neg; when the line's edges balanced,
+         * the stack is just the background and neg is empty. */
+        for (int s = top; s > 0; s = next[s]) state[s] = 0;
+        for (int k = 0; k < nneg; k++) state[neg[k]] = 0;
         b->naet = n;
     }
 }

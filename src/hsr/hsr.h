@@ -123,6 +123,7 @@ struct ew_band {
     uint8_t *rowmark;               /* width bytes of scratch (accounting unsorted rows), or NULL */
     void *scratch;  size_t scratch_bytes;  /* the method's own per-band memory (ew_band_scratch) */
     ew_active *aet;  int naet, cap_aet, max_aet;
+    int32_t *st_neg;  int cap_neg;  /* >= cap_aet entries (the edge list's scan): counts gone below zero on a line */
     int dropped;
     ew_stats model_stats;           /* this band's share of the moving things' counters */
     long written, covered;          /* world pixels its spans wrote, and covered at least once */

@@ -352,7 +352,11 @@ void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_p
     const ew_mdl_pose *pose = &m->poses[xf->pose];
     const clip_planes cp = xf->cp;
     int accept = xf->accept;
-    const float(*bm)[3] = xf->bm, *bt = xf->bt, *lm = xf->lm;
+    /* Copied, and each vertex's bytes read once: the stores to xv could alias
+     * them (uint8_t aliases anything), so the loop reloaded and converted
+     * them for every coordinate.  The arithmetic is unchanged. */
+    float bm[3][3], bt[3], lm[3];
+    memcpy(bm, xf->bm, sizeof bm), memcpy(bt, xf->bt, sizeof bt), memcpy(lm, xf->lm, sizeof lm);
     int ambient = p->ambient, shade = p->shade;
 
     int32_t smax = (m->skinwidth << 16) - 1, tmax = (m->skinheight << 16) - 1;
@@ -360,7 +364,10 @@ void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_p
     for (int i = 0; i < m->numverts; i++) {
         xvert *x = &xv[i];
         const uint8_t *bv = pose->verts[i].v;
-        for (int k = 0; k < 3; k++) x->p[k] = bm[k][0] * bv[0] + bm[k][1] * bv[1] + bm[k][2] * bv[2] + bt[k];
+        const float b0 = bv[0], b1 = bv[1], b2 = bv[2];
+        float q[3];
+        for (int k = 0; k < 3; k++) q[k] = bm[k][0] * b0 + bm[k][1] * b1 + bm[k][2] * b2 + bt[k];
+        x->p[0] = q[0], x->p[1] = q[1], x->p[2] = q[2];
         const float *n = pose->normals[i];
         float dot = n[0] * lm[0] + n[1] * lm[1] + n[2] * lm[2];
         int light = ambient + (dot > 0 ? (int)(shade * dot) : 0);

@@ -74,6 +74,7 @@ typedef struct ew_span_ctx {
     const ew_view *view;           /* the sky's rays */
     float          sky_scroll;     /* sky layers' offset for this frame's time */
     int32_t        turb[128];      /* liquid warp for this frame's time */
+    int            turb_phase;     /* the phase turb holds, plus 129 (0: none yet) */
     ew_fog         fog;            /* this frame's fog (table NULL: none) */
     const uint32_t *rgba;          /* true colour: the palette as pixels (sky, liquids) */
 } ew_span_ctx;
@@ -95,7 +96,9 @@ uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y);
 /* The sky layers' offset in texels at a time (the back layer's; the front
  * one moves twice as far). */
 float   ew_sky_scroll(double time);
-void    ew_turb_table(int32_t table[128], double time);
+/* *held: the phase the table holds plus 129 (0 = none); the table is only
+ * computed again when the phase changes. */
+void    ew_turb_table(int32_t table[128], int *held, double time);
 uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, int32_t tt);
 
 /* Rows of the frame a drawing call may touch, and where its counters go:

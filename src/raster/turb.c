@@ -4,8 +4,10 @@
 
 #include <math.h>
 
-void ew_turb_table(int32_t table[128], double time) {
+void ew_turb_table(int32_t table[128], int *held, double time) {
     int phase = (int)fmod(time * 20.0, 128.0);
+    if (*held == phase + 1 + 128) return;  /* phase is in (-128, 128) */
+    *held = phase + 1 + 128;
     for (int i = 0; i < 128; i++)
         table[i] = (int32_t)(8 * 65536.0 * (1.0 + sin((i + phase) * 2 * 3.14159265358979 / 128)));
 }

@@ -44,6 +44,9 @@ static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
         }
         return;
     }
+    /* No leaf of this frame's PVS below (ew_pvs_mark marks every node above
+     * one): no leaf here was visited, so no fragment could be handed. */
+    if (r->marks.node_frame[node] != r->marks.framecount) return;
     const ew_node *nd = &w->nodes[node];
     const ew_plane *pl = &w->planes[nd->plane];
     float d[EW_MAX_POLY];

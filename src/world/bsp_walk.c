@@ -81,6 +81,9 @@ static int box_visible(const ew_renderer *r, int n, const float lo[3], const flo
     const ew_world *w = r->world;
     while (n >= 0) {
         if (depth++ > EW_MAX_WALK_DEPTH) return 1;
+        /* No leaf of this frame's PVS below (ew_pvs_mark marks every node
+         * above one): none to find here. */
+        if (r->marks.node_frame[n] != r->marks.framecount) return 0;
         const ew_node *node = &w->nodes[n];
         const ew_plane *p = &w->planes[node->plane];
         float dmax = 0, dmin = 0;

@@ -14,6 +14,16 @@ static void set_plane(ew_plane *p, const ew_view *v, float x, float y, float z) 
 }
 
 void ew_angle_vectors(const float angles[3], float fwd[3], float right[3], float up[3]) {
+    /* +0 only: -0 would turn the sign of some zeros below. */
+    if (angles[0] == 0 && angles[1] == 0 && angles[2] == 0 && !signbit(angles[0]) && !signbit(angles[1]) &&
+        !signbit(angles[2])) {
+        /* Most entities: what the formulas below give for sin 0 = 0 and
+         * cos 0 = 1, signed zeros included, without the six calls. */
+        fwd[0] = 1, fwd[1] = 0, fwd[2] = -0.0f;
+        right[0] = 0, right[1] = -1, right[2] = -0.0f;
+        up[0] = 0, up[1] = 0, up[2] = 1;
+        return;
+    }
     const double d2r = 3.14159265358979323846 / 180.0;
     double sp = sin(angles[0] * d2r), cp = cos(angles[0] * d2r);
     double sy = sin(angles[1] * d2r), cy = cos(angles[1] * d2r);
@@ -52,14 +62,18 @@ void ew_view_setup(ew_view *v, const ew_camera *cam, int width, int height) {
 
 void ew_moved_box(const float ax[3][3], const float origin[3], const float mins[3],
                   const float maxs[3], float lo[3], float hi[3]) {
-    for (int k = 0; k < 3; k++) lo[k] = 1e30f, hi[k] = -1e30f;
-    for (int c = 0; c < 8; c++) {
-        float p[3] = {c & 1 ? maxs[0] : mins[0], c & 2 ? maxs[1] : mins[1], c & 4 ? maxs[2] : mins[2]};
-        for (int k = 0; k < 3; k++) {
-            float q = origin[k] + ax[k][0] * p[0] + ax[k][1] * p[1] + ax[k][2] * p[2];
-            lo[k] = q < lo[k] ? q : lo[k];
-            hi[k] = q > hi[k] ? q : hi[k];
+    /* Each coordinate of a moved corner is ((origin + a0) + a1) + a2, one
+     * term per axis, and rounding never reverses an order, so the least
+     * corner takes the least term of each axis in that order: the same value
+     * as the least of the eight corners, without forming them. */
+    for (int k = 0; k < 3; k++) {
+        float l = origin[k], h = origin[k];
+        for (int j = 0; j < 3; j++) {
+            float a = ax[k][j] * mins[j], b = ax[k][j] * maxs[j];
+            l += a < b ? a : b;
+            h += a > b ? a : b;
         }
+        lo[k] = l, hi[k] = h;
     }
 }
 

@@ -1,0 +1,45 @@
+/* How a frame's rows are cut into bands (the renderer's place_bands and
+ * `edgewise bench --bands`), and the per-row cost profile bench reads to
+ * predict the imbalance of many bands on a machine with few cores. */
+#include "renderer.h"
+#include "ew_util.h"  /* edgewise_tools.h: the public declarations */
+
+void ew_place_bands(const float *row_cost, int h, int n, int *bounds) {
+    bounds[0] = 0;
+    if (n <= 1 || h < 8 * n) {  /* one band, or too few rows for 8 a band: equal rows */
+        for (int i = 1; i <= n; i++) bounds[i] = (int)((long)h * i / n);
+        return;
+    }
+    double total = 0;
+    for (int v = 0; v < h; v++) total += row_cost[v];
+    /* Each band ends where the running cost first reaches its share, after
+     * at least 8 rows, or when the bands left need all the rows left. */
+    double acc = 0;
+    int band = 0, y0 = 0;
+    for (int v = 0; v < h && band < n - 1; v++) {
+        acc += row_cost[v];
+        int rows_left = h - (v + 1), bands_left = n - band - 1;
+        if ((acc >= total * (band + 1) / n && v + 1 - y0 >= 8) || rows_left == 8 * bands_left) {
+            bounds[++band] = v + 1;
+            y0 = v + 1;
+        }
+    }
+    for (; band < n; band++) {  /* the last band takes the rest */
+        y0 = band == n - 1 ? h : y0 + 8;
+        bounds[band + 1] = y0;
+    }
+}
+
+int ew_set_row_profile(ew_renderer *r, int on) {
+    r->sched.profile_rows = on != 0;
+    return ew_set_threads(r, r->sched.nthreads > 0 ? r->sched.nthreads : 1);
+}
+
+int ew_frame_row_ms(const ew_renderer *r, float *ms, int n) {
+    for (int i = 0; i < r->sched.nbands; i++) {
+        const ew_band *b = &r->sched.bands[i];
+        float per_row = (float)(b->ms / (b->y1 - b->y0));
+        for (int v = b->y0; v < b->y1 && v < n; v++) ms[v] = per_row;
+    }
+    return r->target.height;
+}
