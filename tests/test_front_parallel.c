@@ -137,20 +137,9 @@ static void check(const char *map, const ew_assets *a, ew_scene *sc, const ew_ca
 
 int main(void) {
     for (size_t m = 0; m < sizeof maps / sizeof *maps; m++) {
-        ew_assets *a = NULL;
-        ew_error err;
-        ew_scene *sc = NULL;
-        if (!strcmp(maps[m], "builtin")) {
-            CHECK((a = ew_assets_create_builtin(&err)) != NULL, "builtin: %s", err.msg);
-            if (!a) continue;
-            sc = ew_scene_create_builtin(a->world, &err);
-        } else {
-            if (!(a = ew_t_load_map(maps[m]))) continue;
-            char rel[256];
-            snprintf(rel, sizeof rel, "data/librequake/maps/%s.bsp", maps[m]);
-            sc = ew_scene_create_from_map(a->world, ew_t_shared(rel), NULL, &err);
-        }
-        CHECK(sc != NULL, "%s: scene: %s", maps[m], err.msg);
+        ew_scene *sc;
+        ew_assets *a = ew_t_load_map_scene(maps[m], &sc);
+        if (!a) continue;
         ew_camera views[EW_MAX_VIEWS];
         int nv = ew_benchmark_views(a->world, views);
         CHECK(nv > 0, "%s: no views", maps[m]);

@@ -39,6 +39,24 @@ ew_assets *ew_t_load_map(const char *name) {
     return a;
 }
 
+ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene) {
+    ew_error err;
+    ew_assets *a;
+    *scene = NULL;
+    if (!strcmp(name, "builtin")) {
+        CHECK((a = ew_assets_create_builtin(&err)) != NULL, "builtin: %s", err.msg);
+        if (!a) return NULL;
+        *scene = ew_scene_create_builtin(a->world, &err);
+    } else {
+        if (!(a = ew_t_load_map(name))) return NULL;
+        char rel[256];
+        snprintf(rel, sizeof rel, "data/librequake/maps/%s.bsp", name);
+        *scene = ew_scene_create_from_map(a->world, ew_t_shared(rel), NULL, &err);
+    }
+    CHECK(*scene != NULL, "%s: scene: %s", name, err.msg);
+    return a;
+}
+
 int ew_t_finish(void) {
     printf("%d passed, %d failed\n", ew_t_passed, ew_t_failed);
     return ew_t_failed ? 1 : 0;
