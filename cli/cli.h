@@ -92,6 +92,9 @@ int  cli_next_arg(cli_args *a, int argc, char **argv, int *i, char name[32], con
 /* *slot = v for an option naming a file or folder given at most once;
  * 0, or -1 after one error line. */
 int  cli_set_once(const char *cmd, const char *name, const char *v, const char **slot);
+/* *out = v, a whole number lo..hi, for an option given at most once
+ * (*given counts); 0, or -1 after one error line. */
+int  cli_int_once(const char *cmd, const char *name, const char *v, long lo, long hi, int *given, int *out);
 /* Appends the size WxH of v to sizes[*n] (at most max); 0, or -1 after one
  * error line. */
 int  cli_add_size(const char *cmd, const char *v, int (*sizes)[2], int *n, int max);

@@ -147,16 +147,8 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
                 return -1;
             }
             o->bands[o->nbands++] = (int)l;
-        } else { /* --passes */
-            if (parse_long(v, &l) < 0 || l < 1 || l > MAX_PASSES) {
-                error_line("bench: --passes %s: expected 1 to %d", v, MAX_PASSES);
-                return -1;
-            }
-            if (passes_given++) {
-                error_line("bench: --passes given twice");
-                return -1;
-            }
-            o->passes = (int)l;
+        } else if (cli_int_once("bench", name, v, 1, MAX_PASSES, &passes_given, &o->passes) < 0) { /* --passes */
+            return -1;
         }
     }
     o->nmaps = args.nmaps;

@@ -202,7 +202,6 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
             fputs(hsr_usage_tail, stdout);
             return 1;
         }
-        long l;
         if (strcmp(name, "--data") == 0 || strcmp(name, "--json") == 0 || strcmp(name, "--heatmap") == 0 ||
             strcmp(name, "--svg") == 0) {
             const char **slot = name[2] == 'd' ? &o->data : name[2] == 'j' ? &o->json
@@ -227,15 +226,8 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
             if (parse_threads(v, &o->threads) < 0)
                 return -1;
         } else if (strcmp(name, "--repeat") == 0) {
-            if (parse_long(v, &l) < 0 || l < 1 || l > MAX_REPEAT) {
-                error_line("hsr: --repeat %s: expected 1 to %d", v, MAX_REPEAT);
+            if (cli_int_once("hsr", name, v, 1, MAX_REPEAT, &repeat_given, &o->repeat) < 0)
                 return -1;
-            }
-            if (repeat_given++) {
-                error_line("hsr: --repeat given twice");
-                return -1;
-            }
-            o->repeat = (int)l;
         } else { /* --stress */
             if (o->nstress) {
                 error_line("hsr: --stress given twice");

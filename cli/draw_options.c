@@ -525,3 +525,17 @@ int cli_add_size(const char *cmd, const char *v, int (*sizes)[2], int *n, int ma
     (*n)++;
     return 0;
 }
+
+int cli_int_once(const char *cmd, const char *name, const char *v, long lo, long hi, int *given, int *out) {
+    long l;
+    if (parse_long(v, &l) < 0 || l < lo || l > hi) {
+        error_line("%s: %s %s: expected %ld to %ld", cmd, name, v, lo, hi);
+        return -1;
+    }
+    if ((*given)++) {
+        error_line("%s: %s given twice", cmd, name);
+        return -1;
+    }
+    *out = (int)l;
+    return 0;
+}
