@@ -6,6 +6,7 @@
  * So every pixel of the band is emitted exactly once, for the nearest
  * surface, and surface 0 (the background, farthest of all) fills any gap. */
 #include "renderer.h"
+#include "hsr/active.h"
 
 #include <limits.h>
 #include <stdlib.h>
@@ -104,46 +105,13 @@ static void add_active(ew_band *b, const ew_edge *e, int v) {
             return;
         }
     }
-    ew_active *a = &b->aet[b->naet++];
-    a->u = e->u + (v - e->v_first) * e->u_step;
-    a->u_step = e->u_step;
-    a->v_last = e->v_last;
-    a->surfs[0] = e->surfs[0];
-    a->surfs[1] = e->surfs[1];
-}
-
-/* Order of the active edges: by u; at equal u the edge heading left first,
- * then edges that only lead before edges that trail, so a sliver's leading
- * edge comes before its trailing edge. */
-static int after(const ew_active *a, const ew_active *b) {
-    if (a->u != b->u) return a->u > b->u;
-    if (a->u_step != b->u_step) return a->u_step > b->u_step;
-    return a->surfs[0] != 0 && b->surfs[0] == 0;
-}
-
-static int cmp_active(const void *pa, const void *pb) {
-    const ew_active *a = pa, *b = pb;
-    return after(a, b) ? 1 : after(b, a) ? -1 : 0;
-}
-
-/* Insertion sort: the list is nearly sorted every line. */
-static void sort_active(ew_active *a, int n) {
-    for (int i = 1; i < n; i++) {
-        if (!after(&a[i - 1], &a[i])) continue;  /* in place already: most edges, most lines */
-        ew_active x = a[i];
-        int j = i - 1;
-        do {
-            a[j + 1] = a[j];
-            j--;
-        } while (j >= 0 && after(&a[j], &x));
-        a[j + 1] = x;
-    }
+    ew_active_set(&b->aet[b->naet++], e, v);
 }
 
 /* The line's edges in order: a[0..nold) are last line's, stepped, nearly in
  * order already; a[nold..n) start on this line, in the order they were
  * added.  The result is the insertion sort's of the whole array, which is a
- * stable sort (after() compares the keys u, u_step and "has a trailing
+ * stable sort (ew_active_after() compares the keys u, u_step and "has a trailing
  * side" in turn): the old part sorted in place, the new ones sorted among
  * themselves, then merged from the back, an old edge staying before a new
  * one it ties with.  The new edges would otherwise each travel from the end
@@ -152,16 +120,16 @@ static void sort_active(ew_active *a, int n) {
 static void sort_edges(ew_active *a, int nold, int n) {
     int k = n - nold;
     if (k <= 0 || k > MERGE_MAX || nold == 0) {
-        sort_active(a, n);
+        ew_active_sort(a, n);
         return;
     }
-    sort_active(a, nold);
+    ew_active_sort(a, nold);
     ew_active x[MERGE_MAX];
     memcpy(x, a + nold, sizeof(ew_active) * (size_t)k);
-    sort_active(x, k);
+    ew_active_sort(x, k);
     int i = nold - 1, j = k - 1, d = n - 1;
     while (j >= 0) {
-        if (i >= 0 && after(&a[i], &x[j])) a[d--] = a[i--];
+        if (i >= 0 && ew_active_after(&a[i], &x[j])) a[d--] = a[i--];
         else a[d--] = x[j--];
     }
 }
@@ -185,7 +153,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     for (int v = 0; v < b->y0; v++)
         for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new)
             if (edges[i].v_last >= b->y0) add_active(b, &edges[i], b->y0);
-    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, cmp_active);
+    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
 
     for (int v = b->y0; v < b->y1; v++) {
         const int nold = b->naet;  /* last line's edges, stepped: nearly in order */

@@ -23,6 +23,7 @@
  * for the surface nearest at its centre (1/z evaluated as the reference
  * path evaluates it), or the background where none is. */
 #include "renderer.h"
+#include "hsr/active.h"
 
 #include <limits.h>
 #include <stdlib.h>
@@ -117,38 +118,9 @@ static void add_active(ew_band *b, const ew_edge *e, int v) {
         b->dropped++;
         return;
     }
-    ew_active *a = &b->aet[b->naet++];
-    a->u = e->u + (v - e->v_first) * e->u_step;
-    a->u_step = e->u_step;
-    a->v_last = e->v_last;
-    a->surfs[0] = e->surfs[0];
-    a->surfs[1] = e->surfs[1];
+    ew_active_set(&b->aet[b->naet++], e, v);
 }
 
-/* The edge method's order: by u, then heading left first, then edges that
- * only lead before edges that trail. */
-static int after(const ew_active *a, const ew_active *b) {
-    if (a->u != b->u) return a->u > b->u;
-    if (a->u_step != b->u_step) return a->u_step > b->u_step;
-    return a->surfs[0] != 0 && b->surfs[0] == 0;
-}
-
-static int cmp_active(const void *pa, const void *pb) {
-    const ew_active *a = pa, *b = pb;
-    return after(a, b) ? 1 : after(b, a) ? -1 : 0;
-}
-
-static void sort_active(ew_active *a, int n) {
-    for (int i = 1; i < n; i++) {
-        ew_active x = a[i];
-        int j = i - 1;
-        while (j >= 0 && after(&a[j], &x)) {
-            a[j + 1] = a[j];
-            j--;
-        }
-        a[j + 1] = x;
-    }
-}
 
 static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
     const ew_edge *edges = el->edges;
@@ -166,13 +138,13 @@ static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
     for (int v = 0; v < b->y0; v++)
         for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new)
             if (edges[i].v_last >= b->y0) add_active(b, &edges[i], b->y0);
-    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, cmp_active);
+    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
 
     for (int v = b->y0; v < b->y1; v++) {
         for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
         ew_active *aet = b->aet;
         const int naet = b->naet;
-        sort_active(aet, naet);
+        ew_active_sort(aet, naet);
 
         z.v = (float)v;
         z.next[0] = -1, z.prev[0] = -1;
