@@ -1,13 +1,13 @@
-/* The edge list's per-edge arithmetic (internal), shared by the serial
- * emission (world/edges.c) and the parallel one (world/front_par.c), which
- * must compute bit-identical edges: a point projected to the screen, and
- * an edge's first scanline, 16.16 start and step between two projected
- * points. */
+/* The edge list's per-edge work (internal), shared by the serial emission
+ * (world/edges.c) and the parallel one (world/front_par.c), which must make
+ * bit-identical edge lists: a point projected to the screen, an edge's
+ * first scanline, 16.16 start and step between two projected points, its
+ * place in the list, the edge cache that lets the faces on both sides of a
+ * world edge share one edge, and a world face's surface record. */
 #ifndef EW_WORLD_EDGE_MATH_H
 #define EW_WORLD_EDGE_MATH_H
 
-#include "hsr/hsr.h"
-#include "world/view.h"
+#include "renderer.h"
 
 #include <math.h>
 
@@ -45,6 +45,61 @@ static inline int ew_edge_setup(const ew_proj *a, const ew_proj *b, ew_edge *e) 
     e->v_first = first;
     e->v_last = last;
     return 1;
+}
+
+/* The edge el->edges[el->nedges] (its position set) joins the list for
+ * surface s: on its right side if it goes down the screen, else its left,
+ * and in the list of edges starting on its first scanline.  Its index. */
+static inline int ew_edge_link(ew_edge_list *el, int down, int s) {
+    ew_edge *e = &el->edges[el->nedges];
+    e->surfs[0] = down ? (uint16_t)s : 0;
+    e->surfs[1] = down ? 0 : (uint16_t)s;
+    e->next_new = el->new_edges[e->v_first];
+    el->new_edges[e->v_first] = el->nedges;
+    return el->nedges++;
+}
+
+/* The edge cache (r->marks.edge_cache_*).  World edge se (a signed
+ * surfedge) may be in this frame's list already, from the face on its
+ * other side.  1: it is settled for surface s, *zi its nearer 1/z (its free
+ * side now takes s), or 0 if it crosses no scanline.  0: the caller adds an
+ * edge and notes it with ew_edge_cache_note (also when both faces use it
+ * the same way round, so its free side is taken). */
+static inline int ew_edge_cache_take(ew_renderer *r, int se, int s, float *zi) {
+    int e = se >= 0 ? se : -se, sign = se >= 0 ? 1 : -1;
+    if (r->marks.edge_cache_frame[e] != r->marks.framecount) return 0;
+    int idx = r->marks.edge_cache_index[e];
+    if (idx < 0) {
+        *zi = 0;
+        return 1;
+    }
+    ew_edge *ed = &r->el.edges[idx];
+    int slot = sign * r->marks.edge_cache_down[e] > 0 ? 0 : 1;
+    if (ed->surfs[slot] != 0) return 0;
+    ed->surfs[slot] = (uint16_t)s;
+    r->stats.edges_cached++;
+    *zi = ed->nearzi;
+    return 1;
+}
+
+/* World edge se is edge idx of the list (-1: crosses no scanline), added
+ * going down the screen or not. */
+static inline void ew_edge_cache_note(ew_renderer *r, int se, int idx, int down) {
+    int e = se >= 0 ? se : -se, sign = se >= 0 ? 1 : -1;
+    r->marks.edge_cache_frame[e] = r->marks.framecount;
+    r->marks.edge_cache_index[e] = idx;
+    r->marks.edge_cache_down[e] = (int8_t)(down ? sign : -sign);
+}
+
+/* Surface el.nsurfs for world face fi, seen from the frame's camera. */
+static inline void ew_surf_add_world(ew_renderer *r, int fi, int key, float nearzi) {
+    ew_surf *sf = &r->el.surfs[r->el.nsurfs++];
+    sf->key = key;
+    sf->face = fi;
+    sf->flags = r->world->faces[fi].flags;
+    sf->nearzi = nearzi;
+    sf->view = &r->view;
+    sf->insubmodel = 0;
 }
 
 #endif

@@ -19,38 +19,19 @@ static int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) {
         r->stats.dropped++;
         return -1;
     }
-    int down = b->v > a->v;
-    e->surfs[0] = down ? (uint16_t)s : 0;  /* going down on screen: right side */
-    e->surfs[1] = down ? 0 : (uint16_t)s;
     e->nearzi = a->zi > b->zi ? a->zi : b->zi;
-    e->next_new = r->el.new_edges[e->v_first];
-    r->el.new_edges[e->v_first] = r->el.nedges;
-    return r->el.nedges++;
+    return ew_edge_link(&r->el, b->v > a->v, s);
 }
 
 /* Emits (or reuses) world edge `se` (a signed surfedge) between a and b,
  * projecting the ends on demand.  Returns the nearest 1/z it saw. */
 static float emit_world_edge(ew_renderer *r, int se, const float *pa, const float *pb,
                              proj *ja, int *va, proj *jb, int *vb, int s) {
-    int e = se >= 0 ? se : -se, sign = se >= 0 ? 1 : -1;
-    if (r->marks.edge_cache_frame[e] == r->marks.framecount) {
-        int idx = r->marks.edge_cache_index[e];
-        if (idx < 0) return 0;  /* known not to cross a scanline */
-        int slot = sign * r->marks.edge_cache_down[e] > 0 ? 0 : 1;
-        ew_edge *ed = &r->el.edges[idx];
-        if (ed->surfs[slot] == 0) {
-            ed->surfs[slot] = (uint16_t)s;
-            r->stats.edges_cached++;
-            return ed->nearzi;
-        }
-        /* Both faces use it the same way round: give this one its own. */
-    }
+    float zi;
+    if (ew_edge_cache_take(r, se, s, &zi)) return zi;
     if (!*va) project(r, pa, ja), *va = 1;
     if (!*vb) project(r, pb, jb), *vb = 1;
-    int idx = add_edge(r, ja, jb, s);
-    r->marks.edge_cache_frame[e] = r->marks.framecount;
-    r->marks.edge_cache_index[e] = idx;
-    r->marks.edge_cache_down[e] = (int8_t)((jb->v > ja->v) ? sign : -sign);
+    ew_edge_cache_note(r, se, add_edge(r, ja, jb, s), jb->v > ja->v);
     return ja->zi > jb->zi ? ja->zi : jb->zi;
 }
 
@@ -105,14 +86,7 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
             if (zi > nearzi) nearzi = zi;
         }
     }
-    ew_surf *sf = &r->el.surfs[s];
-    sf->key = key;
-    sf->face = fi;
-    sf->flags = f->flags;
-    sf->nearzi = nearzi;
-    sf->view = &r->view;
-    sf->insubmodel = 0;
-    r->el.nsurfs++;
+    ew_surf_add_world(r, fi, key, nearzi);
 }
 
 void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key) {

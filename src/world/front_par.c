@@ -168,13 +168,8 @@ static int add_prepared(ew_renderer *r, const pedge *p, int s) {
         r->stats.dropped++;
         return -1;
     }
-    ew_edge *e = &r->el.edges[r->el.nedges];
-    *e = p->e;
-    e->surfs[0] = p->down ? (uint16_t)s : 0;
-    e->surfs[1] = p->down ? 0 : (uint16_t)s;
-    e->next_new = r->el.new_edges[e->v_first];
-    r->el.new_edges[e->v_first] = r->el.nedges;
-    return r->el.nedges++;
+    r->el.edges[r->el.nedges] = p->e;
+    return ew_edge_link(&r->el, p->down, s);
 }
 
 static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
@@ -188,46 +183,16 @@ static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
     if (pf->m < 0) return;
     int s = r->el.nsurfs;
     float nearzi = 0;
-    ew_marks *mk = &r->marks;
     for (int k = 0; k < pf->m; k++) {
         const pedge *p = &pe[k];
         float zi = p->e.nearzi;
-        if (p->se == PE_CLIP) {
+        if (p->se == PE_CLIP)
             add_prepared(r, p, s);
-        } else {
-            int e = p->se >= 0 ? p->se : -p->se, sign = p->se >= 0 ? 1 : -1;
-            int fresh = 1;
-            if (mk->edge_cache_frame[e] == mk->framecount) {
-                int idx = mk->edge_cache_index[e];
-                if (idx < 0) {
-                    zi = 0, fresh = 0;  /* known not to cross a scanline */
-                } else {
-                    int slot = sign * mk->edge_cache_down[e] > 0 ? 0 : 1;
-                    ew_edge *ed = &r->el.edges[idx];
-                    if (ed->surfs[slot] == 0) {
-                        ed->surfs[slot] = (uint16_t)s;
-                        r->stats.edges_cached++;
-                        zi = ed->nearzi, fresh = 0;
-                    }
-                }
-            }
-            if (fresh) {
-                int idx = add_prepared(r, p, s);
-                mk->edge_cache_frame[e] = mk->framecount;
-                mk->edge_cache_index[e] = idx;
-                mk->edge_cache_down[e] = (int8_t)(p->down ? sign : -sign);
-            }
-        }
+        else if (!ew_edge_cache_take(r, p->se, s, &zi))
+            ew_edge_cache_note(r, p->se, add_prepared(r, p, s), p->down);
         if (zi > nearzi) nearzi = zi;
     }
-    ew_surf *sf = &r->el.surfs[s];
-    sf->key = pf->key;
-    sf->face = pf->face;
-    sf->flags = f->flags;
-    sf->nearzi = nearzi;
-    sf->view = &r->view;
-    sf->insubmodel = 0;
-    r->el.nsurfs++;
+    ew_surf_add_world(r, pf->face, pf->key, nearzi);
 }
 
 static void merge_chunk(ew_renderer *r, struct ew_front_par *fp, int c, int end) {
