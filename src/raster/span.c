@@ -13,16 +13,31 @@
 #endif
 
 #if defined(__SSE2__)
-/* The surface indices t * pitch + s of four texels at once: the integer
- * parts of s and t paired as 16-bit halves, one multiply-add (mul holds
- * (1, pitch) pairs). */
-static inline void texel_index4(__m128i vs, __m128i vt, __m128i mul, uint32_t k[4]) {
+/* Four texels' s and t a step apart, walked four steps at a time by both
+ * texel runs (8-bit and true colour). */
+typedef struct texel_lanes { __m128i s, t, step_s, step_t, mul; } texel_lanes;
+
+static inline texel_lanes texel_lanes_at(int32_t s, int32_t t, int32_t ds, int32_t dt, uint32_t pitch) {
+    texel_lanes l;
+    l.s = _mm_setr_epi32(s, s + ds, s + 2 * ds, s + 3 * ds);
+    l.t = _mm_setr_epi32(t, t + dt, t + 2 * dt, t + 3 * dt);
+    l.step_s = _mm_set1_epi32(4 * ds), l.step_t = _mm_set1_epi32(4 * dt);
+    l.mul = _mm_set1_epi32((int)((pitch << 16) | 1u));  /* (1, pitch) pairs */
+    return l;
+}
+
+/* The surface indices t * pitch + s of the lanes' four texels, then the
+ * lanes step on: the integer parts of s and t paired as 16-bit halves, one
+ * multiply-add with mul's (1, pitch) pairs. */
+static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4]) {
     const __m128i hi16 = _mm_set1_epi32((int)0xFFFF0000u);
-    __m128i idx = _mm_madd_epi16(_mm_or_si128(_mm_srli_epi32(vs, 16), _mm_and_si128(vt, hi16)), mul);
+    __m128i idx = _mm_madd_epi16(_mm_or_si128(_mm_srli_epi32(l->s, 16), _mm_and_si128(l->t, hi16)), l->mul);
     k[0] = (uint32_t)_mm_cvtsi128_si32(idx);
     k[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
     k[2] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
     k[3] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
+    l->s = _mm_add_epi32(l->s, l->step_s);
+    l->t = _mm_add_epi32(l->t, l->step_t);
 }
 #endif
 
@@ -40,18 +55,13 @@ static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch
     int i = 0;
 #if defined(__SSE2__)
     if (n >= 4) {
-        __m128i vs = _mm_setr_epi32(s, s + ds, s + 2 * ds, s + 3 * ds);
-        __m128i vt = _mm_setr_epi32(t, t + dt, t + 2 * dt, t + 3 * dt);
-        const __m128i step_s = _mm_set1_epi32(4 * ds), step_t = _mm_set1_epi32(4 * dt);
-        const __m128i mul = _mm_set1_epi32((int)((pitch << 16) | 1u));  /* (1, pitch) pairs */
+        texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
         for (; i + 4 <= n; i += 4) {
             uint32_t k[4];
-            texel_index4(vs, vt, mul, k);
+            texel_lanes_next(&l, k);
             uint32_t four = (uint32_t)pixels[k[0]] | (uint32_t)pixels[k[1]] << 8 |
                             (uint32_t)pixels[k[2]] << 16 | (uint32_t)pixels[k[3]] << 24;
             memcpy(dst + i, &four, 4);  /* little-endian: pixel i first */
-            vs = _mm_add_epi32(vs, step_s);
-            vt = _mm_add_epi32(vt, step_t);
         }
         s += i * ds;
         t += i * dt;
@@ -105,17 +115,12 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
     int i = 0;
 #if defined(__SSE2__)
     if (n >= 4) {
-        __m128i vs = _mm_setr_epi32(s, s + ds, s + 2 * ds, s + 3 * ds);
-        __m128i vt = _mm_setr_epi32(t, t + dt, t + 2 * dt, t + 3 * dt);
-        const __m128i step_s = _mm_set1_epi32(4 * ds), step_t = _mm_set1_epi32(4 * dt);
-        const __m128i mul = _mm_set1_epi32((int)((pitch << 16) | 1u));
+        texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
         for (; i + 4 <= n; i += 4) {
             uint32_t k[4];
-            texel_index4(vs, vt, mul, k);
+            texel_lanes_next(&l, k);
             __m128i four = _mm_setr_epi32((int)src[k[0]], (int)src[k[1]], (int)src[k[2]], (int)src[k[3]]);
             _mm_storeu_si128((__m128i *)(void *)(dst + (size_t)i * 4), four);
-            vs = _mm_add_epi32(vs, step_s);
-            vt = _mm_add_epi32(vt, step_t);
         }
         s += i * ds;
         t += i * dt;

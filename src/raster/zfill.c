@@ -16,8 +16,9 @@ static void zfill_row(ew_zfill *z, int y, int lo, int hi) {
     const ew_band *b = &z->bands[z->row_band[y]];
     const ew_span *sp = b->spans + z->row_span0[y];
     float *zr = z->target->zbuf + (size_t)y * z->target->width;
+    int sorted = !b->unsorted;  /* a row's spans run left to right: stop past hi */
     for (int i = 0, n = z->row_nspans[y]; i < n; i++, sp++) {
-        if (sp->u >= hi && !b->unsorted) break;  /* a row's spans run left to right */
+        if (sp->u >= hi && sorted) break;
         int a = sp->u > lo ? sp->u : lo, e = sp->u + sp->count < hi ? sp->u + sp->count : hi;
         if (a >= e) continue;
         const ew_gradients *g = &z->draw[sp->surf].g;
