@@ -611,22 +611,24 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     ew_pool_wake(r->sched.pool);
     ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
     ser[0] = serial_lap(r, &sc);
-    /* The walk, brush models, then the bands scanned; with threads the
-     * walk's faces are clipped and set up in parallel and the scan follows
-     * in the same pool run (world/front_par.c), where the calling thread's
-     * walk, merge, brush models and band placement are serial all the
-     * same: they are counted in ms_serial by their own clocks. */
+    /* The walk, brush models, then the bands scanned.  The walk, the
+     * faces' clipping and edge setup run on every thread, the scan follows
+     * in the same pool run (world/front_par.c); the serial steps in that run
+     * (its layout and numbering, the brush models, band placement) are
+     * counted in ms_serial by their own clocks. */
     front_tail_arg ft = {r, 0, 0, 0};
-    double tw = ew_now_ms(), serial_in_run = 0;
-    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan) < 0) {
+    double tw = ew_now_ms(), serial_in_run = 0, walk_serial = 0;
+    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, &walk_serial) < 0) {
         ew_walk_world(r);
         front_tail(&ft);
         serial_lap(r, &sc);
         ew_pool_run(r->sched.pool, job_scan, r);
+        ser[1] = ft.t_tail - tw;
     } else {
-        serial_in_run = ft.t_end - tw;
+        serial_in_run = walk_serial + (ft.t_end - ft.t_tail);
+        ser[1] = walk_serial;
     }
-    ser[1] = ft.t_tail - tw, ser[2] = ft.t1 - ft.t_tail, ser[3] = ft.t_end - ft.t1;
+    ser[2] = ft.t1 - ft.t_tail, ser[3] = ft.t_end - ft.t1;
     double t1 = ft.t1;
     double t2 = ew_now_ms();
     serial_lap(r, &sc);

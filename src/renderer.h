@@ -58,6 +58,7 @@ typedef struct ew_sched {
     float   *row_cost;                            /* per scanline, from the bands' cost */
     int      bands_sized_for;                     /* row_cost valid for this many bands */
     int      profile_rows;                        /* ew_set_row_profile: strips of 8 rows */
+    int      front_serial;                        /* test hook: the one-thread front end (ew_walk_world) */
     _Alignas(64) _Atomic int next_band;           /* work handed out in a phase */
     _Alignas(64) _Atomic int next_build;
     _Alignas(64) _Atomic int next_grad;
@@ -147,6 +148,7 @@ struct ew_renderer {
     int        *face_ids;                        /* test hook: per pixel, or NULL */
     ew_debug    dbg;                             /* debug modes (raster/debug.c) */
     struct ew_front_par *fpar;                   /* the parallel front end's lists (world/front_par.c), or NULL */
+    int         fpar_bad;                        /* its plan failed (an irregular tree): the serial front end */
 };
 
 /* output/gamma.c: the table of a channel through gamma g (out = 255 *

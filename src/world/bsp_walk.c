@@ -2,18 +2,63 @@
  * tested against the frustum planes it is not already known to be inside
  * of (clipflags bit i = plane i still needs testing); leaves in the PVS and
  * the frustum mark their surfaces; each node then hands its marked faces
- * that face the camera to the frame's hidden-surface method (or to another
- * sink: world/front_par.c lists them), all with one BSP-order key. */
+ * that face the camera to the walker's face sink (the hidden-surface
+ * method's, or world/front_par.c's lists), all with one BSP-order key.
+ * world/front_par.c walks subtrees of one frame on several threads with
+ * the same code, each with a walker of its own. */
 #include "renderer.h"
 
-#define EW_MAX_WALK_DEPTH 4096
+/* The serial walker's leaf: its faces marked for the nodes above. */
+static void mark_leaf(ew_walker *wk, int li) {
+    ew_renderer *r = wk->r;
+    const ew_world *w = r->world;
+    const ew_leaf *leaf = &w->leaves[li];
+    for (int i = 0; i < leaf->nummarks; i++) r->marks.face_frame[w->marksurfaces[leaf->firstmark + i]] = r->marks.framecount;
+}
 
-typedef void (*face_sink)(ew_renderer *r, int face, int clipflags, int key);
+void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d) {
+    ew_renderer *r = wk->r;
+    const ew_world *w = r->world;
+    const ew_node *node = &w->nodes[n];
+    /* Only faces facing the camera can be seen: behind the plane, the
+     * PLANEBACK ones. */
+    for (int i = 0; i < node->numfaces; i++) {
+        int fi = node->firstface + i;
+        const ew_face *f = &w->faces[fi];
+        if (r->marks.face_frame[fi] != r->marks.framecount) continue;
+        if (((f->flags & EW_SURF_PLANEBACK) != 0) != side) continue;
+        if (d == 0) continue;  /* edge-on */
+        float alpha;
+        int kind = ew_see_kind(r, f, 1, &alpha);
+        wk->face(wk, fi, clipflags, kind, alpha);
+    }
+    wk->key++;
+}
 
-static void walk(ew_renderer *r, face_sink sink, int n, int clipflags, int depth, int *key) {
+/* Which side of node n's plane the camera is on (0 front), and how far. */
+static inline int node_side(const ew_renderer *r, const ew_node *node, float *d) {
+    const ew_plane *pl = &r->world->planes[node->plane];
+    const float *o = r->view.origin;
+    *d = o[0] * pl->normal[0] + o[1] * pl->normal[1] + o[2] * pl->normal[2] - pl->dist;
+    return *d >= 0 ? 0 : 1;
+}
+
+int ew_walk_enter(ew_walker *wk, int n, int *clipflags, float *d) {
+    ew_renderer *r = wk->r;
+    const ew_node *node = &r->world->nodes[n];
+    if (r->marks.node_frame[n] != r->marks.framecount) return -1;
+    if (*clipflags) {
+        *clipflags = ew_cull_box(&r->view, node->mins, node->maxs, *clipflags);
+        if (*clipflags < 0) return -1;
+    }
+    return node_side(r, node, d);
+}
+
+void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth) {
+    ew_renderer *r = wk->r;
     const ew_world *w = r->world;
     if (depth > EW_MAX_WALK_DEPTH) {
-        r->stats.dropped++;
+        wk->dropped++;
         return;
     }
     if (n < 0) {
@@ -21,60 +66,54 @@ static void walk(ew_renderer *r, face_sink sink, int n, int clipflags, int depth
         const ew_leaf *leaf = &w->leaves[li];
         if (r->marks.leaf_frame[li] != r->marks.framecount || leaf->contents == EW_CONTENTS_SOLID) return;
         if (clipflags && ew_cull_box(&r->view, leaf->mins, leaf->maxs, clipflags) < 0) return;
-        r->stats.visible_leaves++;
+        wk->visible_leaves++;
         /* Brush model fragments in this leaf sort here in BSP order. */
-        r->marks.leaf_key[li] = (*key)++;
+        r->marks.leaf_key[li] = wk->key++;
         r->marks.leaf_keyframe[li] = r->marks.framecount;
-        for (int i = 0; i < leaf->nummarks; i++)
-            r->marks.face_frame[w->marksurfaces[leaf->firstmark + i]] = r->marks.framecount;
+        wk->leaf(wk, li);
         return;
     }
-    const ew_node *node = &w->nodes[n];
-    if (r->marks.node_frame[n] != r->marks.framecount) return;
-    if (clipflags) {
-        clipflags = ew_cull_box(&r->view, node->mins, node->maxs, clipflags);
-        if (clipflags < 0) return;
+    float d;
+    int side = ew_walk_enter(wk, n, &clipflags, &d);
+    if (side < 0) return;
+    ew_walk_node(wk, w->nodes[n].children[side], clipflags, depth + 1);
+    ew_walk_faces(wk, n, clipflags, side, d);
+    ew_walk_node(wk, w->nodes[n].children[!side], clipflags, depth + 1);
+}
+
+/* The serial walker's face: to the sink, or to the see-through pass. */
+typedef struct sink_walker {
+    ew_walker wk;
+    void    (*sink)(ew_renderer *r, int face, int clipflags, int key);
+} sink_walker;
+
+void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha) {
+    const ew_world *w = r->world;
+    const ew_face *f = &w->faces[fi];
+    if (f->numedges > EW_MAX_POLY - 8) return;
+    float p[EW_MAX_POLY][3];
+    for (int k = 0; k < f->numedges; k++) {
+        const float *q = w->verts[ew_face_vertex(w, f, k)];
+        p[k][0] = q[0], p[k][1] = q[1], p[k][2] = q[2];
     }
-    const ew_plane *pl = &w->planes[node->plane];
-    const float *o = r->view.origin;
-    float d = o[0] * pl->normal[0] + o[1] * pl->normal[1] + o[2] * pl->normal[2] - pl->dist;
-    int side = d >= 0 ? 0 : 1;
+    ew_see_add(r, p, f->numedges, fi, &r->view, key, kind, alpha);
+}
 
-    walk(r, sink, node->children[side], clipflags, depth + 1, key);
-
-    /* Faces on this node: only those facing the camera can be seen. */
-    int want_back = side;  /* camera behind the plane sees PLANEBACK faces */
-    for (int i = 0; i < node->numfaces; i++) {
-        int fi = node->firstface + i;
-        const ew_face *f = &w->faces[fi];
-        if (r->marks.face_frame[fi] != r->marks.framecount) continue;
-        if (((f->flags & EW_SURF_PLANEBACK) != 0) != want_back) continue;
-        if (d == 0) continue;  /* edge-on */
-        float alpha;
-        int kind = ew_see_kind(r, f, 1, &alpha);
-        if (ew_see_to_hsr(r, kind)) {
-            sink(r, fi, clipflags, *key);
-        } else if (f->numedges <= EW_MAX_POLY - 8) {
-            float p[EW_MAX_POLY][3];
-            for (int k = 0; k < f->numedges; k++) {
-                const float *q = w->verts[ew_face_vertex(w, f, k)];
-                p[k][0] = q[0], p[k][1] = q[1], p[k][2] = q[2];
-            }
-            ew_see_add(r, p, f->numedges, fi, &r->view, *key, kind, alpha);
-        }
-    }
-    (*key)++;
-
-    walk(r, sink, node->children[!side], clipflags, depth + 1, key);
+static void sink_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
+    if (ew_see_to_hsr(wk->r, kind))
+        ((sink_walker *)wk)->sink(wk->r, fi, clipflags, wk->key);
+    else
+        ew_walk_see_add(wk->r, fi, wk->key, kind, alpha);
 }
 
 void ew_walk_world_to(ew_renderer *r, void (*face)(ew_renderer *r, int face, int clipflags, int key)) {
-    int key = 0;  /* BSP order: grows front to back */
-    walk(r, face, r->world->models[0].headnode, 15, 0, &key);
+    sink_walker s = {{r, NULL, 0, 0, 0, mark_leaf, sink_face}, face};
+    ew_walk_node(&s.wk, r->world->models[0].headnode, 15, 0);
+    r->stats.visible_leaves += s.wk.visible_leaves;
+    r->stats.dropped += s.wk.dropped;
 }
 
 void ew_walk_world(ew_renderer *r) { ew_walk_world_to(r, r->cfg.hsr->face); }
-
 /* Does a world-space box touch any leaf of this frame's PVS?  (Entities in
  * no visible leaf are hidden however near they are.) */
 static int box_visible(const ew_renderer *r, int n, const float lo[3], const float hi[3], int depth) {

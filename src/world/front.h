@@ -31,14 +31,45 @@ int  ew_point_leaf(const ew_world *w, int headnode, const float p[3]);
 void ew_walk_world(ew_renderer *r);
 /* The same walk handing the faces to `face` instead of the method's. */
 void ew_walk_world_to(ew_renderer *r, void (*face)(ew_renderer *r, int face, int clipflags, int key));
-/* world/front_par.c: the same walk and ew_emit_face of its faces, with the
- * clipping, projection and edge setup spread over the pool's threads and
- * the edge list made exactly as one thread makes it; then, on the calling
- * thread, tail(arg), and then then(r, thread) on every thread of the pool
- * (one pool run for both).  -1 (nothing done) if there is one thread, the
- * method's faces do not go to ew_emit_face, or memory runs out: then
- * ew_walk_world and the rest as before. */
-int  ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread));
+
+/* The walk's pieces, for walking subtrees on several threads
+ * (world/front_par.c).  A walker carries the BSP key (grows front to back,
+ * one per visible leaf and one per visited node) and its own counters;
+ * leaf(wk, li) marks a visible leaf's faces (its key and keyframe already
+ * set), face() takes every marked face facing the camera with its kind
+ * (EW_SEE_*). */
+#define EW_MAX_WALK_DEPTH 4096
+typedef struct ew_walker ew_walker;
+struct ew_walker {
+    ew_renderer *r;
+    void        *ctx;
+    int          key, visible_leaves, dropped;
+    void       (*leaf)(ew_walker *wk, int li);
+    void       (*face)(ew_walker *wk, int fi, int clipflags, int kind, float alpha);
+};
+/* Walks node (or leaf, n < 0) n and everything below it. */
+void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth);
+/* Node n's PVS and frustum test: -1 culled, else the camera's side of its
+ * plane (0 front; *d the distance) and *clipflags narrowed. */
+int  ew_walk_enter(ew_walker *wk, int n, int *clipflags, float *d);
+/* Node n's marked faces on the camera's side to wk->face, then key + 1. */
+void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d);
+/* Face fi to the see-through pass with BSP key `key`. */
+void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha);
+
+/* world/front_par.c: the walk and ew_emit_face of its faces on every
+ * thread of the pool, making exactly the edge list ew_walk_world makes
+ * with ew_emit_face: subtrees of the BSP walked in parallel, their faces
+ * clipped, projected and set up in parallel, the edges shared between
+ * faces settled and numbered by prefix sums; then, on the calling thread,
+ * tail(arg), and then then(r, thread) on every thread of the pool (one
+ * pool run for all).  -1 (nothing done) if the method's faces do not go
+ * to ew_emit_face, r->sched.front_serial is set, the tree is irregular
+ * (an edge on more than two faces, a face on two nodes...) or memory runs
+ * out: then ew_walk_world and the rest as before.  *serial_ms: the time
+ * the calling thread spent in the run's serial steps (not the tail). */
+int  ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread),
+                            double *serial_ms);
 struct ew_front_par;
 void ew_front_par_free(struct ew_front_par *fp);
 /* 1 if a world-space box touches a leaf in this frame's PVS. */

@@ -1,29 +1,43 @@
-/* The front end on several threads, for the methods whose faces go through
- * ew_emit_face (the edge list and those that share its front end).
+/* The front end on every thread of the pool, for the methods whose faces go
+ * through ew_emit_face (the edge list and those that share its front end),
+ * making exactly the edge list the one-thread walk makes.
  *
- * The walk stays on the calling thread, but only lists each visible face
- * (face, clipflags, key) in BSP order.  Every CHUNK faces it publishes; the
- * pool's other threads take chunks as they appear and do the costly part:
- * clip each face to the frustum, project its vertices and set up each of
- * its polygon edges (position, step, scanlines, nearest 1/z).  The calling
- * thread, between faces of the walk and after it, merges the prepared
- * chunks strictly in order: the frame's edge cache (one world edge shared
- * by the two faces on it), edge and surface numbers, the per-scanline lists
- * of new edges and the counters come out exactly as ew_emit_face makes
- * them one face at a time, since the merge is that same decision made in
- * the same order on the same numbers (world/edge_math.h computes both).
- * So the edge list, and every span and pixel after it, are the same for
- * any thread count.
+ * The plan (once per world).  The nodes whose subtree is small are cut off
+ * the top of the tree: each such subtree (a "root") is walked as one task,
+ * and the nodes above them ("top" nodes) are walked by the calling thread.
+ * Each face lies on one node and is marked only by leaves below that node,
+ * so a subtree's faces are marked by its own leaves; faces on top nodes may
+ * be marked by several subtrees.  An edge of the world lies on at most two
+ * faces, in opposite directions.  A tree where any of this does not hold
+ * (a malformed map) is walked as before.
  *
- * The phase that follows (the scan of the bands) runs in the same pool
- * run: the calling thread, done with the walk, the merge and `tail` (the
- * brush models), releases the others into it, so the parallel front end
- * adds no wait for all threads to the frame.
- *
- * Faces and prepared edges live in arrays sized for the world (each face
- * of the world tree is on one node, visited once); if a malformed tree
- * shows more, the faces listed so far are merged and the rest of the walk
- * emits one face at a time, as the serial front end does. */
+ * A frame, in one pool run:
+ *   0 (calling thread) the top nodes are walked front to back into a list
+ *     of segments: a subtree to walk, or a top node's faces, in BSP order;
+ *   1 (all) each subtree is walked with a key of its own from 0, listing
+ *     its faces; a face on a top node marked by its leaves records the
+ *     earliest segment that marked it;
+ *   - (calling thread) keys, face positions and edge slots are laid out by
+ *     prefix sums over the segments; a top node's faces are listed if a
+ *     segment before it marked them (as in the one-thread walk, where only
+ *     the leaves walked before a node's faces can have marked them); the
+ *     faces for the see-through pass are handed over, in order;
+ *   2 (all) every face is clipped, projected and its edges set up; the
+ *     leaves' keys are made global;
+ *   3 (all) every edge on a world edge is settled: of the two faces on it,
+ *     the first in BSP order adds it and the second takes its free side
+ *     (the edge cache of the one-thread emission); each face's surface and
+ *     added edges are counted;
+ *   - (calling thread) surface and edge numbers by prefix sums over chunks;
+ *   4 (all) surfaces and edges written at their numbers;
+ *   - (calling thread) the per-scanline lists of new edges linked in edge
+ *     order, then tail(arg) (the brush models, the bands placed);
+ *   then(r, thread) on every thread: the scan.
+ * The decisions are the one-thread emission's, made on the same numbers
+ * (world/edge_math.h computes both), so the edge list, and every span and
+ * pixel after it, are the same for any thread count.  If the edge list
+ * would overflow, the prepared faces are merged one at a time as the
+ * one-thread emission does, which is where its limits apply. */
 #define _POSIX_C_SOURCE 200809L  /* sched_yield */
 #include "renderer.h"
 #include "ew_util.h"
@@ -32,47 +46,83 @@
 #include <limits.h>
 #include <sched.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define CHUNK 32       /* faces a thread prepares at a time */
-/* Threads that prepare besides the calling one: preparing is about twice
- * the walk and merge, so a few keep up with it; more would only spin. */
-#define HELPERS 3
+#define CHUNK 32           /* faces a thread takes at a time in phases 2-4 */
 #define PE_CLIP INT32_MIN  /* a prepared edge the clip made (no world edge) */
+#define M_DROPPED (-2)     /* a face with too many edges (counted as dropped) */
 
 typedef struct pface {
-    int face, clipflags, key;
-    int pe;            /* its first prepared edge */
-    int m;             /* prepared edges; -1: none (too many edges, or clipped away) */
+    int   face, clipflags, key;
+    int   pe;       /* its first prepared edge */
+    int   m;        /* prepared edges; -1: clipped away; M_DROPPED */
+    int   ls;       /* its surface among its chunk's faces that have one, -1 none */
+    int   nemit;    /* edges it adds to the list */
+    float nearzi;
 } pface;
 
 typedef struct pedge {
-    ew_edge e;         /* u, u_step, v_first, v_last and nearzi (the larger 1/z of its ends) */
-    int32_t se;        /* the signed world surfedge it lies on, or PE_CLIP */
-    int8_t  down;      /* its second end is lower on the screen */
-    int8_t  crosses;   /* it crosses a scanline centre */
+    ew_edge e;      /* u, u_step, v_first, v_last and nearzi (the larger 1/z of its ends) */
+    int32_t se;     /* the signed world surfedge it lies on, or PE_CLIP */
+    int32_t partner;/* the later face (position) taking its other side, -1 */
+    int8_t  down;   /* its second end is lower on the screen */
+    int8_t  crosses;/* it crosses a scanline centre */
+    int8_t  emit;   /* this face adds it to the list */
 } pedge;
 
+/* A face the walk listed, in its segment's range: key local to the
+ * segment; pe its first edge slot from the segment's first. */
+typedef struct lface { int face, clipflags, key, pe, kind; float alpha; } lface;
+
+enum { SEG_TREE, SEG_NODE };
+typedef struct seg {
+    int   kind, n, clipflags, depth;  /* SEG_TREE: node (or leaf, < 0) n's subtree; SEG_NODE: node n's faces */
+    int   side;
+    float d;
+    int   lf0, lfend, leaf0;          /* its range in lf, its first slot in leaves */
+    /* filled by its walk: */
+    int   nfaces, nsee, nleaves, nkeys, npe, visible_leaves, dropped;
+    /* laid out after: */
+    int   key0, face0, pe0;
+} seg;
+
+typedef struct phase {
+    _Alignas(64) atomic_int next;
+    _Alignas(64) atomic_int done;
+    int n;
+} phase;
+
 struct ew_front_par {
-    /* Written by the walk (calling thread), read by the workers. */
-    _Alignas(64) atomic_int published;  /* faces listed so far, a multiple of CHUNK until the walk ends */
-    atomic_int walk_done;
-    _Alignas(64) atomic_int next_chunk; /* the next chunk to prepare */
-    _Alignas(64) pface *faces;
-    pedge      *pedges;
-    pedge      *own;                   /* EW_MAX_POLY: the calling thread's, for a chunk it will not wait for */
-    atomic_int *chunk_gen;             /* gen: prepared this frame */
-    int         cap_faces, cap_pedges;
-    int         gen;
-    /* Only the calling thread: */
-    int         nfaces, npe, merged;   /* chunks merged */
-    int         direct;                /* overflowed: the rest of the walk emits directly */
-    /* What follows in the same pool phase (ew_walk_world_parallel). */
-    void      (*tail)(void *arg);
-    void       *tail_arg;
-    void      (*then)(void *ctx, int thread);
+    _Alignas(64) atomic_int stage;      /* the phase the calling thread has opened */
     _Alignas(64) atomic_int front_done; /* the tail has run: the edge list is complete */
+    phase ph[5];
+    /* The plan. */
+    int   nnodes, top_n;                /* world tree: nodes; threshold of a top node */
+    int   head_root;                    /* 1: the head node is itself a root (a small tree) */
+    int  *node_root;                    /* per node: its root's number, -1 for a top node */
+    int  *face_root;                    /* per face: its node's root number, -1 top node, -2 no world node */
+    int  *node_lf0, *node_lfend;        /* per node: a root's (or top node's) range in lf */
+    int  *node_leaf0;                   /* and its first slot in leaves (a top node: two, its leaf children's) */
+    int (*edge_faces)[2];               /* per world edge: the faces on it, -1 */
+    int   max_segs;
+    /* Per frame. */
+    seg  *segs;   int nsegs;
+    int  *tree_segs; int ntree;         /* the SEG_TREE segments: phase 1's items */
+    lface *lf;
+    int  *leaves;
+    pface *faces; int nfaces;
+    pedge *pedges; int cap_pedges;
+    int  *chunk_seg, *chunk_ns, *chunk_ne, *chunk_cached, *chunk_dropped, *chunk_s0, *chunk_e0;
+    int   nchunks;
+    int  *face_pos, *face_pos_frame;    /* per face: its position this frame */
+    _Atomic uint64_t *topmark;          /* per face of a top node: frame << 32 | ~earliest segment that marked it */
+    int   last_frame;
+    int   overflow;
+    void (*tail)(void *arg);
+    void  *tail_arg;
+    void (*then)(void *ctx, int thread);
 };
 
 /* One round of waiting on another thread; after a while the processor is
@@ -90,32 +140,333 @@ static inline void relax(int *rounds) {
 
 void ew_front_par_free(struct ew_front_par *fp) {
     if (!fp) return;
-    free(fp->faces), free(fp->pedges), free(fp->chunk_gen), free(fp->own);
+    free(fp->node_root), free(fp->face_root), free(fp->node_lf0), free(fp->node_lfend), free(fp->node_leaf0), free(fp->edge_faces);
+    free(fp->segs), free(fp->tree_segs), free(fp->lf), free(fp->leaves), free(fp->faces), free(fp->pedges);
+    free(fp->chunk_seg), free(fp->chunk_ns), free(fp->chunk_ne), free(fp->chunk_cached), free(fp->chunk_dropped);
+    free(fp->chunk_s0), free(fp->chunk_e0), free(fp->face_pos), free(fp->face_pos_frame), free((void *)fp->topmark);
     free(fp);
+}
+
+/* ---- the plan ---- */
+
+typedef struct plan_ctx {
+    const ew_world *w;
+    struct ew_front_par *fp;
+    int *size;       /* per node: nodes in its subtree */
+    int *seen_leaf;  /* non-solid leaves reached */
+    int  bad;
+} plan_ctx;
+
+/* Nodes below n (and n); marks the tree irregular if a node or non-solid
+ * leaf is reached twice or the tree is deeper than the walk goes. */
+static int count_nodes(plan_ctx *c, int n, int depth) {
+    if (c->bad) return 0;
+    if (depth > EW_MAX_WALK_DEPTH) return c->bad = 1, 0;
+    if (n < 0) {
+        int li = -1 - n;
+        if (c->w->leaves[li].contents != EW_CONTENTS_SOLID && c->seen_leaf[li]++) c->bad = 1;
+        return 0;
+    }
+    if (c->size[n]) return c->bad = 1, 0;
+    c->size[n] = -1;  /* on the way */
+    const ew_node *nd = &c->w->nodes[n];
+    int s = 1 + count_nodes(c, nd->children[0], depth + 1) + count_nodes(c, nd->children[1], depth + 1);
+    return c->size[n] = s;
+}
+
+/* Gives subtree n root number `root`; its faces and leaves ranges grow by
+ * what it holds. */
+static void own_subtree(plan_ctx *c, int n, int root, int *nlf, int *nleaves) {
+    if (n < 0) {
+        (*nleaves)++;
+        return;
+    }
+    const ew_node *nd = &c->w->nodes[n];
+    c->fp->node_root[n] = root;
+    *nlf += nd->numfaces;
+    own_subtree(c, nd->children[0], root, nlf, nleaves);
+    own_subtree(c, nd->children[1], root, nlf, nleaves);
+}
+
+/* Cuts the tree below top node n (or n itself if it is small): roots get
+ * their numbers and ranges, top nodes their faces' range. */
+static void cut(plan_ctx *c, int n, int *nroots, int *nlf, int *nleaves) {
+    struct ew_front_par *fp = c->fp;
+    if (n < 0 || c->size[n] <= fp->top_n) return;
+    const ew_node *nd = &c->w->nodes[n];
+    fp->node_root[n] = -1;
+    fp->node_lf0[n] = *nlf;
+    *nlf += nd->numfaces;
+    fp->node_lfend[n] = *nlf;
+    for (int k = 0; k < 2; k++) {
+        int ch = nd->children[k];
+        if (ch >= 0 && c->size[ch] > fp->top_n) {
+            cut(c, ch, nroots, nlf, nleaves);
+        } else if (ch >= 0) {
+            fp->node_lf0[ch] = *nlf, fp->node_leaf0[ch] = *nleaves;
+            own_subtree(c, ch, (*nroots)++, nlf, nleaves);
+            fp->node_lfend[ch] = *nlf;
+        }
+        /* A leaf child is walked as its own segment: its one leaf slot
+         * is kept at the top node (node_leaf0), one per child. */
+    }
+    fp->node_leaf0[n] = *nleaves;
+    *nleaves += 2;
 }
 
 static struct ew_front_par *front_par_new(const ew_world *w) {
     long cap_pe = (long)w->numsurfedges + 4L * w->numfaces + 8;
-    if (cap_pe > INT_MAX / 2) return NULL;
+    if (cap_pe > INT_MAX / 2 || w->numnodes < 1) return NULL;
     struct ew_front_par *fp = aligned_alloc(64, (sizeof *fp + 63) / 64 * 64);
     if (!fp) return NULL;
     memset(fp, 0, sizeof *fp);
-    fp->cap_faces = w->numfaces + 1;
+    int nn = w->numnodes, nf = w->numfaces, ne = w->numedges, nl = w->numleaves;
+    fp->nnodes = nn;
     fp->cap_pedges = (int)cap_pe;
-    int nchunks = fp->cap_faces / CHUNK + 2;
-    fp->faces = malloc(sizeof(pface) * (size_t)fp->cap_faces);
-    fp->pedges = malloc(sizeof(pedge) * (size_t)fp->cap_pedges);
-    fp->own = malloc(sizeof(pedge) * EW_MAX_POLY);
-    fp->chunk_gen = malloc(sizeof(atomic_int) * (size_t)nchunks);
-    if (!fp->faces || !fp->pedges || !fp->chunk_gen || !fp->own) {
+    fp->node_root = malloc(sizeof(int) * (size_t)nn);
+    fp->face_root = malloc(sizeof(int) * (size_t)(nf + 1));
+    fp->node_lf0 = calloc((size_t)nn, sizeof(int));
+    fp->node_lfend = calloc((size_t)nn, sizeof(int));
+    fp->node_leaf0 = calloc((size_t)nn, sizeof(int));
+    fp->edge_faces = malloc(sizeof *fp->edge_faces * (size_t)(ne + 1));
+    plan_ctx c = {w, fp, calloc((size_t)nn, sizeof(int)), calloc((size_t)nl + 1, sizeof(int)), 0};
+    int ok = fp->node_root && fp->face_root && fp->node_lf0 && fp->node_lfend && fp->node_leaf0 && fp->edge_faces && c.size && c.seen_leaf;
+    int head = w->models[0].headnode;
+    if (ok) {
+        for (int i = 0; i < nn; i++) fp->node_root[i] = -2;  /* not in the world tree */
+        count_nodes(&c, head, 0);
+    }
+    if (ok && !c.bad) {
+        /* A top node has more than 1/128 of the world's nodes below it. */
+        int total = head >= 0 ? c.size[head] : 0;
+        fp->top_n = total / 128 > 64 ? total / 128 : 64;
+        int nroots = 0, nlf = 0, nleaves = 0;
+        if (head < 0 || c.size[head] <= fp->top_n) {
+            fp->head_root = 1;
+            if (head >= 0) own_subtree(&c, head, nroots++, &nlf, &nleaves), fp->node_lfend[head] = nlf;
+            else nleaves = 1;
+        } else {
+            cut(&c, head, &nroots, &nlf, &nleaves);
+        }
+        /* Segments: at most one per top node and two per its children. */
+        int ntop = 0;
+        for (int i = 0; i < nn; i++) ntop += fp->node_root[i] == -1;
+        fp->max_segs = 3 * ntop + 2;
+        /* Faces: each on one node of the world tree; edges: at most two
+         * faces, opposite ways. */
+        for (int i = 0; i <= nf; i++) fp->face_root[i] = -2;
+        for (int i = 0; i <= ne; i++) fp->edge_faces[i][0] = fp->edge_faces[i][1] = -1;
+        for (int n = 0; n < nn && !c.bad; n++) {
+            if (fp->node_root[n] == -2) continue;
+            const ew_node *nd = &w->nodes[n];
+            for (int i = 0; i < nd->numfaces && !c.bad; i++) {
+                int fi = nd->firstface + i;
+                if (fp->face_root[fi] != -2) {
+                    c.bad = 1;
+                    break;
+                }
+                fp->face_root[fi] = fp->node_root[n];
+                const ew_face *f = &w->faces[fi];
+                for (int k = 0; k < f->numedges; k++) {
+                    int se = w->surfedges[f->firstedge + k], e = se >= 0 ? se : -se;
+                    if (e >= ne) {
+                        c.bad = 1;
+                        break;
+                    }
+                    int *ef = fp->edge_faces[e];
+                    if (ef[0] < 0) {
+                        ef[0] = fi;
+                    } else if (ef[1] < 0 && ef[0] != fi) {
+                        const ew_face *g = &w->faces[ef[0]];
+                        int gse = 0;
+                        for (int q = 0; q < g->numedges; q++) {
+                            int s2 = w->surfedges[g->firstedge + q];
+                            if (s2 == e || s2 == -e) gse = s2;
+                        }
+                        if ((gse >= 0) == (se >= 0)) c.bad = 1;
+                        ef[1] = fi;
+                    } else {
+                        c.bad = 1;
+                    }
+                }
+            }
+        }
+        /* A leaf marks only faces of its own subtree or of top nodes. */
+        for (int n = 0; n < nn && !c.bad; n++) {
+            int root = fp->node_root[n];
+            if (root == -2) continue;
+            const ew_node *nd = &w->nodes[n];
+            for (int k = 0; k < 2; k++) {
+                int ch = nd->children[k];
+                if (ch >= 0) continue;
+                const ew_leaf *lf = &w->leaves[-1 - ch];
+                for (int i = 0; i < lf->nummarks; i++) {
+                    int o = fp->face_root[w->marksurfaces[lf->firstmark + i]];
+                    if (o >= 0 && o != root) c.bad = 1;
+                }
+            }
+        }
+        fp->segs = malloc(sizeof(seg) * (size_t)fp->max_segs);
+        fp->tree_segs = malloc(sizeof(int) * (size_t)fp->max_segs);
+        fp->lf = malloc(sizeof(lface) * (size_t)(nlf + 1));
+        fp->leaves = malloc(sizeof(int) * (size_t)(nleaves + 1));
+        fp->faces = malloc(sizeof(pface) * (size_t)(nf + 1));
+        fp->pedges = malloc(sizeof(pedge) * (size_t)fp->cap_pedges);
+        int nch = nf / CHUNK + 2;
+        fp->chunk_seg = malloc(sizeof(int) * (size_t)nch);
+        fp->chunk_ns = malloc(sizeof(int) * (size_t)nch);
+        fp->chunk_ne = malloc(sizeof(int) * (size_t)nch);
+        fp->chunk_cached = malloc(sizeof(int) * (size_t)nch);
+        fp->chunk_dropped = malloc(sizeof(int) * (size_t)nch);
+        fp->chunk_s0 = malloc(sizeof(int) * (size_t)nch);
+        fp->chunk_e0 = malloc(sizeof(int) * (size_t)nch);
+        fp->face_pos = malloc(sizeof(int) * (size_t)(nf + 1));
+        fp->face_pos_frame = calloc((size_t)nf + 1, sizeof(int));
+        fp->topmark = calloc((size_t)nf + 1, sizeof(uint64_t));
+        ok = fp->segs && fp->tree_segs && fp->lf && fp->leaves && fp->faces && fp->pedges && fp->chunk_seg &&
+             fp->chunk_ns && fp->chunk_ne && fp->chunk_cached && fp->chunk_dropped && fp->chunk_s0 &&
+             fp->chunk_e0 && fp->face_pos && fp->face_pos_frame && fp->topmark;
+    }
+    free(c.size), free(c.seen_leaf);
+    if (!ok || c.bad) {
         ew_front_par_free(fp);
         return NULL;
     }
-    for (int i = 0; i < nchunks; i++) atomic_init(&fp->chunk_gen[i], 0);
     return fp;
 }
 
-/* ---- prepare (any thread): what ew_emit_face computes, minus the list ---- */
+/* ---- 0: the top nodes, front to back, into segments ---- */
+
+static void add_seg(struct ew_front_par *fp, int kind, int n, int clipflags, int depth, int leaf0) {
+    seg *s = &fp->segs[fp->nsegs];
+    memset(s, 0, sizeof *s);
+    s->kind = kind, s->n = n, s->clipflags = clipflags, s->depth = depth, s->leaf0 = leaf0;
+    if (n >= 0) s->lf0 = fp->node_lf0[n], s->lfend = fp->node_lfend[n];
+    if (kind == SEG_TREE) fp->tree_segs[fp->ntree++] = fp->nsegs;
+    fp->nsegs++;
+}
+
+static void top_walk(ew_renderer *r, struct ew_front_par *fp, int n, int clipflags, int depth) {
+    const ew_world *w = r->world;
+    if (depth > EW_MAX_WALK_DEPTH) return;  /* cannot be: the plan measured the tree */
+    ew_walker wk = {r, NULL, 0, 0, 0, NULL, NULL};
+    float d;
+    int side = ew_walk_enter(&wk, n, &clipflags, &d);
+    if (side < 0) return;
+    const ew_node *nd = &w->nodes[n];
+    for (int k = 0; k < 2; k++) {
+        int ch = nd->children[k == 0 ? side : !side];
+        if (k == 1) {
+            add_seg(fp, SEG_NODE, n, clipflags, depth, 0);
+            fp->segs[fp->nsegs - 1].side = side, fp->segs[fp->nsegs - 1].d = d;
+        }
+        if (ch >= 0 && fp->node_root[ch] == -1) {
+            top_walk(r, fp, ch, clipflags, depth + 1);
+        } else if (ch >= 0) {
+            if (r->marks.node_frame[ch] == r->marks.framecount)
+                add_seg(fp, SEG_TREE, ch, clipflags, depth + 1, fp->node_leaf0[ch]);
+        } else {
+            int li = -1 - ch;
+            if (r->marks.leaf_frame[li] == r->marks.framecount && w->leaves[li].contents != EW_CONTENTS_SOLID)
+                add_seg(fp, SEG_TREE, ch, clipflags, depth + 1, fp->node_leaf0[n] + (ch == nd->children[1]));
+        }
+    }
+}
+
+/* ---- 1: a subtree's walk ---- */
+
+typedef struct task_walker {
+    ew_walker wk;
+    struct ew_front_par *fp;
+    seg *s;
+    int  segno;
+} task_walker;
+
+static void task_leaf(ew_walker *wk, int li) {
+    task_walker *t = (task_walker *)wk;
+    ew_renderer *r = wk->r;
+    const ew_world *w = r->world;
+    const ew_leaf *leaf = &w->leaves[li];
+    const int frame = r->marks.framecount, *face_root = t->fp->face_root;
+    /* The root number of this subtree: that of its first node (a leaf
+     * segment has no node of its own and can only mark top faces). */
+    int root = t->s->n >= 0 ? t->fp->node_root[t->s->n] : -3;
+    t->fp->leaves[t->s->leaf0 + t->s->nleaves++] = li;
+    uint64_t want = (uint64_t)frame << 32 | (uint32_t)~(uint32_t)t->segno;
+    for (int i = 0; i < leaf->nummarks; i++) {
+        int fi = w->marksurfaces[leaf->firstmark + i], o = face_root[fi];
+        if (o == root) {
+            r->marks.face_frame[fi] = frame;
+        } else if (o == -1) {
+            _Atomic uint64_t *m = &t->fp->topmark[fi];
+            uint64_t cur = atomic_load_explicit(m, memory_order_relaxed);
+            while (cur < want && !atomic_compare_exchange_weak_explicit(m, &cur, want, memory_order_relaxed,
+                                                                        memory_order_relaxed)) {
+            }
+        }
+    }
+}
+
+/* Listed faces: those for the hidden-surface method from the front of the
+ * segment's range, those for the see-through pass from its back. */
+static void list_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
+    task_walker *t = (task_walker *)wk;
+    seg *s = t->s;
+    const ew_face *f = &wk->r->world->faces[fi];
+    if (ew_see_to_hsr(wk->r, kind)) {
+        int need = f->numedges + 4;
+        t->fp->lf[s->lf0 + s->nfaces++] = (lface){fi, clipflags, wk->key, s->npe, kind, alpha};
+        if (need <= EW_MAX_POLY - 4) s->npe += need;  /* larger ones are dropped, and prepare writes none */
+    } else {
+        t->fp->lf[s->lfend - 1 - s->nsee++] = (lface){fi, clipflags, wk->key, 0, kind, alpha};
+    }
+}
+
+static void walk_seg(ew_renderer *r, struct ew_front_par *fp, int segno) {
+    seg *s = &fp->segs[segno];
+    task_walker t = {{r, NULL, 0, 0, 0, task_leaf, list_face}, fp, s, segno};
+    ew_walk_node(&t.wk, s->n, s->clipflags, s->depth);
+    s->nkeys = t.wk.key, s->visible_leaves = t.wk.visible_leaves, s->dropped = t.wk.dropped;
+}
+
+/* ---- between 1 and 2 (calling thread): the layout ---- */
+
+/* A top node's faces marked by a segment before it (its own number). */
+static void node_faces(ew_renderer *r, struct ew_front_par *fp, int segno) {
+    seg *s = &fp->segs[segno];
+    const ew_node *nd = &r->world->nodes[s->n];
+    const int frame = r->marks.framecount;
+    for (int i = 0; i < nd->numfaces; i++) {
+        int fi = nd->firstface + i;
+        uint64_t v = atomic_load_explicit(&fp->topmark[fi], memory_order_relaxed);
+        int marked = (int)(v >> 32) == frame && (int)~(uint32_t)v < segno;
+        r->marks.face_frame[fi] = marked ? frame : frame - 1;
+    }
+    task_walker t = {{r, NULL, 0, 0, 0, task_leaf, list_face}, fp, s, segno};
+    ew_walk_faces(&t.wk, s->n, s->clipflags, s->side, s->d);
+    s->nkeys = 1;
+}
+
+static void layout(ew_renderer *r, struct ew_front_par *fp) {
+    int key = 0, nf = 0, npe = 0, c = 0;
+    for (int j = 0; j < fp->nsegs; j++) {
+        seg *s = &fp->segs[j];
+        if (s->kind == SEG_NODE) node_faces(r, fp, j);
+        s->key0 = key, s->face0 = nf, s->pe0 = npe;
+        for (; c * CHUNK < nf + s->nfaces; c++) fp->chunk_seg[c] = j;
+        nf += s->nfaces, npe += s->npe;
+        for (int i = 0; i < s->nsee; i++) {
+            const lface *l = &fp->lf[s->lfend - 1 - i];
+            ew_walk_see_add(r, l->face, key + l->key, l->kind, l->alpha);
+        }
+        key += s->nkeys;
+        r->stats.visible_leaves += s->visible_leaves;
+        r->stats.dropped += s->dropped;
+    }
+    fp->nfaces = nf, fp->nchunks = c;
+}
+
+/* ---- 2: faces clipped, projected and their edges set up (any thread) ---- */
 
 static void set_pedge(pedge *p, const ew_proj *a, const ew_proj *b, int32_t se) {
     p->se = se;
@@ -124,12 +475,16 @@ static void set_pedge(pedge *p, const ew_proj *a, const ew_proj *b, int32_t se) 
     p->e.nearzi = a->zi > b->zi ? a->zi : b->zi;
 }
 
+/* What ew_emit_face computes of a face before it touches the list. */
 static void prepare(const ew_renderer *r, pface *pf, pedge *out) {
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[pf->face];
     int n = f->numedges;
     pf->m = -1;
-    if (n > EW_MAX_POLY - 8) return;
+    if (n > EW_MAX_POLY - 8) {
+        pf->m = M_DROPPED;
+        return;
+    }
     ew_proj pj[EW_MAX_POLY];
     if (pf->clipflags == 0) {
         for (int i = 0; i < n; i++) ew_project(&r->view, w->verts[ew_face_vertex(w, f, i)], &pj[i]);
@@ -154,13 +509,84 @@ static void prepare(const ew_renderer *r, pface *pf, pedge *out) {
     pf->m = m;
 }
 
-static void prepare_chunk(const ew_renderer *r, struct ew_front_par *fp, int c, int end) {
-    int hi = (c + 1) * CHUNK < end ? (c + 1) * CHUNK : end;
-    for (int i = c * CHUNK; i < hi; i++) prepare(r, &fp->faces[i], fp->pedges + fp->faces[i].pe);
-    atomic_store_explicit(&fp->chunk_gen[c], fp->gen, memory_order_release);
+static void prepare_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
+    const int frame = r->marks.framecount;
+    int j = fp->chunk_seg[c], hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
+    for (int p = c * CHUNK; p < hi; p++) {
+        while (p >= fp->segs[j].face0 + fp->segs[j].nfaces) j++;
+        const seg *s = &fp->segs[j];
+        const lface *l = &fp->lf[s->lf0 + (p - s->face0)];
+        pface *pf = &fp->faces[p];
+        pf->face = l->face, pf->clipflags = l->clipflags, pf->key = s->key0 + l->key, pf->pe = s->pe0 + l->pe;
+        fp->face_pos[l->face] = p, fp->face_pos_frame[l->face] = frame;
+        prepare(r, pf, fp->pedges + pf->pe);
+    }
 }
 
-/* ---- merge (calling thread only): ew_emit_face's decisions, in order ---- */
+/* A subtree's leaves get their keys in the frame's order. */
+static void fix_leaf_keys(ew_renderer *r, struct ew_front_par *fp, int segno) {
+    const seg *s = &fp->segs[segno];
+    for (int i = 0; i < s->nleaves; i++) r->marks.leaf_key[fp->leaves[s->leaf0 + i]] += s->key0;
+}
+
+/* ---- 3: the edges shared by two faces settled (any thread) ---- */
+
+/* Face q's prepared edge on world edge e (not one the clip made), or NULL. */
+static const pedge *edge_of(const struct ew_front_par *fp, int q, int e) {
+    const pface *pf = &fp->faces[q];
+    for (int k = 0; k < pf->m; k++) {
+        int32_t se = fp->pedges[pf->pe + k].se;
+        if (se != PE_CLIP && (se == e || se == -e)) return &fp->pedges[pf->pe + k];
+    }
+    return NULL;
+}
+
+/* The edge cache's decisions: the first face (in BSP order) on a world
+ * edge adds it, the second takes its free side and its 1/z, or nothing if
+ * it crosses no scanline. */
+static void resolve_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
+    const int frame = r->marks.framecount;
+    int hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
+    int ns = 0, ne = 0, cached = 0, dropped = 0;
+    for (int p = c * CHUNK; p < hi; p++) {
+        pface *pf = &fp->faces[p];
+        pf->ls = -1, pf->nemit = 0;
+        if (pf->m < 0) {
+            dropped += pf->m == M_DROPPED;
+            continue;
+        }
+        pf->ls = ns++;
+        float nearzi = 0;
+        int nemit = 0;
+        for (int k = 0; k < pf->m; k++) {
+            pedge *pe = &fp->pedges[pf->pe + k];
+            float zi = pe->e.nearzi;
+            pe->partner = -1;
+            pe->emit = pe->crosses;
+            if (pe->se != PE_CLIP) {
+                int e = pe->se >= 0 ? pe->se : -pe->se;
+                const int *ef = fp->edge_faces[e];
+                int g = ef[0] == pf->face ? ef[1] : ef[0];
+                int q = g >= 0 && fp->face_pos_frame[g] == frame ? fp->face_pos[g] : -1;
+                const pedge *gp = q >= 0 ? edge_of(fp, q, e) : NULL;
+                if (gp && q < p) {
+                    pe->emit = 0;
+                    zi = gp->crosses ? gp->e.nearzi : 0;
+                    cached += gp->crosses;
+                } else if (gp && pe->crosses) {
+                    pe->partner = q;
+                }
+            }
+            nemit += pe->emit;
+            if (zi > nearzi) nearzi = zi;
+        }
+        pf->nemit = nemit, pf->nearzi = nearzi;
+        ne += nemit;
+    }
+    fp->chunk_ns[c] = ns, fp->chunk_ne[c] = ne, fp->chunk_cached[c] = cached, fp->chunk_dropped[c] = dropped;
+}
+
+/* ---- between 3 and 4 (calling thread): numbers, or the serial merge ---- */
 
 static int add_prepared(ew_renderer *r, const pedge *p, int s) {
     if (!p->crosses) return -1;
@@ -172,6 +598,7 @@ static int add_prepared(ew_renderer *r, const pedge *p, int s) {
     return ew_edge_link(&r->el, p->down, s);
 }
 
+/* ew_emit_face's decisions one face at a time, with its limits. */
 static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[pf->face];
@@ -195,143 +622,182 @@ static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
     ew_surf_add_world(r, pf->face, pf->key, nearzi);
 }
 
-static void merge_chunk(ew_renderer *r, struct ew_front_par *fp, int c, int end) {
-    int hi = (c + 1) * CHUNK < end ? (c + 1) * CHUNK : end;
-    for (int i = c * CHUNK; i < hi; i++) merge_face(r, &fp->faces[i], fp->pedges + fp->faces[i].pe);
-}
-
-/* Merges every chunk prepared so far, in order, without waiting. */
-static void merge_ready(ew_renderer *r, struct ew_front_par *fp, int end) {
-    int nchunks = (end + CHUNK - 1) / CHUNK;
-    while (fp->merged < nchunks &&
-           atomic_load_explicit(&fp->chunk_gen[fp->merged], memory_order_acquire) == fp->gen)
-        merge_chunk(r, fp, fp->merged++, end);
-}
-
-/* Chunk c, whose preparing thread is late (descheduled on a busy machine):
- * the calling thread prepares each face again in its own buffer and merges
- * it, leaving the other thread's copy alone (it is never read). */
-static void merge_own(ew_renderer *r, struct ew_front_par *fp, int c, int end) {
-    int hi = (c + 1) * CHUNK < end ? (c + 1) * CHUNK : end;
-    for (int i = c * CHUNK; i < hi; i++) {
-        const pface *q = &fp->faces[i];  /* face, clipflags, key: written by this thread */
-        pface pf = {q->face, q->clipflags, q->key, 0, -1};
-        prepare(r, &pf, fp->own);
-        merge_face(r, &pf, fp->own);
+/* Returns 1 if the faces fit the lists (phase 4 writes them), else merges
+ * them here one at a time and returns 0. */
+static int number(ew_renderer *r, struct ew_front_par *fp) {
+    int s = r->el.nsurfs, e = r->el.nedges;
+    long cached = 0, dropped = 0;
+    for (int c = 0; c < fp->nchunks; c++) {
+        fp->chunk_s0[c] = s, fp->chunk_e0[c] = e;
+        s += fp->chunk_ns[c], e += fp->chunk_ne[c];
+        cached += fp->chunk_cached[c], dropped += fp->chunk_dropped[c];
     }
+    /* No face would meet ew_emit_face's limits: the same list. */
+    if (s <= r->el.max_surfs && (long)e + EW_MAX_POLY <= r->el.max_edges) {
+        r->stats.edges_cached += cached;
+        r->stats.dropped += dropped;
+        return 1;
+    }
+    for (int p = 0; p < fp->nfaces; p++) merge_face(r, &fp->faces[p], fp->pedges + fp->faces[p].pe);
+    return 0;
 }
 
-/* The walk is over (or the lists are full): publishes the last faces, then
- * merges every chunk in order, preparing unclaimed ones itself meanwhile;
- * a claimed chunk not ready after WAIT_MS it prepares again itself, so the
- * front end never waits a time slice for a thread the system put aside. */
-#define WAIT_MS 0.02
-static void finish(ew_renderer *r, struct ew_front_par *fp) {
-    int end = fp->nfaces, nchunks = (end + CHUNK - 1) / CHUNK, take = 1, rounds = 0;
-    double since = -1;
-    atomic_store_explicit(&fp->published, end, memory_order_release);
-    atomic_store_explicit(&fp->walk_done, 1, memory_order_release);
-    while (fp->merged < nchunks) {
-        int before = fp->merged;
-        merge_ready(r, fp, end);
-        if (fp->merged >= nchunks) break;
-        if (take) {
-            int k = atomic_fetch_add(&fp->next_chunk, 1);
-            if (k < nchunks) {
-                prepare_chunk(r, fp, k, end);
-                continue;
+/* ---- 4: surfaces and edges written at their numbers (any thread) ---- */
+
+static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
+    int hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
+    int idx = fp->chunk_e0[c];
+    for (int p = c * CHUNK; p < hi; p++) {
+        const pface *pf = &fp->faces[p];
+        if (pf->ls < 0) continue;
+        int s = fp->chunk_s0[c] + pf->ls;
+        for (int k = 0; k < pf->m; k++) {
+            const pedge *pe = &fp->pedges[pf->pe + k];
+            if (!pe->emit) continue;
+            int other = 0;
+            if (pe->partner >= 0) {
+                int q = pe->partner;
+                other = fp->chunk_s0[q / CHUNK] + fp->faces[q].ls;
             }
-            take = 0;
+            ew_edge *ed = &r->el.edges[idx++];
+            *ed = pe->e;
+            ed->surfs[0] = (uint16_t)(pe->down ? s : other);
+            ed->surfs[1] = (uint16_t)(pe->down ? other : s);
         }
-        if (fp->merged != before || since < 0) {
-            since = ew_now_ms(), rounds = 0;
-        } else if ((++rounds & 15) == 0 && ew_now_ms() - since > WAIT_MS) {
-            merge_own(r, fp, fp->merged++, end);
-            since = -1;
-            continue;
-        }
-#if defined(__x86_64__) || defined(__i386__)
-        __builtin_ia32_pause();
-#endif
+        ew_surf *sf = &r->el.surfs[s];
+        sf->key = pf->key;
+        sf->face = pf->face;
+        sf->flags = r->world->faces[pf->face].flags;
+        sf->nearzi = pf->nearzi;
+        sf->view = &r->view;
+        sf->insubmodel = 0;
     }
 }
 
-/* The walk's face sink on the calling thread. */
-static void collect(ew_renderer *r, int fi, int clipflags, int key) {
-    struct ew_front_par *fp = r->fpar;
-    if (fp->direct) {
-        ew_emit_face(r, fi, clipflags, key);
-        return;
-    }
-    int n = fp->nfaces, need = r->world->faces[fi].numedges + 4;
-    if (n >= fp->cap_faces || need > fp->cap_pedges - fp->npe) {
-        finish(r, fp);  /* everything listed so far, in order, then this face directly */
-        fp->direct = 1;
-        ew_emit_face(r, fi, clipflags, key);
-        return;
-    }
-    pface *pf = &fp->faces[n];
-    pf->face = fi, pf->clipflags = clipflags, pf->key = key, pf->pe = fp->npe, pf->m = -1;
-    if (need <= EW_MAX_POLY - 4) fp->npe += need;  /* larger ones are dropped, and prepare writes none */
-    fp->nfaces = ++n;
-    if (n % CHUNK == 0) {
-        atomic_store_explicit(&fp->published, n, memory_order_release);
-        merge_ready(r, fp, n);
+/* The per-scanline lists of new edges, as ew_edge_link makes them one
+ * edge at a time. */
+static void link_edges(ew_edge_list *el, int from, int to) {
+    for (int i = from; i < to; i++) {
+        ew_edge *e = &el->edges[i];
+        e->next_new = el->new_edges[e->v_first];
+        el->new_edges[e->v_first] = i;
     }
 }
 
-static void worker(ew_renderer *r, struct ew_front_par *fp) {
-    for (;;) {
-        int c = atomic_fetch_add(&fp->next_chunk, 1), lo = c * CHUNK, end, rounds = 0;
-        for (;;) {
-            int done = atomic_load_explicit(&fp->walk_done, memory_order_acquire);
-            int pub = atomic_load_explicit(&fp->published, memory_order_acquire);
-            if (pub >= lo + CHUNK) {
-                end = pub;
-                break;
-            }
-            if (done) {
-                if (pub <= lo) return;
-                end = pub;
-                break;
-            }
-            relax(&rounds);
-        }
-        prepare_chunk(r, fp, c, end);
+/* ---- the pool run ---- */
+
+static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i) {
+    switch (k) {
+    case 1: walk_seg(r, fp, fp->tree_segs[i]); break;
+    case 2:
+        if (i < fp->nchunks) prepare_chunk(r, fp, i);
+        else if (fp->segs[i - fp->nchunks].kind == SEG_TREE) fix_leaf_keys(r, fp, i - fp->nchunks);
+        break;
+    case 3: resolve_chunk(r, fp, i); break;
+    case 4: write_chunk(r, fp, i); break;
     }
 }
+
+static void run_items(ew_renderer *r, struct ew_front_par *fp, int k) {
+    phase *ph = &fp->ph[k];
+    for (int i; (i = atomic_fetch_add_explicit(&ph->next, 1, memory_order_relaxed)) < ph->n;) {
+        do_item(r, fp, k, i);
+        atomic_fetch_add_explicit(&ph->done, 1, memory_order_release);
+    }
+}
+
+static void open_phase(struct ew_front_par *fp, int k, int n) {
+    phase *ph = &fp->ph[k];
+    ph->n = n;
+    atomic_store_explicit(&ph->next, 0, memory_order_relaxed);
+    atomic_store_explicit(&ph->done, 0, memory_order_relaxed);
+    atomic_store_explicit(&fp->stage, k, memory_order_release);
+}
+
+static void wait_done(struct ew_front_par *fp, int k) {
+    int rounds = 0;
+    while (atomic_load_explicit(&fp->ph[k].done, memory_order_acquire) < fp->ph[k].n) relax(&rounds);
+}
+
+typedef struct front_run {
+    ew_renderer *r;
+    double       serial_ms;
+} front_run;
 
 static void job_front(void *ctx, int thread) {
-    ew_renderer *r = ctx;
+    front_run *run = ctx;
+    ew_renderer *r = run->r;
     struct ew_front_par *fp = r->fpar;
     if (thread != 0) {
-        if (thread <= HELPERS) worker(r, fp);
+        for (int k = 1; k <= 4; k++) {
+            int rounds = 0;
+            while (atomic_load_explicit(&fp->stage, memory_order_acquire) < k) relax(&rounds);
+            run_items(r, fp, k);
+        }
         int rounds = 0;
         while (!atomic_load_explicit(&fp->front_done, memory_order_acquire)) relax(&rounds);
-    } else {
-        ew_walk_world_to(r, collect);
-        if (!fp->direct) finish(r, fp);
-        fp->tail(fp->tail_arg);
-        atomic_store_explicit(&fp->front_done, 1, memory_order_release);
+        fp->then(r, thread);
+        return;
     }
+    double t = ew_now_ms(), ser = 0;
+    fp->nsegs = fp->ntree = 0;
+    int head = r->world->models[0].headnode;
+    if (fp->head_root) add_seg(fp, SEG_TREE, head, 15, 0, 0);
+    else top_walk(r, fp, head, 15, 0);
+    ser += ew_now_ms() - t;
+    open_phase(fp, 1, fp->ntree);
+    run_items(r, fp, 1);
+    wait_done(fp, 1);
+    t = ew_now_ms();
+    layout(r, fp);
+    ser += ew_now_ms() - t;
+    open_phase(fp, 2, fp->nchunks + fp->nsegs);
+    run_items(r, fp, 2);
+    wait_done(fp, 2);
+    open_phase(fp, 3, fp->nchunks);
+    run_items(r, fp, 3);
+    wait_done(fp, 3);
+    t = ew_now_ms();
+    int e0 = r->el.nedges, fits = number(r, fp);
+    ser += ew_now_ms() - t;
+    open_phase(fp, 4, fits ? fp->nchunks : 0);
+    run_items(r, fp, 4);
+    wait_done(fp, 4);
+    t = ew_now_ms();
+    if (fits) {
+        if (fp->nchunks > 0) {
+            int last = fp->nchunks - 1;
+            r->el.nsurfs = fp->chunk_s0[last] + fp->chunk_ns[last];
+            r->el.nedges = fp->chunk_e0[last] + fp->chunk_ne[last];
+        }
+        link_edges(&r->el, e0, r->el.nedges);
+    }
+    ser += ew_now_ms() - t;
+    run->serial_ms = ser;
+    fp->tail(fp->tail_arg);
+    atomic_store_explicit(&fp->front_done, 1, memory_order_release);
     fp->then(r, thread);
 }
 
-int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread)) {
-    if (r->sched.nthreads < 2 || !r->sched.pool || r->cfg.hsr->face != ew_emit_face) return -1;
-    if (!r->fpar && !(r->fpar = front_par_new(r->world))) return -1;
-    struct ew_front_par *fp = r->fpar;
-    if (++fp->gen == INT_MAX) {
-        int nchunks = fp->cap_faces / CHUNK + 2;
-        for (int i = 0; i < nchunks; i++) atomic_store(&fp->chunk_gen[i], 0);
-        fp->gen = 1;
+int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread),
+                           double *serial_ms) {
+    if (r->sched.front_serial || r->cfg.hsr->face != ew_emit_face || r->fpar_bad) return -1;
+    if (!r->fpar && !(r->fpar = front_par_new(r->world))) {
+        r->fpar_bad = 1;  /* an irregular tree (or no memory): the serial front end from now on */
+        return -1;
     }
-    fp->nfaces = fp->npe = fp->merged = fp->direct = 0;
+    struct ew_front_par *fp = r->fpar;
+    const int frame = r->marks.framecount;
+    if (frame < fp->last_frame) {  /* the frame number wrapped: forget the old marks */
+        memset(fp->face_pos_frame, 0, sizeof(int) * (size_t)(r->world->numfaces + 1));
+        for (int i = 0; i <= r->world->numfaces; i++) atomic_store_explicit(&fp->topmark[i], 0, memory_order_relaxed);
+    }
+    fp->last_frame = frame;
     fp->tail = tail, fp->tail_arg = arg, fp->then = then;
-    atomic_store(&fp->published, 0);
-    atomic_store(&fp->walk_done, 0);
-    atomic_store(&fp->next_chunk, 0);
+    atomic_store(&fp->stage, 0);
     atomic_store(&fp->front_done, 0);
-    ew_pool_run(r->sched.pool, job_front, r);
+    front_run run = {r, 0};
+    ew_pool_run(r->sched.pool, job_front, &run);
+    *serial_ms = run.serial_ms;
     return 0;
 }
