@@ -21,25 +21,25 @@ typedef struct split_ctx {
     const ew_view *view;    /* camera in the model's own space */
     int            face;
     float          normal[3]; /* the face's outward normal in world space */
-    int            handed;    /* fragments handed to the hidden-surface method */
+    int            handed;    /* fragments handed to the sink */
     int            kind;      /* EW_SEE_*: where its fragments go */
     float          alpha;
+    int            dropped;
+    ew_frag_sink   sink;
+    void          *sink_ctx;
 } split_ctx;
 
 static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
     ew_renderer *r = c->r;
     const ew_world *w = r->world;
     if (depth > MAX_SPLIT_DEPTH) {
-        r->stats.dropped++;
+        c->dropped++;
         return;
     }
     if (node < 0) {
         int li = -1 - node;
         if (r->marks.leaf_keyframe[li] == r->marks.framecount && w->leaves[li].contents != EW_CONTENTS_SOLID) {
-            if (ew_see_to_hsr(r, c->kind))
-                r->cfg.hsr->poly(r, p, n, c->face, c->view, r->marks.leaf_key[li]);
-            else
-                ew_see_add(r, p, n, c->face, c->view, r->marks.leaf_key[li], c->kind, c->alpha);
+            c->sink(c->sink_ctx, p, n, c->face, c->view, r->marks.leaf_key[li], c->kind, c->alpha);
             c->handed++;
         }
         return;
@@ -85,20 +85,12 @@ static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
     if (nb >= 3) split(c, b, nb, nd->children[1], depth + 1);
 }
 
-/* A face is drawn if any fragment of it lands in a visited leaf. */
-static int split_face(ew_renderer *r, int fi, const ew_view *mv, const float normal[3], float (*p)[3], int n,
-                      float entity_alpha) {
-    split_ctx c = {r, mv, fi, {normal[0], normal[1], normal[2]}, 0, 0, 1};
-    c.kind = ew_see_kind(r, &r->world->faces[fi], entity_alpha, &c.alpha);
-    split(&c, p, n, r->world->models[0].headnode, 0);
-    return c.handed > 0;
-}
-
-/* Every camera-facing face of every brush entity in the frustum, moved into
- * world space and split down the world BSP. */
-void ew_walk_brush_models(ew_renderer *r) {
+/* Which brush entities are in the frustum, each with its camera (in
+ * r->ents.ent_views) and axes; the others are counted in *culled. */
+int ew_brush_items(ew_renderer *r, ew_brush_item *items, int *culled) {
     const struct ew_scene *sc = r->ents.scene;
-    if (!sc) return;
+    *culled = 0;
+    if (!sc) return 0;
     const ew_world *w = r->world;
     int used = 0;
     for (int ei = 0; ei < sc->nents; ei++) {
@@ -106,41 +98,83 @@ void ew_walk_brush_models(ew_renderer *r) {
         int sub = -1 - e->model;
         if (e->model >= 0 || sub <= 0 || sub >= w->nummodels || used >= r->ents.max_ent_views) continue;
         const ew_model *m = &w->models[sub];
-        float ax[3][3];
-        ew_entity_axes(e->angles, ax);
-
+        ew_brush_item *it = &items[used];
+        ew_entity_axes(e->angles, it->ax);
         float lo[3], hi[3];
-        ew_moved_box(ax, e->origin, m->mins, m->maxs, lo, hi);
+        ew_moved_box(it->ax, e->origin, m->mins, m->maxs, lo, hi);
         if (ew_cull_box(&r->view, lo, hi, 15) < 0) {
-            r->stats.entities_culled++;
+            (*culled)++;
             continue;
         }
-        ew_view *mv = &r->ents.ent_views[used++];
-        ew_view_to_model(&r->view, ax, e->origin, mv);
-        int drawn = 0;
-        for (int i = 0; i < m->numfaces; i++) {
-            int fi = m->firstface + i;
-            const ew_face *f = &w->faces[fi];
-            const ew_plane *pl = &w->planes[f->plane];
-            float dist = mv->origin[0] * pl->normal[0] + mv->origin[1] * pl->normal[1] +
-                         mv->origin[2] * pl->normal[2] - pl->dist;
-            int back = (f->flags & EW_SURF_PLANEBACK) != 0;
-            if ((back && dist >= 0) || (!back && dist <= 0)) continue;  /* faces away */
-            if (f->numedges > EW_MAX_POLY - 16) continue;
-            float sign = back ? -1.0f : 1.0f, normal[3];
+        it->ent = ei;
+        it->mv = &r->ents.ent_views[used++];
+        ew_view_to_model(&r->view, it->ax, e->origin, it->mv);
+    }
+    return used;
+}
+
+/* Every camera-facing face of one brush entity, moved into world space and
+ * split down the world BSP; its fragments in visited leaves go to sink.
+ * 1 if any did (the entity is drawn); *dropped counts what was lost. */
+int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, void *sink_ctx, int *dropped) {
+    const ew_world *w = r->world;
+    const ew_scene_entity *e = &r->ents.scene->ents[it->ent];
+    const ew_model *m = &w->models[-1 - e->model];
+    const ew_view *mv = it->mv;
+    int drawn = 0;
+    *dropped = 0;
+    for (int i = 0; i < m->numfaces; i++) {
+        int fi = m->firstface + i;
+        const ew_face *f = &w->faces[fi];
+        const ew_plane *pl = &w->planes[f->plane];
+        float dist = mv->origin[0] * pl->normal[0] + mv->origin[1] * pl->normal[1] + mv->origin[2] * pl->normal[2] -
+                     pl->dist;
+        int back = (f->flags & EW_SURF_PLANEBACK) != 0;
+        if ((back && dist >= 0) || (!back && dist <= 0)) continue;  /* faces away */
+        if (f->numedges > EW_MAX_POLY - 16) continue;
+        float sign = back ? -1.0f : 1.0f;
+        split_ctx c = {r, mv, fi, {0, 0, 0}, 0, 0, 1, 0, sink, sink_ctx};
+        for (int k = 0; k < 3; k++)
+            c.normal[k] = sign * (it->ax[k][0] * pl->normal[0] + it->ax[k][1] * pl->normal[1] +
+                                  it->ax[k][2] * pl->normal[2]);
+        float p[EW_MAX_POLY][3];
+        for (int v = 0; v < f->numedges; v++) {
+            const float *q = w->verts[ew_face_vertex(w, f, v)];
             for (int k = 0; k < 3; k++)
-                normal[k] = sign * (ax[k][0] * pl->normal[0] + ax[k][1] * pl->normal[1] + ax[k][2] * pl->normal[2]);
-            float p[EW_MAX_POLY][3];
-            for (int v = 0; v < f->numedges; v++) {
-                const float *q = w->verts[ew_face_vertex(w, f, v)];
-                for (int k = 0; k < 3; k++)
-                    p[v][k] = e->origin[k] + ax[k][0] * q[0] + ax[k][1] * q[1] + ax[k][2] * q[2];
-            }
-            drawn += split_face(r, fi, mv, normal, p, f->numedges, e->alpha);
+                p[v][k] = e->origin[k] + it->ax[k][0] * q[0] + it->ax[k][1] * q[1] + it->ax[k][2] * q[2];
         }
+        /* A face is drawn if any fragment of it lands in a visited leaf. */
+        c.kind = ew_see_kind(r, f, e->alpha, &c.alpha);
+        split(&c, p, f->numedges, w->models[0].headnode, 0);
+        drawn |= c.handed > 0;
+        *dropped += c.dropped;
+    }
+    return drawn;
+}
+
+/* The serial sink: the method's polygons, or the see-through pass. */
+static void frag_direct(void *ctx, float (*p)[3], int n, int face, const ew_view *v, int key, int kind, float alpha) {
+    ew_renderer *r = ctx;
+    if (ew_see_to_hsr(r, kind))
+        r->cfg.hsr->poly(r, p, n, face, v, key);
+    else
+        ew_see_add(r, p, n, face, v, key, kind, alpha);
+}
+
+void ew_walk_brush_models(ew_renderer *r) {
+    if (!r->ents.scene) return;
+    ew_brush_item *items = malloc(sizeof *items * (size_t)(r->ents.max_ent_views + 1));
+    if (!items) {
+        r->stats.dropped++;
+        return;
+    }
+    int culled, n = ew_brush_items(r, items, &culled);
+    r->stats.entities_culled += culled;
+    for (int i = 0; i < n; i++) {
+        int dropped, drawn = ew_brush_split(r, &items[i], frag_direct, r, &dropped);
+        r->stats.dropped += dropped;
         if (drawn) r->stats.entities_drawn++;
         else r->stats.entities_culled++;
     }
+    free(items);
 }
-
-

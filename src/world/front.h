@@ -78,6 +78,18 @@ int  ew_box_in_pvs(const ew_renderer *r, const float lo[3], const float hi[3]);
 /* world/bmodel.c: brush model entities, split into the world's leaves and
  * handed to the hidden-surface method with their leaf's BSP key. */
 void ew_walk_brush_models(ew_renderer *r);
+/* Its pieces, for the parallel front end: the brush entities in the
+ * frustum (camera in its own space, axes), and one entity's fragments
+ * handed to a sink. */
+typedef struct ew_brush_item {
+    int      ent;
+    ew_view *mv;
+    float    ax[3][3];
+} ew_brush_item;
+typedef void (*ew_frag_sink)(void *ctx, float (*p)[3], int n, int face, const ew_view *v, int key, int kind,
+                             float alpha);
+int  ew_brush_items(ew_renderer *r, ew_brush_item *items, int *culled);
+int  ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, void *sink_ctx, int *dropped);
 
 /* world/divert.c: faces that are not opaque (fence textures, translucent
  * liquids and brush entities) go to the see-through pass instead of the
