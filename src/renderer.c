@@ -469,16 +469,13 @@ static void job_scan(void *ctx, int thread) {
     }
 }
 
-/* The serial end of the front end: brush models into the edge list (after
- * every world face), its time, and the bands placed for the scan. */
+/* The serial end of the front end: the bands placed for the scan. */
 typedef struct front_tail_arg {
     ew_renderer *r;
-    double       t_tail, t1, t_end;  /* walk done, front end done (brush models), bands placed */
+    double       t1, t_end;  /* front end done, bands placed */
 } front_tail_arg;
 static void front_tail(void *arg) {
     front_tail_arg *a = arg;
-    a->t_tail = ew_now_ms();
-    ew_walk_brush_models(a->r);
     a->t1 = ew_now_ms();
     place_bands(a->r);
     atomic_store(&a->r->sched.next_band, 0);
@@ -616,19 +613,21 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
      * in the same pool run (world/front_par.c); the serial steps in that run
      * (its layout and numbering, the brush models, band placement) are
      * counted in ms_serial by their own clocks. */
-    front_tail_arg ft = {r, 0, 0, 0};
-    double tw = ew_now_ms(), serial_in_run = 0, walk_serial = 0;
-    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, &walk_serial) < 0) {
+    front_tail_arg ft = {r, 0, 0};
+    double tw = ew_now_ms(), serial_in_run = 0, front_serial[2] = {0, 0};
+    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, front_serial) < 0) {
         ew_walk_world(r);
+        double tb = ew_now_ms();
+        ew_walk_brush_models(r);
         front_tail(&ft);
         serial_lap(r, &sc);
         ew_pool_run(r->sched.pool, job_scan, r);
-        ser[1] = ft.t_tail - tw;
+        ser[1] = tb - tw, ser[2] = ft.t1 - tb;
     } else {
-        serial_in_run = walk_serial + (ft.t_end - ft.t_tail);
-        ser[1] = walk_serial;
+        serial_in_run = front_serial[0] + front_serial[1] + (ft.t_end - ft.t1);
+        ser[1] = front_serial[0], ser[2] = front_serial[1];
     }
-    ser[2] = ft.t1 - ft.t_tail, ser[3] = ft.t_end - ft.t1;
+    ser[3] = ft.t_end - ft.t1;
     double t1 = ft.t1;
     double t2 = ew_now_ms();
     serial_lap(r, &sc);

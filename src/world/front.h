@@ -57,19 +57,22 @@ void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d);
 /* Face fi to the see-through pass with BSP key `key`. */
 void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha);
 
-/* world/front_par.c: the walk and ew_emit_face of its faces on every
- * thread of the pool, making exactly the edge list ew_walk_world makes
- * with ew_emit_face: subtrees of the BSP walked in parallel, their faces
- * clipped, projected and set up in parallel, the edges shared between
- * faces settled and numbered by prefix sums; then, on the calling thread,
- * tail(arg), and then then(r, thread) on every thread of the pool (one
- * pool run for all).  -1 (nothing done) if the method's faces do not go
- * to ew_emit_face, r->sched.front_serial is set, the tree is irregular
- * (an edge on more than two faces, a face on two nodes...) or memory runs
- * out: then ew_walk_world and the rest as before.  *serial_ms: the time
- * the calling thread spent in the run's serial steps (not the tail). */
+/* world/front_par.c: the walk with ew_emit_face of its faces, then the
+ * brush models with ew_emit_poly of their fragments, on every thread of
+ * the pool, making exactly the edge list ew_walk_world and
+ * ew_walk_brush_models make: subtrees of the BSP walked in parallel, faces
+ * and brush entities clipped, projected and set up in parallel, the edges
+ * shared between faces settled and everything numbered by prefix sums;
+ * then, on the calling thread, tail(arg), and then then(r, thread) on
+ * every thread of the pool (one pool run for all).  -1 (nothing done) if
+ * the method does not use ew_emit_face and ew_emit_poly,
+ * r->sched.front_serial is set, the tree is irregular (an edge on more
+ * than two faces, a face on two nodes...) or memory runs out: then the
+ * serial walk and brush models as before.  serial_ms: the time the
+ * calling thread spent in the run's serial steps (not the tail): [0] the
+ * walk's, [1] the brush entities' culling. */
 int  ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread),
-                            double *serial_ms);
+                            double serial_ms[2]);
 struct ew_front_par;
 void ew_front_par_free(struct ew_front_par *fp);
 /* 1 if a world-space box touches a leaf in this frame's PVS. */

@@ -76,6 +76,31 @@ typedef struct pedge {
  * segment; pe its first edge slot from the segment's first. */
 typedef struct lface { int face, clipflags, key, pe, kind; float alpha; } lface;
 
+/* A brush entity's fragment: for the method (its edges prepared as
+ * ew_emit_poly makes them) or for the see-through pass (its vertices). */
+typedef struct pfrag {
+    int   face, key, kind;
+    float alpha;
+    const ew_view *view;
+    int   m;        /* edges; -1 clipped away; M_DROPPED; see-through: its vertex count */
+    int   pe;       /* its first edge (or vertex) in its arena */
+    int   nemit;
+    float nearzi, zi_u, zi_v, zi_0;
+} pfrag;
+
+/* What one thread's brush entities made this frame. */
+typedef struct arena {
+    pfrag *frags;  int nfrags, cap_frags;
+    pedge *edges;  int nedges, cap_edges;
+    float (*verts)[3]; int nverts, cap_verts;
+    int    failed;  /* out of memory: the brush entities go serially */
+} arena;
+
+/* One brush entity's result: where its fragments are, and its numbers. */
+typedef struct bres {
+    int arena, f0, nf, drawn, dropped, ns, ne, s0, e0;
+} bres;
+
 enum { SEG_TREE, SEG_NODE };
 typedef struct seg {
     int   kind, n, clipflags, depth;  /* SEG_TREE: node (or leaf, < 0) n's subtree; SEG_NODE: node n's faces */
@@ -119,7 +144,9 @@ struct ew_front_par {
     int  *face_pos, *face_pos_frame;    /* per face: its position this frame */
     _Atomic uint64_t *topmark;          /* per face of a top node: frame << 32 | ~earliest segment that marked it */
     int   last_frame;
-    int   overflow;
+    /* Brush entities (phase 3 splits them, phase 4 writes them). */
+    ew_brush_item *bitems; bres *bres; int nbitems, cap_bitems, bculled;
+    arena arenas[EW_MAX_THREADS];
     void (*tail)(void *arg);
     void  *tail_arg;
     void (*then)(void *ctx, int thread);
@@ -144,6 +171,8 @@ void ew_front_par_free(struct ew_front_par *fp) {
     free(fp->segs), free(fp->tree_segs), free(fp->lf), free(fp->leaves), free(fp->faces), free(fp->pedges);
     free(fp->chunk_seg), free(fp->chunk_ns), free(fp->chunk_ne), free(fp->chunk_cached), free(fp->chunk_dropped);
     free(fp->chunk_s0), free(fp->chunk_e0), free(fp->face_pos), free(fp->face_pos_frame), free((void *)fp->topmark);
+    free(fp->bitems), free(fp->bres);
+    for (int i = 0; i < EW_MAX_THREADS; i++) free(fp->arenas[i].frags), free(fp->arenas[i].edges), free(fp->arenas[i].verts);
     free(fp);
 }
 
@@ -586,6 +615,94 @@ static void resolve_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
     fp->chunk_ns[c] = ns, fp->chunk_ne[c] = ne, fp->chunk_cached[c] = cached, fp->chunk_dropped[c] = dropped;
 }
 
+/* ---- 3, also: brush entities split into fragments (any thread) ---- */
+
+static int grow(void **p, int *cap, int need, size_t size) {
+    if (need <= *cap) return 1;
+    int c = *cap ? *cap : 64;
+    while (c < need) c *= 2;
+    void *q = realloc(*p, size * (size_t)c);
+    if (!q) return 0;
+    *p = q, *cap = c;
+    return 1;
+}
+
+typedef struct frag_ctx {
+    ew_renderer *r;
+    arena       *a;
+} frag_ctx;
+
+/* ew_emit_poly's work on a fragment, or its vertices kept for the
+ * see-through pass. */
+static void frag_sink(void *ctx, float (*p)[3], int n, int face, const ew_view *v, int key, int kind, float alpha) {
+    frag_ctx *fc = ctx;
+    ew_renderer *r = fc->r;
+    arena *a = fc->a;
+    if (a->failed || !grow((void **)&a->frags, &a->cap_frags, a->nfrags + 1, sizeof(pfrag))) {
+        a->failed = 1;
+        return;
+    }
+    pfrag *fr = &a->frags[a->nfrags++];
+    *fr = (pfrag){face, key, kind, alpha, v, -1, 0, 0, 0, 0, 0, 0};
+    if (!ew_see_to_hsr(r, kind)) {
+        if (!grow((void **)&a->verts, &a->cap_verts, a->nverts + n, sizeof *a->verts)) {
+            a->failed = 1;
+            return;
+        }
+        memcpy(a->verts + a->nverts, p, sizeof *a->verts * (size_t)n);
+        fr->pe = a->nverts, fr->m = n;
+        a->nverts += n;
+        return;
+    }
+    if (n > EW_MAX_POLY - 8) {
+        fr->m = M_DROPPED;
+        return;
+    }
+    float out[EW_MAX_POLY][3];
+    int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
+    for (int i = 0; i < n; i++) tin[i] = -1;
+    int m = ew_clip_poly(&r->view, 15, p, n, out, tin, tout);
+    if (m < 3) return;
+    if (!grow((void **)&a->edges, &a->cap_edges, a->nedges + m, sizeof(pedge))) {
+        a->failed = 1;
+        return;
+    }
+    ew_proj pj[EW_MAX_POLY];
+    float nearzi = 0;
+    for (int i = 0; i < m; i++) {
+        ew_project(&r->view, out[i], &pj[i]);
+        if (pj[i].zi > nearzi) nearzi = pj[i].zi;
+    }
+    int nemit = 0;
+    for (int i = 0; i < m; i++) {
+        pedge *pe = &a->edges[a->nedges + i];
+        set_pedge(pe, &pj[i], &pj[i + 1 == m ? 0 : i + 1], PE_CLIP);
+        pe->emit = pe->crosses, pe->partner = -1;
+        nemit += pe->crosses;
+    }
+    ew_gradients g;
+    ew_face_gradients(r->world, v, &r->world->faces[face], 0, &g);
+    fr->m = m, fr->pe = a->nedges, fr->nemit = nemit, fr->nearzi = nearzi;
+    fr->zi_u = g.zi_u, fr->zi_v = g.zi_v, fr->zi_0 = g.zi_0;
+    a->nedges += m;
+}
+
+static void split_brush(ew_renderer *r, struct ew_front_par *fp, int i, int thread) {
+    bres *b = &fp->bres[i];
+    arena *a = &fp->arenas[thread];
+    frag_ctx fc = {r, a};
+    b->arena = thread, b->f0 = a->nfrags;
+    b->drawn = ew_brush_split(r, &fp->bitems[i], frag_sink, &fc, &b->dropped);
+    b->nf = a->nfrags - b->f0;
+    b->ns = b->ne = 0;
+    for (int k = b->f0; k < a->nfrags; k++) {
+        const pfrag *fr = &a->frags[k];
+        if (!ew_see_to_hsr(r, fr->kind)) continue;
+        b->dropped += fr->m == M_DROPPED;
+        if (fr->m >= 0) b->ns++, b->ne += fr->nemit;
+    }
+}
+
 /* ---- between 3 and 4 (calling thread): numbers, or the serial merge ---- */
 
 static int add_prepared(ew_renderer *r, const pedge *p, int s) {
@@ -622,23 +739,45 @@ static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
     ew_surf_add_world(r, pf->face, pf->key, nearzi);
 }
 
-/* Returns 1 if the faces fit the lists (phase 4 writes them), else merges
- * them here one at a time and returns 0. */
+/* Returns 1 if the faces and fragments fit the lists (phase 4 writes
+ * them), else merges them here one at a time, as the serial front end
+ * does, and returns 0. */
 static int number(ew_renderer *r, struct ew_front_par *fp) {
-    int s = r->el.nsurfs, e = r->el.nedges;
+    int s = r->el.nsurfs, e = r->el.nedges, failed = 0;
     long cached = 0, dropped = 0;
     for (int c = 0; c < fp->nchunks; c++) {
         fp->chunk_s0[c] = s, fp->chunk_e0[c] = e;
         s += fp->chunk_ns[c], e += fp->chunk_ne[c];
         cached += fp->chunk_cached[c], dropped += fp->chunk_dropped[c];
     }
-    /* No face would meet ew_emit_face's limits: the same list. */
-    if (s <= r->el.max_surfs && (long)e + EW_MAX_POLY <= r->el.max_edges) {
+    for (int i = 0; i < fp->nbitems; i++) {
+        bres *b = &fp->bres[i];
+        b->s0 = s, b->e0 = e;
+        s += b->ns, e += b->ne;
+    }
+    for (int t = 0; t < EW_MAX_THREADS; t++) failed |= fp->arenas[t].failed;
+    /* No face would meet ew_emit_face's limits, nor a fragment
+     * ew_emit_poly's: the same list. */
+    if (!failed && s <= r->el.max_surfs && (long)e + EW_MAX_POLY <= r->el.max_edges) {
         r->stats.edges_cached += cached;
         r->stats.dropped += dropped;
+        r->stats.entities_culled += fp->bculled;
+        for (int i = 0; i < fp->nbitems; i++) {
+            const bres *b = &fp->bres[i];
+            const arena *a = &fp->arenas[b->arena];
+            r->stats.dropped += b->dropped;
+            if (b->drawn) r->stats.entities_drawn++;
+            else r->stats.entities_culled++;
+            for (int k = b->f0; k < b->f0 + b->nf; k++) {
+                const pfrag *fr = &a->frags[k];
+                if (!ew_see_to_hsr(r, fr->kind))
+                    ew_see_add(r, a->verts + fr->pe, fr->m, fr->face, fr->view, fr->key, fr->kind, fr->alpha);
+            }
+        }
         return 1;
     }
     for (int p = 0; p < fp->nfaces; p++) merge_face(r, &fp->faces[p], fp->pedges + fp->faces[p].pe);
+    ew_walk_brush_models(r);
     return 0;
 }
 
@@ -674,6 +813,32 @@ static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
     }
 }
 
+static void write_brush(ew_renderer *r, struct ew_front_par *fp, int i) {
+    const bres *b = &fp->bres[i];
+    const arena *a = &fp->arenas[b->arena];
+    int s = b->s0, idx = b->e0;
+    for (int k = b->f0; k < b->f0 + b->nf; k++) {
+        const pfrag *fr = &a->frags[k];
+        if (!ew_see_to_hsr(r, fr->kind) || fr->m < 0) continue;
+        for (int j = 0; j < fr->m; j++) {
+            const pedge *pe = &a->edges[fr->pe + j];
+            if (!pe->emit) continue;
+            ew_edge *ed = &r->el.edges[idx++];
+            *ed = pe->e;
+            ed->surfs[0] = (uint16_t)(pe->down ? s : 0);
+            ed->surfs[1] = (uint16_t)(pe->down ? 0 : s);
+        }
+        ew_surf *sf = &r->el.surfs[s++];
+        sf->key = fr->key;
+        sf->face = fr->face;
+        sf->flags = r->world->faces[fr->face].flags;
+        sf->nearzi = fr->nearzi;
+        sf->view = fr->view;
+        sf->insubmodel = 1;
+        sf->zi_u = fr->zi_u, sf->zi_v = fr->zi_v, sf->zi_0 = fr->zi_0;
+    }
+}
+
 /* The per-scanline lists of new edges, as ew_edge_link makes them one
  * edge at a time. */
 static void link_edges(ew_edge_list *el, int from, int to) {
@@ -686,22 +851,28 @@ static void link_edges(ew_edge_list *el, int from, int to) {
 
 /* ---- the pool run ---- */
 
-static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i) {
+static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int thread) {
     switch (k) {
     case 1: walk_seg(r, fp, fp->tree_segs[i]); break;
     case 2:
         if (i < fp->nchunks) prepare_chunk(r, fp, i);
         else if (fp->segs[i - fp->nchunks].kind == SEG_TREE) fix_leaf_keys(r, fp, i - fp->nchunks);
         break;
-    case 3: resolve_chunk(r, fp, i); break;
-    case 4: write_chunk(r, fp, i); break;
+    case 3:
+        if (i < fp->nchunks) resolve_chunk(r, fp, i);
+        else split_brush(r, fp, i - fp->nchunks, thread);
+        break;
+    case 4:
+        if (i < fp->nchunks) write_chunk(r, fp, i);
+        else write_brush(r, fp, i - fp->nchunks);
+        break;
     }
 }
 
-static void run_items(ew_renderer *r, struct ew_front_par *fp, int k) {
+static void run_items(ew_renderer *r, struct ew_front_par *fp, int k, int thread) {
     phase *ph = &fp->ph[k];
     for (int i; (i = atomic_fetch_add_explicit(&ph->next, 1, memory_order_relaxed)) < ph->n;) {
-        do_item(r, fp, k, i);
+        do_item(r, fp, k, i, thread);
         atomic_fetch_add_explicit(&ph->done, 1, memory_order_release);
     }
 }
@@ -721,7 +892,7 @@ static void wait_done(struct ew_front_par *fp, int k) {
 
 typedef struct front_run {
     ew_renderer *r;
-    double       serial_ms;
+    double       serial_ms[2];
 } front_run;
 
 static void job_front(void *ctx, int thread) {
@@ -732,7 +903,7 @@ static void job_front(void *ctx, int thread) {
         for (int k = 1; k <= 4; k++) {
             int rounds = 0;
             while (atomic_load_explicit(&fp->stage, memory_order_acquire) < k) relax(&rounds);
-            run_items(r, fp, k);
+            run_items(r, fp, k, thread);
         }
         int rounds = 0;
         while (!atomic_load_explicit(&fp->front_done, memory_order_acquire)) relax(&rounds);
@@ -740,32 +911,41 @@ static void job_front(void *ctx, int thread) {
         return;
     }
     double t = ew_now_ms(), ser = 0;
+    fp->nbitems = fp->bculled = 0;
+    if (r->ents.scene) fp->nbitems = ew_brush_items(r, fp->bitems, &fp->bculled);
+    for (int i = 0; i < r->sched.nthreads && i < EW_MAX_THREADS; i++)
+        fp->arenas[i].nfrags = fp->arenas[i].nedges = fp->arenas[i].nverts = fp->arenas[i].failed = 0;
+    run->serial_ms[1] = ew_now_ms() - t;
+    t = ew_now_ms();
     fp->nsegs = fp->ntree = 0;
     int head = r->world->models[0].headnode;
     if (fp->head_root) add_seg(fp, SEG_TREE, head, 15, 0, 0);
     else top_walk(r, fp, head, 15, 0);
     ser += ew_now_ms() - t;
     open_phase(fp, 1, fp->ntree);
-    run_items(r, fp, 1);
+    run_items(r, fp, 1, 0);
     wait_done(fp, 1);
     t = ew_now_ms();
     layout(r, fp);
     ser += ew_now_ms() - t;
     open_phase(fp, 2, fp->nchunks + fp->nsegs);
-    run_items(r, fp, 2);
+    run_items(r, fp, 2, 0);
     wait_done(fp, 2);
-    open_phase(fp, 3, fp->nchunks);
-    run_items(r, fp, 3);
+    open_phase(fp, 3, fp->nchunks + fp->nbitems);
+    run_items(r, fp, 3, 0);
     wait_done(fp, 3);
     t = ew_now_ms();
     int e0 = r->el.nedges, fits = number(r, fp);
     ser += ew_now_ms() - t;
-    open_phase(fp, 4, fits ? fp->nchunks : 0);
-    run_items(r, fp, 4);
+    open_phase(fp, 4, fits ? fp->nchunks + fp->nbitems : 0);
+    run_items(r, fp, 4, 0);
     wait_done(fp, 4);
     t = ew_now_ms();
     if (fits) {
-        if (fp->nchunks > 0) {
+        if (fp->nbitems > 0) {
+            const bres *b = &fp->bres[fp->nbitems - 1];
+            r->el.nsurfs = b->s0 + b->ns, r->el.nedges = b->e0 + b->ne;
+        } else if (fp->nchunks > 0) {
             int last = fp->nchunks - 1;
             r->el.nsurfs = fp->chunk_s0[last] + fp->chunk_ns[last];
             r->el.nedges = fp->chunk_e0[last] + fp->chunk_ne[last];
@@ -773,20 +953,30 @@ static void job_front(void *ctx, int thread) {
         link_edges(&r->el, e0, r->el.nedges);
     }
     ser += ew_now_ms() - t;
-    run->serial_ms = ser;
+    run->serial_ms[0] = ser;
     fp->tail(fp->tail_arg);
     atomic_store_explicit(&fp->front_done, 1, memory_order_release);
     fp->then(r, thread);
 }
 
 int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread),
-                           double *serial_ms) {
-    if (r->sched.front_serial || r->cfg.hsr->face != ew_emit_face || r->fpar_bad) return -1;
+                           double serial_ms[2]) {
+    if (r->sched.front_serial || r->cfg.hsr->face != ew_emit_face || r->cfg.hsr->poly != ew_emit_poly || r->fpar_bad)
+        return -1;
     if (!r->fpar && !(r->fpar = front_par_new(r->world))) {
         r->fpar_bad = 1;  /* an irregular tree (or no memory): the serial front end from now on */
         return -1;
     }
     struct ew_front_par *fp = r->fpar;
+    if (fp->cap_bitems < r->ents.max_ent_views + 1) {
+        int cap = r->ents.max_ent_views + 1;
+        ew_brush_item *bi = realloc(fp->bitems, sizeof *bi * (size_t)cap);
+        if (bi) fp->bitems = bi;
+        bres *br = realloc(fp->bres, sizeof *br * (size_t)cap);
+        if (br) fp->bres = br;
+        if (!bi || !br) return -1;
+        fp->cap_bitems = cap;
+    }
     const int frame = r->marks.framecount;
     if (frame < fp->last_frame) {  /* the frame number wrapped: forget the old marks */
         memset(fp->face_pos_frame, 0, sizeof(int) * (size_t)(r->world->numfaces + 1));
@@ -796,8 +986,8 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     fp->tail = tail, fp->tail_arg = arg, fp->then = then;
     atomic_store(&fp->stage, 0);
     atomic_store(&fp->front_done, 0);
-    front_run run = {r, 0};
+    front_run run = {r, {0, 0}};
     ew_pool_run(r->sched.pool, job_front, &run);
-    *serial_ms = run.serial_ms;
+    serial_ms[0] = run.serial_ms[0], serial_ms[1] = run.serial_ms[1];
     return 0;
 }
