@@ -86,6 +86,7 @@ typedef struct ew_ents {
     const struct ew_scene *scene;               /* or NULL */
     ew_view      *ent_views;  int max_ent_views; /* camera in each brush entity's space */
     ew_ent_frame *ent_frame;  int nent_frame, max_ent_frame;
+    int           tested_frame;                 /* frame whose entities were tested in the front end */
     ew_box_surfs **box_surfs; int nbox_surfs;   /* per scene model: item box surfaces, or NULL */
     /* alias models posed once a frame for every band (raster/alias.h) */
     struct ew_alias_xf *xf;   int max_xf;       /* per entity */

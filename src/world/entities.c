@@ -15,17 +15,51 @@ static float model_reach(const ew_scene_model *m) {
                                       : ((const ew_spr *)m->data)->radius;
 }
 
+int ew_reserve_entities(ew_renderer *r) {
+    const struct ew_scene *sc = r->ents.scene;
+    if (!sc) return 0;
+    if (sc->nents > r->ents.max_ent_frame) {
+        ew_ent_frame *f = realloc(r->ents.ent_frame, sizeof *f * (size_t)sc->nents);
+        if (!f) return -1;
+        r->ents.ent_frame = f, r->ents.max_ent_frame = sc->nents;
+    }
+    return 0;
+}
+
+void ew_test_entities(ew_renderer *r, int from, int to) {
+    const struct ew_scene *sc = r->ents.scene;
+    for (int i = from; i < to; i++) {
+        const ew_scene_entity *e = &sc->ents[i];
+        ew_ent_frame *ef = &r->ents.ent_frame[i];
+        ef->visible = ef->culled = 0;
+        if (e->model < 0) continue;  /* brush entities are in the edge list */
+        const ew_scene_model *m = &sc->models[e->model];
+        /* Potentially visible at all?  A box around the model against the
+         * PVS and the frustum. */
+        float reach = model_reach(m), lo[3], hi[3];
+        for (int k = 0; k < 3; k++) lo[k] = e->origin[k] - reach, hi[k] = e->origin[k] + reach;
+        if (ew_cull_box(&r->view, lo, hi, 15) < 0 || !ew_box_in_pvs(r, lo, hi)) {  /* the cheap test first */
+            ef->culled = 1;
+            continue;
+        }
+        ef->visible = 1;
+        if (m->kind == EW_MODEL_ALIAS) {
+            ew_model_light(r, e->origin, &ef->ambient, &ef->shade);
+            ef->tinted = ew_model_tint(r, e->origin, ef->tint);
+        }
+    }
+}
+
 int ew_prepare_entities(ew_renderer *r) {
     const struct ew_scene *sc = r->ents.scene;
     r->ents.nent_frame = 0;
     if (!sc) return 0;
-    if (sc->nents > r->ents.max_ent_frame) {
-        ew_ent_frame *f = realloc(r->ents.ent_frame, sizeof *f * (size_t)sc->nents);
-        if (!f) {
+    if (r->ents.tested_frame != r->marks.framecount) {
+        if (ew_reserve_entities(r) < 0) {
             r->stats.dropped++;
             return 0;
         }
-        r->ents.ent_frame = f, r->ents.max_ent_frame = sc->nents;
+        ew_test_entities(r, 0, sc->nents);
     }
     ew_ents *en = &r->ents;
     en->nalias = 0;
@@ -52,24 +86,13 @@ int ew_prepare_entities(ew_renderer *r) {
     size_t nxverts = 0;
     for (int i = 0; i < sc->nents; i++) {
         const ew_scene_entity *e = &sc->ents[i];
-        ew_ent_frame *ef = &r->ents.ent_frame[i];
-        ef->visible = 0;
+        const ew_ent_frame *ef = &r->ents.ent_frame[i];
         en->xf[i].visible = 0;
-        if (e->model < 0) continue;  /* brush entities are in the edge list */
+        r->stats.entities_culled += ef->culled;
+        if (!ef->visible) continue;
         const ew_scene_model *m = &sc->models[e->model];
-        /* Potentially visible at all?  A box around the model against the
-         * PVS and the frustum. */
-        float reach = model_reach(m), lo[3], hi[3];
-        for (int k = 0; k < 3; k++) lo[k] = e->origin[k] - reach, hi[k] = e->origin[k] + reach;
-        if (ew_cull_box(&r->view, lo, hi, 15) < 0 || !ew_box_in_pvs(r, lo, hi)) {  /* the cheap test first */
-            r->stats.entities_culled++;
-            continue;
-        }
-        ef->visible = 1;
         if (m->kind == EW_MODEL_ALIAS) {
-            ew_model_light(r, e->origin, &ef->ambient, &ef->shade);
-            ef->tinted = ew_model_tint(r, e->origin, ef->tint);
-            ef->xvert0 = nxverts;
+            r->ents.ent_frame[i].xvert0 = nxverts;
             nxverts += (size_t)((const ew_mdl *)m->data)->numverts;
             en->alias_list[en->nalias++] = i;
         }

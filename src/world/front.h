@@ -112,11 +112,17 @@ void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view 
  * models are left to pose (ew_pose_alias).  Out of memory: no entities
  * (counted in dropped). */
 typedef struct ew_ent_frame {
-    int    visible;
+    int    visible, culled;  /* culled: a model entity the frustum or the PVS hides */
     int    ambient, shade;
     size_t xvert0;      /* alias models: where their posed vertices start in ents.xverts */
     int    tinted, tint[3];  /* alias models under coloured light: its colour (ew_model_tint) */
 } ew_ent_frame;
 int  ew_prepare_entities(ew_renderer *r);
+/* Its per-entity part, which any thread may run on its own entities once
+ * ent_frame is sized (ew_reserve_entities, -1 out of memory): entity i's
+ * frustum and PVS test and its light, for i in [from, to).  Run for the
+ * frame (r->ents.tested_frame set to it), ew_prepare_entities keeps it. */
+int  ew_reserve_entities(ew_renderer *r);
+void ew_test_entities(ew_renderer *r, int from, int to);
 
 #endif

@@ -42,6 +42,7 @@
 #include "renderer.h"
 #include "ew_util.h"
 #include "world/edge_math.h"
+#include "scene/scene.h"
 
 #include <limits.h>
 #include <sched.h>
@@ -53,6 +54,7 @@
 #define CHUNK 32           /* faces a thread takes at a time in phases 2-4 */
 #define PE_CLIP INT32_MIN  /* a prepared edge the clip made (no world edge) */
 #define M_DROPPED (-2)     /* a face with too many edges (counted as dropped) */
+#define ENT_CHUNK 32       /* entities a thread tests at a time */
 
 typedef struct pface {
     int   face, clipflags, key;
@@ -146,6 +148,7 @@ struct ew_front_par {
     int   last_frame;
     /* Brush entities (phase 3 splits them, phase 4 writes them). */
     ew_brush_item *bitems; bres *bres; int nbitems, cap_bitems, bculled;
+    int   nent_items;                   /* phase 2 also tests the entities, ENT_CHUNK at a time */
     arena arenas[EW_MAX_THREADS];
     void (*tail)(void *arg);
     void  *tail_arg;
@@ -855,8 +858,14 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
     switch (k) {
     case 1: walk_seg(r, fp, fp->tree_segs[i]); break;
     case 2:
-        if (i < fp->nchunks) prepare_chunk(r, fp, i);
-        else if (fp->segs[i - fp->nchunks].kind == SEG_TREE) fix_leaf_keys(r, fp, i - fp->nchunks);
+        if (i < fp->nchunks) {
+            prepare_chunk(r, fp, i);
+        } else if (i < fp->nchunks + fp->nsegs) {
+            if (fp->segs[i - fp->nchunks].kind == SEG_TREE) fix_leaf_keys(r, fp, i - fp->nchunks);
+        } else {
+            int e0 = (i - fp->nchunks - fp->nsegs) * ENT_CHUNK, n = r->ents.scene->nents;
+            ew_test_entities(r, e0, e0 + ENT_CHUNK < n ? e0 + ENT_CHUNK : n);
+        }
         break;
     case 3:
         if (i < fp->nchunks) resolve_chunk(r, fp, i);
@@ -911,8 +920,11 @@ static void job_front(void *ctx, int thread) {
         return;
     }
     double t = ew_now_ms(), ser = 0;
-    fp->nbitems = fp->bculled = 0;
-    if (r->ents.scene) fp->nbitems = ew_brush_items(r, fp->bitems, &fp->bculled);
+    fp->nbitems = fp->bculled = fp->nent_items = 0;
+    if (r->ents.scene) {
+        fp->nbitems = ew_brush_items(r, fp->bitems, &fp->bculled);
+        if (ew_reserve_entities(r) == 0) fp->nent_items = (r->ents.scene->nents + ENT_CHUNK - 1) / ENT_CHUNK;
+    }
     for (int i = 0; i < r->sched.nthreads && i < EW_MAX_THREADS; i++)
         fp->arenas[i].nfrags = fp->arenas[i].nedges = fp->arenas[i].nverts = fp->arenas[i].failed = 0;
     run->serial_ms[1] = ew_now_ms() - t;
@@ -928,9 +940,10 @@ static void job_front(void *ctx, int thread) {
     t = ew_now_ms();
     layout(r, fp);
     ser += ew_now_ms() - t;
-    open_phase(fp, 2, fp->nchunks + fp->nsegs);
+    open_phase(fp, 2, fp->nchunks + fp->nsegs + fp->nent_items);
     run_items(r, fp, 2, 0);
     wait_done(fp, 2);
+    if (fp->nent_items) r->ents.tested_frame = r->marks.framecount;
     open_phase(fp, 3, fp->nchunks + fp->nbitems);
     run_items(r, fp, 3, 0);
     wait_done(fp, 3);
