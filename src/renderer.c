@@ -120,13 +120,15 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->zf.zlo = calloc((size_t)height, sizeof(int32_t));
     r->zf.zhi = calloc((size_t)height, sizeof(int32_t));
     r->lit.surf_draw = calloc((size_t)r->el.max_surfs, sizeof *r->lit.surf_draw);
+    r->lit.surf_state = malloc((size_t)r->el.max_surfs);
+    r->lit.surf_mip = malloc((size_t)r->el.max_surfs);
     r->lit.grad_list = malloc(sizeof(int) * (size_t)r->el.max_surfs);
     if (!r->target.pixels || !r->target.zbuf || !r->marks.leaf_frame || !r->marks.node_frame || !r->marks.face_frame ||
         !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
         !r->marks.edge_cache_frame || !r->marks.edge_cache_index || !r->marks.edge_cache_down || !r->el.edges ||
         !r->el.new_edges || !r->el.surfs || !r->lit.surf_cache || !r->lit.to_build || !r->sched.row_cost ||
         !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi || !r->lit.surf_draw ||
-        !r->lit.grad_list)
+        !r->lit.surf_state || !r->lit.surf_mip || !r->lit.grad_list)
         goto oom;
     r->zf.draw = r->lit.surf_draw;
     ew_fog_levels(&r->draw.fog);
@@ -205,7 +207,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free_bands(r);
     free(r->lit.surf_cache), free(r->lit.to_build), free(r->sched.row_cost);
     free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
-    free(r->lit.surf_draw), free(r->lit.grad_list);
+    free(r->lit.surf_draw), free(r->lit.grad_list), free(r->lit.surf_state), free(r->lit.surf_mip);
     free(r->target.pixels), free(r->target.zbuf), free(r->face_ids);
     free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame);
     free(r->marks.leaf_key), free(r->marks.leaf_keyframe), free(r->ents.ent_views), free(r->ents.ent_frame);
@@ -550,32 +552,73 @@ static void job_draw(void *ctx, int thread) {
     }
 }
 
-/* Serial step between scan and draw: every surface that won a span gets its
- * lit surface looked up (allocating and evicting as needed) and its way of
- * drawing set; the surfaces to build and the gradients to compute are
- * listed for the parallel step that follows. */
+/* Between scan and draw, every surface that won a span gets its lit surface
+ * looked up (allocating and evicting as needed) and its way of drawing
+ * set; the surfaces to build and the gradients to compute are listed for
+ * the parallel step that follows.  The read-only part runs on every thread
+ * (job_surf_peek: whether a surface won a span, its mip, and whether its
+ * cache entry is current); the calling thread then marks the hits used,
+ * before any miss can evict them, and looks up the misses in order. */
+enum { SURF_UNUSED, SURF_SKY_TURB, SURF_HIT, SURF_MISS };
+enum { SURF_CHUNK = 64 };
+
+static void job_surf_peek(void *ctx, int thread) {
+    (void)thread;
+    ew_renderer *r = ctx;
+    const ew_world *w = r->world;
+    const int ns = r->el.nsurfs, nb = r->sched.nbands;
+    for (int k; (k = atomic_fetch_add(&r->sched.next_item, SURF_CHUNK)) < ns;) {
+        int end = k + SURF_CHUNK < ns ? k + SURF_CHUNK : ns;
+        for (int s = k > 0 ? k : 1; s < end; s++) {
+            int used = 0;
+            for (int i = 0; i < nb && !used; i++) used = r->sched.bands[i].has_spans[s];
+            r->lit.surf_cache[s] = NULL;
+            if (!used) {
+                r->lit.surf_state[s] = SURF_UNUSED;
+                continue;
+            }
+            const ew_surf *sf = &r->el.surfs[s];
+            const ew_face *f = &w->faces[sf->face];
+            if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) {
+                r->lit.surf_state[s] = SURF_SKY_TURB;
+                continue;
+            }
+            int mip = ew_face_mip(&r->view, w, f, sf->nearzi);
+            r->lit.surf_mip[s] = (uint8_t)mip;
+            r->lit.surf_cache[s] = ew_cache_peek(r, sf->face, mip);
+            r->lit.surf_state[s] = r->lit.surf_cache[s] ? SURF_HIT : SURF_MISS;
+        }
+    }
+}
+
 static void prepare_surfaces(ew_renderer *r) {
     const ew_world *w = r->world;
     r->lit.nbuild = 0;
     r->lit.ngrad = 0;
     memset(&r->lit.surf_draw[0], 0, sizeof r->lit.surf_draw[0]);  /* the background: black and far */
+    atomic_store(&r->sched.next_item, 0);
+    ew_pool_run(r->sched.pool, job_surf_peek, r);
     for (int s = 1; s < r->el.nsurfs; s++) {
-        r->lit.surf_cache[s] = NULL;
-        const ew_surf *sf = &r->el.surfs[s];
-        const ew_face *f = &w->faces[sf->face];
-        int used = 0;
-        for (int i = 0; i < r->sched.nbands && !used; i++) used = r->sched.bands[i].has_spans[s];
-        if (!used) continue;
-        ew_surf_draw *d = &r->lit.surf_draw[s];
+        int state = r->lit.surf_state[s];
+        if (state == SURF_UNUSED) continue;
         r->lit.grad_list[r->lit.ngrad++] = s;
-        if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) {
+        ew_surf_draw *d = &r->lit.surf_draw[s];
+        if (state == SURF_SKY_TURB) {
+            const ew_face *f = &w->faces[r->el.surfs[s].face];
             d->kind = f->flags & EW_SURF_SKY ? EW_DRAW_SKY : EW_DRAW_TURB;
             d->tex = ew_face_texture(w, f, r->view.time);
-            continue;
+        } else if (state == SURF_HIT) {
+            ew_cache_touch(r, r->lit.surf_cache[s]);
         }
-        int build;
-        ew_cached_surf *e = ew_cache_lookup(r, sf->face, ew_face_mip(&r->view, w, f, sf->nearzi), &build);
-        r->lit.surf_cache[s] = e;
+    }
+    for (int s = 1; s < r->el.nsurfs; s++) {
+        int state = r->lit.surf_state[s];
+        if (state != SURF_HIT && state != SURF_MISS) continue;
+        ew_surf_draw *d = &r->lit.surf_draw[s];
+        ew_cached_surf *e = r->lit.surf_cache[s];
+        int build = 0;
+        if (state == SURF_MISS)
+            e = r->lit.surf_cache[s] = ew_cache_lookup(r, r->el.surfs[s].face, r->lit.surf_mip[s], &build);
         if (!e) {
             r->stats.dropped++;
             d->kind = EW_DRAW_FLAT;

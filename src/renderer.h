@@ -75,6 +75,7 @@ typedef struct ew_lit {
     ew_surf_draw    *surf_draw;
     ew_cached_surf **to_build;  int nbuild;
     int             *grad_list; int ngrad;       /* surfaces whose gradients are needed */
+    uint8_t         *surf_state, *surf_mip;      /* per surface: prepare_surfaces' read-only findings */
     int              maxlm;                      /* largest light map, in samples */
     int             *blocklights;                /* building scratch, maxlm * 3 per thread */
     ew_lightcurve    curve;                      /* palette colour x light (light/curve.c) */

@@ -180,28 +180,46 @@ void ew_cache_free(ew_surf_cache *c) {
     memset(c, 0, sizeof *c);
 }
 
+/* The entry's texture and light styles as they are this frame. */
+static int current_look(const ew_renderer *r, const ew_face *f, int light[4]) {
+    const ew_world *w = r->world;
+    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->cfg.lightstyle[f->styles[k] & 63];
+    return (int)(ew_face_texture(w, f, r->view.time) - w->textures);
+}
+
+ew_cached_surf *ew_cache_peek(const ew_renderer *r, int face, int mip) {
+    const ew_surf_cache *c = &r->lit.cache;
+    ew_cached_surf *e = c->slot[face * 4 + mip];
+    if (!e) return NULL;
+    int light[4], texture = current_look(r, &r->world->faces[face], light);
+    unsigned dl = ew_face_dlights(r, face);
+    /* A dynamically lit surface is good only for the frame that built it. */
+    if (e->texture == texture && memcmp(e->light, light, sizeof light) == 0 && e->dlights == dl && e->gen == c->gen &&
+        (!dl || e->last_frame == r->marks.framecount))
+        return e;
+    return NULL;
+}
+
+void ew_cache_touch(ew_renderer *r, ew_cached_surf *e) {
+    ew_surf_cache *c = &r->lit.cache;
+    if (e->last_frame != r->marks.framecount) r->stats.surfaces_cached++;
+    lru_unlink(c, e);
+    lru_push_front(c, e);
+    e->last_frame = r->marks.framecount;
+}
+
 ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
     ew_surf_cache *c = &r->lit.cache;
-    const ew_world *w = r->world;
-    const ew_face *f = &w->faces[face];
-    const ew_texture *tex = ew_face_texture(w, f, r->view.time);
-    int texture = (int)(tex - w->textures);
-    int light[4];
-    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->cfg.lightstyle[f->styles[k] & 63];
-
-    unsigned dl = ew_face_dlights(r, face);
-    ew_cached_surf *e = c->slot[face * 4 + mip];
+    const ew_face *f = &r->world->faces[face];
     *build = 0;
-    /* A dynamically lit surface is good only for the frame that built it. */
-    if (e && e->texture == texture && memcmp(e->light, light, sizeof light) == 0 && e->dlights == dl &&
-        e->gen == c->gen &&
-        (!dl || e->last_frame == r->marks.framecount)) {
-        if (e->last_frame != r->marks.framecount) r->stats.surfaces_cached++;
-        lru_unlink(c, e);
-        lru_push_front(c, e);
-        e->last_frame = r->marks.framecount;
+    ew_cached_surf *e = ew_cache_peek(r, face, mip);
+    if (e) {
+        ew_cache_touch(r, e);
         return e;
     }
+    int light[4], texture = current_look(r, f, light);
+    unsigned dl = ew_face_dlights(r, face);
+    e = c->slot[face * 4 + mip];
     int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
     unsigned old_dl = 0;
     if (e) {

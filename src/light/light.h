@@ -43,6 +43,12 @@ void ew_cache_free(ew_surf_cache *c);
  * (ew_cache_build, which may run on any thread: entries are distinct).
  * Serial: lookups allocate and evict.  NULL when out of memory. */
 ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
+/* Its two halves for a hit: ew_cache_peek (any thread, reads only) gives
+ * the entry if it is current, else NULL; ew_cache_touch (serial) marks
+ * that entry used this frame.  An entry touched this frame is never
+ * evicted in it. */
+ew_cached_surf *ew_cache_peek(const ew_renderer *r, int face, int mip);
+void ew_cache_touch(ew_renderer *r, ew_cached_surf *e);
 void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
 
 /* ---- the light curve (light/curve.c) ----
