@@ -143,7 +143,9 @@ struct ew_front_par {
     pedge *pedges; int cap_pedges;
     int  *chunk_seg, *chunk_ns, *chunk_ne, *chunk_cached, *chunk_dropped, *chunk_s0, *chunk_e0;
     int   nchunks;
-    int  *face_pos, *face_pos_frame;    /* per face: its position this frame */
+    /* Per world edge, per face on it (edge_faces order): which prepared
+     * edge of which face position lies on it this frame. */
+    struct eside { _Atomic int frame; int pos, pe; } (*eside)[2];
     _Atomic uint64_t *topmark;          /* per face of a top node: frame << 32 | ~earliest segment that marked it */
     int   last_frame;
     /* Brush entities (phase 3 splits them, phase 4 writes them). */
@@ -173,7 +175,7 @@ void ew_front_par_free(struct ew_front_par *fp) {
     free(fp->node_root), free(fp->face_root), free(fp->node_lf0), free(fp->node_lfend), free(fp->node_leaf0), free(fp->edge_faces);
     free(fp->segs), free(fp->tree_segs), free(fp->lf), free(fp->leaves), free(fp->faces), free(fp->pedges);
     free(fp->chunk_seg), free(fp->chunk_ns), free(fp->chunk_ne), free(fp->chunk_cached), free(fp->chunk_dropped);
-    free(fp->chunk_s0), free(fp->chunk_e0), free(fp->face_pos), free(fp->face_pos_frame), free((void *)fp->topmark);
+    free(fp->chunk_s0), free(fp->chunk_e0), free((void *)fp->eside), free((void *)fp->topmark);
     free(fp->bitems), free(fp->bres);
     for (int i = 0; i < EW_MAX_THREADS; i++) free(fp->arenas[i].frags), free(fp->arenas[i].edges), free(fp->arenas[i].verts);
     free(fp);
@@ -352,12 +354,11 @@ static struct ew_front_par *front_par_new(const ew_world *w) {
         fp->chunk_dropped = malloc(sizeof(int) * (size_t)nch);
         fp->chunk_s0 = malloc(sizeof(int) * (size_t)nch);
         fp->chunk_e0 = malloc(sizeof(int) * (size_t)nch);
-        fp->face_pos = malloc(sizeof(int) * (size_t)(nf + 1));
-        fp->face_pos_frame = calloc((size_t)nf + 1, sizeof(int));
+        fp->eside = calloc((size_t)ne + 1, sizeof *fp->eside);
         fp->topmark = calloc((size_t)nf + 1, sizeof(uint64_t));
         ok = fp->segs && fp->tree_segs && fp->lf && fp->leaves && fp->faces && fp->pedges && fp->chunk_seg &&
              fp->chunk_ns && fp->chunk_ne && fp->chunk_cached && fp->chunk_dropped && fp->chunk_s0 &&
-             fp->chunk_e0 && fp->face_pos && fp->face_pos_frame && fp->topmark;
+             fp->chunk_e0 && fp->eside && fp->topmark;
     }
     free(c.size), free(c.seen_leaf);
     if (!ok || c.bad) {
@@ -507,8 +508,24 @@ static void set_pedge(pedge *p, const ew_proj *a, const ew_proj *b, int32_t se) 
     p->e.nearzi = a->zi > b->zi ? a->zi : b->zi;
 }
 
-/* What ew_emit_face computes of a face before it touches the list. */
-static void prepare(const ew_renderer *r, pface *pf, pedge *out) {
+/* World edge se of the face at position p lies at prepared edge pe: noted
+ * for the face on its other side.  1 if that face, earlier in BSP order,
+ * has noted it already: then this face only takes the edge's free side,
+ * and its own setup of it is never read. */
+static int note_edge(const ew_renderer *r, struct ew_front_par *fp, int face, int32_t se, int p, int pe) {
+    int e = se >= 0 ? se : -se, side = fp->edge_faces[e][0] == face ? 0 : 1;
+    const int frame = r->marks.framecount;
+    struct eside *mine = &fp->eside[e][side], *other = &fp->eside[e][!side];
+    mine->pos = p, mine->pe = pe;
+    atomic_store_explicit(&mine->frame, frame, memory_order_release);
+    return atomic_load_explicit(&other->frame, memory_order_acquire) == frame && other->pos < p;
+}
+
+/* What ew_emit_face computes of a face before it touches the list; with
+ * may_skip, not the setup of edges the face will take from another. */
+static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int may_skip) {
+    pface *pf = &fp->faces[p];
+    pedge *out = fp->pedges + pf->pe;
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[pf->face];
     int n = f->numedges;
@@ -519,30 +536,49 @@ static void prepare(const ew_renderer *r, pface *pf, pedge *out) {
     }
     ew_proj pj[EW_MAX_POLY];
     if (pf->clipflags == 0) {
-        for (int i = 0; i < n; i++) ew_project(&r->view, w->verts[ew_face_vertex(w, f, i)], &pj[i]);
-        for (int i = 0; i < n; i++)
-            set_pedge(&out[i], &pj[i], &pj[i + 1 == n ? 0 : i + 1], w->surfedges[f->firstedge + i]);
+        /* Vertices projected as the edges that are set up need them. */
+        uint8_t valid[EW_MAX_POLY];
+        memset(valid, 0, (size_t)n);
+        for (int i = 0; i < n; i++) {
+            int j = i + 1 == n ? 0 : i + 1;
+            int32_t se = w->surfedges[f->firstedge + i];
+            if (note_edge(r, fp, pf->face, se, p, pf->pe + i) && may_skip) {
+                out[i].se = se, out[i].crosses = 0;
+                continue;
+            }
+            if (!valid[i]) ew_project(&r->view, w->verts[ew_face_vertex(w, f, i)], &pj[i]), valid[i] = 1;
+            if (!valid[j]) ew_project(&r->view, w->verts[ew_face_vertex(w, f, j)], &pj[j]), valid[j] = 1;
+            set_pedge(&out[i], &pj[i], &pj[j], se);
+        }
         pf->m = n;
         return;
     }
     float in[EW_MAX_POLY][3], cl[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
     for (int i = 0; i < n; i++) {
-        const float *p = w->verts[ew_face_vertex(w, f, i)];
-        in[i][0] = p[0], in[i][1] = p[1], in[i][2] = p[2];
+        const float *q = w->verts[ew_face_vertex(w, f, i)];
+        in[i][0] = q[0], in[i][1] = q[1], in[i][2] = q[2];
         tin[i] = i;
     }
     int m = ew_clip_poly(&r->view, pf->clipflags, in, n, cl, tin, tout);
     if (m < 3) return;
-    for (int i = 0; i < m; i++) ew_project(&r->view, cl[i], &pj[i]);
-    for (int i = 0; i < m; i++)
-        set_pedge(&out[i], &pj[i], &pj[i + 1 == m ? 0 : i + 1],
-                  tout[i] >= 0 ? w->surfedges[f->firstedge + tout[i]] : PE_CLIP);
+    uint8_t valid[EW_MAX_POLY];
+    memset(valid, 0, (size_t)m);
+    for (int i = 0; i < m; i++) {
+        int j = i + 1 == m ? 0 : i + 1;
+        int32_t se = tout[i] >= 0 ? w->surfedges[f->firstedge + tout[i]] : PE_CLIP;
+        if (se != PE_CLIP && note_edge(r, fp, pf->face, se, p, pf->pe + i) && may_skip) {
+            out[i].se = se, out[i].crosses = 0;
+            continue;
+        }
+        if (!valid[i]) ew_project(&r->view, cl[i], &pj[i]), valid[i] = 1;
+        if (!valid[j]) ew_project(&r->view, cl[j], &pj[j]), valid[j] = 1;
+        set_pedge(&out[i], &pj[i], &pj[j], se);
+    }
     pf->m = m;
 }
 
 static void prepare_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
-    const int frame = r->marks.framecount;
     int j = fp->chunk_seg[c], hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
     for (int p = c * CHUNK; p < hi; p++) {
         while (p >= fp->segs[j].face0 + fp->segs[j].nfaces) j++;
@@ -550,8 +586,7 @@ static void prepare_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
         const lface *l = &fp->lf[s->lf0 + (p - s->face0)];
         pface *pf = &fp->faces[p];
         pf->face = l->face, pf->clipflags = l->clipflags, pf->key = s->key0 + l->key, pf->pe = s->pe0 + l->pe;
-        fp->face_pos[l->face] = p, fp->face_pos_frame[l->face] = frame;
-        prepare(r, pf, fp->pedges + pf->pe);
+        prepare(r, fp, p, 1);
     }
 }
 
@@ -562,16 +597,6 @@ static void fix_leaf_keys(ew_renderer *r, struct ew_front_par *fp, int segno) {
 }
 
 /* ---- 3: the edges shared by two faces settled (any thread) ---- */
-
-/* Face q's prepared edge on world edge e (not one the clip made), or NULL. */
-static const pedge *edge_of(const struct ew_front_par *fp, int q, int e) {
-    const pface *pf = &fp->faces[q];
-    for (int k = 0; k < pf->m; k++) {
-        int32_t se = fp->pedges[pf->pe + k].se;
-        if (se != PE_CLIP && (se == e || se == -e)) return &fp->pedges[pf->pe + k];
-    }
-    return NULL;
-}
 
 /* The edge cache's decisions: the first face (in BSP order) on a world
  * edge adds it, the second takes its free side and its 1/z, or nothing if
@@ -592,25 +617,26 @@ static void resolve_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
         int nemit = 0;
         for (int k = 0; k < pf->m; k++) {
             pedge *pe = &fp->pedges[pf->pe + k];
-            float zi = pe->e.nearzi;
             pe->partner = -1;
-            pe->emit = pe->crosses;
-            if (pe->se != PE_CLIP) {
-                int e = pe->se >= 0 ? pe->se : -pe->se;
-                const int *ef = fp->edge_faces[e];
-                int g = ef[0] == pf->face ? ef[1] : ef[0];
-                int q = g >= 0 && fp->face_pos_frame[g] == frame ? fp->face_pos[g] : -1;
-                const pedge *gp = q >= 0 ? edge_of(fp, q, e) : NULL;
-                if (gp && q < p) {
+            if (pe->se == PE_CLIP) {
+                pe->emit = pe->crosses;
+            } else {
+                int e = pe->se >= 0 ? pe->se : -pe->se, side = fp->edge_faces[e][0] == pf->face ? 0 : 1;
+                const struct eside *o = &fp->eside[e][!side];
+                int q = atomic_load_explicit(&o->frame, memory_order_relaxed) == frame ? o->pos : -1;
+                if (q >= 0 && q < p) {  /* second: the earlier face's edge */
+                    const pedge *gp = &fp->pedges[o->pe];
                     pe->emit = 0;
-                    zi = gp->crosses ? gp->e.nearzi : 0;
                     cached += gp->crosses;
-                } else if (gp && pe->crosses) {
-                    pe->partner = q;
+                    float zi = gp->crosses ? gp->e.nearzi : 0;
+                    if (zi > nearzi) nearzi = zi;
+                    continue;
                 }
+                pe->emit = pe->crosses;
+                if (q > p && pe->crosses) pe->partner = q;
             }
             nemit += pe->emit;
-            if (zi > nearzi) nearzi = zi;
+            if (pe->e.nearzi > nearzi) nearzi = pe->e.nearzi;
         }
         pf->nemit = nemit, pf->nearzi = nearzi;
         ne += nemit;
@@ -779,7 +805,10 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
         }
         return 1;
     }
-    for (int p = 0; p < fp->nfaces; p++) merge_face(r, &fp->faces[p], fp->pedges + fp->faces[p].pe);
+    for (int p = 0; p < fp->nfaces; p++) {
+        prepare(r, fp, p, 0);  /* every edge set up: an earlier face may be dropped here */
+        merge_face(r, &fp->faces[p], fp->pedges + fp->faces[p].pe);
+    }
     ew_walk_brush_models(r);
     return 0;
 }
@@ -992,7 +1021,8 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     }
     const int frame = r->marks.framecount;
     if (frame < fp->last_frame) {  /* the frame number wrapped: forget the old marks */
-        memset(fp->face_pos_frame, 0, sizeof(int) * (size_t)(r->world->numfaces + 1));
+        for (int i = 0; i <= r->world->numedges; i++)
+            for (int k = 0; k < 2; k++) atomic_store_explicit(&fp->eside[i][k].frame, 0, memory_order_relaxed);
         for (int i = 0; i <= r->world->numfaces; i++) atomic_store_explicit(&fp->topmark[i], 0, memory_order_relaxed);
     }
     fp->last_frame = frame;
