@@ -97,15 +97,22 @@ static ew_renderer *make(const ew_assets *a, ew_scene *sc, int w, int h, int thr
     return r;
 }
 
-static long frames, parallel_faces;
-
+static long frames, parallel_faces, fallback_frames;
 /* Renders every view on one thread and on each thread count; compares. */
-static void check(const char *map, const ew_assets *a, ew_scene *sc, const ew_camera *views, int nv, int w, int h,
-                  ew_hsr_method hsr) {
+/* max_surfs > 0: every renderer's lists are cut to that many surfaces (and
+ * six edges each), so that big views overflow them: the parallel front end
+ * then merges one face at a time, and must drop what the serial one drops. */
+static void check_limited(const char *map, const ew_assets *a, ew_scene *sc, const ew_camera *views, int nv, int w,
+                          int h, ew_hsr_method hsr, int max_surfs) {
     ew_renderer *one = make(a, sc, w, h, 1, hsr);
     if (one) one->sched.front_serial = 1;
     ew_renderer *many[NT];
     for (int t = 0; t < NT; t++) many[t] = make(a, sc, w, h, thread_counts[t], hsr);
+    if (max_surfs > 0) {
+        if (one) one->el.max_surfs = max_surfs, one->el.max_edges = 6 * max_surfs;
+        for (int t = 0; t < NT; t++)
+            if (many[t]) many[t]->el.max_surfs = max_surfs, many[t]->el.max_edges = 6 * max_surfs;
+    }
     for (int v = 0; v < nv && one; v++) {
         ew_stats st;
         CHECK(ew_render(one, &views[v], &st) == 0, "%s view %d", map, v);
@@ -119,6 +126,7 @@ static void check(const char *map, const ew_assets *a, ew_scene *sc, const ew_ca
             frames++;
             CHECK(r->fpar != NULL, "%d threads take the parallel front end", thread_counts[t]);
             if (want.nsurfs > 64) parallel_faces++;
+            if (want.dropped > 0) fallback_frames++;
             const char *m = ew_hsr_name(hsr);
             CHECK(got.nedges == want.nedges && got.edges_cached == want.edges_cached && got.nsurfs == want.nsurfs &&
                       got.dropped == want.dropped,
@@ -139,6 +147,38 @@ static void check(const char *map, const ew_assets *a, ew_scene *sc, const ew_ca
     for (int t = 0; t < NT; t++) ew_renderer_destroy(many[t]);
 }
 
+static void check(const char *map, const ew_assets *a, ew_scene *sc, const ew_camera *views, int nv, int w, int h,
+                  ew_hsr_method hsr) {
+    check_limited(map, a, sc, views, nv, w, h, hsr, 0);
+}
+
+/* A tree the parallel front end cannot split (an edge on two faces the
+ * same way round, as no compiler writes it): its plan fails and every
+ * thread count walks serially, with the serial frames. */
+static void check_irregular(ew_assets *a, ew_scene *sc, const ew_camera *views, int nv) {
+    ew_world *w = (ew_world *)a->world;
+    int f0 = -1, f1 = -1;
+    for (int i = 0; i < w->numfaces && f1 < 0; i++)
+        if (w->faces[i].numedges >= 3) f0 < 0 ? (f0 = i) : (f1 = i);
+    if (f1 < 0) return;
+    int *se = &w->surfedges[w->faces[f1].firstedge], saved = *se;
+    *se = w->surfedges[w->faces[f0].firstedge];
+    ew_renderer *one = make(a, sc, 640, 480, 1, EW_HSR_EDGE), *two = make(a, sc, 640, 480, 2, EW_HSR_EDGE);
+    if (one) one->sched.front_serial = 1;
+    for (int v = 0; v < nv && one && two; v++) {
+        ew_stats st;
+        CHECK(ew_render(one, &views[v], &st) == 0, "view %d", v);
+        frame_sig want = sign_frame(one, &st);
+        CHECK(ew_render(two, &views[v], &st) == 0, "view %d", v);
+        frame_sig got = sign_frame(two, &st);
+        CHECK(two->fpar == NULL && two->fpar_bad, "an irregular tree takes the serial front end");
+        CHECK(got.edges == want.edges && got.pixels == want.pixels, "irregular tree, view %d: frames differ", v);
+    }
+    ew_renderer_destroy(one);
+    ew_renderer_destroy(two);
+    *se = saved;
+}
+
 int main(void) {
     for (size_t m = 0; m < sizeof maps / sizeof *maps; m++) {
         ew_scene *sc;
@@ -150,6 +190,10 @@ int main(void) {
         /* Under the sanitizers (ten times slower) the large size on e1m1 only. */
         for (size_t s = 0; s < sizeof sizes / sizeof *sizes; s++)
             if (!SANITIZED || s == 0 || m == 0) check(maps[m], a, sc, views, nv, sizes[s][0], sizes[s][1], EW_HSR_EDGE);
+        if (m == 0) {
+            check_limited(maps[m], a, sc, views, nv, 640, 480, EW_HSR_EDGE, 150);
+            check_irregular(a, sc, views, nv);
+        }
         const ew_hsr_method shared_front[] = {EW_HSR_SPANS, EW_HSR_PAINTER, EW_HSR_DRAWBUFFER};
         for (size_t k = 0; k < sizeof shared_front / sizeof *shared_front; k++)
             if (ew_hsr_available(shared_front[k]) && (!SANITIZED || m == 0 || !strcmp(maps[m], "builtin")))
@@ -160,5 +204,7 @@ int main(void) {
     printf("%ld frames of the parallel front end compared with the serial one's (%ld with over 64 surfaces)\n", frames,
            parallel_faces);
     CHECK(parallel_faces > 100, "%ld frames of any size", parallel_faces);
+    printf("%ld frames overflowed the lists (the parallel front end merged one face at a time)\n", fallback_frames);
+    CHECK(fallback_frames > 5, "%ld frames overflowed the lists", fallback_frames);
     return ew_t_finish();
 }
