@@ -97,6 +97,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->target.zbuf = malloc(sizeof(float) * (size_t)px);
     r->marks.leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
     r->marks.node_frame = calloc((size_t)w->numnodes + 1, sizeof(int));
+    r->marks.vis = malloc(sizeof(int) * ((size_t)w->numleaves + 2));
     r->marks.face_frame = calloc((size_t)w->numfaces + 1, sizeof(int));
     r->marks.leaf_key = calloc((size_t)w->numleaves + 1, sizeof(int));
     r->marks.leaf_keyframe = calloc((size_t)w->numleaves + 1, sizeof(int));
@@ -123,7 +124,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->lit.surf_state = malloc((size_t)r->el.max_surfs);
     r->lit.surf_mip = malloc((size_t)r->el.max_surfs);
     r->lit.grad_list = malloc(sizeof(int) * (size_t)r->el.max_surfs);
-    if (!r->target.pixels || !r->target.zbuf || !r->marks.leaf_frame || !r->marks.node_frame || !r->marks.face_frame ||
+    if (!r->target.pixels || !r->target.zbuf || !r->marks.leaf_frame || !r->marks.node_frame || !r->marks.vis ||
+        !r->marks.face_frame ||
         !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
         !r->marks.edge_cache_frame || !r->marks.edge_cache_index || !r->marks.edge_cache_down || !r->el.edges ||
         !r->el.new_edges || !r->el.surfs || !r->lit.surf_cache || !r->lit.to_build || !r->sched.row_cost ||
@@ -209,7 +211,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
     free(r->lit.surf_draw), free(r->lit.grad_list), free(r->lit.surf_state), free(r->lit.surf_mip);
     free(r->target.pixels), free(r->target.zbuf), free(r->face_ids);
-    free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame);
+    free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame), free(r->marks.vis);
     free(r->marks.leaf_key), free(r->marks.leaf_keyframe), free(r->ents.ent_views), free(r->ents.ent_frame);
     ew_free_box_surfs(r);
     free(r->marks.face_dlframe), free(r->marks.face_dlbits);
@@ -659,6 +661,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     front_tail_arg ft = {r, 0, 0};
     double tw = ew_now_ms(), serial_in_run = 0, front_serial[2] = {0, 0};
     if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, front_serial) < 0) {
+        ew_pvs_finish(r);
         ew_walk_world(r);
         double tb = ew_now_ms();
         ew_walk_brush_models(r);

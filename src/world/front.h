@@ -19,11 +19,16 @@ typedef struct ew_marks {
     int *face_dlframe; unsigned *face_dlbits; /* dynamic lights on each face */
     int *edge_cache_frame, *edge_cache_index; /* per world edge: shared edges */
     int8_t *edge_cache_down;                  /* +1: +sign traversal goes down */
+    int    *vis, nvis, vis_pending;            /* this frame's PVS leaves, not yet marked */
 } ew_marks;
 
-/* world/pvs.c: marks the leaves (and their ancestors) visible from the
- * camera's leaf for this frame; returns the view leaf. */
+/* world/pvs.c: lists the leaves visible from the camera's leaf for this
+ * frame (marks.vis, pending) and returns the view leaf; ew_pvs_apply marks
+ * listed leaves [from, to) and every node above them (any thread, shares
+ * of the list at once), ew_pvs_finish all that are pending (serial). */
 int  ew_pvs_mark(ew_renderer *r);
+void ew_pvs_apply(ew_renderer *r, int from, int to);
+void ew_pvs_finish(ew_renderer *r);
 int  ew_point_leaf(const ew_world *w, int headnode, const float p[3]);
 
 /* world/bsp_walk.c: front-to-back walk handing every visible face to the

@@ -11,10 +11,12 @@
  * faces, in opposite directions.  A tree where any of this does not hold
  * (a malformed map) is walked as before.
  *
- * A frame, in one pool run:
- *   0 (calling thread) the top nodes are walked front to back into a list
- *     of segments: a subtree to walk, or a top node's faces, in BSP order;
- *   1 (all) each subtree is walked with a key of its own from 0, listing
+ * A frame, in one pool run (phases numbered as in job_front):
+ *   - (calling thread) the brush entities in the frustum;
+ *   1 (all) the PVS leaves and the nodes above them marked;
+ *   - (calling thread) the top nodes walked front to back into a list of
+ *     segments: a subtree to walk, or a top node's faces, in BSP order;
+ *   2 (all) each subtree is walked with a key of its own from 0, listing
  *     its faces; a face on a top node marked by its leaves records the
  *     earliest segment that marked it;
  *   - (calling thread) keys, face positions and edge slots are laid out by
@@ -22,16 +24,19 @@
  *     segment before it marked them (as in the one-thread walk, where only
  *     the leaves walked before a node's faces can have marked them); the
  *     faces for the see-through pass are handed over, in order;
- *   2 (all) every face is clipped, projected and its edges set up; the
- *     leaves' keys are made global;
- *   3 (all) every edge on a world edge is settled: of the two faces on it,
+ *   3 (all) every face is clipped, projected and its edges set up, noting
+ *     on each world edge which face lies on it; the leaves' keys are made
+ *     global; the entities are tested against the frustum and the PVS;
+ *   4 (all) every edge on a world edge is settled: of the two faces on it,
  *     the first in BSP order adds it and the second takes its free side
  *     (the edge cache of the one-thread emission); each face's surface and
- *     added edges are counted;
- *   - (calling thread) surface and edge numbers by prefix sums over chunks;
- *   4 (all) surfaces and edges written at their numbers;
+ *     added edges are counted; the brush entities are split into the
+ *     world's leaves and their fragments clipped, projected and set up;
+ *   - (calling thread) surface and edge numbers by prefix sums over chunks
+ *     of faces and over brush entities;
+ *   5 (all) surfaces and edges written at their numbers;
  *   - (calling thread) the per-scanline lists of new edges linked in edge
- *     order, then tail(arg) (the brush models, the bands placed);
+ *     order, then tail(arg) (the bands placed);
  *   then(r, thread) on every thread: the scan.
  * The decisions are the one-thread emission's, made on the same numbers
  * (world/edge_math.h computes both), so the edge list, and every span and
@@ -55,6 +60,7 @@
 #define PE_CLIP INT32_MIN  /* a prepared edge the clip made (no world edge) */
 #define M_DROPPED (-2)     /* a face with too many edges (counted as dropped) */
 #define ENT_CHUNK 32       /* entities a thread tests at a time */
+#define PVS_CHUNK 256      /* PVS leaves a thread marks at a time */
 
 typedef struct pface {
     int   face, clipflags, key;
@@ -124,7 +130,7 @@ typedef struct phase {
 struct ew_front_par {
     _Alignas(64) atomic_int stage;      /* the phase the calling thread has opened */
     _Alignas(64) atomic_int front_done; /* the tail has run: the edge list is complete */
-    phase ph[5];
+    phase ph[6];
     /* The plan. */
     int   nnodes, top_n;                /* world tree: nodes; threshold of a top node */
     int   head_root;                    /* 1: the head node is itself a root (a small tree) */
@@ -885,8 +891,13 @@ static void link_edges(ew_edge_list *el, int from, int to) {
 
 static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int thread) {
     switch (k) {
-    case 1: walk_seg(r, fp, fp->tree_segs[i]); break;
-    case 2:
+    case 1: {
+        int from = i * PVS_CHUNK, to = from + PVS_CHUNK < r->marks.nvis ? from + PVS_CHUNK : r->marks.nvis;
+        ew_pvs_apply(r, from, to);
+        break;
+    }
+    case 2: walk_seg(r, fp, fp->tree_segs[i]); break;
+    case 3:
         if (i < fp->nchunks) {
             prepare_chunk(r, fp, i);
         } else if (i < fp->nchunks + fp->nsegs) {
@@ -896,11 +907,11 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
             ew_test_entities(r, e0, e0 + ENT_CHUNK < n ? e0 + ENT_CHUNK : n);
         }
         break;
-    case 3:
+    case 4:
         if (i < fp->nchunks) resolve_chunk(r, fp, i);
         else split_brush(r, fp, i - fp->nchunks, thread);
         break;
-    case 4:
+    case 5:
         if (i < fp->nchunks) write_chunk(r, fp, i);
         else write_brush(r, fp, i - fp->nchunks);
         break;
@@ -938,7 +949,7 @@ static void job_front(void *ctx, int thread) {
     ew_renderer *r = run->r;
     struct ew_front_par *fp = r->fpar;
     if (thread != 0) {
-        for (int k = 1; k <= 4; k++) {
+        for (int k = 1; k <= 5; k++) {
             int rounds = 0;
             while (atomic_load_explicit(&fp->stage, memory_order_acquire) < k) relax(&rounds);
             run_items(r, fp, k, thread);
@@ -957,31 +968,35 @@ static void job_front(void *ctx, int thread) {
     for (int i = 0; i < r->sched.nthreads && i < EW_MAX_THREADS; i++)
         fp->arenas[i].nfrags = fp->arenas[i].nedges = fp->arenas[i].nverts = fp->arenas[i].failed = 0;
     run->serial_ms[1] = ew_now_ms() - t;
+    open_phase(fp, 1, (r->marks.nvis + PVS_CHUNK - 1) / PVS_CHUNK);
+    run_items(r, fp, 1, 0);
+    wait_done(fp, 1);
+    r->marks.vis_pending = 0;
     t = ew_now_ms();
     fp->nsegs = fp->ntree = 0;
     int head = r->world->models[0].headnode;
     if (fp->head_root) add_seg(fp, SEG_TREE, head, 15, 0, 0);
     else top_walk(r, fp, head, 15, 0);
     ser += ew_now_ms() - t;
-    open_phase(fp, 1, fp->ntree);
-    run_items(r, fp, 1, 0);
-    wait_done(fp, 1);
+    open_phase(fp, 2, fp->ntree);
+    run_items(r, fp, 2, 0);
+    wait_done(fp, 2);
     t = ew_now_ms();
     layout(r, fp);
     ser += ew_now_ms() - t;
-    open_phase(fp, 2, fp->nchunks + fp->nsegs + fp->nent_items);
-    run_items(r, fp, 2, 0);
-    wait_done(fp, 2);
-    if (fp->nent_items) r->ents.tested_frame = r->marks.framecount;
-    open_phase(fp, 3, fp->nchunks + fp->nbitems);
+    open_phase(fp, 3, fp->nchunks + fp->nsegs + fp->nent_items);
     run_items(r, fp, 3, 0);
     wait_done(fp, 3);
+    if (fp->nent_items) r->ents.tested_frame = r->marks.framecount;
+    open_phase(fp, 4, fp->nchunks + fp->nbitems);
+    run_items(r, fp, 4, 0);
+    wait_done(fp, 4);
     t = ew_now_ms();
     int e0 = r->el.nedges, fits = number(r, fp);
     ser += ew_now_ms() - t;
-    open_phase(fp, 4, fits ? fp->nchunks + fp->nbitems : 0);
-    run_items(r, fp, 4, 0);
-    wait_done(fp, 4);
+    open_phase(fp, 5, fits ? fp->nchunks + fp->nbitems : 0);
+    run_items(r, fp, 5, 0);
+    wait_done(fp, 5);
     t = ew_now_ms();
     if (fits) {
         if (fp->nbitems > 0) {

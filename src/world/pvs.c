@@ -1,5 +1,9 @@
 /* Potentially visible set: find the camera's leaf, decompress its row of
- * the PVS and mark those leaves (and every node above them) for this frame. */
+ * the PVS into a list, then mark those leaves (and every node above them)
+ * for this frame: the calling thread, or every thread of the parallel
+ * front end (world/front_par.c), a share of the list each.  Marks are
+ * relaxed atomic stores: threads marking the same ancestor store the same
+ * value. */
 #include "renderer.h"
 
 int ew_point_leaf(const ew_world *w, int headnode, const float p[3]) {
@@ -14,15 +18,27 @@ int ew_point_leaf(const ew_world *w, int headnode, const float p[3]) {
     return n < 0 ? -1 - n : 0;
 }
 
-static void mark_leaf(ew_renderer *r, int leaf) {
+static void mark_leaf(ew_renderer *r, int leaf, int frame) {
     const ew_world *w = r->world;
-    if (r->marks.leaf_frame[leaf] == r->marks.framecount) return;
-    r->marks.leaf_frame[leaf] = r->marks.framecount;
+    if (__atomic_load_n(&r->marks.leaf_frame[leaf], __ATOMIC_RELAXED) == frame) return;
+    __atomic_store_n(&r->marks.leaf_frame[leaf], frame, __ATOMIC_RELAXED);
     for (int n = w->leaves[leaf].parent; n >= 0; n = w->nodes[n].parent) {
-        if (r->marks.node_frame[n] == r->marks.framecount) break;
-        r->marks.node_frame[n] = r->marks.framecount;
+        if (__atomic_load_n(&r->marks.node_frame[n], __ATOMIC_RELAXED) == frame) break;
+        __atomic_store_n(&r->marks.node_frame[n], frame, __ATOMIC_RELAXED);
     }
 }
+
+void ew_pvs_apply(ew_renderer *r, int from, int to) {
+    for (int i = from; i < to; i++) mark_leaf(r, r->marks.vis[i], r->marks.framecount);
+}
+
+void ew_pvs_finish(ew_renderer *r) {
+    if (!r->marks.vis_pending) return;
+    ew_pvs_apply(r, 0, r->marks.nvis);
+    r->marks.vis_pending = 0;
+}
+
+static void list_leaf(ew_renderer *r, int leaf) { r->marks.vis[r->marks.nvis++] = leaf; }
 
 int ew_pvs_mark(ew_renderer *r) {
     const ew_world *w = r->world;
@@ -39,9 +55,11 @@ int ew_pvs_mark(ew_renderer *r) {
     int nleaves = m->visleafs;
     if (nleaves > w->numleaves - 1) nleaves = w->numleaves - 1;
 
+    r->marks.nvis = 0;
+    r->marks.vis_pending = 1;
     if (leaf == 0 || l->visofs < 0 || !w->visdata) {
         /* Outside the map or no vis data: everything is potentially visible. */
-        for (int i = 1; i <= nleaves; i++) mark_leaf(r, i);
+        for (int i = 1; i <= nleaves; i++) list_leaf(r, i);
         return eye;
     }
     /* Run-length decoding: a zero byte is followed by a count of zero bytes.
@@ -56,9 +74,9 @@ int ew_pvs_mark(ew_renderer *r) {
             continue;
         }
         for (int k = 0; k < 8 && bit + k < nleaves; k++)
-            if (b & (1 << k)) mark_leaf(r, bit + k + 1);
+            if (b & (1 << k)) list_leaf(r, bit + k + 1);
         bit += 8;
     }
-    mark_leaf(r, leaf);  /* the view leaf is always visible */
+    list_leaf(r, leaf);  /* the view leaf is always visible (marking twice is harmless) */
     return eye;
 }
