@@ -59,8 +59,8 @@
 #define CHUNK 32           /* faces a thread takes at a time in phases 2-4 */
 #define PE_CLIP INT32_MIN  /* a prepared edge the clip made (no world edge) */
 #define M_DROPPED (-2)     /* a face with too many edges (counted as dropped) */
-#define ENT_CHUNK 32       /* entities a thread tests at a time */
-#define PVS_CHUNK 256      /* PVS leaves a thread marks at a time */
+#define ENT_CHUNK 4        /* entities a thread tests at a time (a light trace each) */
+#define PVS_CHUNK 64       /* PVS leaves a thread marks at a time */
 
 typedef struct pface {
     int   face, clipflags, key;
@@ -889,6 +889,9 @@ static void link_edges(ew_edge_list *el, int from, int to) {
 
 /* ---- the pool run ---- */
 
+/* Item i of phase k.  The items likely to be largest come first, so that
+ * no thread starts one when the others are nearly done: the entity tests
+ * (a light trace each) in phase 3, the brush entities in phase 4. */
 static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int thread) {
     switch (k) {
     case 1: {
@@ -898,18 +901,18 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
     }
     case 2: walk_seg(r, fp, fp->tree_segs[i]); break;
     case 3:
-        if (i < fp->nchunks) {
-            prepare_chunk(r, fp, i);
-        } else if (i < fp->nchunks + fp->nsegs) {
-            if (fp->segs[i - fp->nchunks].kind == SEG_TREE) fix_leaf_keys(r, fp, i - fp->nchunks);
-        } else {
-            int e0 = (i - fp->nchunks - fp->nsegs) * ENT_CHUNK, n = r->ents.scene->nents;
+        if (i < fp->nent_items) {
+            int e0 = i * ENT_CHUNK, n = r->ents.scene->nents;
             ew_test_entities(r, e0, e0 + ENT_CHUNK < n ? e0 + ENT_CHUNK : n);
+        } else if ((i -= fp->nent_items) < fp->nchunks) {
+            prepare_chunk(r, fp, i);
+        } else if (fp->segs[i - fp->nchunks].kind == SEG_TREE) {
+            fix_leaf_keys(r, fp, i - fp->nchunks);
         }
         break;
     case 4:
-        if (i < fp->nchunks) resolve_chunk(r, fp, i);
-        else split_brush(r, fp, i - fp->nchunks, thread);
+        if (i < fp->nbitems) split_brush(r, fp, i, thread);
+        else resolve_chunk(r, fp, i - fp->nbitems);
         break;
     case 5:
         if (i < fp->nchunks) write_chunk(r, fp, i);
