@@ -173,6 +173,13 @@ static inline int ew_face_vertex(const ew_world *w, const ew_face *f, int i) {
     int se = w->surfedges[f->firstedge + i];
     return se >= 0 ? (int)w->edges[se][0] : (int)w->edges[-se][1];
 }
+/* Face f's corners copied into p (room for f->numedges). */
+static inline void ew_face_points(const ew_world *w, const ew_face *f, float (*p)[3]) {
+    for (int i = 0; i < f->numedges; i++) {
+        const float *q = w->verts[ew_face_vertex(w, f, i)];
+        p[i][0] = q[0], p[i][1] = q[1], p[i][2] = q[2];
+    }
+}
 /* Edge index (always >= 0) of the i-th side of face f. */
 static inline int ew_face_edge(const ew_world *w, const ew_face *f, int i) {
     int se = w->surfedges[f->firstedge + i];

@@ -61,10 +61,7 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, int key) {
     const ew_face *f = &w->faces[fi];
     if (f->numedges > EW_MAX_POLY - 8) return;
     float in[EW_MAX_POLY][3];
-    for (int i = 0; i < f->numedges; i++) {
-        const float *p = w->verts[ew_face_vertex(w, f, i)];
-        in[i][0] = p[0], in[i][1] = p[1], in[i][2] = p[2];
-    }
+    ew_face_points(w, f, in);
     ref_poly(r, in, f->numedges, fi, &r->view, key);
 }
 

@@ -181,11 +181,8 @@ void ew_spolys_face(ew_renderer *r, int fi, int clipflags, int key) {
     const ew_face *f = &w->faces[fi];
     float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
-    for (int i = 0; i < f->numedges; i++) {
-        const float *p = w->verts[ew_face_vertex(w, f, i)];
-        in[i][0] = p[0], in[i][1] = p[1], in[i][2] = p[2];
-        tin[i] = i;
-    }
+    ew_face_points(w, f, in);
+    for (int i = 0; i < f->numedges; i++) tin[i] = i;
     /* The same clip as the edge list's, so shared clipped points match. */
     int m = clipflags ? ew_clip_poly(&r->view, clipflags, in, f->numedges, out, tin, tout) : f->numedges;
     if (m < 3) {

@@ -92,10 +92,7 @@ void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha) {
     const ew_face *f = &w->faces[fi];
     if (f->numedges > EW_MAX_POLY - 8) return;
     float p[EW_MAX_POLY][3];
-    for (int k = 0; k < f->numedges; k++) {
-        const float *q = w->verts[ew_face_vertex(w, f, k)];
-        p[k][0] = q[0], p[k][1] = q[1], p[k][2] = q[2];
-    }
+    ew_face_points(w, f, p);
     ew_see_add(r, p, f->numedges, fi, &r->view, key, kind, alpha);
 }
 

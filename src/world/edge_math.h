@@ -91,15 +91,51 @@ static inline void ew_edge_cache_note(ew_renderer *r, int se, int idx, int down)
     r->marks.edge_cache_down[e] = (int8_t)(down ? sign : -sign);
 }
 
-/* Surface el.nsurfs for world face fi, seen from the frame's camera. */
-static inline void ew_surf_add_world(ew_renderer *r, int fi, int key, float nearzi) {
-    ew_surf *sf = &r->el.surfs[r->el.nsurfs++];
+/* Surface sf for world face fi, seen from the frame's camera. */
+static inline void ew_surf_set_world(const ew_renderer *r, ew_surf *sf, int fi, int key, float nearzi) {
     sf->key = key;
     sf->face = fi;
     sf->flags = r->world->faces[fi].flags;
     sf->nearzi = nearzi;
     sf->view = &r->view;
     sf->insubmodel = 0;
+}
+
+/* That surface added as el.nsurfs. */
+static inline void ew_surf_add_world(ew_renderer *r, int fi, int key, float nearzi) {
+    ew_surf_set_world(r, &r->el.surfs[r->el.nsurfs++], fi, key, nearzi);
+}
+
+/* A polygon with no world edges (a brush model's fragment) clipped to the
+ * whole frustum and projected into pj: its point count (below 3: clipped
+ * away) and *nearzi, the largest 1/z of its points. */
+static inline int ew_poly_project(const ew_view *view, float (*verts)[3], int n, ew_proj *pj, float *nearzi) {
+    float out[EW_MAX_POLY][3];
+    int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
+    for (int i = 0; i < n; i++) tin[i] = -1;
+    int m = ew_clip_poly(view, 15, verts, n, out, tin, tout);
+    *nearzi = 0;
+    for (int i = 0; i < m; i++) {
+        ew_project(view, out[i], &pj[i]);
+        if (pj[i].zi > *nearzi) *nearzi = pj[i].zi;
+    }
+    return m;
+}
+
+/* Surface sf for a fragment of face fi seen through v (a moved brush
+ * model's camera), with the face's 1/z plane for ties within a leaf. */
+static inline void ew_surf_set_fragment(const ew_world *w, ew_surf *sf, int fi, int key, float nearzi,
+                                        const ew_view *v) {
+    const ew_face *f = &w->faces[fi];
+    sf->key = key;
+    sf->face = fi;
+    sf->flags = f->flags;
+    sf->nearzi = nearzi;
+    sf->view = v;
+    sf->insubmodel = 1;
+    ew_gradients g;
+    ew_face_gradients(w, v, f, 0, &g);
+    sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
 }
 
 #endif

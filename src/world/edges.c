@@ -63,11 +63,8 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
     } else {
         float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
         int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
-        for (int i = 0; i < n; i++) {
-            const float *p = w->verts[ew_face_vertex(w, f, i)];
-            in[i][0] = p[0], in[i][1] = p[1], in[i][2] = p[2];
-            tin[i] = i;
-        }
+        ew_face_points(w, f, in);
+        for (int i = 0; i < n; i++) tin[i] = i;
         int m = ew_clip_poly(&r->view, clipflags, in, n, out, tin, tout);
         if (m < 3) return;
         for (int i = 0; i < m; i++) valid[i] = 0;
@@ -94,29 +91,12 @@ void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_vie
         r->stats.dropped++;
         return;
     }
-    float out[EW_MAX_POLY][3];
-    int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
-    for (int i = 0; i < n; i++) tin[i] = -1;
-    int m = ew_clip_poly(&r->view, 15, verts, n, out, tin, tout);
+    proj pj[EW_MAX_POLY];
+    float nearzi;
+    int m = ew_poly_project(&r->view, verts, n, pj, &nearzi);
     if (m < 3) return;
     int s = r->el.nsurfs;
-    proj pj[EW_MAX_POLY];
-    float nearzi = 0;
-    for (int i = 0; i < m; i++) {
-        project(r, out[i], &pj[i]);
-        if (pj[i].zi > nearzi) nearzi = pj[i].zi;
-    }
     for (int i = 0; i < m; i++) add_edge(r, &pj[i], &pj[i + 1 == m ? 0 : i + 1], s);
-    ew_surf *sf = &r->el.surfs[s];
-    const ew_face *f = &r->world->faces[fi];
-    sf->key = key;
-    sf->face = fi;
-    sf->flags = f->flags;
-    sf->nearzi = nearzi;
-    sf->view = v;
-    sf->insubmodel = 1;
-    ew_gradients g;
-    ew_face_gradients(r->world, v, f, 0, &g);
-    sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
+    ew_surf_set_fragment(r->world, &r->el.surfs[s], fi, key, nearzi, v);
     r->el.nsurfs++;
 }

@@ -93,7 +93,7 @@ typedef struct pfrag {
     int   m;        /* edges; -1 clipped away; M_DROPPED; see-through: its vertex count */
     int   pe;       /* its first edge (or vertex) in its arena */
     int   nemit;
-    float nearzi, zi_u, zi_v, zi_0;
+    float nearzi;
 } pfrag;
 
 /* What one thread's brush entities made this frame. */
@@ -561,11 +561,8 @@ static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int ma
     }
     float in[EW_MAX_POLY][3], cl[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
-    for (int i = 0; i < n; i++) {
-        const float *q = w->verts[ew_face_vertex(w, f, i)];
-        in[i][0] = q[0], in[i][1] = q[1], in[i][2] = q[2];
-        tin[i] = i;
-    }
+    ew_face_points(w, f, in);
+    for (int i = 0; i < n; i++) tin[i] = i;
     int m = ew_clip_poly(&r->view, pf->clipflags, in, n, cl, tin, tout);
     if (m < 3) return;
     uint8_t valid[EW_MAX_POLY];
@@ -678,7 +675,7 @@ static void frag_sink(void *ctx, float (*p)[3], int n, int face, const ew_view *
         return;
     }
     pfrag *fr = &a->frags[a->nfrags++];
-    *fr = (pfrag){face, key, kind, alpha, v, -1, 0, 0, 0, 0, 0, 0};
+    *fr = (pfrag){face, key, kind, alpha, v, -1, 0, 0, 0};
     if (!ew_see_to_hsr(r, kind)) {
         if (!grow((void **)&a->verts, &a->cap_verts, a->nverts + n, sizeof *a->verts)) {
             a->failed = 1;
@@ -693,20 +690,13 @@ static void frag_sink(void *ctx, float (*p)[3], int n, int face, const ew_view *
         fr->m = M_DROPPED;
         return;
     }
-    float out[EW_MAX_POLY][3];
-    int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
-    for (int i = 0; i < n; i++) tin[i] = -1;
-    int m = ew_clip_poly(&r->view, 15, p, n, out, tin, tout);
+    ew_proj pj[EW_MAX_POLY];
+    float nearzi;
+    int m = ew_poly_project(&r->view, p, n, pj, &nearzi);
     if (m < 3) return;
     if (!grow((void **)&a->edges, &a->cap_edges, a->nedges + m, sizeof(pedge))) {
         a->failed = 1;
         return;
-    }
-    ew_proj pj[EW_MAX_POLY];
-    float nearzi = 0;
-    for (int i = 0; i < m; i++) {
-        ew_project(&r->view, out[i], &pj[i]);
-        if (pj[i].zi > nearzi) nearzi = pj[i].zi;
     }
     int nemit = 0;
     for (int i = 0; i < m; i++) {
@@ -715,10 +705,7 @@ static void frag_sink(void *ctx, float (*p)[3], int n, int face, const ew_view *
         pe->emit = pe->crosses, pe->partner = -1;
         nemit += pe->crosses;
     }
-    ew_gradients g;
-    ew_face_gradients(r->world, v, &r->world->faces[face], 0, &g);
     fr->m = m, fr->pe = a->nedges, fr->nemit = nemit, fr->nearzi = nearzi;
-    fr->zi_u = g.zi_u, fr->zi_v = g.zi_v, fr->zi_0 = g.zi_0;
     a->nedges += m;
 }
 
@@ -841,13 +828,7 @@ static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
             ed->surfs[0] = (uint16_t)(pe->down ? s : other);
             ed->surfs[1] = (uint16_t)(pe->down ? other : s);
         }
-        ew_surf *sf = &r->el.surfs[s];
-        sf->key = pf->key;
-        sf->face = pf->face;
-        sf->flags = r->world->faces[pf->face].flags;
-        sf->nearzi = pf->nearzi;
-        sf->view = &r->view;
-        sf->insubmodel = 0;
+        ew_surf_set_world(r, &r->el.surfs[s], pf->face, pf->key, pf->nearzi);
     }
 }
 
@@ -866,14 +847,7 @@ static void write_brush(ew_renderer *r, struct ew_front_par *fp, int i) {
             ed->surfs[0] = (uint16_t)(pe->down ? s : 0);
             ed->surfs[1] = (uint16_t)(pe->down ? 0 : s);
         }
-        ew_surf *sf = &r->el.surfs[s++];
-        sf->key = fr->key;
-        sf->face = fr->face;
-        sf->flags = r->world->faces[fr->face].flags;
-        sf->nearzi = fr->nearzi;
-        sf->view = fr->view;
-        sf->insubmodel = 1;
-        sf->zi_u = fr->zi_u, sf->zi_v = fr->zi_v, sf->zi_0 = fr->zi_0;
+        ew_surf_set_fragment(r->world, &r->el.surfs[s++], fr->face, fr->key, fr->nearzi, fr->view);
     }
 }
 
