@@ -56,7 +56,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CHUNK 32           /* faces a thread takes at a time in phases 2-4 */
+#define CHUNK 8            /* faces a thread takes at a time in phases 3-5 */
 #define PE_CLIP INT32_MIN  /* a prepared edge the clip made (no world edge) */
 #define M_DROPPED (-2)     /* a face with too many edges (counted as dropped) */
 #define ENT_CHUNK 4        /* entities a thread tests at a time (a light trace each) */
