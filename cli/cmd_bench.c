@@ -370,7 +370,8 @@ typedef struct row {
     double serial_mean;            /* its mean */
     double serial_phase[NPHASES];  /* mean of each part, and of the rest */
     double serial_share;           /* serial / a one-thread median (serial_base) */
-    double predict_share;          /* the one-thread row's share, at most 1: the predictions' */
+    double predict_share;          /* the one-thread row's share with front_items, at most 1: the predictions' */
+    double front_items;            /* --bands: the front end's largest items per frame (ms_front_items), or NaN */
     int    serial_base_own;        /* 1: this row's median (no one-thread row before it) */
     int    nbands;                 /* --bands: */
     int    bands[MAX_BAND_COUNTS];
@@ -386,6 +387,7 @@ typedef struct size_ctx {
     double one_share;              /* that row's serial share: what the predictions use */
     int    have_profile;           /* the band imbalances were measured */
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS], sched_imbalance[MAX_BAND_COUNTS];
+    double front_items;            /* median over the views of each one's least ms_front_items */
 } size_ctx;
 
 /* Fills r from frames[views * passes] and their stats. */
@@ -483,6 +485,8 @@ static void print_row_json(FILE *f, const row *r) {
     json_number(f, r->serial_share);
     fputs(",\"predict_share\":", f);
     json_number(f, r->predict_share);
+    fputs(",\"front_items_ms\":", f);
+    json_number(f, r->front_items);
     fprintf(f, ",\"serial_share_base\":\"%s\",\"serial_mean_ms\":", r->serial_base_own ? "own" : "threads1");
     json_number(f, r->serial_mean);
     fputs(",\"serial_phases\":{", f);
@@ -702,6 +706,7 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
 #ifdef EW_BENCH_NO_SERIAL
     (void)rd, (void)views, (void)nviews, (void)h;
     for (int b = 0; b < o->nbands; b++) sx->imbalance[b] = sx->imbalance_max[b] = sx->sched_imbalance[b] = NAN;
+    sx->front_items = NAN;
     sx->have_profile = 1;
     return 0;
 #else
@@ -709,18 +714,23 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
     size_t hv = (size_t)h * (size_t)nviews;
     float *rows = malloc(sizeof(float) * hv * (PROFILE_PASSES + 1));
     double *imb = malloc(sizeof(double) * (size_t)nviews * (size_t)o->nbands * 2);
+    double *items = malloc(sizeof(double) * (size_t)nviews);
     int rc = -1;
-    if (!rows || !imb || ew_set_threads(rd, 1) < 0 || ew_set_row_profile(rd, 1) < 0)
+    if (!rows || !imb || !items || ew_set_threads(rd, 1) < 0 || ew_set_row_profile(rd, 1) < 0)
         goto out;
     double *simb = imb + (size_t)nviews * o->nbands;
     /* Pass after pass over the view set, so one stall of the machine hits
      * a view's strip in one pass, not in all three. */
     for (int p = 0; p < PROFILE_PASSES; p++)
         for (int v = 0; v < nviews; v++) {
-            if (ew_render(rd, &views[v], NULL) < 0)
+            ew_stats st;
+            if (ew_render(rd, &views[v], &st) < 0)
                 goto out;
             ew_frame_row_ms(rd, rows + hv * p + (size_t)h * v, h);
+            /* the front end's largest items: the least of the passes too */
+            if (p == 0 || st.ms_front_items < items[v]) items[v] = st.ms_front_items;
         }
+    sx->front_items = median_of(items, nviews);
     for (int v = 0; v < nviews; v++) {
         const float *r0 = rows + (size_t)h * v, *r1 = r0 + hv, *r2 = r1 + hv;
         float *best = rows + hv * PROFILE_PASSES + (size_t)h * v;
@@ -750,6 +760,7 @@ out:
         rc = -1;
     free(rows);
     free(imb);
+    free(items);
     return rc;
 #endif
 }
@@ -845,6 +856,14 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         progress_clear();
         error_line("bench: %s at %dx%d: the row profile failed (out of memory?)", r->map, w, h);
         goto done;
+    }
+    /* The front end's largest items wait on one thread however many there
+     * are: counted with the serial share. */
+    r->front_items = o->nbands ? sx->front_items : NAN;
+    if (o->nbands && isfinite(sx->front_items)) {
+        r->predict_share += sx->front_items / (sx->have_one ? sx->one_median : r->median);
+        if (r->predict_share > 1)
+            r->predict_share = 1;
     }
     r->nbands = o->nbands;
     for (int b = 0; b < o->nbands; b++) {

@@ -383,12 +383,18 @@ typedef struct ew_stats {
     /* Serial time: the frame's wall time outside its parallel sections (the
      * worker pool's runs), start of frame to the stats, on any thread
      * count; by Amdahl's law it bounds what more cores can give.  Then its
-     * parts: frame begin (view, PVS, dynamic lights), the BSP walk with
-     * edge emission, brush models, band placement and the surface-cache
-     * lookups (prepare), the passes' preparation; the rest of ms_serial is
-     * the warp set-up and the stats. */
+     * parts: frame begin (view, dynamic lights), the front end's own serial
+     * steps (top of the BSP walk, layouts by prefix sum, edge linking),
+     * the brush entities' frustum test, band placement and the
+     * surface-cache lookups that allocate (prepare), the passes'
+     * preparation; the rest of ms_serial is the warp set-up and the stats. */
     double ms_serial;
     double ms_serial_begin, ms_serial_walk, ms_serial_brush, ms_serial_prepare, ms_serial_passes;
+    /* While ew_set_row_profile is on (edgewise_tools.h), and only then: the
+     * largest single work item of each of the parallel front end's phases,
+     * summed: what no number of threads can shorten in the front end
+     * (else 0). */
+    double ms_front_items;
 } ew_stats;
 
 /* Renders one frame of the world into the renderer's 8-bit frame buffer and

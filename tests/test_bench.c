@@ -108,6 +108,9 @@ static void check_bands(const char *what, const char *line, const int *bands, in
               k3, sx, line);
         double s = field(line, "predict_share");
         CHECK(s > 0 && s <= 1, "%s: predict_share %g in %s", what, s, line);
+        /* the parallel front end's largest items, timed in the row profile */
+        double fi = field(line, "front_items_ms");
+        CHECK(fi > 0 && fi < field(line, "median_ms"), "%s: front_items_ms %g in %s", what, fi, line);
         CHECK(fabs(x - 1 / (s + (1 - s) * imb / bands[i])) < 1e-3 * x, "%s: %s %g is not Amdahl's: %s", what, k3,
               x, line);
     }

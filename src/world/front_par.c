@@ -131,6 +131,8 @@ struct ew_front_par {
     _Alignas(64) atomic_int stage;      /* the phase the calling thread has opened */
     _Alignas(64) atomic_int front_done; /* the tail has run: the edge list is complete */
     phase ph[6];
+    int    time_items;                  /* the row profile: items timed (one thread) */
+    double longest[6];                  /* then per phase its largest item, ms */
     /* The plan. */
     int   nnodes, top_n;                /* world tree: nodes; threshold of a top node */
     int   head_root;                    /* 1: the head node is itself a root (a small tree) */
@@ -898,7 +900,14 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
 static void run_items(ew_renderer *r, struct ew_front_par *fp, int k, int thread) {
     phase *ph = &fp->ph[k];
     for (int i; (i = atomic_fetch_add_explicit(&ph->next, 1, memory_order_relaxed)) < ph->n;) {
+        /* The row profile (one thread) times each item: the largest of a
+         * phase bounds it on any number of threads. */
+        double t0 = fp->time_items ? ew_now_ms() : 0;
         do_item(r, fp, k, i, thread);
+        if (fp->time_items) {
+            double ms = ew_now_ms() - t0;
+            if (ms > fp->longest[k]) fp->longest[k] = ms;
+        }
         atomic_fetch_add_explicit(&ph->done, 1, memory_order_release);
     }
 }
@@ -1021,8 +1030,11 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     fp->tail = tail, fp->tail_arg = arg, fp->then = then;
     atomic_store(&fp->stage, 0);
     atomic_store(&fp->front_done, 0);
+    fp->time_items = r->sched.profile_rows && r->sched.nthreads == 1;
+    memset(fp->longest, 0, sizeof fp->longest);
     front_run run = {r, {0, 0}};
     ew_pool_run(r->sched.pool, job_front, &run);
     serial_ms[0] = run.serial_ms[0], serial_ms[1] = run.serial_ms[1];
+    for (int k = 1; k < 6; k++) r->stats.ms_front_items += fp->longest[k];
     return 0;
 }
