@@ -77,36 +77,6 @@ static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch
     }
 }
 
-void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
-    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
-    ew_stepper st;
-    int32_t s, t, ds, dt;
-    int n;
-    ew_step_begin(&st, &d->g, c->subdiv_shift, sp->u, sp->v, sp->count);
-    if (st.shift == 4) {
-        /* Whole 16-pixel segments first: with their length known the
-         * stepper's branches fold away and the texel loop unrolls. */
-        while (st.left > 16) {
-            ew_step_next(&st, &s, &t, &ds, &dt);
-            texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, 16);
-            dst += 16;
-        }
-    }
-    while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
-        texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n);
-        dst += n;
-    }
-}
-
-void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp) {
-    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
-    if (c->target->bpp == 1) {
-        memset(dst, 0, (size_t)sp->count);
-        return;
-    }
-    for (int x = 0; x < sp->count; x++) ew_put_index(c->target, dst, x, 0);
-}
-
 /* True colour: n texels of a 4-byte lit surface along the same line, the
  * indices made four at a time as texel_run does. */
 static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s, int32_t t,
@@ -134,19 +104,89 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
     }
 }
 
-static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
+/* A lit span with the default divide every 16 pixels (bytes: 1 for 8-bit
+ * frames, 4 for true colour): ew_step_begin and ew_step_next's arithmetic
+ * with the surface's gradients held in registers (through the stepper
+ * they were read again for every segment, as the frame's byte stores
+ * might have changed them), whole segments first, then the last one of 1
+ * to 16 pixels, which ends on its own last pixel. */
+static inline void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v, int count, int bytes) {
+    const ew_gradients *g = &d->g;
+    const float zi_u = g->zi_u, s_u = g->s_u, t_u = g->t_u;
+    const float zi_row = g->zi_v * v + g->zi_0, s_row = g->s_v * v + g->s_0, t_row = g->t_v * v + g->t_0;
+    const int32_t s_adj = g->s_adjust, t_adj = g->t_adjust, s_max = g->s_max, t_max = g->t_max;
+    const uint8_t *pixels = d->pixels;
+    const uint32_t pitch = (uint32_t)d->pitch;
+    if (count <= 0) return;
+    float fu = (float)u;
+    float z = 65536.0f / (zi_u * fu + zi_row);
+    int32_t s = ew_tex_fix((s_u * fu + s_row) * z, s_adj, 0, s_max);
+    int32_t t = ew_tex_fix((t_u * fu + t_row) * z, t_adj, 0, t_max);
+    while (count > 16) {
+        count -= 16;
+        u += 16;
+        fu = (float)u;
+        z = 65536.0f / (zi_u * fu + zi_row);
+        /* Not quite 0 at the low end, as in ew_step_next. */
+        int32_t sn = ew_tex_fix((s_u * fu + s_row) * z, s_adj, 16, s_max);
+        int32_t tn = ew_tex_fix((t_u * fu + t_row) * z, t_adj, 16, t_max);
+        if (bytes == 1)
+            texel_run(dst, pixels, pitch, s, t, (sn - s) >> 4, (tn - t) >> 4, 16);
+        else
+            texel_run32(dst, pixels, pitch, s, t, (sn - s) >> 4, (tn - t) >> 4, 16);
+        dst += 16 * bytes;
+        s = sn, t = tn;
+    }
+    int32_t ds = 0, dt = 0;
+    if (count > 1) {
+        fu = (float)(u + count - 1);
+        z = 65536.0f / (zi_u * fu + zi_row);
+        int32_t sn = ew_tex_fix((s_u * fu + s_row) * z, s_adj, 16, s_max);
+        int32_t tn = ew_tex_fix((t_u * fu + t_row) * z, t_adj, 16, t_max);
+        ds = ew_step_div(sn - s, count - 1);
+        dt = ew_step_div(tn - t, count - 1);
+    }
+    if (bytes == 1)
+        texel_run(dst, pixels, pitch, s, t, ds, dt, count);
+    else
+        texel_run32(dst, pixels, pitch, s, t, ds, dt, count);
+}
+
+void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+    if (c->subdiv_shift == 4) {
+        lit_span16(dst, d, sp->u, sp->v, sp->count, 1);
+        return;
+    }
     ew_stepper st;
     int32_t s, t, ds, dt;
     int n;
     ew_step_begin(&st, &d->g, c->subdiv_shift, sp->u, sp->v, sp->count);
-    if (st.shift == 4) {  /* whole 16-pixel segments first, as the 8-bit drawer */
-        while (st.left > 16) {
-            ew_step_next(&st, &s, &t, &ds, &dt);
-            texel_run32(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, 16);
-            dst += 16 * 4;
-        }
+    while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
+        texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n);
+        dst += n;
     }
+}
+
+void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp) {
+    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+    if (c->target->bpp == 1) {
+        memset(dst, 0, (size_t)sp->count);
+        return;
+    }
+    for (int x = 0; x < sp->count; x++) ew_put_index(c->target, dst, x, 0);
+}
+
+static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
+    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+    if (c->subdiv_shift == 4) {
+        lit_span16(dst, d, sp->u, sp->v, sp->count, 4);
+        return;
+    }
+    ew_stepper st;
+    int32_t s, t, ds, dt;
+    int n;
+    ew_step_begin(&st, &d->g, c->subdiv_shift, sp->u, sp->v, sp->count);
     while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
         texel_run32(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n);
         dst += (size_t)n * 4;
