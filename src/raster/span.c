@@ -14,30 +14,37 @@
 
 #if defined(__SSE2__)
 /* Four texels' s and t a step apart, walked four steps at a time by both
- * texel runs (8-bit and true colour). */
-typedef struct texel_lanes { __m128i s, t, step_s, step_t, mul; } texel_lanes;
+ * texel runs (8-bit and true colour): a holds (s, t) of the first two
+ * pixels, b of the next two, so one s, t pair is set up and stepped in
+ * one register instead of s and t each spread over four lanes. */
+typedef struct texel_lanes { __m128i a, b, step, mul; } texel_lanes;
 
 static inline texel_lanes texel_lanes_at(int32_t s, int32_t t, int32_t ds, int32_t dt, uint32_t pitch) {
     texel_lanes l;
-    l.s = _mm_setr_epi32(s, s + ds, s + 2 * ds, s + 3 * ds);
-    l.t = _mm_setr_epi32(t, t + dt, t + 2 * dt, t + 3 * dt);
-    l.step_s = _mm_set1_epi32(4 * ds), l.step_t = _mm_set1_epi32(4 * dt);
+    __m128i st = _mm_unpacklo_epi32(_mm_cvtsi32_si128(s), _mm_cvtsi32_si128(t));
+    st = _mm_unpacklo_epi64(st, st);                        /* s, t, s, t */
+    __m128i d = _mm_unpacklo_epi32(_mm_cvtsi32_si128(ds), _mm_cvtsi32_si128(dt));
+    l.a = _mm_add_epi32(st, _mm_slli_si128(d, 8));          /* s, t, s + ds, t + dt */
+    __m128i d2 = _mm_add_epi32(d, d);
+    d2 = _mm_unpacklo_epi64(d2, d2);                        /* 2 ds, 2 dt, 2 ds, 2 dt */
+    l.b = _mm_add_epi32(l.a, d2);
+    l.step = _mm_add_epi32(d2, d2);
     l.mul = _mm_set1_epi32((int)((pitch << 16) | 1u));  /* (1, pitch) pairs */
     return l;
 }
 
 /* The surface indices t * pitch + s of the lanes' four texels, then the
- * lanes step on: the integer parts of s and t paired as 16-bit halves, one
- * multiply-add with mul's (1, pitch) pairs. */
+ * lanes step on: the integer parts of s and t packed as 16-bit pairs (no
+ * saturation: both are under 32768), one multiply-add with mul's
+ * (1, pitch) pairs. */
 static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4]) {
-    const __m128i hi16 = _mm_set1_epi32((int)0xFFFF0000u);
-    __m128i idx = _mm_madd_epi16(_mm_or_si128(_mm_srli_epi32(l->s, 16), _mm_and_si128(l->t, hi16)), l->mul);
+    __m128i idx = _mm_madd_epi16(_mm_packs_epi32(_mm_srli_epi32(l->a, 16), _mm_srli_epi32(l->b, 16)), l->mul);
     k[0] = (uint32_t)_mm_cvtsi128_si32(idx);
     k[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
     k[2] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
     k[3] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
-    l->s = _mm_add_epi32(l->s, l->step_s);
-    l->t = _mm_add_epi32(l->t, l->step_t);
+    l->a = _mm_add_epi32(l->a, l->step);
+    l->b = _mm_add_epi32(l->b, l->step);
 }
 #endif
 
