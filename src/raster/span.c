@@ -114,32 +114,66 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
     }
 }
 
+/* A lit span's row: 1/z, s/z and t/z as functions of the column. */
+typedef struct lit_row {
+#if defined(__SSE2__)
+    __m128 u, c;  /* lanes 1/z, s/z, t/z, 0: the column term and the rest */
+#else
+    float zi_u, s_u, t_u, zi_c, s_c, t_c;
+#endif
+    int32_t s_adj, t_adj, s_max, t_max;
+} lit_row;
+
+static inline lit_row lit_row_at(const ew_gradients *g, int v) {
+    lit_row r;
+#if defined(__SSE2__)
+    r.u = _mm_loadu_ps(&g->zi_u);
+    r.c = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(&g->zi_v), _mm_set1_ps((float)v)), _mm_loadu_ps(&g->zi_0));
+#else
+    r.zi_u = g->zi_u, r.s_u = g->s_u, r.t_u = g->t_u;
+    r.zi_c = g->zi_v * v + g->zi_0, r.s_c = g->s_v * v + g->s_0, r.t_c = g->t_v * v + g->t_0;
+#endif
+    r.s_adj = g->s_adjust, r.t_adj = g->t_adjust, r.s_max = g->s_max, r.t_max = g->t_max;
+    return r;
+}
+
+/* The true s and t at column fu, as ew_step_begin and ew_step_next compute
+ * them (lo: their low clamp).  With SSE2 the three planes are one vector:
+ * lane by lane the same single-precision multiplies and adds, and the
+ * float clamps of ew_tex_fix as maxps/minps. */
+static inline void lit_point(const lit_row *r, float fu, int32_t lo, int32_t *s, int32_t *t) {
+#if defined(__SSE2__)
+    __m128 p = _mm_add_ps(_mm_mul_ps(r->u, _mm_set1_ps(fu)), r->c);
+    __m128 z = _mm_div_ss(_mm_set_ss(65536.0f), p);
+    p = _mm_mul_ps(p, _mm_shuffle_ps(z, z, 0));
+    __m128i x = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(p, _mm_set1_ps(-1e9f)), _mm_set1_ps(1e9f)));
+    *s = ew_tex_clamp(_mm_cvtsi128_si32(_mm_srli_si128(x, 4)), r->s_adj, lo, r->s_max);
+    *t = ew_tex_clamp(_mm_cvtsi128_si32(_mm_srli_si128(x, 8)), r->t_adj, lo, r->t_max);
+#else
+    float z = 65536.0f / (r->zi_u * fu + r->zi_c);
+    *s = ew_tex_fix((r->s_u * fu + r->s_c) * z, r->s_adj, lo, r->s_max);
+    *t = ew_tex_fix((r->t_u * fu + r->t_c) * z, r->t_adj, lo, r->t_max);
+#endif
+}
+
 /* A lit span with the default divide every 16 pixels (bytes: 1 for 8-bit
- * frames, 4 for true colour): ew_step_begin and ew_step_next's arithmetic
- * with the surface's gradients held in registers (through the stepper
- * they were read again for every segment, as the frame's byte stores
- * might have changed them), whole segments first, then the last one of 1
- * to 16 pixels, which ends on its own last pixel. */
+ * frames, 4 for true colour): the stepper's arithmetic with the surface's
+ * gradients held in registers (through the stepper they were read again
+ * for every segment, as the frame's byte stores might have changed them),
+ * whole segments first, then the last one of 1 to 16 pixels, which ends on
+ * its own last pixel.  Columns are whole numbers far below 2^24, so fu
+ * stepped in floats is exactly (float)u. */
 static inline void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v, int count, int bytes) {
-    const ew_gradients *g = &d->g;
-    const float zi_u = g->zi_u, s_u = g->s_u, t_u = g->t_u;
-    const float zi_row = g->zi_v * v + g->zi_0, s_row = g->s_v * v + g->s_0, t_row = g->t_v * v + g->t_0;
-    const int32_t s_adj = g->s_adjust, t_adj = g->t_adjust, s_max = g->s_max, t_max = g->t_max;
+    if (count <= 0) return;
+    const lit_row r = lit_row_at(&d->g, v);
     const uint8_t *pixels = d->pixels;
     const uint32_t pitch = (uint32_t)d->pitch;
-    if (count <= 0) return;
     float fu = (float)u;
-    float z = 65536.0f / (zi_u * fu + zi_row);
-    int32_t s = ew_tex_fix((s_u * fu + s_row) * z, s_adj, 0, s_max);
-    int32_t t = ew_tex_fix((t_u * fu + t_row) * z, t_adj, 0, t_max);
-    while (count > 16) {
-        count -= 16;
-        u += 16;
-        fu = (float)u;
-        z = 65536.0f / (zi_u * fu + zi_row);
-        /* Not quite 0 at the low end, as in ew_step_next. */
-        int32_t sn = ew_tex_fix((s_u * fu + s_row) * z, s_adj, 16, s_max);
-        int32_t tn = ew_tex_fix((t_u * fu + t_row) * z, t_adj, 16, t_max);
+    int32_t s, t, sn, tn;
+    lit_point(&r, fu, 0, &s, &t);
+    for (; count > 16; count -= 16) {
+        fu += 16.0f;
+        lit_point(&r, fu, 16, &sn, &tn);  /* not quite 0 at the low end, as in ew_step_next */
         if (bytes == 1)
             texel_run(dst, pixels, pitch, s, t, (sn - s) >> 4, (tn - t) >> 4, 16);
         else
@@ -149,10 +183,7 @@ static inline void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v,
     }
     int32_t ds = 0, dt = 0;
     if (count > 1) {
-        fu = (float)(u + count - 1);
-        z = 65536.0f / (zi_u * fu + zi_row);
-        int32_t sn = ew_tex_fix((s_u * fu + s_row) * z, s_adj, 16, s_max);
-        int32_t tn = ew_tex_fix((t_u * fu + t_row) * z, t_adj, 16, t_max);
+        lit_point(&r, fu + (float)(count - 1), 16, &sn, &tn);
         ds = ew_step_div(sn - s, count - 1);
         dt = ew_step_div(tn - t, count - 1);
     }

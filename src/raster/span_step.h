@@ -23,21 +23,27 @@ typedef struct ew_stepper {
     int shift;             /* log2 of the segment length */
 } ew_stepper;
 
+/* x, the truncated (s/z) * z, plus the eye's coordinate, clamped to the
+ * surface. */
+static inline int32_t ew_tex_clamp(int32_t x, int32_t adjust, int32_t lo, int32_t hi) {
+    int64_t s = (int64_t)x + adjust;
+    s = s < lo ? lo : s;
+    s = s > hi ? hi : s;
+    return (int32_t)s;
+}
+
 /* (s/z) * z plus the eye's coordinate, clamped to the surface. */
 static inline int32_t ew_tex_fix(float x, int32_t adjust, int32_t lo, int32_t hi) {
 #if defined(__SSE2__)
     /* maxss and minss are exactly the selects below (NaN becomes -1e9: the
      * second operand wins); written out, gcc made branches of them. */
     __m128 v = _mm_min_ss(_mm_max_ss(_mm_set_ss(x), _mm_set_ss(-1e9f)), _mm_set_ss(1e9f));
-    int64_t s = (int64_t)_mm_cvttss_si32(v) + adjust;  /* |v| <= 1e9: truncation as the cast */
+    return ew_tex_clamp(_mm_cvttss_si32(v), adjust, lo, hi);  /* |v| <= 1e9: truncation as a cast */
 #else
     x = x > -1e9f ? x : -1e9f;  /* also turns NaN into -1e9 */
     x = x < 1e9f ? x : 1e9f;
-    int64_t s = (int64_t)x + adjust;
+    return ew_tex_clamp((int32_t)x, adjust, lo, hi);
 #endif
-    s = s < lo ? lo : s;
-    s = s > hi ? hi : s;
-    return (int32_t)s;
 }
 
 /* 65536 / n for the last, shorter segment of a span: a multiply instead of
