@@ -239,12 +239,15 @@ static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_su
  * own spans lie scattered.  Lit surfaces were looked up and built, and
  * every surface's gradients computed once, before the bands started. */
 void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *draw, int full_z) {
+    const int lit8 = c->target->bpp == 1 && c->subdiv_shift == 4;
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
         const ew_surf_draw *d = &draw[sp->surf];
         switch (d->kind) {
         case EW_DRAW_LIT:
-            if (c->target->bpp == 1)
+            if (lit8)  /* the common case inline: no call, no saved registers a span */
+                lit_span16(ew_target_at(c->target, sp->u, sp->v), d, sp->u, sp->v, sp->count, 1);
+            else if (c->target->bpp == 1)
                 ew_draw_lit_span(c, sp, d);
             else
                 draw_lit_span32(c, sp, d);
