@@ -243,11 +243,21 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
                  * the original did: the same rounding gives the same light rings. */
                 int lstep = (l01 - l00) >> shift, rstep = (l11 - l10) >> shift;
                 int left = l00, right = l10;
+                /* The block's last texture column and first texture row;
+                 * when its columns do not run past the texture's left edge
+                 * they are consecutive, and the texel loop needs no wrap. */
+                int sx0 = (s0 + i * bs + bs - 1) % tw, ty = (t0 + j * bs) % th;
                 for (int y = 0; y < bs; y++, left += lstep, right += rstep) {
-                    const uint8_t *row = tp + ((t0 + j * bs + y) % th) * tw;
+                    const uint8_t *row = tp + ty * tw;
+                    if (++ty == th) ty = 0;
                     uint8_t *dst = out + (size_t)(j * bs + y) * width + i * bs;
                     int step = (left - right) >> shift, l = right;
-                    int sx = (s0 + i * bs + bs - 1) % tw;
+                    if (sx0 >= bs - 1) {
+                        const uint8_t *src = row + sx0 - (bs - 1);
+                        for (int x = bs - 1; x >= 0; x--, l += step) dst[x] = cmap[(l & 0xFF00) + src[x]];
+                        continue;
+                    }
+                    int sx = sx0;
                     for (int x = bs - 1; x >= 0; x--, l += step) {
                         dst[x] = cmap[(l & 0xFF00) + row[sx]];
                         if (--sx < 0) sx = tw - 1;
