@@ -114,6 +114,14 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
     }
 }
 
+/* The lit span walk is inlined into each caller: gcc otherwise keeps one
+ * shared copy and calls it for every span. */
+#if defined(__GNUC__)
+#define EW_SPAN_INLINE inline __attribute__((always_inline))
+#else
+#define EW_SPAN_INLINE inline
+#endif
+
 /* A lit span's row: 1/z, s/z and t/z as functions of the column. */
 typedef struct lit_row {
 #if defined(__SSE2__)
@@ -163,7 +171,7 @@ static inline void lit_point(const lit_row *r, float fu, int32_t lo, int32_t *s,
  * whole segments first, then the last one of 1 to 16 pixels, which ends on
  * its own last pixel.  Columns are whole numbers far below 2^24, so fu
  * stepped in floats is exactly (float)u. */
-static inline void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v, int count, int bytes) {
+static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v, int count, int bytes) {
     if (count <= 0) return;
     const lit_row r = lit_row_at(&d->g, v);
     const uint8_t *pixels = d->pixels;
