@@ -168,6 +168,57 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
     out8[x] = da <= dn * 2 ? ramp : near;
 }
 
+/* The colormap path of ew_build_surface: each block of bs x bs texels
+ * between four light samples, stepped in fixed point from the right-hand
+ * sample leftwards, as the original did (the same rounding gives the same
+ * light rings). */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void cmap_blocks(uint8_t *out, int width, const int *bl, int smax, int tmax, const uint8_t *tp,
+                               int tw, int th, int s0, int t0, const uint8_t *cmap, int bs, int shift) {
+    for (int j = 0; j < tmax - 1; j++) {
+        for (int i = 0; i < smax - 1; i++) {
+            int l00 = bl[j * smax + i], l10 = bl[j * smax + i + 1];
+            int l01 = bl[(j + 1) * smax + i], l11 = bl[(j + 1) * smax + i + 1];
+            int lstep = (l01 - l00) >> shift, rstep = (l11 - l10) >> shift;
+            int left = l00, right = l10;
+            /* The block's last texture column and first texture row; when
+             * its columns do not run past the texture's left edge they are
+             * consecutive, and the texel loop needs no wrap. */
+            int sx0 = (s0 + i * bs + bs - 1) % tw, ty = (t0 + j * bs) % th;
+            for (int y = 0; y < bs; y++, left += lstep, right += rstep) {
+                const uint8_t *row = tp + ty * tw;
+                if (++ty == th) ty = 0;
+                uint8_t *dst = out + (size_t)(j * bs + y) * width + i * bs;
+                int step = (left - right) >> shift, l = right;
+                if (sx0 >= bs - 1) {
+                    const uint8_t *src = row + sx0 - (bs - 1);
+                    for (int x = bs - 1; x >= 0; x--, l += step) dst[x] = cmap[(l & 0xFF00) + src[x]];
+                    continue;
+                }
+                int sx = sx0;
+                for (int x = bs - 1; x >= 0; x--, l += step) {
+                    dst[x] = cmap[(l & 0xFF00) + row[sx]];
+                    if (--sx < 0) sx = tw - 1;
+                }
+            }
+        }
+    }
+}
+
+typedef void cmap_block_fn(uint8_t *, int, const int *, int, int, const uint8_t *, int, int, int, int,
+                           const uint8_t *);
+#define CMAP_BLOCKS(bs, shift)                                                                          \
+    static void cmap_blocks##bs(uint8_t *out, int width, const int *bl, int smax, int tmax,             \
+                                const uint8_t *tp, int tw, int th, int s0, int t0, const uint8_t *cmap) { \
+        cmap_blocks(out, width, bl, smax, tmax, tp, tw, th, s0, t0, cmap, bs, shift);                   \
+    }
+CMAP_BLOCKS(16, 4)
+CMAP_BLOCKS(8, 3)
+CMAP_BLOCKS(4, 2)
+CMAP_BLOCKS(2, 1)
+
 void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
                       const ew_texture *tex, int mip, const int light[4], unsigned dlights,
                       uint8_t *out, int *scratch) {
@@ -234,37 +285,9 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
 
     int bs = 16 >> mip, shift = 4 - mip, smax = L.smax, tmax = L.tmax;
     if (e.mode == OUT_CMAP) {  /* the original's path, kept tight */
-        const uint8_t *cmap = r->colormap;
-        for (int j = 0; j < tmax - 1; j++) {
-            for (int i = 0; i < smax - 1; i++) {
-                int l00 = bl[j * smax + i], l10 = bl[j * smax + i + 1];
-                int l01 = bl[(j + 1) * smax + i], l11 = bl[(j + 1) * smax + i + 1];
-                /* Stepped in fixed point from the right-hand sample leftwards, as
-                 * the original did: the same rounding gives the same light rings. */
-                int lstep = (l01 - l00) >> shift, rstep = (l11 - l10) >> shift;
-                int left = l00, right = l10;
-                /* The block's last texture column and first texture row;
-                 * when its columns do not run past the texture's left edge
-                 * they are consecutive, and the texel loop needs no wrap. */
-                int sx0 = (s0 + i * bs + bs - 1) % tw, ty = (t0 + j * bs) % th;
-                for (int y = 0; y < bs; y++, left += lstep, right += rstep) {
-                    const uint8_t *row = tp + ty * tw;
-                    if (++ty == th) ty = 0;
-                    uint8_t *dst = out + (size_t)(j * bs + y) * width + i * bs;
-                    int step = (left - right) >> shift, l = right;
-                    if (sx0 >= bs - 1) {
-                        const uint8_t *src = row + sx0 - (bs - 1);
-                        for (int x = bs - 1; x >= 0; x--, l += step) dst[x] = cmap[(l & 0xFF00) + src[x]];
-                        continue;
-                    }
-                    int sx = sx0;
-                    for (int x = bs - 1; x >= 0; x--, l += step) {
-                        dst[x] = cmap[(l & 0xFF00) + row[sx]];
-                        if (--sx < 0) sx = tw - 1;
-                    }
-                }
-            }
-        }
+        /* The block size as a constant in each copy, so the texel loops unroll. */
+        cmap_block_fn *fn = mip == 0 ? cmap_blocks16 : mip == 1 ? cmap_blocks8 : mip == 2 ? cmap_blocks4 : cmap_blocks2;
+        fn(out, width, bl, smax, tmax, tp, tw, th, s0, t0, r->colormap);
         return;
     }
     /* The same stepping per channel, each texel through the emitter. */
