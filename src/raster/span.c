@@ -37,12 +37,19 @@ static inline texel_lanes texel_lanes_at(int32_t s, int32_t t, int32_t ds, int32
  * lanes step on: the integer parts of s and t packed as 16-bit pairs (no
  * saturation: both are under 32768), one multiply-add with mul's
  * (1, pitch) pairs. */
-static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4]) {
+static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4], int narrow) {
     __m128i idx = _mm_madd_epi16(_mm_packs_epi32(_mm_srli_epi32(l->a, 16), _mm_srli_epi32(l->b, 16)), l->mul);
-    k[0] = (uint32_t)_mm_cvtsi128_si32(idx);
-    k[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
-    k[2] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
-    k[3] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
+    if (narrow) {  /* every index under 65536: one pextrw each instead of a shuffle and a move */
+        k[0] = (uint32_t)_mm_extract_epi16(idx, 0);
+        k[1] = (uint32_t)_mm_extract_epi16(idx, 2);
+        k[2] = (uint32_t)_mm_extract_epi16(idx, 4);
+        k[3] = (uint32_t)_mm_extract_epi16(idx, 6);
+    } else {
+        k[0] = (uint32_t)_mm_cvtsi128_si32(idx);
+        k[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
+        k[2] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
+        k[3] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
+    }
     l->a = _mm_add_epi32(l->a, l->step);
     l->b = _mm_add_epi32(l->b, l->step);
 }
@@ -55,17 +62,18 @@ static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4]) {
  * 16-bit halves and one multiply-add gives s + t * pitch for four pixels;
  * surfaces are far smaller than 32768 texels a side, as that needs (the
  * static assertion below ties it to the largest face extent the loader
- * accepts). */
+ * accepts).  narrow: the surface has at most 65536 texels, so every index
+ * fits in 16 bits. */
 _Static_assert(EW_MAX_EXTENT < 32768, "texel_run's 16-bit pairs need surfaces under 32768 texels a side");
 static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s,
-                             int32_t t, int32_t ds, int32_t dt, int n) {
+                             int32_t t, int32_t ds, int32_t dt, int n, int narrow) {
     int i = 0;
 #if defined(__SSE2__)
     if (n >= 4) {
         texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
         for (; i + 4 <= n; i += 4) {
             uint32_t k[4];
-            texel_lanes_next(&l, k);
+            texel_lanes_next(&l, k, narrow);
             /* Byte stores: a load and a store a pixel, where packing four
              * into one word took two more instructions a pixel. */
             dst[i] = pixels[k[0]];
@@ -98,7 +106,7 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
         texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
         for (; i + 4 <= n; i += 4) {
             uint32_t k[4];
-            texel_lanes_next(&l, k);
+            texel_lanes_next(&l, k, 0);
             __m128i four = _mm_setr_epi32((int)src[k[0]], (int)src[k[1]], (int)src[k[2]], (int)src[k[3]]);
             _mm_storeu_si128((__m128i *)(void *)(dst + (size_t)i * 4), four);
         }
@@ -171,7 +179,8 @@ static inline void lit_point(const lit_row *r, float fu, int32_t lo, int32_t *s,
  * whole segments first, then the last one of 1 to 16 pixels, which ends on
  * its own last pixel.  Columns are whole numbers far below 2^24, so fu
  * stepped in floats is exactly (float)u. */
-static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v, int count, int bytes) {
+static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v, int count, int bytes,
+                                      int narrow) {
     if (count <= 0) return;
     const lit_row r = lit_row_at(&d->g, v);
     const uint8_t *pixels = d->pixels;
@@ -183,7 +192,7 @@ static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u
         fu += 16.0f;
         lit_point(&r, fu, 16, &sn, &tn);  /* not quite 0 at the low end, as in ew_step_next */
         if (bytes == 1)
-            texel_run(dst, pixels, pitch, s, t, (sn - s) >> 4, (tn - t) >> 4, 16);
+            texel_run(dst, pixels, pitch, s, t, (sn - s) >> 4, (tn - t) >> 4, 16, narrow);
         else
             texel_run32(dst, pixels, pitch, s, t, (sn - s) >> 4, (tn - t) >> 4, 16);
         dst += 16 * bytes;
@@ -196,7 +205,7 @@ static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u
         dt = ew_step_div(tn - t, count - 1);
     }
     if (bytes == 1)
-        texel_run(dst, pixels, pitch, s, t, ds, dt, count);
+        texel_run(dst, pixels, pitch, s, t, ds, dt, count, narrow);
     else
         texel_run32(dst, pixels, pitch, s, t, ds, dt, count);
 }
@@ -204,7 +213,7 @@ static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u
 void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
     if (c->subdiv_shift == 4) {
-        lit_span16(dst, d, sp->u, sp->v, sp->count, 1);
+        lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 0);
         return;
     }
     ew_stepper st;
@@ -212,7 +221,7 @@ void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_dra
     int n;
     ew_step_begin(&st, &d->g, c->subdiv_shift, sp->u, sp->v, sp->count);
     while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
-        texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n);
+        texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n, 0);
         dst += n;
     }
 }
@@ -229,7 +238,7 @@ void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp) {
 static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
     if (c->subdiv_shift == 4) {
-        lit_span16(dst, d, sp->u, sp->v, sp->count, 4);
+        lit_span16(dst, d, sp->u, sp->v, sp->count, 4, 0);
         return;
     }
     ew_stepper st;
@@ -240,6 +249,12 @@ static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_su
         texel_run32(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n);
         dst += (size_t)n * 4;
     }
+}
+
+/* A lit surface of at most 65536 texels (t_max holds its height less one,
+ * in 16.16): its texel indices fit in 16 bits. */
+static inline int lit_narrow(const ew_surf_draw *d) {
+    return (int64_t)d->pitch * ((d->g.t_max >> 16) + 1) <= 65536;
 }
 
 /* The band's spans in the order the scan made them, row by row: the frame
@@ -253,8 +268,10 @@ void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *d
         const ew_surf_draw *d = &draw[sp->surf];
         switch (d->kind) {
         case EW_DRAW_LIT:
-            if (lit8)  /* the common case inline: no call, no saved registers a span */
-                lit_span16(ew_target_at(c->target, sp->u, sp->v), d, sp->u, sp->v, sp->count, 1);
+            if (lit8 && lit_narrow(d))  /* the common cases inline: no call a span */
+                lit_span16(ew_target_at(c->target, sp->u, sp->v), d, sp->u, sp->v, sp->count, 1, 1);
+            else if (lit8)
+                lit_span16(ew_target_at(c->target, sp->u, sp->v), d, sp->u, sp->v, sp->count, 1, 0);
             else if (c->target->bpp == 1)
                 ew_draw_lit_span(c, sp, d);
             else
