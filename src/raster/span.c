@@ -68,6 +68,9 @@ _Static_assert(EW_MAX_EXTENT < 32768, "texel_run's 16-bit pairs need surfaces un
 static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s,
                              int32_t t, int32_t ds, int32_t dt, int n, int narrow) {
     int i = 0;
+#if !defined(__SSE2__)
+    (void)narrow;
+#endif
 #if defined(__SSE2__)
     if (n >= 4) {
         texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
@@ -122,6 +125,7 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
     }
 }
 
+#if defined(__SSE2__)
 /* The lit span walk is inlined into each caller: gcc otherwise keeps one
  * shared copy and calls it for every span. */
 #if defined(__GNUC__)
@@ -130,92 +134,131 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
 #define EW_SPAN_INLINE inline
 #endif
 
-/* A lit span's row: 1/z, s/z and t/z as functions of the column. */
+/* Greatest and least of signed 32-bit lanes (SSE2 has them for 16 bits). */
+static inline __m128i max32(__m128i a, __m128i b) {
+    __m128i m = _mm_cmpgt_epi32(b, a);
+    return _mm_or_si128(_mm_and_si128(m, b), _mm_andnot_si128(m, a));
+}
+static inline __m128i min32(__m128i a, __m128i b) {
+    __m128i m = _mm_cmpgt_epi32(a, b);
+    return _mm_or_si128(_mm_and_si128(m, b), _mm_andnot_si128(m, a));
+}
+
+/* A lit span's row, everything in the lanes (1/z, s/z, t/z, -) of one
+ * vector: the planes' column term and the rest, and for s and t (lanes 1
+ * and 2) the eye's coordinate and the clamp limits less it. */
 typedef struct lit_row {
-#if defined(__SSE2__)
-    __m128 u, c;  /* lanes 1/z, s/z, t/z, 0: the column term and the rest */
-#else
-    float zi_u, s_u, t_u, zi_c, s_c, t_c;
-#endif
-    int32_t s_adj, t_adj, s_max, t_max;
+    __m128 u, c;
+    __m128i adj, lo0, lo16, hi;
+    __m128i mul;  /* texel_lanes' (1, pitch) pairs */
 } lit_row;
 
-static inline lit_row lit_row_at(const ew_gradients *g, int v) {
+/* Whether ew_tex_clamp's int64 sum and clamps can be done in 32-bit lanes
+ * as clamp(x, lo - adjust, hi - adjust) + adjust (the same value for
+ * integers): with |adjust| <= 2^30 and limits under 2^27 (EW_MAX_EXTENT)
+ * nothing there overflows.  Others, only from absurd texture vectors, take
+ * the stepper. */
+_Static_assert(EW_MAX_EXTENT <= 2048, "lit_tame's bounds assume s_max and t_max under 2^27");
+static inline int lit_tame(const ew_gradients *g) {
+    return (uint32_t)g->s_adjust + (1u << 30) <= (1u << 31) && (uint32_t)g->t_adjust + (1u << 30) <= (1u << 31);
+}
+
+static inline lit_row lit_row_at(const ew_gradients *g, int v, uint32_t pitch) {
     lit_row r;
-#if defined(__SSE2__)
     r.u = _mm_loadu_ps(&g->zi_u);
     r.c = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(&g->zi_v), _mm_set1_ps((float)v)), _mm_loadu_ps(&g->zi_0));
-#else
-    r.zi_u = g->zi_u, r.s_u = g->s_u, r.t_u = g->t_u;
-    r.zi_c = g->zi_v * v + g->zi_0, r.s_c = g->s_v * v + g->s_0, r.t_c = g->t_v * v + g->t_0;
-#endif
-    r.s_adj = g->s_adjust, r.t_adj = g->t_adjust, r.s_max = g->s_max, r.t_max = g->t_max;
+    __m128i lim = _mm_loadu_si128((const __m128i *)(const void *)&g->s_adjust);  /* s_adjust t_adjust s_max t_max */
+    r.adj = _mm_shuffle_epi32(lim, _MM_SHUFFLE(1, 1, 0, 0));
+    r.hi = _mm_sub_epi32(_mm_shuffle_epi32(lim, _MM_SHUFFLE(3, 3, 2, 2)), r.adj);
+    r.lo0 = _mm_sub_epi32(_mm_setzero_si128(), r.adj);
+    r.lo16 = _mm_sub_epi32(_mm_set1_epi32(16), r.adj);
+    r.mul = _mm_set1_epi32((int)((pitch << 16) | 1u));
     return r;
 }
 
-/* The true s and t at column fu, as ew_step_begin and ew_step_next compute
- * them (lo: their low clamp).  With SSE2 the three planes are one vector:
- * lane by lane the same single-precision multiplies and adds, and the
- * float clamps of ew_tex_fix as maxps/minps. */
-static inline void lit_point(const lit_row *r, float fu, int32_t lo, int32_t *s, int32_t *t) {
-#if defined(__SSE2__)
+/* The true s and t (lanes 1 and 2) at column fu, as ew_step_begin and
+ * ew_step_next compute them (lo: lo0 or lo16 of the row, their low clamp):
+ * lane by lane the same single-precision multiplies and adds, the float
+ * clamps of ew_tex_fix as maxps/minps, its integer ones as above. */
+static inline __m128i lit_point(const lit_row *r, float fu, __m128i lo) {
     __m128 p = _mm_add_ps(_mm_mul_ps(r->u, _mm_set1_ps(fu)), r->c);
     __m128 z = _mm_div_ss(_mm_set_ss(65536.0f), p);
     p = _mm_mul_ps(p, _mm_shuffle_ps(z, z, 0));
     __m128i x = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(p, _mm_set1_ps(-1e9f)), _mm_set1_ps(1e9f)));
-    *s = ew_tex_clamp(_mm_cvtsi128_si32(_mm_srli_si128(x, 4)), r->s_adj, lo, r->s_max);
-    *t = ew_tex_clamp(_mm_cvtsi128_si32(_mm_srli_si128(x, 8)), r->t_adj, lo, r->t_max);
-#else
-    float z = 65536.0f / (r->zi_u * fu + r->zi_c);
-    *s = ew_tex_fix((r->s_u * fu + r->s_c) * z, r->s_adj, lo, r->s_max);
-    *t = ew_tex_fix((r->t_u * fu + r->t_c) * z, r->t_adj, lo, r->t_max);
-#endif
+    return _mm_add_epi32(min32(max32(x, lo), r->hi), r->adj);
+}
+
+/* 16 texels from st (s, t in lanes 1 and 2) with steps d (likewise). */
+static inline void texel_run16(uint8_t *dst, const uint8_t *pixels, __m128i st, __m128i d, __m128i mul,
+                               int bytes, int narrow) {
+    texel_lanes l;
+    st = _mm_shuffle_epi32(st, _MM_SHUFFLE(2, 1, 2, 1));  /* s, t, s, t */
+    d = _mm_shuffle_epi32(d, _MM_SHUFFLE(2, 1, 2, 1));
+    l.a = _mm_add_epi32(st, _mm_and_si128(d, _mm_setr_epi32(0, 0, -1, -1)));
+    d = _mm_add_epi32(d, d);
+    l.b = _mm_add_epi32(l.a, d);
+    l.step = _mm_add_epi32(d, d);
+    l.mul = mul;
+    for (int i = 0; i < 16; i += 4) {
+        uint32_t k[4];
+        texel_lanes_next(&l, k, narrow);
+        if (bytes == 1) {
+            dst[i] = pixels[k[0]];
+            dst[i + 1] = pixels[k[1]];
+            dst[i + 2] = pixels[k[2]];
+            dst[i + 3] = pixels[k[3]];
+        } else {
+            const uint32_t *src = (const uint32_t *)(const void *)pixels;
+            __m128i four = _mm_setr_epi32((int)src[k[0]], (int)src[k[1]], (int)src[k[2]], (int)src[k[3]]);
+            _mm_storeu_si128((__m128i *)(void *)(dst + (size_t)i * 4), four);
+        }
+    }
 }
 
 /* A lit span with the default divide every 16 pixels (bytes: 1 for 8-bit
- * frames, 4 for true colour): the stepper's arithmetic with the surface's
- * gradients held in registers (through the stepper they were read again
- * for every segment, as the frame's byte stores might have changed them),
- * whole segments first, then the last one of 1 to 16 pixels, which ends on
- * its own last pixel.  Columns are whole numbers far below 2^24, so fu
- * stepped in floats is exactly (float)u. */
+ * frames, 4 for true colour; a tame surface, lit_tame): the stepper's
+ * arithmetic with the surface's gradients and limits held in registers,
+ * s and t kept in vector lanes from one segment point to the next, whole
+ * segments first, then the last one of 1 to 16 pixels, which ends on its
+ * own last pixel.  Columns are whole numbers far below 2^24, so fu stepped
+ * in floats is exactly (float)u. */
 static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v, int count, int bytes,
                                       int narrow) {
     if (count <= 0) return;
-    const lit_row r = lit_row_at(&d->g, v);
     const uint8_t *pixels = d->pixels;
     const uint32_t pitch = (uint32_t)d->pitch;
+    const lit_row r = lit_row_at(&d->g, v, pitch);
     float fu = (float)u;
-    int32_t s, t, sn, tn;
-    lit_point(&r, fu, 0, &s, &t);
+    __m128i st = lit_point(&r, fu, r.lo0), stn;
     for (; count > 16; count -= 16) {
         fu += 16.0f;
-        lit_point(&r, fu, 16, &sn, &tn);  /* not quite 0 at the low end, as in ew_step_next */
-        if (bytes == 1)
-            texel_run(dst, pixels, pitch, s, t, (sn - s) >> 4, (tn - t) >> 4, 16, narrow);
-        else
-            texel_run32(dst, pixels, pitch, s, t, (sn - s) >> 4, (tn - t) >> 4, 16);
+        stn = lit_point(&r, fu, r.lo16);  /* not quite 0 at the low end, as in ew_step_next */
+        texel_run16(dst, pixels, st, _mm_srai_epi32(_mm_sub_epi32(stn, st), 4), r.mul, bytes, narrow);
         dst += 16 * bytes;
-        s = sn, t = tn;
+        st = stn;
     }
+    int32_t s = _mm_cvtsi128_si32(_mm_srli_si128(st, 4)), t = _mm_cvtsi128_si32(_mm_srli_si128(st, 8));
     int32_t ds = 0, dt = 0;
     if (count > 1) {
-        lit_point(&r, fu + (float)(count - 1), 16, &sn, &tn);
-        ds = ew_step_div(sn - s, count - 1);
-        dt = ew_step_div(tn - t, count - 1);
+        stn = lit_point(&r, fu + (float)(count - 1), r.lo16);
+        ds = ew_step_div(_mm_cvtsi128_si32(_mm_srli_si128(stn, 4)) - s, count - 1);
+        dt = ew_step_div(_mm_cvtsi128_si32(_mm_srli_si128(stn, 8)) - t, count - 1);
     }
     if (bytes == 1)
         texel_run(dst, pixels, pitch, s, t, ds, dt, count, narrow);
     else
         texel_run32(dst, pixels, pitch, s, t, ds, dt, count);
 }
+#endif
 
 void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
-    if (c->subdiv_shift == 4) {
+#if defined(__SSE2__)
+    if (c->subdiv_shift == 4 && lit_tame(&d->g)) {
         lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 0);
         return;
     }
+#endif
     ew_stepper st;
     int32_t s, t, ds, dt;
     int n;
@@ -237,10 +280,12 @@ void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp) {
 
 static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
-    if (c->subdiv_shift == 4) {
+#if defined(__SSE2__)
+    if (c->subdiv_shift == 4 && lit_tame(&d->g)) {
         lit_span16(dst, d, sp->u, sp->v, sp->count, 4, 0);
         return;
     }
+#endif
     ew_stepper st;
     int32_t s, t, ds, dt;
     int n;
@@ -262,17 +307,24 @@ static inline int lit_narrow(const ew_surf_draw *d) {
  * own spans lie scattered.  Lit surfaces were looked up and built, and
  * every surface's gradients computed once, before the bands started. */
 void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *draw, int full_z) {
+#if defined(__SSE2__)
     const int lit8 = c->target->bpp == 1 && c->subdiv_shift == 4;
+#endif
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
         const ew_surf_draw *d = &draw[sp->surf];
         switch (d->kind) {
         case EW_DRAW_LIT:
-            if (lit8 && lit_narrow(d))  /* the common cases inline: no call a span */
-                lit_span16(ew_target_at(c->target, sp->u, sp->v), d, sp->u, sp->v, sp->count, 1, 1);
-            else if (lit8)
-                lit_span16(ew_target_at(c->target, sp->u, sp->v), d, sp->u, sp->v, sp->count, 1, 0);
-            else if (c->target->bpp == 1)
+#if defined(__SSE2__)
+            if (lit8 && lit_tame(&d->g)) {  /* the common cases inline: no call a span */
+                uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+                if (lit_narrow(d))
+                    lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 1);
+                else
+                    lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 0);
+            } else
+#endif
+            if (c->target->bpp == 1)
                 ew_draw_lit_span(c, sp, d);
             else
                 draw_lit_span32(c, sp, d);
