@@ -155,12 +155,13 @@ typedef struct lit_row {
 
 /* Whether ew_tex_clamp's int64 sum and clamps can be done in 32-bit lanes
  * as clamp(x, lo - adjust, hi - adjust) + adjust (the same value for
- * integers): with |adjust| <= 2^30 and limits under 2^27 (EW_MAX_EXTENT)
+ * integers): with |adjust| within 2^30 and limits under 2^27 (EW_MAX_EXTENT)
  * nothing there overflows.  Others, only from absurd texture vectors, take
  * the stepper. */
 _Static_assert(EW_MAX_EXTENT <= 2048, "lit_tame's bounds assume s_max and t_max under 2^27");
 static inline int lit_tame(const ew_gradients *g) {
-    return (uint32_t)g->s_adjust + (1u << 30) <= (1u << 31) && (uint32_t)g->t_adjust + (1u << 30) <= (1u << 31);
+    /* Both in [-2^30, 2^30), tested at once (a little stricter than needed). */
+    return (((uint32_t)g->s_adjust + (1u << 30)) | ((uint32_t)g->t_adjust + (1u << 30))) < (1u << 31);
 }
 
 static inline lit_row lit_row_at(const ew_gradients *g, int v, uint32_t pitch) {
