@@ -84,8 +84,16 @@ static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch
             dst[i + 2] = pixels[k[2]];
             dst[i + 3] = pixels[k[3]];
         }
-        s += i * ds;
-        t += i * dt;
+        if (i < n) {
+            /* The last 1 to 3 from one more step of the lanes (the indices
+             * past n, which may lie off the surface, are not read). */
+            uint32_t k[4];
+            texel_lanes_next(&l, k, narrow);
+            dst[i] = pixels[k[0]];
+            if (i + 1 < n) dst[i + 1] = pixels[k[1]];
+            if (i + 2 < n) dst[i + 2] = pixels[k[2]];
+        }
+        return;
     }
 #endif
 #if defined(__GNUC__) && !defined(__clang__)
@@ -113,8 +121,12 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
             __m128i four = _mm_setr_epi32((int)src[k[0]], (int)src[k[1]], (int)src[k[2]], (int)src[k[3]]);
             _mm_storeu_si128((__m128i *)(void *)(dst + (size_t)i * 4), four);
         }
-        s += i * ds;
-        t += i * dt;
+        if (i < n) {  /* the last 1 to 3, as texel_run */
+            uint32_t k[4];
+            texel_lanes_next(&l, k, 0);
+            for (int j = 0; i + j < n; j++) memcpy(dst + (size_t)(i + j) * 4, &src[k[j]], 4);
+        }
+        return;
     }
 #endif
     for (; i < n; i++) {
