@@ -6,6 +6,7 @@
 #include "raster/zfill.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #if defined(__SSE2__)
@@ -176,6 +177,13 @@ static inline int lit_tame(const ew_gradients *g) {
     return (((uint32_t)g->s_adjust + (1u << 30)) | ((uint32_t)g->t_adjust + (1u << 30))) < (1u << 31);
 }
 
+/* lit_row_at loads the gradients four members at a time. */
+_Static_assert(offsetof(ew_gradients, pad_u) == offsetof(ew_gradients, zi_u) + 12 &&
+                   offsetof(ew_gradients, zi_v) == offsetof(ew_gradients, zi_u) + 16 &&
+                   offsetof(ew_gradients, zi_0) == offsetof(ew_gradients, zi_u) + 32 &&
+                   offsetof(ew_gradients, pad_0) == offsetof(ew_gradients, zi_0) + 12 &&
+                   offsetof(ew_gradients, t_max) == offsetof(ew_gradients, s_adjust) + 12,
+               "ew_gradients' terms and limits must lie four to a vector");
 static inline lit_row lit_row_at(const ew_gradients *g, int v, uint32_t pitch) {
     lit_row r;
     r.u = _mm_loadu_ps(&g->zi_u);
