@@ -14,6 +14,10 @@
 
 #include <string.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 int ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi) {
     float scale = nearzi * (v->xscale > v->yscale ? v->xscale : v->yscale) * w->texinfo[f->texinfo].mipadjust;
     /* Coarser mips once a texel covers less than a pixel (0.8 leaves a little
@@ -168,6 +172,95 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
     out8[x] = da <= dn * 2 ? ramp : near;
 }
 
+#if defined(__SSE2__)
+/* The low 16 bits of x in all eight 16-bit lanes. */
+static inline __m128i splat16(int x) {
+    return _mm_shuffle_epi32(_mm_shufflelo_epi16(_mm_cvtsi32_si128(x), 0), 0);
+}
+
+/* One row of a block of bs (8 or 16) texels whose texture columns are
+ * consecutive: dst[x] = cmap[(l & 0xFF00) + src[x]] with l = right +
+ * (bs - 1 - x) * step, the light the scalar loop reaches at x stepping
+ * leftwards from right.  The light in 16-bit lanes: bits 8 to 15 of l are
+ * those of l taken modulo 2^16, so the indices are the same. */
+static inline void cmap_row(uint8_t *dst, const uint8_t *src, const uint8_t *cmap, int right, int step, int bs) {
+    const __m128i zero = _mm_setzero_si128(), hi8 = _mm_set1_epi16((short)0xFF00);
+    const __m128i vr = splat16(right), vs = splat16(step);
+    for (int x0 = 0; x0 < bs; x0 += 8) {
+        __m128i k = _mm_add_epi16(_mm_setr_epi16(7, 6, 5, 4, 3, 2, 1, 0), _mm_set1_epi16((short)(bs - 8 - x0)));
+        __m128i l = _mm_add_epi16(vr, _mm_mullo_epi16(vs, k));
+        __m128i tex = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)(src + x0)), zero);
+        __m128i idx = _mm_add_epi16(_mm_and_si128(l, hi8), tex);
+        uint8_t *d = dst + x0;
+        d[0] = cmap[_mm_extract_epi16(idx, 0)];
+        d[1] = cmap[_mm_extract_epi16(idx, 1)];
+        d[2] = cmap[_mm_extract_epi16(idx, 2)];
+        d[3] = cmap[_mm_extract_epi16(idx, 3)];
+        d[4] = cmap[_mm_extract_epi16(idx, 4)];
+        d[5] = cmap[_mm_extract_epi16(idx, 5)];
+        d[6] = cmap[_mm_extract_epi16(idx, 6)];
+        d[7] = cmap[_mm_extract_epi16(idx, 7)];
+    }
+}
+#endif
+
+/* The colormap path of ew_build_surface: each block of bs x bs texels
+ * between four light samples, stepped in fixed point from the right-hand
+ * sample leftwards, as the original did (the same rounding gives the same
+ * light rings). */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void cmap_blocks(uint8_t *out, int width, const int *bl, int smax, int tmax, const uint8_t *tp,
+                               int tw, int th, int s0, int t0, const uint8_t *cmap, int bs, int shift) {
+    for (int j = 0; j < tmax - 1; j++) {
+        for (int i = 0; i < smax - 1; i++) {
+            int l00 = bl[j * smax + i], l10 = bl[j * smax + i + 1];
+            int l01 = bl[(j + 1) * smax + i], l11 = bl[(j + 1) * smax + i + 1];
+            int lstep = (l01 - l00) >> shift, rstep = (l11 - l10) >> shift;
+            int left = l00, right = l10;
+            /* The block's last texture column and first texture row; when
+             * its columns do not run past the texture's left edge they are
+             * consecutive, and the texel loop needs no wrap. */
+            int sx0 = (s0 + i * bs + bs - 1) % tw, ty = (t0 + j * bs) % th;
+            for (int y = 0; y < bs; y++, left += lstep, right += rstep) {
+                const uint8_t *row = tp + ty * tw;
+                if (++ty == th) ty = 0;
+                uint8_t *dst = out + (size_t)(j * bs + y) * width + i * bs;
+                int step = (left - right) >> shift, l = right;
+                if (sx0 >= bs - 1) {
+                    const uint8_t *src = row + sx0 - (bs - 1);
+#if defined(__SSE2__)
+                    if (bs >= 8) {
+                        cmap_row(dst, src, cmap, right, step, bs);
+                        continue;
+                    }
+#endif
+                    for (int x = bs - 1; x >= 0; x--, l += step) dst[x] = cmap[(l & 0xFF00) + src[x]];
+                    continue;
+                }
+                int sx = sx0;
+                for (int x = bs - 1; x >= 0; x--, l += step) {
+                    dst[x] = cmap[(l & 0xFF00) + row[sx]];
+                    if (--sx < 0) sx = tw - 1;
+                }
+            }
+        }
+    }
+}
+
+typedef void cmap_block_fn(uint8_t *, int, const int *, int, int, const uint8_t *, int, int, int, int,
+                           const uint8_t *);
+#define CMAP_BLOCKS(bs, shift)                                                                          \
+    static void cmap_blocks##bs(uint8_t *out, int width, const int *bl, int smax, int tmax,             \
+                                const uint8_t *tp, int tw, int th, int s0, int t0, const uint8_t *cmap) { \
+        cmap_blocks(out, width, bl, smax, tmax, tp, tw, th, s0, t0, cmap, bs, shift);                   \
+    }
+CMAP_BLOCKS(16, 4)
+CMAP_BLOCKS(8, 3)
+CMAP_BLOCKS(4, 2)
+CMAP_BLOCKS(2, 1)
+
 void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
                       const ew_texture *tex, int mip, const int light[4], unsigned dlights,
                       uint8_t *out, int *scratch) {
@@ -234,27 +327,9 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
 
     int bs = 16 >> mip, shift = 4 - mip, smax = L.smax, tmax = L.tmax;
     if (e.mode == OUT_CMAP) {  /* the original's path, kept tight */
-        const uint8_t *cmap = r->colormap;
-        for (int j = 0; j < tmax - 1; j++) {
-            for (int i = 0; i < smax - 1; i++) {
-                int l00 = bl[j * smax + i], l10 = bl[j * smax + i + 1];
-                int l01 = bl[(j + 1) * smax + i], l11 = bl[(j + 1) * smax + i + 1];
-                /* Stepped in fixed point from the right-hand sample leftwards, as
-                 * the original did: the same rounding gives the same light rings. */
-                int lstep = (l01 - l00) >> shift, rstep = (l11 - l10) >> shift;
-                int left = l00, right = l10;
-                for (int y = 0; y < bs; y++, left += lstep, right += rstep) {
-                    const uint8_t *row = tp + ((t0 + j * bs + y) % th) * tw;
-                    uint8_t *dst = out + (size_t)(j * bs + y) * width + i * bs;
-                    int step = (left - right) >> shift, l = right;
-                    int sx = (s0 + i * bs + bs - 1) % tw;
-                    for (int x = bs - 1; x >= 0; x--, l += step) {
-                        dst[x] = cmap[(l & 0xFF00) + row[sx]];
-                        if (--sx < 0) sx = tw - 1;
-                    }
-                }
-            }
-        }
+        /* The block size as a constant in each copy, so the texel loops unroll. */
+        cmap_block_fn *fn = mip == 0 ? cmap_blocks16 : mip == 1 ? cmap_blocks8 : mip == 2 ? cmap_blocks4 : cmap_blocks2;
+        fn(out, width, bl, smax, tmax, tp, tw, th, s0, t0, r->colormap);
         return;
     }
     /* The same stepping per channel, each texel through the emitter. */

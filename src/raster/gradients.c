@@ -29,6 +29,7 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
     float zp[3];
     face_zplane(w, v, f, zp);
     g->zi_u = zp[0], g->zi_v = zp[1], g->zi_0 = zp[2];
+    g->pad_u = g->pad_v = g->pad_0 = 0;
     float xs = v->xscale, ys = v->yscale, xc = v->xcenter, yc = v->ycenter;
 
     /* s/z and t/z of the direction from the eye; the eye's own texture

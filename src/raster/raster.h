@@ -11,9 +11,12 @@
 
 /* Screen gradients of a face: s/z, t/z and 1/z are linear in screen space. */
 typedef struct ew_gradients {
-    float zi_u, zi_v, zi_0;       /* 1/z = zi_u*u + zi_v*v + zi_0 */
-    float s_u, s_v, s_0;          /* s/z likewise, seen from the eye */
-    float t_u, t_v, t_0;
+    /* 1/z = zi_u*u + zi_v*v + zi_0, s/z and t/z likewise (seen from the
+     * eye).  Laid out term by term, each (1/z, s/z, t/z, 0), so the lit
+     * spans load a term of all three as one vector. */
+    float zi_u, s_u, t_u, pad_u;
+    float zi_v, s_v, t_v, pad_v;
+    float zi_0, s_0, t_0, pad_0;
     int32_t s_adjust, t_adjust;   /* 16.16: s = (s/z) * z + s_adjust */
     int32_t s_max, t_max;         /* 16.16 clamp limits */
 } ew_gradients;

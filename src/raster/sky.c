@@ -8,6 +8,10 @@
 
 #include <math.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #define SKY_STEP 32
 
 static int wrap(int x, int n) {
@@ -46,6 +50,63 @@ uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y) {
     return sky_texel(v, t, s, tt);
 }
 
+#if defined(__SSE2__)
+/* (x, y, x + dx, y + dy) */
+static inline __m128i pair_lanes(int32_t x, int32_t y, __m128i d) {
+    __m128i xy = _mm_unpacklo_epi32(_mm_cvtsi32_si128(x), _mm_cvtsi32_si128(y));
+    return _mm_add_epi32(_mm_unpacklo_epi64(xy, xy), _mm_slli_si128(d, 8));
+}
+
+/* The texel indices of four pixels from (s, t) pairs a and b (two pixels
+ * each): the wrapped integer parts packed as 16-bit pairs, then one
+ * multiply-add with (1, width). */
+static inline __m128i sky_index4(__m128i a, __m128i b, __m128i mask, __m128i mul) {
+    a = _mm_and_si128(_mm_srli_epi32(a, 16), mask);
+    b = _mm_and_si128(_mm_srli_epi32(b, 16), mask);
+    return _mm_madd_epi16(_mm_packs_epi32(a, b), mul);
+}
+
+/* The power-of-two sky's inner loop for an 8-bit frame, both layers' texel
+ * indices made four pixels at a time as the lit spans make theirs (the
+ * layer of at most 65536 texels, so the wrapped integer parts are under
+ * 32768 and each index fits in 16 bits); then the scalar loop's
+ * arithmetic for the last pixels. */
+static void sky_run8(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, int32_t bs, int32_t bt,
+                     int32_t ds, int32_t dt, unsigned hm, unsigned rm, unsigned width, unsigned half, int n) {
+    int k = 0;
+    if (n >= 4) {
+        const __m128i mask = _mm_setr_epi32((int)hm, (int)rm, (int)hm, (int)rm);
+        const __m128i mul = _mm_set1_epi32((int)((width << 16) | 1u)), off = _mm_set1_epi32((int)half);
+        __m128i d = _mm_unpacklo_epi32(_mm_cvtsi32_si128(ds), _mm_cvtsi32_si128(dt));
+        __m128i fa = pair_lanes(fs, ft, d), ba = pair_lanes(bs, bt, d);
+        d = _mm_add_epi32(d, d);
+        d = _mm_unpacklo_epi64(d, d);
+        __m128i fb = _mm_add_epi32(fa, d), bb = _mm_add_epi32(ba, d);
+        const __m128i step = _mm_add_epi32(d, d);
+        for (; k + 4 <= n; k += 4) {
+            __m128i fi = sky_index4(fa, fb, mask, mul);
+            __m128i bi = _mm_add_epi32(sky_index4(ba, bb, mask, mul), off);
+            uint8_t f0 = px[_mm_extract_epi16(fi, 0)], f1 = px[_mm_extract_epi16(fi, 2)];
+            uint8_t f2 = px[_mm_extract_epi16(fi, 4)], f3 = px[_mm_extract_epi16(fi, 6)];
+            dst[k] = f0 ? f0 : px[_mm_extract_epi16(bi, 0)];
+            dst[k + 1] = f1 ? f1 : px[_mm_extract_epi16(bi, 2)];
+            dst[k + 2] = f2 ? f2 : px[_mm_extract_epi16(bi, 4)];
+            dst[k + 3] = f3 ? f3 : px[_mm_extract_epi16(bi, 6)];
+            fa = _mm_add_epi32(fa, step), fb = _mm_add_epi32(fb, step);
+            ba = _mm_add_epi32(ba, step), bb = _mm_add_epi32(bb, step);
+        }
+        /* Where the lanes are now, in the scalar loop's wrapping 32-bit sums. */
+        fs = _mm_cvtsi128_si32(fa), ft = _mm_cvtsi128_si32(_mm_srli_si128(fa, 4));
+        bs = _mm_cvtsi128_si32(ba), bt = _mm_cvtsi128_si32(_mm_srli_si128(ba, 4));
+    }
+    for (; k < n; k++) {
+        uint8_t f = px[(((unsigned)ft >> 16) & rm) * width + (((unsigned)fs >> 16) & hm)];
+        dst[k] = f ? f : px[(((unsigned)bt >> 16) & rm) * width + half + (((unsigned)bs >> 16) & hm)];
+        fs += ds, ft += dt, bs += ds, bt += dt;
+    }
+}
+#endif
+
 void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *t) {
     const ew_view *v = c->view;
     int half = t->width / 2, rows = t->height;
@@ -73,6 +134,13 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
             int32_t bs = (int32_t)floorf((s0 + scroll) * 65536.0f), bt = (int32_t)floorf((t0 + scroll) * 65536.0f);
             int32_t ds = (int32_t)((s1 - s0) * 65536.0f / step), dt = (int32_t)((t1 - t0) * 65536.0f / step);
             unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
+#if defined(__SSE2__)
+            if (bpp == 1 && t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
+                sky_run8(dst + i, px, fs, ft, bs, bt, ds, dt, hm, rm, (unsigned)t->width, (unsigned)half, n);
+                s0 = s1, t0 = t1;
+                continue;
+            }
+#endif
             for (int k = 0; k < n; k++) {
                 uint8_t px_front = px[(((unsigned)ft >> 16) & rm) * (unsigned)t->width + (((unsigned)fs >> 16) & hm)];
                 ew_put_via(bpp, rgba, dst, i + k,

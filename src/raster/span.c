@@ -6,6 +6,7 @@
 #include "raster/zfill.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #if defined(__SSE2__)
@@ -14,30 +15,44 @@
 
 #if defined(__SSE2__)
 /* Four texels' s and t a step apart, walked four steps at a time by both
- * texel runs (8-bit and true colour). */
-typedef struct texel_lanes { __m128i s, t, step_s, step_t, mul; } texel_lanes;
+ * texel runs (8-bit and true colour): a holds (s, t) of the first two
+ * pixels, b of the next two, so one s, t pair is set up and stepped in
+ * one register instead of s and t each spread over four lanes. */
+typedef struct texel_lanes { __m128i a, b, step, mul; } texel_lanes;
 
 static inline texel_lanes texel_lanes_at(int32_t s, int32_t t, int32_t ds, int32_t dt, uint32_t pitch) {
     texel_lanes l;
-    l.s = _mm_setr_epi32(s, s + ds, s + 2 * ds, s + 3 * ds);
-    l.t = _mm_setr_epi32(t, t + dt, t + 2 * dt, t + 3 * dt);
-    l.step_s = _mm_set1_epi32(4 * ds), l.step_t = _mm_set1_epi32(4 * dt);
+    __m128i st = _mm_unpacklo_epi32(_mm_cvtsi32_si128(s), _mm_cvtsi32_si128(t));
+    st = _mm_unpacklo_epi64(st, st);                        /* s, t, s, t */
+    __m128i d = _mm_unpacklo_epi32(_mm_cvtsi32_si128(ds), _mm_cvtsi32_si128(dt));
+    l.a = _mm_add_epi32(st, _mm_slli_si128(d, 8));          /* s, t, s + ds, t + dt */
+    __m128i d2 = _mm_add_epi32(d, d);
+    d2 = _mm_unpacklo_epi64(d2, d2);                        /* 2 ds, 2 dt, 2 ds, 2 dt */
+    l.b = _mm_add_epi32(l.a, d2);
+    l.step = _mm_add_epi32(d2, d2);
     l.mul = _mm_set1_epi32((int)((pitch << 16) | 1u));  /* (1, pitch) pairs */
     return l;
 }
 
 /* The surface indices t * pitch + s of the lanes' four texels, then the
- * lanes step on: the integer parts of s and t paired as 16-bit halves, one
- * multiply-add with mul's (1, pitch) pairs. */
-static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4]) {
-    const __m128i hi16 = _mm_set1_epi32((int)0xFFFF0000u);
-    __m128i idx = _mm_madd_epi16(_mm_or_si128(_mm_srli_epi32(l->s, 16), _mm_and_si128(l->t, hi16)), l->mul);
-    k[0] = (uint32_t)_mm_cvtsi128_si32(idx);
-    k[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
-    k[2] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
-    k[3] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
-    l->s = _mm_add_epi32(l->s, l->step_s);
-    l->t = _mm_add_epi32(l->t, l->step_t);
+ * lanes step on: the integer parts of s and t packed as 16-bit pairs (no
+ * saturation: both are under 32768), one multiply-add with mul's
+ * (1, pitch) pairs. */
+static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4], int narrow) {
+    __m128i idx = _mm_madd_epi16(_mm_packs_epi32(_mm_srli_epi32(l->a, 16), _mm_srli_epi32(l->b, 16)), l->mul);
+    if (narrow) {  /* every index under 65536: one pextrw each instead of a shuffle and a move */
+        k[0] = (uint32_t)_mm_extract_epi16(idx, 0);
+        k[1] = (uint32_t)_mm_extract_epi16(idx, 2);
+        k[2] = (uint32_t)_mm_extract_epi16(idx, 4);
+        k[3] = (uint32_t)_mm_extract_epi16(idx, 6);
+    } else {
+        k[0] = (uint32_t)_mm_cvtsi128_si32(idx);
+        k[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
+        k[2] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
+        k[3] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
+    }
+    l->a = _mm_add_epi32(l->a, l->step);
+    l->b = _mm_add_epi32(l->b, l->step);
 }
 #endif
 
@@ -48,23 +63,38 @@ static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4]) {
  * 16-bit halves and one multiply-add gives s + t * pitch for four pixels;
  * surfaces are far smaller than 32768 texels a side, as that needs (the
  * static assertion below ties it to the largest face extent the loader
- * accepts). */
+ * accepts).  narrow: the surface has at most 65536 texels, so every index
+ * fits in 16 bits. */
 _Static_assert(EW_MAX_EXTENT < 32768, "texel_run's 16-bit pairs need surfaces under 32768 texels a side");
 static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s,
-                             int32_t t, int32_t ds, int32_t dt, int n) {
+                             int32_t t, int32_t ds, int32_t dt, int n, int narrow) {
     int i = 0;
+#if !defined(__SSE2__)
+    (void)narrow;
+#endif
 #if defined(__SSE2__)
     if (n >= 4) {
         texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
         for (; i + 4 <= n; i += 4) {
             uint32_t k[4];
-            texel_lanes_next(&l, k);
-            uint32_t four = (uint32_t)pixels[k[0]] | (uint32_t)pixels[k[1]] << 8 |
-                            (uint32_t)pixels[k[2]] << 16 | (uint32_t)pixels[k[3]] << 24;
-            memcpy(dst + i, &four, 4);  /* little-endian: pixel i first */
+            texel_lanes_next(&l, k, narrow);
+            /* Byte stores: a load and a store a pixel, where packing four
+             * into one word took two more instructions a pixel. */
+            dst[i] = pixels[k[0]];
+            dst[i + 1] = pixels[k[1]];
+            dst[i + 2] = pixels[k[2]];
+            dst[i + 3] = pixels[k[3]];
         }
-        s += i * ds;
-        t += i * dt;
+        if (i < n) {
+            /* The last 1 to 3 from one more step of the lanes (the indices
+             * past n, which may lie off the surface, are not read). */
+            uint32_t k[4];
+            texel_lanes_next(&l, k, narrow);
+            dst[i] = pixels[k[0]];
+            if (i + 1 < n) dst[i + 1] = pixels[k[1]];
+            if (i + 2 < n) dst[i + 2] = pixels[k[2]];
+        }
+        return;
     }
 #endif
 #if defined(__GNUC__) && !defined(__clang__)
@@ -75,36 +105,6 @@ static inline void texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch
         s += ds;
         t += dt;
     }
-}
-
-void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
-    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
-    ew_stepper st;
-    int32_t s, t, ds, dt;
-    int n;
-    ew_step_begin(&st, &d->g, c->subdiv_shift, sp->u, sp->v, sp->count);
-    if (st.shift == 4) {
-        /* Whole 16-pixel segments first: with their length known the
-         * stepper's branches fold away and the texel loop unrolls. */
-        while (st.left > 16) {
-            ew_step_next(&st, &s, &t, &ds, &dt);
-            texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, 16);
-            dst += 16;
-        }
-    }
-    while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
-        texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n);
-        dst += n;
-    }
-}
-
-void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp) {
-    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
-    if (c->target->bpp == 1) {
-        memset(dst, 0, (size_t)sp->count);
-        return;
-    }
-    for (int x = 0; x < sp->count; x++) ew_put_index(c->target, dst, x, 0);
 }
 
 /* True colour: n texels of a 4-byte lit surface along the same line, the
@@ -118,12 +118,16 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
         texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
         for (; i + 4 <= n; i += 4) {
             uint32_t k[4];
-            texel_lanes_next(&l, k);
+            texel_lanes_next(&l, k, 0);
             __m128i four = _mm_setr_epi32((int)src[k[0]], (int)src[k[1]], (int)src[k[2]], (int)src[k[3]]);
             _mm_storeu_si128((__m128i *)(void *)(dst + (size_t)i * 4), four);
         }
-        s += i * ds;
-        t += i * dt;
+        if (i < n) {  /* the last 1 to 3, as texel_run */
+            uint32_t k[4];
+            texel_lanes_next(&l, k, 0);
+            for (int j = 0; i + j < n; j++) memcpy(dst + (size_t)(i + j) * 4, &src[k[j]], 4);
+        }
+        return;
     }
 #endif
     for (; i < n; i++) {
@@ -134,8 +138,184 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
     }
 }
 
+#if defined(__SSE2__)
+/* The lit span walk is inlined into each caller: gcc otherwise keeps one
+ * shared copy and calls it for every span. */
+#if defined(__GNUC__)
+#define EW_SPAN_INLINE inline __attribute__((always_inline))
+#else
+#define EW_SPAN_INLINE inline
+#endif
+
+/* Greatest and least of signed 32-bit lanes (SSE2 has them for 16 bits). */
+static inline __m128i max32(__m128i a, __m128i b) {
+    __m128i m = _mm_cmpgt_epi32(b, a);
+    return _mm_or_si128(_mm_and_si128(m, b), _mm_andnot_si128(m, a));
+}
+static inline __m128i min32(__m128i a, __m128i b) {
+    __m128i m = _mm_cmpgt_epi32(a, b);
+    return _mm_or_si128(_mm_and_si128(m, b), _mm_andnot_si128(m, a));
+}
+
+/* A lit span's row, everything in the lanes (1/z, s/z, t/z, -) of one
+ * vector: the planes' column term and the rest, and for s and t (lanes 1
+ * and 2) the eye's coordinate and the clamp limits less it. */
+typedef struct lit_row {
+    __m128 u, c;
+    __m128i adj, lo0, lo16, hi;
+    __m128i mul;  /* texel_lanes' (1, pitch) pairs */
+} lit_row;
+
+/* Whether ew_tex_clamp's int64 sum and clamps can be done in 32-bit lanes
+ * as clamp(x, lo - adjust, hi - adjust) + adjust (the same value for
+ * integers): with |adjust| within 2^30 and limits under 2^27 (EW_MAX_EXTENT)
+ * nothing there overflows.  Others, only from absurd texture vectors, take
+ * the stepper. */
+_Static_assert(EW_MAX_EXTENT <= 2048, "lit_tame's bounds assume s_max and t_max under 2^27");
+static inline int lit_tame(const ew_gradients *g) {
+    /* Both in [-2^30, 2^30), tested at once (a little stricter than needed). */
+    return (((uint32_t)g->s_adjust + (1u << 30)) | ((uint32_t)g->t_adjust + (1u << 30))) < (1u << 31);
+}
+
+/* lit_row_at loads the gradients four members at a time. */
+_Static_assert(offsetof(ew_gradients, pad_u) == offsetof(ew_gradients, zi_u) + 12 &&
+                   offsetof(ew_gradients, zi_v) == offsetof(ew_gradients, zi_u) + 16 &&
+                   offsetof(ew_gradients, zi_0) == offsetof(ew_gradients, zi_u) + 32 &&
+                   offsetof(ew_gradients, pad_0) == offsetof(ew_gradients, zi_0) + 12 &&
+                   offsetof(ew_gradients, t_max) == offsetof(ew_gradients, s_adjust) + 12,
+               "ew_gradients' terms and limits must lie four to a vector");
+static inline lit_row lit_row_at(const ew_gradients *g, int v, uint32_t pitch) {
+    lit_row r;
+    r.u = _mm_loadu_ps(&g->zi_u);
+    r.c = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(&g->zi_v), _mm_set1_ps((float)v)), _mm_loadu_ps(&g->zi_0));
+    __m128i lim = _mm_loadu_si128((const __m128i *)(const void *)&g->s_adjust);  /* s_adjust t_adjust s_max t_max */
+    r.adj = _mm_shuffle_epi32(lim, _MM_SHUFFLE(1, 1, 0, 0));
+    r.hi = _mm_sub_epi32(_mm_shuffle_epi32(lim, _MM_SHUFFLE(3, 3, 2, 2)), r.adj);
+    r.lo0 = _mm_sub_epi32(_mm_setzero_si128(), r.adj);
+    r.lo16 = _mm_sub_epi32(_mm_set1_epi32(16), r.adj);
+    r.mul = _mm_set1_epi32((int)((pitch << 16) | 1u));
+    return r;
+}
+
+/* The true s and t (lanes 1 and 2) at column fu, as ew_step_begin and
+ * ew_step_next compute them (lo: lo0 or lo16 of the row, their low clamp):
+ * lane by lane the same single-precision multiplies and adds, the float
+ * clamps of ew_tex_fix as maxps/minps, its integer ones as above. */
+static inline __m128i lit_point(const lit_row *r, float fu, __m128i lo) {
+    __m128 p = _mm_add_ps(_mm_mul_ps(r->u, _mm_set1_ps(fu)), r->c);
+    __m128 z = _mm_div_ss(_mm_set_ss(65536.0f), p);
+    p = _mm_mul_ps(p, _mm_shuffle_ps(z, z, 0));
+    __m128i x = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(p, _mm_set1_ps(-1e9f)), _mm_set1_ps(1e9f)));
+    return _mm_add_epi32(min32(max32(x, lo), r->hi), r->adj);
+}
+
+/* 16 texels from st (s, t in lanes 1 and 2) with steps d (likewise). */
+static inline void texel_run16(uint8_t *dst, const uint8_t *pixels, __m128i st, __m128i d, __m128i mul,
+                               int bytes, int narrow) {
+    texel_lanes l;
+    st = _mm_shuffle_epi32(st, _MM_SHUFFLE(2, 1, 2, 1));  /* s, t, s, t */
+    d = _mm_shuffle_epi32(d, _MM_SHUFFLE(2, 1, 2, 1));
+    l.a = _mm_add_epi32(st, _mm_and_si128(d, _mm_setr_epi32(0, 0, -1, -1)));
+    d = _mm_add_epi32(d, d);
+    l.b = _mm_add_epi32(l.a, d);
+    l.step = _mm_add_epi32(d, d);
+    l.mul = mul;
+    for (int i = 0; i < 16; i += 4) {
+        uint32_t k[4];
+        texel_lanes_next(&l, k, narrow);
+        if (bytes == 1) {
+            dst[i] = pixels[k[0]];
+            dst[i + 1] = pixels[k[1]];
+            dst[i + 2] = pixels[k[2]];
+            dst[i + 3] = pixels[k[3]];
+        } else {
+            const uint32_t *src = (const uint32_t *)(const void *)pixels;
+            __m128i four = _mm_setr_epi32((int)src[k[0]], (int)src[k[1]], (int)src[k[2]], (int)src[k[3]]);
+            _mm_storeu_si128((__m128i *)(void *)(dst + (size_t)i * 4), four);
+        }
+    }
+}
+
+/* A lit span with the default divide every 16 pixels (bytes: 1 for 8-bit
+ * frames, 4 for true colour; a tame surface, lit_tame): the stepper's
+ * arithmetic with the surface's gradients and limits held in registers,
+ * s and t kept in vector lanes from one segment point to the next, whole
+ * segments first, then the last one of 1 to 16 pixels, which ends on its
+ * own last pixel.  Columns are whole numbers far below 2^24, so fu stepped
+ * in floats is exactly (float)u. */
+static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v, int count, int bytes,
+                                      int narrow) {
+    if (count <= 0) return;
+    const uint8_t *pixels = d->pixels;
+    const uint32_t pitch = (uint32_t)d->pitch;
+    const lit_row r = lit_row_at(&d->g, v, pitch);
+    float fu = (float)u;
+    __m128i st = lit_point(&r, fu, r.lo0), stn;
+    for (; count > 16; count -= 16) {
+        fu += 16.0f;
+        stn = lit_point(&r, fu, r.lo16);  /* not quite 0 at the low end, as in ew_step_next */
+        texel_run16(dst, pixels, st, _mm_srai_epi32(_mm_sub_epi32(stn, st), 4), r.mul, bytes, narrow);
+        dst += 16 * bytes;
+        st = stn;
+    }
+    int32_t s = _mm_cvtsi128_si32(_mm_srli_si128(st, 4)), t = _mm_cvtsi128_si32(_mm_srli_si128(st, 8));
+    int32_t ds = 0, dt = 0;
+    if (count > 1) {
+        stn = lit_point(&r, fu + (float)(count - 1), r.lo16);
+        ds = ew_step_div(_mm_cvtsi128_si32(_mm_srli_si128(stn, 4)) - s, count - 1);
+        dt = ew_step_div(_mm_cvtsi128_si32(_mm_srli_si128(stn, 8)) - t, count - 1);
+    }
+    if (bytes == 1)
+        texel_run(dst, pixels, pitch, s, t, ds, dt, count, narrow);
+    else
+        texel_run32(dst, pixels, pitch, s, t, ds, dt, count);
+}
+#endif
+
+void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
+    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+#if defined(__SSE2__)
+    if (c->subdiv_shift == 4 && lit_tame(&d->g)) {
+        lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 0);
+        return;
+    }
+#endif
+    ew_stepper st;
+    int32_t s, t, ds, dt;
+    int n;
+    ew_step_begin(&st, &d->g, c->subdiv_shift, sp->u, sp->v, sp->count);
+    if (st.shift == 4) {
+        /* Whole 16-pixel segments first: with their length known the
+         * stepper's branches fold away and the texel loop unrolls. */
+        while (st.left > 16) {
+            ew_step_next(&st, &s, &t, &ds, &dt);
+            texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, 16, 0);
+            dst += 16;
+        }
+    }
+    while ((n = ew_step_next(&st, &s, &t, &ds, &dt)) > 0) {
+        texel_run(dst, d->pixels, (uint32_t)d->pitch, s, t, ds, dt, n, 0);
+        dst += n;
+    }
+}
+
+void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp) {
+    uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+    if (c->target->bpp == 1) {
+        memset(dst, 0, (size_t)sp->count);
+        return;
+    }
+    for (int x = 0; x < sp->count; x++) ew_put_index(c->target, dst, x, 0);
+}
+
 static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+#if defined(__SSE2__)
+    if (c->subdiv_shift == 4 && lit_tame(&d->g)) {
+        lit_span16(dst, d, sp->u, sp->v, sp->count, 4, 0);
+        return;
+    }
+#endif
     ew_stepper st;
     int32_t s, t, ds, dt;
     int n;
@@ -153,16 +333,34 @@ static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_su
     }
 }
 
+/* A lit surface of at most 65536 texels (t_max holds its height less one,
+ * in 16.16): its texel indices fit in 16 bits. */
+static inline int lit_narrow(const ew_surf_draw *d) {
+    return (int64_t)d->pitch * ((d->g.t_max >> 16) + 1) <= 65536;
+}
+
 /* The band's spans in the order the scan made them, row by row: the frame
  * is written straight through and so is the span list, where a surface's
  * own spans lie scattered.  Lit surfaces were looked up and built, and
  * every surface's gradients computed once, before the bands started. */
 void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *draw, int full_z) {
+#if defined(__SSE2__)
+    const int lit8 = c->target->bpp == 1 && c->subdiv_shift == 4;
+#endif
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
         const ew_surf_draw *d = &draw[sp->surf];
         switch (d->kind) {
         case EW_DRAW_LIT:
+#if defined(__SSE2__)
+            if (lit8 && lit_tame(&d->g)) {  /* the common cases inline: no call a span */
+                uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
+                if (lit_narrow(d))
+                    lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 1);
+                else
+                    lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 0);
+            } else
+#endif
             if (c->target->bpp == 1)
                 ew_draw_lit_span(c, sp, d);
             else

@@ -9,6 +9,10 @@
 
 #include "raster/raster.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 typedef struct ew_stepper {
     const ew_gradients *g;
     float zi, sz, tz;      /* at the current segment start */
@@ -19,15 +23,27 @@ typedef struct ew_stepper {
     int shift;             /* log2 of the segment length */
 } ew_stepper;
 
-/* (s/z) * z plus the eye's coordinate, clamped to the surface. */
-static inline int32_t ew_tex_fix(float x, int32_t adjust, int32_t lo, int32_t hi) {
-    /* Written as selects so they compile to min/max and cmov, no branches. */
-    x = x > -1e9f ? x : -1e9f;  /* also turns NaN into -1e9 */
-    x = x < 1e9f ? x : 1e9f;
+/* x, the truncated (s/z) * z, plus the eye's coordinate, clamped to the
+ * surface. */
+static inline int32_t ew_tex_clamp(int32_t x, int32_t adjust, int32_t lo, int32_t hi) {
     int64_t s = (int64_t)x + adjust;
     s = s < lo ? lo : s;
     s = s > hi ? hi : s;
     return (int32_t)s;
+}
+
+/* (s/z) * z plus the eye's coordinate, clamped to the surface. */
+static inline int32_t ew_tex_fix(float x, int32_t adjust, int32_t lo, int32_t hi) {
+#if defined(__SSE2__)
+    /* maxss and minss are exactly the selects below (NaN becomes -1e9: the
+     * second operand wins); written out, gcc made branches of them. */
+    __m128 v = _mm_min_ss(_mm_max_ss(_mm_set_ss(x), _mm_set_ss(-1e9f)), _mm_set_ss(1e9f));
+    return ew_tex_clamp(_mm_cvttss_si32(v), adjust, lo, hi);  /* |v| <= 1e9: truncation as a cast */
+#else
+    x = x > -1e9f ? x : -1e9f;  /* also turns NaN into -1e9 */
+    x = x < 1e9f ? x : 1e9f;
+    return ew_tex_clamp((int32_t)x, adjust, lo, hi);
+#endif
 }
 
 /* 65536 / n for the last, shorter segment of a span: a multiply instead of

@@ -51,10 +51,18 @@ void ew_zfill_index_band(ew_zfill *z, const ew_band *b, int band) {
         z->row_band[y] = band, z->row_nspans[y] = 0, z->row_span0[y] = 0;
         z->zlo[y] = z->zhi[y] = 0;
     }
-    for (int i = 0; i < b->nspans; i++) {
-        int y = b->spans[i].v;
-        if (y < b->y0 || y >= b->y1) continue;
-        if (z->row_nspans[y]++ == 0) z->row_span0[y] = i;
+    /* A row's spans come together (hsr/hsr.h), so each run of one row is
+     * counted at once rather than span by span; the same counts and first
+     * spans, however the rows come. */
+    const ew_span *sp = b->spans;
+    for (int i = 0, n = b->nspans; i < n;) {
+        int y = sp[i].v, j = i + 1;
+        while (j < n && sp[j].v == y) j++;
+        if (y >= b->y0 && y < b->y1) {
+            if (z->row_nspans[y] == 0) z->row_span0[y] = i;
+            z->row_nspans[y] += j - i;
+        }
+        i = j;
     }
 }
 
