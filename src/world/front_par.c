@@ -132,6 +132,7 @@ struct ew_front_par {
     _Alignas(64) atomic_int front_done; /* the tail has run: the edge list is complete */
     phase ph[6];
     int    time_items;                  /* the row profile: items timed (one thread) */
+    int    fused;                       /* one thread: phase 3 settles each chunk as it sets it up */
     double longest[6];                  /* then per phase its largest item, ms */
     /* The plan. */
     int   nnodes, top_n;                /* world tree: nodes; threshold of a top node */
@@ -810,6 +811,15 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
 
 /* ---- 4: surfaces and edges written at their numbers (any thread) ---- */
 
+/* The face after position p on world edge se (it has the edge: it noted
+ * it), or -1. */
+static int later_face(const ew_renderer *r, const struct ew_front_par *fp, int face, int32_t se, int p) {
+    int e = se >= 0 ? se : -se, side = fp->edge_faces[e][0] == face ? 0 : 1;
+    const struct eside *o = &fp->eside[e][!side];
+    if (atomic_load_explicit(&o->frame, memory_order_relaxed) != r->marks.framecount || o->pos <= p) return -1;
+    return o->pos;
+}
+
 static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
     int hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
     int idx = fp->chunk_e0[c];
@@ -820,11 +830,9 @@ static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
         for (int k = 0; k < pf->m; k++) {
             const pedge *pe = &fp->pedges[pf->pe + k];
             if (!pe->emit) continue;
-            int other = 0;
-            if (pe->partner >= 0) {
-                int q = pe->partner;
-                other = fp->chunk_s0[q / CHUNK] + fp->faces[q].ls;
-            }
+            int other = 0, q = pe->partner;
+            if (q < 0 && fp->fused && pe->se != PE_CLIP) q = later_face(r, fp, pf->face, pe->se, p);
+            if (q >= 0) other = fp->chunk_s0[q / CHUNK] + fp->faces[q].ls;
             ew_edge *ed = &r->el.edges[idx++];
             *ed = pe->e;
             ed->surfs[0] = (uint16_t)(pe->down ? s : other);
@@ -882,13 +890,16 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
             ew_test_entities(r, e0, e0 + ENT_CHUNK < n ? e0 + ENT_CHUNK : n);
         } else if ((i -= fp->nent_items) < fp->nchunks) {
             prepare_chunk(r, fp, i);
+            /* One thread: every earlier face is set up, so the chunk is
+             * settled at once, while it is in the cache. */
+            if (fp->fused) resolve_chunk(r, fp, i);
         } else if (fp->segs[i - fp->nchunks].kind == SEG_TREE) {
             fix_leaf_keys(r, fp, i - fp->nchunks);
         }
         break;
     case 4:
         if (i < fp->nbitems) split_brush(r, fp, i, thread);
-        else resolve_chunk(r, fp, i - fp->nbitems);
+        else if (!fp->fused) resolve_chunk(r, fp, i - fp->nbitems);
         break;
     case 5:
         if (i < fp->nchunks) write_chunk(r, fp, i);
@@ -1031,6 +1042,7 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     atomic_store(&fp->stage, 0);
     atomic_store(&fp->front_done, 0);
     fp->time_items = r->sched.profile_rows && r->sched.nthreads == 1;
+    fp->fused = r->sched.nthreads == 1;
     memset(fp->longest, 0, sizeof fp->longest);
     front_run run = {r, {0, 0}};
     ew_pool_run(r->sched.pool, job_front, &run);
