@@ -5,6 +5,7 @@
 #include "edgewise_tools.h"
 #include "util.h"
 #include "renderer.h"
+#include "scene/scene.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -78,6 +79,24 @@ static void agreement(const char *map, double limit) {
     ew_assets_destroy(a);
 }
 
+/* Trigger volumes are not drawn: start has 26 func_wall brush entities and
+ * 26 trigger brushes (trigger_once, _teleport, _changelevel); only the
+ * walls join the scene, and no face of a trigger's submodel is in view. */
+static void triggers_hidden(void) {
+    ew_error err;
+    const char *path = ew_t_shared("data/librequake/maps/start.bsp");
+    ew_assets *a = ew_assets_create(path, NULL, &err);
+    CHECK(a != NULL, "%s", a ? "" : err.msg);
+    if (!a) return;
+    ew_scene *sc = ew_scene_create_from_map(a->world, path, NULL, &err);
+    CHECK(sc != NULL, "%s", sc ? "" : err.msg);
+    int brushes = 0;
+    for (int i = 0; sc && i < sc->nents; i++) brushes += sc->ents[i].model < 0;
+    CHECK(brushes == 26, "start: %d brush entities in the scene, want its 26 func_wall", brushes);
+    ew_scene_destroy(sc);
+    ew_assets_destroy(a);
+}
+
 int main(void) {
     if (!ew_t_have_shared("data/librequake/maps/e1m1.bsp")) {
         fprintf(stderr, "../shared/data/librequake not found (set EW_SHARED)\n");
@@ -85,6 +104,7 @@ int main(void) {
     }
     agreement("e1m1", 0.98);
     agreement("start", 0.98);
+    triggers_hidden();
 
     ew_error err;
     ew_assets *a = NULL;

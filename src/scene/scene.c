@@ -305,6 +305,10 @@ ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const cha
         if (!cls || strcmp(cls, "worldspawn") == 0) continue;
         float origin[3] = {0, 0, 0}, angles[3] = {0, 0, 0};
         ew_entity_floats(e, "origin", origin, 3);
+        /* Trigger volumes are brush models the game never draws (it clears
+         * their model when it sets them up): drawn, they would hang in the
+         * air as boxes of the trigger texture. */
+        if (model && model[0] == '*' && strncmp(cls, "trigger_", 8) == 0) continue;
         if (model && model[0] == '*') {
             /* A brush entity's "angle" is its direction of travel, not a turn. */
             int sub = ew_entity_submodel(e), ent;
