@@ -113,6 +113,45 @@ int ew_brush_items(ew_renderer *r, ew_brush_item *items, int *culled) {
     return used;
 }
 
+/* Where the faces of brush entity `it` can start their way down the world
+ * BSP: the deepest node above which the box around all of its moved
+ * vertices lies wholly on one side of every plane, by more than the
+ * split's margin (with room for rounding), so that every face would have
+ * gone the same way at each of those nodes; *depth is how deep.  A node
+ * with no leaf of the PVS below has none below its children either, so
+ * skipping its test changes nothing. */
+static int start_node(const ew_world *w, const ew_model *m, const ew_scene_entity *e, const float ax[3][3],
+                      int *depth) {
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < m->numfaces; i++) {
+        const ew_face *f = &w->faces[m->firstface + i];
+        for (int v = 0; v < f->numedges; v++) {
+            const float *q = w->verts[ew_face_vertex(w, f, v)];
+            for (int k = 0; k < 3; k++) {
+                float x = e->origin[k] + ax[k][0] * q[0] + ax[k][1] * q[1] + ax[k][2] * q[2];
+                lo[k] = x < lo[k] ? x : lo[k], hi[k] = x > hi[k] ? x : hi[k];
+            }
+        }
+    }
+    const float margin = ON_EPSILON + 0.125f;
+    int n = w->models[0].headnode;
+    *depth = 0;
+    while (n >= 0 && *depth < MAX_SPLIT_DEPTH) {
+        const ew_node *nd = &w->nodes[n];
+        const ew_plane *pl = &w->planes[nd->plane];
+        float dmin = -pl->dist, dmax = -pl->dist;
+        for (int k = 0; k < 3; k++) {
+            dmin += pl->normal[k] * (pl->normal[k] >= 0 ? lo[k] : hi[k]);
+            dmax += pl->normal[k] * (pl->normal[k] >= 0 ? hi[k] : lo[k]);
+        }
+        if (dmin > margin) n = nd->children[0];
+        else if (dmax < -margin) n = nd->children[1];
+        else break;
+        ++*depth;
+    }
+    return n;
+}
+
 /* Every camera-facing face of one brush entity, moved into world space and
  * split down the world BSP; its fragments in visited leaves go to sink.
  * 1 if any did (the entity is drawn); *dropped counts what was lost. */
@@ -121,7 +160,7 @@ int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, v
     const ew_scene_entity *e = &r->ents.scene->ents[it->ent];
     const ew_model *m = &w->models[-1 - e->model];
     const ew_view *mv = it->mv;
-    int drawn = 0;
+    int drawn = 0, depth0, node0 = start_node(w, m, e, it->ax, &depth0);
     *dropped = 0;
     for (int i = 0; i < m->numfaces; i++) {
         int fi = m->firstface + i;
@@ -145,7 +184,7 @@ int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, v
         }
         /* A face is drawn if any fragment of it lands in a visited leaf. */
         c.kind = ew_see_kind(r, f, e->alpha, &c.alpha);
-        split(&c, p, f->numedges, w->models[0].headnode, 0);
+        split(&c, p, f->numedges, node0, depth0);
         drawn |= c.handed > 0;
         *dropped += c.dropped;
     }
