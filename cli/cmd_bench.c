@@ -471,22 +471,15 @@ static void print_row_json(FILE *f, const row *r) {
     }
     fprintf(f, ",\"max_view\":%d,\"level\":", r->max_view);
     json_number(f, r->level);
-    fprintf(f, ",\"slow_view\":%d,\"view_level\":", r->slow_view);
-    json_number(f, r->view_level);
-    fputs(",\"ns_per_pixel\":", f);
-    json_number(f, r->ns_per_pixel);
-    fputs(",\"floor_ms\":", f);
-    json_number(f, r->floor_ms);
-    fputs(",\"floor_ratio\":", f);
-    json_number(f, r->floor_ratio);
-    fputs(",\"serial_ms\":", f);
-    json_number(f, r->serial);
-    fputs(",\"serial_share\":", f);
-    json_number(f, r->serial_share);
-    fputs(",\"predict_share\":", f);
-    json_number(f, r->predict_share);
-    fputs(",\"front_items_ms\":", f);
-    json_number(f, r->front_items);
+    fprintf(f, ",\"slow_view\":%d", r->slow_view);
+    const char *more[] = { "view_level", "ns_per_pixel", "floor_ms", "floor_ratio", "serial_ms", "serial_share",
+                           "predict_share", "front_items_ms" };
+    const double morev[] = { r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->serial,
+                             r->serial_share, r->predict_share, r->front_items };
+    for (size_t i = 0; i < sizeof more / sizeof *more; i++) {
+        fprintf(f, ",\"%s\":", more[i]);
+        json_number(f, morev[i]);
+    }
     fprintf(f, ",\"serial_share_base\":\"%s\",\"serial_mean_ms\":", r->serial_base_own ? "own" : "threads1");
     json_number(f, r->serial_mean);
     fputs(",\"serial_phases\":{", f);
@@ -496,16 +489,13 @@ static void print_row_json(FILE *f, const row *r) {
     }
     fputc('}', f);
     for (int b = 0; b < r->nbands; b++) {
-        fprintf(f, ",\"imbalance_%d\":", r->bands[b]);
-        json_number(f, r->imbalance[b]);
-        fprintf(f, ",\"imbalance_max_%d\":", r->bands[b]);
-        json_number(f, r->imbalance_max[b]);
-        fprintf(f, ",\"predicted_speedup_%d\":", r->bands[b]);
-        json_number(f, r->speedup[b]);
-        fprintf(f, ",\"sched_imbalance_%d\":", r->bands[b]);
-        json_number(f, r->sched_imbalance[b]);
-        fprintf(f, ",\"sched_speedup_%d\":", r->bands[b]);
-        json_number(f, r->sched_speedup[b]);
+        const char *bn[] = { "imbalance", "imbalance_max", "predicted_speedup", "sched_imbalance", "sched_speedup" };
+        const double bv[] = { r->imbalance[b], r->imbalance_max[b], r->speedup[b], r->sched_imbalance[b],
+                              r->sched_speedup[b] };
+        for (int i = 0; i < 5; i++) {
+            fprintf(f, ",\"%s_%d\":", bn[i], r->bands[b]);
+            json_number(f, bv[i]);
+        }
     }
     fputs(",\"stages\":{", f);
     for (int s = 0; s < NSTAGES; s++) {

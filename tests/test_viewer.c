@@ -306,6 +306,30 @@ static void test_walk(const char *data) {
     ew_assets_destroy(a);
 }
 
+/* Esc quits (the mouse is not grabbed); waits up to 5 s for the viewer to
+ * exit (then kills it); 1 when it exited by itself with status 0. */
+static int stop_viewer(pid_t pid, const char *errfile) {
+    const char *esc[] = { "xdotool", "key", "Escape", NULL };
+    run_tool(esc);
+    int st = 0, done = 0;
+    for (int i = 0; i < 100 && !done; i++) {
+        if (waitpid(pid, &st, WNOHANG) == pid) done = 1;
+        else sleep_ms(50);
+    }
+    if (!done) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &st, 0);
+    }
+    viewer_pid = -1;
+    int ok = done && WIFEXITED(st) && WEXITSTATUS(st) == 0;
+    if (!ok) {
+        char err[4096];
+        ew_t_slurp(errfile, err, sizeof err);
+        fprintf(stderr, "viewer stderr: %s\n", err);
+    }
+    return ok;
+}
+
 /* Real input through xdotool. */
 static void test_xdotool(const char *data) {
     char script[128];
@@ -361,18 +385,7 @@ static void test_xdotool(const char *data) {
     const char *esc[] = { "xdotool", "key", "Escape", NULL };
     run_tool(esc);
     sleep_ms(200);
-    run_tool(esc);
-    int st = 0, done = 0;
-    for (int i = 0; i < 100 && !done; i++) {
-        if (waitpid(pid, &st, WNOHANG) == pid) done = 1;
-        else sleep_ms(50);
-    }
-    if (!done) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &st, 0);
-    }
-    viewer_pid = -1;
-    CHECK(done && WIFEXITED(st) && WEXITSTATUS(st) == 0, "Esc, Esc quit the viewer (done %d)", done);
+    CHECK(stop_viewer(pid, tpath("x.err")), "Esc, Esc quit the viewer");
     CHECK(n0 > 0 && n1 > n0 && n3 > n1, "frames recorded %d %d %d", n0, n1, n3);
     if (n0 > 0 && n1 > n0) {
         double yaw = l0[5] * 3.14159265358979 / 180;
@@ -385,11 +398,6 @@ static void test_xdotool(const char *data) {
     if (n3 > 0) {
         CHECK(l3[5] < l2[5] - 10, "mouse right turned right: yaw %.2f -> %.2f", l2[5], l3[5]);
         CHECK(fabs(l3[4] - l2[4]) < 1, "pitch kept %.2f -> %.2f", l2[4], l3[4]);
-    }
-    if (!done || !(WIFEXITED(st) && WEXITSTATUS(st) == 0)) {
-        char err[4096];
-        ew_t_slurp(tpath("x.err"), err, sizeof err);
-        fprintf(stderr, "viewer stderr: %s\n", err);
     }
 }
 
@@ -433,28 +441,6 @@ static pid_t start_builtin_viewer(const char *script, const char *rec, const cha
     return pid;
 }
 
-/* Esc quits (the mouse is not grabbed); 1 when the viewer exited 0. */
-static int stop_viewer(pid_t pid, const char *errfile) {
-    const char *esc[] = { "xdotool", "key", "Escape", NULL };
-    run_tool(esc);
-    int st = 0, done = 0;
-    for (int i = 0; i < 100 && !done; i++) {
-        if (waitpid(pid, &st, WNOHANG) == pid) done = 1;
-        else sleep_ms(50);
-    }
-    if (!done) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &st, 0);
-    }
-    viewer_pid = -1;
-    int ok = done && WIFEXITED(st) && WEXITSTATUS(st) == 0;
-    if (!ok) {
-        char err[4096];
-        ew_t_slurp(errfile, err, sizeof err);
-        fprintf(stderr, "viewer stderr: %s\n", err);
-    }
-    return ok;
-}
 
 /* Polls the record until the last line satisfies done(line, arg) or
  * seconds pass; the number of lines then. */

@@ -39,7 +39,7 @@ ew_assets *ew_t_load_map(const char *name) {
     return a;
 }
 
-ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene) {
+ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene, ew_camera *views, int *nviews) {
     ew_error err;
     ew_assets *a;
     *scene = NULL;
@@ -54,6 +54,8 @@ ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene) {
         *scene = ew_scene_create_from_map(a->world, ew_t_shared(rel), NULL, &err);
     }
     CHECK(*scene != NULL, "%s: scene: %s", name, err.msg);
+    *nviews = ew_benchmark_views(a->world, views);
+    CHECK(*nviews > 0, "%s: no views", name);
     return a;
 }
 

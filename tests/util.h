@@ -30,10 +30,11 @@ const char *ew_t_shared_abs(const char *rel);
  * colormap (free with ew_assets_destroy); NULL after a failed CHECK
  * naming the problem. */
 ew_assets *ew_t_load_map(const char *name);
-/* The map NAME ("builtin": the built-in world) as ew_t_load_map, and in
- * *scene its entities (the built-in scene's for "builtin"); NULL after a
- * failed CHECK.  *scene may be NULL after a failed CHECK too. */
-ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene);
+/* The map NAME ("builtin": the built-in world) as ew_t_load_map, in
+ * *scene its entities (the built-in scene's for "builtin") and in views
+ * (EW_MAX_VIEWS) its view set, *nviews of them (checked to be some); NULL
+ * after a failed CHECK.  *scene may be NULL after a failed CHECK too. */
+ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene, ew_camera *views, int *nviews);
 /* Prints "N passed, N failed" and returns the process exit code. */
 int ew_t_finish(void);
 
