@@ -81,12 +81,6 @@ void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth) {
     ew_walk_node(wk, w->nodes[n].children[!side], clipflags, depth + 1);
 }
 
-/* The serial walker's face: to the sink, or to the see-through pass. */
-typedef struct sink_walker {
-    ew_walker wk;
-    void    (*sink)(ew_renderer *r, int face, int clipflags, int key);
-} sink_walker;
-
 void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha) {
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[fi];
@@ -96,21 +90,20 @@ void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha) {
     ew_see_add(r, p, f->numedges, fi, &r->view, key, kind, alpha);
 }
 
-static void sink_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
+/* The serial walker's face: to the method, or to the see-through pass. */
+static void method_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
     if (ew_see_to_hsr(wk->r, kind))
-        ((sink_walker *)wk)->sink(wk->r, fi, clipflags, wk->key);
+        wk->r->cfg.hsr->face(wk->r, fi, clipflags, wk->key);
     else
         ew_walk_see_add(wk->r, fi, wk->key, kind, alpha);
 }
 
-void ew_walk_world_to(ew_renderer *r, void (*face)(ew_renderer *r, int face, int clipflags, int key)) {
-    sink_walker s = {{r, NULL, 0, 0, 0, mark_leaf, sink_face}, face};
-    ew_walk_node(&s.wk, r->world->models[0].headnode, 15, 0);
-    r->stats.visible_leaves += s.wk.visible_leaves;
-    r->stats.dropped += s.wk.dropped;
+void ew_walk_world(ew_renderer *r) {
+    ew_walker wk = {.r = r, .leaf = mark_leaf, .face = method_face};
+    ew_walk_node(&wk, r->world->models[0].headnode, 15, 0);
+    r->stats.visible_leaves += wk.visible_leaves;
+    r->stats.dropped += wk.dropped;
 }
-
-void ew_walk_world(ew_renderer *r) { ew_walk_world_to(r, r->cfg.hsr->face); }
 /* Does a world-space box touch any leaf of this frame's PVS?  (Entities in
  * no visible leaf are hidden however near they are.) */
 static int box_visible(const ew_renderer *r, int n, const float lo[3], const float hi[3], int depth) {

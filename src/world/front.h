@@ -34,8 +34,6 @@ int  ew_point_leaf(const ew_world *w, int headnode, const float p[3]);
 /* world/bsp_walk.c: front-to-back walk handing every visible face to the
  * frame's hidden-surface method. */
 void ew_walk_world(ew_renderer *r);
-/* The same walk handing the faces to `face` instead of the method's. */
-void ew_walk_world_to(ew_renderer *r, void (*face)(ew_renderer *r, int face, int clipflags, int key));
 
 /* The walk's pieces, for walking subtrees on several threads
  * (world/front_par.c).  A walker carries the BSP key (grows front to back,
@@ -47,7 +45,6 @@ void ew_walk_world_to(ew_renderer *r, void (*face)(ew_renderer *r, int face, int
 typedef struct ew_walker ew_walker;
 struct ew_walker {
     ew_renderer *r;
-    void        *ctx;
     int          key, visible_leaves, dropped;
     void       (*leaf)(ew_walker *wk, int li);
     void       (*face)(ew_walker *wk, int fi, int clipflags, int kind, float alpha);

@@ -135,7 +135,7 @@ struct ew_front_par {
     int    fused;                       /* one thread: phase 3 settles each chunk as it sets it up */
     double longest[6];                  /* then per phase its largest item, ms */
     /* The plan. */
-    int   nnodes, top_n;                /* world tree: nodes; threshold of a top node */
+    int   top_n;                        /* a top node has more nodes than this below it */
     int   head_root;                    /* 1: the head node is itself a root (a small tree) */
     int  *node_root;                    /* per node: its root's number, -1 for a top node */
     int  *face_root;                    /* per face: its node's root number, -1 top node, -2 no world node */
@@ -264,7 +264,6 @@ static struct ew_front_par *front_par_new(const ew_world *w) {
     if (!fp) return NULL;
     memset(fp, 0, sizeof *fp);
     int nn = w->numnodes, nf = w->numfaces, ne = w->numedges, nl = w->numleaves;
-    fp->nnodes = nn;
     fp->cap_pedges = (int)cap_pe;
     fp->node_root = malloc(sizeof(int) * (size_t)nn);
     fp->face_root = malloc(sizeof(int) * (size_t)(nf + 1));
@@ -391,7 +390,7 @@ static void add_seg(struct ew_front_par *fp, int kind, int n, int clipflags, int
 static void top_walk(ew_renderer *r, struct ew_front_par *fp, int n, int clipflags, int depth) {
     const ew_world *w = r->world;
     if (depth > EW_MAX_WALK_DEPTH) return;  /* cannot be: the plan measured the tree */
-    ew_walker wk = {r, NULL, 0, 0, 0, NULL, NULL};
+    ew_walker wk = {.r = r};
     float d;
     int side = ew_walk_enter(&wk, n, &clipflags, &d);
     if (side < 0) return;
@@ -466,7 +465,7 @@ static void list_face(ew_walker *wk, int fi, int clipflags, int kind, float alph
 
 static void walk_seg(ew_renderer *r, struct ew_front_par *fp, int segno) {
     seg *s = &fp->segs[segno];
-    task_walker t = {{r, NULL, 0, 0, 0, task_leaf, list_face}, fp, s, segno};
+    task_walker t = {{.r = r, .leaf = task_leaf, .face = list_face}, fp, s, segno};
     ew_walk_node(&t.wk, s->n, s->clipflags, s->depth);
     s->nkeys = t.wk.key, s->visible_leaves = t.wk.visible_leaves, s->dropped = t.wk.dropped;
 }
@@ -484,7 +483,7 @@ static void node_faces(ew_renderer *r, struct ew_front_par *fp, int segno) {
         int marked = (int)(v >> 32) == frame && (int)~(uint32_t)v < segno;
         r->marks.face_frame[fi] = marked ? frame : frame - 1;
     }
-    task_walker t = {{r, NULL, 0, 0, 0, task_leaf, list_face}, fp, s, segno};
+    task_walker t = {{.r = r, .leaf = task_leaf, .face = list_face}, fp, s, segno};
     ew_walk_faces(&t.wk, s->n, s->clipflags, s->side, s->d);
     s->nkeys = 1;
 }
