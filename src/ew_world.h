@@ -136,6 +136,7 @@ struct ew_world {
     ew_texinfo *texinfo;      int numtexinfo;
     ew_texture *textures;     int numtextures;  /* the last one is the placeholder */
     ew_face    *faces;        int numfaces;
+    float     (*face_box)[2][3];  /* per face: the mins and maxs of its corners */
     int        *marksurfaces; int nummarksurfaces;
     ew_node    *nodes;        int numnodes;
     ew_leaf    *leaves;       int numleaves;

@@ -483,7 +483,9 @@ static int load_texinfo(ctx *c, ew_world *w) {
 
 static int load_faces(ctx *c, ew_world *w) {
     int n = c->count[EW_LUMP_FACES];
-    if (!(w->faces = alloc_array(c, EW_LUMP_FACES, n, sizeof *w->faces))) return -1;
+    if (!(w->faces = alloc_array(c, EW_LUMP_FACES, n, sizeof *w->faces)) ||
+        !(w->face_box = alloc_array(c, EW_LUMP_FACES, n, sizeof *w->face_box)))
+        return -1;
     w->numfaces = n;
     for (int i = 0; i < n; i++) {
         int64_t plane, side, firstedge, numedges, texinfo;
@@ -535,6 +537,15 @@ static int load_faces(ctx *c, ew_world *w) {
         const ew_texinfo *ti = &w->texinfo[f->texinfo];
         f->flags |= w->textures[ti->texture].flags &
                     (EW_SURF_SKY | EW_SURF_TURB | EW_SURF_FENCE | EW_SURF_MISSING);
+        float (*box)[3] = w->face_box[i];
+        for (int k = 0; k < 3; k++) box[0][k] = INFINITY, box[1][k] = -INFINITY;
+        for (int e = 0; e < f->numedges; e++) {
+            const float *v = w->verts[ew_face_vertex(w, f, e)];
+            for (int k = 0; k < 3; k++) {
+                if (v[k] < box[0][k]) box[0][k] = v[k];
+                if (v[k] > box[1][k]) box[1][k] = v[k];
+            }
+        }
 
         if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) {
             /* Warped/sky surfaces are drawn without a light map. */
@@ -923,6 +934,7 @@ void ew_world_destroy(ew_world *w) {
     free(w->texinfo);
     free(w->textures);
     free(w->faces);
+    free(w->face_box);
     free(w->marksurfaces);
     free(w->nodes);
     free(w->leaves);

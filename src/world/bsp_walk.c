@@ -28,9 +28,13 @@ void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d) {
         if (r->marks.face_frame[fi] != r->marks.framecount) continue;
         if (((f->flags & EW_SURF_PLANEBACK) != 0) != side) continue;
         if (d == 0) continue;  /* edge-on */
+        /* The node's box crosses a plane; the face itself often does not,
+         * and then skips the clip (or is not seen at all). */
+        int cf = clipflags ? ew_cull_face(&r->view, w->face_box[fi], clipflags) : 0;
+        if (cf < 0) continue;
         float alpha;
         int kind = ew_see_kind(r, f, 1, &alpha);
-        wk->face(wk, fi, clipflags, kind, alpha);
+        wk->face(wk, fi, cf, kind, alpha);
     }
     wk->key++;
 }

@@ -35,6 +35,11 @@ static inline void ew_view_transform(const ew_view *v, const float p[3], float o
 }
 /* -1 if the box is outside a frustum plane in clipflags, else the planes it still crosses. */
 int  ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags);
+/* A face's box (ew_world.face_box) against the planes in clipflags: -1 if
+ * it is wholly outside one, else the planes it may cross.  Decides only
+ * what ew_clip_poly would decide the same way for every corner (a margin
+ * keeps a box touching a plane in the flags), so a face keeps its clip. */
+int  ew_cull_face(const ew_view *v, const float box[2][3], int clipflags);
 
 /* world/clip.c: clips a polygon (world coords) against the frustum planes
  * in clipflags; returns the vertex count (0 if all clipped).  tag_out[i] =
