@@ -42,7 +42,13 @@
  * (world/edge_math.h computes both), so the edge list, and every span and
  * pixel after it, are the same for any thread count.  If the edge list
  * would overflow, the prepared faces are merged one at a time as the
- * one-thread emission does, which is where its limits apply. */
+ * one-thread emission does, which is where its limits apply.
+ *
+ * On a pool of one thread the chunks of phase 3 run in order, so their
+ * faces go straight to ew_emit_face ("direct"): no staging, nothing for
+ * phases 4 and 5 but the brush entities.  The phases and their serial
+ * steps stay the same, so bench's serial share still describes the run of
+ * many threads (which does the staging: a little more work in all). */
 #define _POSIX_C_SOURCE 200809L  /* sched_yield */
 #include "renderer.h"
 #include "ew_util.h"
@@ -132,7 +138,7 @@ struct ew_front_par {
     _Alignas(64) atomic_int front_done; /* the tail has run: the edge list is complete */
     phase ph[6];
     int    time_items;                  /* the row profile: items timed (one thread) */
-    int    fused;                       /* one thread: phase 3 settles each chunk as it sets it up */
+    int    direct;                      /* one thread: phase 3 hands the faces to ew_emit_face in BSP order */
     double longest[6];                  /* then per phase its largest item, ms */
     /* The plan. */
     int   top_n;                        /* a top node has more nodes than this below it */
@@ -591,7 +597,8 @@ static void prepare_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
         const lface *l = &fp->lf[s->lf0 + (p - s->face0)];
         pface *pf = &fp->faces[p];
         pf->face = l->face, pf->clipflags = l->clipflags, pf->key = s->key0 + l->key, pf->pe = s->pe0 + l->pe;
-        prepare(r, fp, p, 1);
+        if (fp->direct) ew_emit_face(r, pf->face, pf->clipflags, pf->key);
+        else prepare(r, fp, p, 1);
     }
 }
 
@@ -729,6 +736,10 @@ static void split_brush(ew_renderer *r, struct ew_front_par *fp, int i, int thre
 
 /* ---- between 3 and 4 (calling thread): numbers, or the serial merge ---- */
 
+/* The chunks whose faces wait in fp->faces for phases 4 and 5: none when
+ * phase 3 handed them to the list itself. */
+static int staged_chunks(const struct ew_front_par *fp) { return fp->direct ? 0 : fp->nchunks; }
+
 static int add_prepared(ew_renderer *r, const pedge *p, int s) {
     if (!p->crosses) return -1;
     if (r->el.nedges >= r->el.max_edges) {
@@ -769,7 +780,7 @@ static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
 static int number(ew_renderer *r, struct ew_front_par *fp) {
     int s = r->el.nsurfs, e = r->el.nedges, failed = 0;
     long cached = 0, dropped = 0;
-    for (int c = 0; c < fp->nchunks; c++) {
+    for (int c = 0; c < staged_chunks(fp); c++) {
         fp->chunk_s0[c] = s, fp->chunk_e0[c] = e;
         s += fp->chunk_ns[c], e += fp->chunk_ne[c];
         cached += fp->chunk_cached[c], dropped += fp->chunk_dropped[c];
@@ -800,7 +811,7 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
         }
         return 1;
     }
-    for (int p = 0; p < fp->nfaces; p++) {
+    for (int p = 0; p < staged_chunks(fp) * CHUNK && p < fp->nfaces; p++) {
         prepare(r, fp, p, 0);  /* every edge set up: an earlier face may be dropped here */
         merge_face(r, &fp->faces[p], fp->pedges + fp->faces[p].pe);
     }
@@ -809,15 +820,6 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
 }
 
 /* ---- 4: surfaces and edges written at their numbers (any thread) ---- */
-
-/* The face after position p on world edge se (it has the edge: it noted
- * it), or -1. */
-static int later_face(const ew_renderer *r, const struct ew_front_par *fp, int face, int32_t se, int p) {
-    int e = se >= 0 ? se : -se, side = fp->edge_faces[e][0] == face ? 0 : 1;
-    const struct eside *o = &fp->eside[e][!side];
-    if (atomic_load_explicit(&o->frame, memory_order_relaxed) != r->marks.framecount || o->pos <= p) return -1;
-    return o->pos;
-}
 
 static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
     int hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
@@ -830,7 +832,6 @@ static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
             const pedge *pe = &fp->pedges[pf->pe + k];
             if (!pe->emit) continue;
             int other = 0, q = pe->partner;
-            if (q < 0 && fp->fused && pe->se != PE_CLIP) q = later_face(r, fp, pf->face, pe->se, p);
             if (q >= 0) other = fp->chunk_s0[q / CHUNK] + fp->faces[q].ls;
             ew_edge *ed = &r->el.edges[idx++];
             *ed = pe->e;
@@ -889,20 +890,17 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
             ew_test_entities(r, e0, e0 + ENT_CHUNK < n ? e0 + ENT_CHUNK : n);
         } else if ((i -= fp->nent_items) < fp->nchunks) {
             prepare_chunk(r, fp, i);
-            /* One thread: every earlier face is set up, so the chunk is
-             * settled at once, while it is in the cache. */
-            if (fp->fused) resolve_chunk(r, fp, i);
         } else if (fp->segs[i - fp->nchunks].kind == SEG_TREE) {
             fix_leaf_keys(r, fp, i - fp->nchunks);
         }
         break;
     case 4:
         if (i < fp->nbitems) split_brush(r, fp, i, thread);
-        else if (!fp->fused) resolve_chunk(r, fp, i - fp->nbitems);
+        else resolve_chunk(r, fp, i - fp->nbitems);  /* not in direct mode: no such items */
         break;
     case 5:
-        if (i < fp->nchunks) write_chunk(r, fp, i);
-        else write_brush(r, fp, i - fp->nchunks);
+        if (i < staged_chunks(fp)) write_chunk(r, fp, i);
+        else write_brush(r, fp, i - staged_chunks(fp));
         break;
     }
 }
@@ -984,13 +982,13 @@ static void job_front(void *ctx, int thread) {
     run_items(r, fp, 3, 0);
     wait_done(fp, 3);
     if (fp->nent_items) r->ents.tested_frame = r->marks.framecount;
-    open_phase(fp, 4, fp->nchunks + fp->nbitems);
+    open_phase(fp, 4, staged_chunks(fp) + fp->nbitems);
     run_items(r, fp, 4, 0);
     wait_done(fp, 4);
     t = ew_now_ms();
     int e0 = r->el.nedges, fits = number(r, fp);
     ser += ew_now_ms() - t;
-    open_phase(fp, 5, fits ? fp->nchunks + fp->nbitems : 0);
+    open_phase(fp, 5, fits ? staged_chunks(fp) + fp->nbitems : 0);
     run_items(r, fp, 5, 0);
     wait_done(fp, 5);
     t = ew_now_ms();
@@ -998,8 +996,8 @@ static void job_front(void *ctx, int thread) {
         if (fp->nbitems > 0) {
             const bres *b = &fp->bres[fp->nbitems - 1];
             r->el.nsurfs = b->s0 + b->ns, r->el.nedges = b->e0 + b->ne;
-        } else if (fp->nchunks > 0) {
-            int last = fp->nchunks - 1;
+        } else if (staged_chunks(fp) > 0) {
+            int last = staged_chunks(fp) - 1;
             r->el.nsurfs = fp->chunk_s0[last] + fp->chunk_ns[last];
             r->el.nedges = fp->chunk_e0[last] + fp->chunk_ne[last];
         }
@@ -1041,7 +1039,9 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     atomic_store(&fp->stage, 0);
     atomic_store(&fp->front_done, 0);
     fp->time_items = r->sched.profile_rows && r->sched.nthreads == 1;
-    fp->fused = r->sched.nthreads == 1;
+    /* One thread takes the chunks in order: the faces can go straight to
+     * the list, as the serial walk hands them, with no staging. */
+    fp->direct = r->sched.nthreads == 1;
     memset(fp->longest, 0, sizeof fp->longest);
     front_run run = {r, {0, 0}};
     ew_pool_run(r->sched.pool, job_front, &run);
