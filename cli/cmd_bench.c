@@ -67,6 +67,8 @@ static const char bench_usage[] =
     "  --table           a human-readable table on stdout (JSON then only to --out)\n"
     "  --out FILE.jsonl  write the JSON lines to FILE instead of stdout\n"
     "  --floor           only measure the fill floor for each --size\n"
+    "  --per-view        also each view's median time, stages and counts (what\n"
+    "                    makes the slow views slow)\n"
     "  --quiet           no warning lines about the maps' optional data\n"
     "\n"
     "what is drawn (as in edgewise render):\n";
@@ -87,7 +89,7 @@ typedef struct bench_opts {
     int         bands[MAX_BAND_COUNTS];
     int         nbands;
     int         passes;
-    int         table, floor_only, quiet;
+    int         table, floor_only, quiet, per_view;
     draw_opts   draw;           /* what is drawn (cli/draw_options.c) */
 } bench_opts;
 
@@ -96,7 +98,7 @@ typedef struct bench_opts {
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int bench_parse(int argc, char **argv, bench_opts *o) {
     int passes_given = 0;
-    static const char *const flags[] = { "--quiet", "--table", "--floor", "--help", "-h", NULL };
+    static const char *const flags[] = { "--quiet", "--table", "--floor", "--per-view", "--help", "-h", NULL };
     static const char *const valued[] = { "--data", "--size", "--threads", "--passes", "--out", "--bands", NULL };
     cli_args args = { "bench", flags, valued, o->maps, 0, MAX_MAPS, 0, &o->draw };
     for (int i = 2; i < argc; i++) {
@@ -118,6 +120,8 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
                 o->quiet = 1;
             else if (strcmp(name, "--table") == 0)
                 o->table = 1;
+            else if (strcmp(name, "--per-view") == 0)
+                o->per_view = 1;
             else
                 o->floor_only = 1;
             continue;
@@ -357,6 +361,12 @@ static double phase_of(const ew_stats *st, int ph) {
 }
 static const char *const stage_names[NSTAGES] = { "front", "scan", "draw", "models", "total" };
 
+/* --per-view: one view's medians over the passes, and its counts. */
+typedef struct view_row {
+    double stages[NSTAGES];
+    long   surfaces, edges, spans, entities_drawn, alias_tris;
+} view_row;
+
 typedef struct row {
     char   map[256];
     int    w, h, threads, threads_requested, threads_applied, views, passes, entities, max_view;
@@ -378,6 +388,7 @@ typedef struct row {
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS];  /* over views: median, worst */
     double speedup[MAX_BAND_COUNTS];                                    /* predicted on that many cores */
     double sched_imbalance[MAX_BAND_COUNTS], sched_speedup[MAX_BAND_COUNTS];  /* the renderer's own bands */
+    view_row *per_view;            /* --per-view: views entries (freed by the caller), else NULL */
 } row;
 
 /* The one-thread figures of a map and size, for the rows after it. */
@@ -389,6 +400,11 @@ typedef struct size_ctx {
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS], sched_imbalance[MAX_BAND_COUNTS];
     double front_items;            /* median over the views of each one's least ms_front_items */
 } size_ctx;
+
+static double stage_of(const ew_stats *st, int s) {
+    return s == ST_FRONT ? st->ms_front : s == ST_SCAN ? st->ms_scan : s == ST_DRAW ? st->ms_draw
+         : s == ST_MODELS ? st->ms_models : st->ms_total;
+}
 
 /* Fills r from frames[views * passes] and their stats. */
 static void summarize(row *r, double *frames, const ew_stats *stats, double *scratch) {
@@ -410,6 +426,17 @@ static void summarize(row *r, double *frames, const ew_stats *stats, double *scr
         for (int p = 0; p < r->passes; p++) scratch[p] = frames[(size_t)p * r->views + v];
         double m = median_of(scratch, r->passes);
         if (m > slowest) slowest = m, r->slow_view = v;
+        if (r->per_view) {
+            view_row *pv = &r->per_view[v];
+            for (int s = 0; s < NSTAGES; s++) {
+                for (int p = 0; p < r->passes; p++) scratch[p] = stage_of(&stats[(size_t)p * r->views + v], s);
+                pv->stages[s] = median_of(scratch, r->passes);
+            }
+            pv->stages[ST_TOTAL] = m;  /* the frame as timed around ew_render, like the row's median */
+            const ew_stats *st = &stats[v];  /* the counts are the same every pass */
+            pv->surfaces = st->surfaces, pv->edges = st->edges, pv->spans = st->spans;
+            pv->entities_drawn = st->entities_drawn, pv->alias_tris = st->alias_tris;
+        }
     }
     r->median = median_of(frames, n);   /* sorts frames: max_view is found first */
     r->p99 = p99_of_sorted(frames, n);
@@ -419,10 +446,7 @@ static void summarize(row *r, double *frames, const ew_stats *stats, double *scr
     r->floor_ratio = r->floor_ms > 0 ? r->median / r->floor_ms : NAN;
     for (int s = 0; s < NSTAGES; s++) {
         for (int i = 0; i < n; i++) {
-            const ew_stats *st = &stats[i];
-            scratch[i] = s == ST_FRONT ? st->ms_front : s == ST_SCAN ? st->ms_scan
-                       : s == ST_DRAW ? st->ms_draw : s == ST_MODELS ? st->ms_models
-                                                                     : st->ms_total;
+            scratch[i] = stage_of(&stats[i], s);
         }
         r->stages[s] = median_of(scratch, n);
     }
@@ -507,7 +531,24 @@ static void print_row_json(FILE *f, const row *r) {
         fprintf(f, ",\"%s\":", counter_defs[c].name);
         json_count(f, r->counters[c]);
     }
-    fputs("}}\n", f);
+    fputc('}', f);
+    if (r->per_view) {
+        fputs(",\"per_view\":[", f);
+        for (int v = 0; v < r->views; v++) {
+            const view_row *pv = &r->per_view[v];
+            fprintf(f, "%s{\"view\":%d,\"median_ms\":", v ? "," : "", v);
+            json_number(f, pv->stages[ST_TOTAL]);
+            fputs(",\"stages\":{", f);
+            for (int s = 0; s < ST_TOTAL; s++) {
+                fprintf(f, "%s\"%s\":", s ? "," : "", stage_names[s]);
+                json_number(f, pv->stages[s]);
+            }
+            fprintf(f, "},\"surfaces\":%ld,\"edges\":%ld,\"spans\":%ld,\"entities_drawn\":%ld,\"alias_tris\":%ld}",
+                    pv->surfaces, pv->edges, pv->spans, pv->entities_drawn, pv->alias_tris);
+        }
+        fputc(']', f);
+    }
+    fputs("}\n", f);
 }
 
 static void print_table_header(const bench_opts *o) {
@@ -536,6 +577,16 @@ static void print_table_row(const row *r) {
     for (int b = 0; b < r->nbands; b++)
         printf(" %6.3f %6.2f %6.2f", r->imbalance[b], r->speedup[b], r->sched_speedup[b]);
     putchar('\n');
+    if (!r->per_view) return;
+    printf("  %4s %8s %6s %7s %7s %7s %7s %6s %6s %7s %5s %6s\n", "view", "median", "x med", "front", "scan",
+           "draw", "models", "surfs", "edges", "spans", "ents", "tris");
+    for (int v = 0; v < r->views; v++) {
+        const view_row *pv = &r->per_view[v];
+        printf("  %4d %8.3f %6.2f %7.3f %7.3f %7.3f %7.3f %6ld %6ld %7ld %5ld %6ld\n", v, pv->stages[ST_TOTAL],
+               r->median > 0 ? pv->stages[ST_TOTAL] / r->median : NAN, pv->stages[ST_FRONT], pv->stages[ST_SCAN],
+               pv->stages[ST_DRAW], pv->stages[ST_MODELS], pv->surfaces, pv->edges, pv->spans, pv->entities_drawn,
+               pv->alias_tris);
+    }
 }
 
 /* A progress line on stderr, only for a person watching a terminal. */
@@ -798,13 +849,14 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     size_t n = (size_t)nviews * (size_t)o->passes;
     double *frames = malloc(n * sizeof *frames), *scratch = malloc(n * sizeof *scratch);
     ew_stats *stats = calloc(n, sizeof *stats);
+    if (o->per_view && nviews > 0) r->per_view = calloc((size_t)nviews, sizeof *r->per_view);
     /* The floor is sampled between the frames (after every other one), so
      * both see the machine in the same state: on a shared machine the
      * floor alone moves by a quarter from one minute to the next. */
     floor_sampler fl;
     int fl_ok = floor_begin(&fl, w, h, nviews * o->passes) == 0;
     int rc = 1;
-    if (!frames || !scratch || !stats) {
+    if (!frames || !scratch || !stats || (o->per_view && nviews > 0 && !r->per_view)) {
         error_line("bench: out of memory");
         goto done;
     }
@@ -932,17 +984,18 @@ int cmd_bench(int argc, char **argv) {
                     row r;
                     rc = bench_row(&o, o.maps[m], a, scene, views, nviews, o.sizes[s][0],
                                    o.sizes[s][1], o.threads[t], &fc, &sx, &r);
-                    if (rc)
-                        break;
-                    progress_clear();
-                    if (json) {
-                        print_row_json(json, &r);
-                        fflush(json);
+                    if (!rc) {
+                        progress_clear();
+                        if (json) {
+                            print_row_json(json, &r);
+                            fflush(json);
+                        }
+                        if (o.table) {
+                            print_table_row(&r);
+                            fflush(stdout);
+                        }
                     }
-                    if (o.table) {
-                        print_table_row(&r);
-                        fflush(stdout);
-                    }
+                    free(r.per_view);
                 }
             }
             ew_scene_destroy(sc);

@@ -144,6 +144,24 @@ static void test_start(void) {
     CHECK(field(r->out, "entities") == 0 && field(r->out, "entities_drawn") == 0 &&
               field(r->out, "alias_tris") == 0, "--no-entities: %s", r->out);
 
+    /* --per-view: an entry per view; the slow view's median over the
+     * row's median is view_level, and every view drew something. */
+    expect_ok(r, "start --per-view", ARGS("bench", "start", "--data", data, "--size", "320x200", "--passes", "2",
+                                          "--per-view"));
+    check_row("start --per-view", r->out, 320, 200, 20, 2);
+    int entries = 0, drawn = 0;
+    for (const char *p = r->out; (p = strstr(p, "{\"view\":")); p++) {
+        entries++;
+        drawn += ew_t_json_num(p, "surfaces") > 0 && ew_t_json_num(p, "spans") > 0 && ew_t_json_num(p, "median_ms") > 0;
+    }
+    CHECK(entries == 20 && drawn == 20, "--per-view: %d entries, %d drew: %s", entries, drawn, r->out);
+    char key[64];
+    snprintf(key, sizeof key, "{\"view\":%d,", (int)field(r->out, "slow_view"));
+    const char *slow = strstr(r->out, key);
+    CHECK(slow && fabs(ew_t_json_num(slow, "median_ms") / field(r->out, "median_ms") - field(r->out, "view_level")) <
+                      1e-3 * field(r->out, "view_level"),
+          "--per-view: the slow view's entry (%s) does not give view_level: %s", key, r->out);
+
     /* --bands, on one thread and then two: the same imbalances (one
      * profile per map and size), the two-thread row's serial share of the
      * one-thread row's frame. */
