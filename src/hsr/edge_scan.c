@@ -28,10 +28,12 @@ int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
     b->spans = malloc(sizeof(ew_span) * b->cap_spans);
     b->aet = malloc(sizeof(ew_active) * b->cap_aet);
     b->st_neg = malloc(sizeof(int32_t) * b->cap_aet);
-    b->cap_neg = b->st_neg ? b->cap_aet : 0;
+    b->st_fix = malloc(sizeof(int32_t) * b->cap_aet);
+    b->cap_neg = b->st_neg && b->st_fix ? b->cap_aet : 0;
     b->max_spans = max_spans;
     b->max_aet = max_aet;
-    return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->has_spans && b->spans && b->aet && b->st_neg
+    return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->has_spans && b->spans && b->aet && b->st_neg &&
+                   b->st_fix
                ? 0
                : -1;
 }
@@ -48,7 +50,7 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
 
 void ew_band_free(ew_band *b) {
     free(b->st_next), free(b->st_prev), free(b->st_state), free(b->st_lastu);
-    free(b->has_spans), free(b->spans), free(b->aet), free(b->st_neg), free(b->rowmark), free(b->scratch);
+    free(b->has_spans), free(b->spans), free(b->aet), free(b->st_neg), free(b->st_fix), free(b->rowmark), free(b->scratch);
 }
 
 void *ew_band_scratch(ew_band *b, size_t bytes) {
@@ -86,14 +88,17 @@ static inline void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
 
 void ew_band_span(ew_band *b, int surf, int u0, int u1, int v) { emit_span(b, surf, u0, u1, v); }
 
-/* st_neg holds at least cap_aet entries, since a line has at most as many
- * counts going below zero as it has edges.  Another method may have grown
- * aet on the same band (hsr/edge_z.c); if st_neg cannot follow, cap_aet comes
- * down to it (the array itself stays as large as it is). */
+/* st_neg and st_fix hold at least cap_aet entries, since a line has at most
+ * as many counts going below zero, or edges out of order, as it has edges.
+ * Another method may have grown aet on the same band (hsr/edge_z.c); if
+ * they cannot follow, cap_aet comes down to them (aet itself stays as large
+ * as it is).  realloc keeps st_fix's entries: they live from one line's
+ * stepping to the next line's sort, and new edges may grow aet between. */
 static void fit_neg(ew_band *b) {
     if (b->cap_neg >= b->cap_aet) return;
-    int32_t *neg = realloc(b->st_neg, sizeof(int32_t) * (size_t)b->cap_aet);
-    if (neg) b->st_neg = neg, b->cap_neg = b->cap_aet;
+    int32_t *neg = realloc(b->st_neg, sizeof(int32_t) * (size_t)b->cap_aet), *fix = NULL;
+    if (neg) b->st_neg = neg, fix = realloc(b->st_fix, sizeof(int32_t) * (size_t)b->cap_aet);
+    if (fix) b->st_fix = fix, b->cap_neg = b->cap_aet;
     else b->cap_aet = b->cap_neg;
 }
 
@@ -115,15 +120,31 @@ static void add_active(ew_band *b, const ew_edge *e, int v) {
  * side" in turn): the old part sorted in place, the new ones sorted among
  * themselves, then merged from the back, an old edge staying before a new
  * one it ties with.  The new edges would otherwise each travel from the end
- * of the list to their place. */
+ * of the list to their place.
+ *
+ * The old part's insertion sort visits only fix[0..nfix), ascending: the
+ * stepping listed every edge whose u was not above all the u before it.
+ * Any other edge is after all of them (a larger u), so the insertion sort
+ * would leave it where it is, having compared it once. */
 #define MERGE_MAX 64
-static void sort_edges(ew_active *a, int nold, int n) {
+static void sort_edges(ew_active *a, int nold, int n, const int32_t *fix, int nfix) {
+    for (int f = 0; f < nfix; f++) {
+        int i = fix[f];
+        if (!ew_active_after(&a[i - 1], &a[i])) continue;
+        ew_active x = a[i];
+        int j = i - 1;
+        do {
+            a[j + 1] = a[j];
+            j--;
+        } while (j >= 0 && ew_active_after(&a[j], &x));
+        a[j + 1] = x;
+    }
     int k = n - nold;
-    if (k <= 0 || k > MERGE_MAX || nold == 0) {
+    if (k <= 0) return;
+    if (k > MERGE_MAX || nold == 0) {
         ew_active_sort(a, n);
         return;
     }
-    ew_active_sort(a, nold);
     ew_active x[MERGE_MAX];
     memcpy(x, a + nold, sizeof(ew_active) * (size_t)k);
     ew_active_sort(x, k);
@@ -155,6 +176,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
             if (edges[i].v_last >= b->y0) add_active(b, &edges[i], b->y0);
     if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
 
+    int nfix = 0;  /* sorted */
     for (int v = b->y0; v < b->y1; v++) {
         const int nold = b->naet;  /* last line's edges, stepped: nearly in order */
         for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
@@ -162,7 +184,8 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
          * the compiler would reload both at every edge. */
         ew_active *aet = b->aet;
         const int naet = b->naet;
-        sort_edges(aet, nold, naet);
+        int32_t *fix = b->st_fix;
+        sort_edges(aet, nold, naet, fix, nfix);
 
         int top = 0;  /* the background, always at the bottom of the stack */
         next[0] = -1, prev[0] = -1, lastu[0] = 0;
@@ -170,6 +193,8 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
          * cap_aet >= naet entries, at most one per edge. */
         int32_t *neg = b->st_neg;
         int nneg = 0, n = 0;
+        int32_t max_u = INT32_MIN;
+        nfix = 0;
         for (int i = 0; i < naet; i++) {
             const ew_active a = aet[i];
             int iu = (int)(((int64_t)a.u + 0xFFFF) >> 16);  /* first pixel centre right of the edge */
@@ -215,6 +240,8 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
             if (a.v_last > v) {
                 aet[n] = a;
                 aet[n].u = a.u + a.u_step;
+                if (n == 0 || aet[n].u > max_u) max_u = aet[n].u;
+                else fix[nfix++] = n;
                 n++;
             }
         }

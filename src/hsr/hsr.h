@@ -124,6 +124,7 @@ struct ew_band {
     void *scratch;  size_t scratch_bytes;  /* the method's own per-band memory (ew_band_scratch) */
     ew_active *aet;  int naet, cap_aet, max_aet;
     int32_t *st_neg;  int cap_neg;  /* >= cap_aet entries (the edge list's scan): counts gone below zero on a line */
+    int32_t *st_fix;                /* as many: the stepped edges that may be out of order for the next line */
     int dropped;
     ew_stats model_stats;           /* this band's share of the moving things' counters */
     long written, covered;          /* world pixels its spans wrote, and covered at least once */
