@@ -130,7 +130,7 @@ static void add_active(ew_band *b, const ew_edge *e, int v) {
 static void sort_edges(ew_active *a, int nold, int n, const int32_t *fix, int nfix) {
     for (int f = 0; f < nfix; f++) {
         int i = fix[f];
-        if (!ew_active_after(&a[i - 1], &a[i])) continue;
+        if (i == 0 || !ew_active_after(&a[i - 1], &a[i])) continue;
         ew_active x = a[i];
         int j = i - 1;
         do {
@@ -240,8 +240,8 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
             if (a.v_last > v) {
                 aet[n] = a;
                 aet[n].u = a.u + a.u_step;
-                if (n == 0 || aet[n].u > max_u) max_u = aet[n].u;
-                else fix[nfix++] = n;
+                if (aet[n].u > max_u) max_u = aet[n].u;
+                else fix[nfix++] = n;  /* never 0 with a real u; sort_edges checks */
                 n++;
             }
         }
