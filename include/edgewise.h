@@ -586,7 +586,8 @@ EW_API ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map,
  * its door, a triangle model, particles and a dynamic light. */
 EW_API ew_scene *ew_scene_create_builtin(const ew_world *w, ew_error *err);
 EW_API void ew_scene_destroy(ew_scene *s);
-/* Adds world submodel N (1..) at an offset and rotation; entity index or -1. */
+/* Adds world submodel N (1..) at an offset and rotation; entity index or -1
+ * (as ew_scene_add_entity). */
 EW_API int  ew_scene_add_brush(ew_scene *s, int submodel, const float origin[3],
                                const float angles[3]);
 /* Loads an alias model (MDL), sprite (SPR) or item box (BSP) from memory
@@ -595,7 +596,9 @@ EW_API int  ew_scene_add_brush(ew_scene *s, int submodel, const float origin[3],
 EW_API int  ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size_t size,
                                 ew_error *err);
 /* An entity using model (an index from ew_scene_load_model) at origin with
- * Quake angles (pitch yaw roll), frame and skin; entity index or -1. */
+ * Quake angles (pitch yaw roll), frame and skin; entity index, or -1 for an
+ * unknown model, an origin coordinate beyond +-10,000,000 or not finite, an
+ * angle not finite, or no memory. */
 EW_API int  ew_scene_add_entity(ew_scene *s, int model, const float origin[3],
                                 const float angles[3], int frame, int skin);
 /* A brush entity's opacity, in (0, 1] (1: opaque, the default); 0 or -1

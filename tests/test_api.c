@@ -245,6 +245,22 @@ static void test_lifetimes(void) {
     if (a) {
         ew_scene *s = ew_scene_create(a->world, &err);
         CHECK(s != NULL, "empty scene: %s", err.msg);
+        /* Entities: an origin beyond +-1e7 or not finite, or an angle not
+         * finite, is refused; one far off but within the bound renders. */
+        const float nan3[3] = { NAN, 0, 0 }, inf_angle[3] = { 0, INFINITY, 0 }, beyond[3] = { 2e7f, 0, 0 },
+                    far_off[3] = { 9e6f, -9e6f, 9e6f };
+        if (s) {
+            CHECK(ew_scene_add_brush(s, 1, nan3, NULL) == -1, "a NaN origin was taken");
+            CHECK(ew_scene_add_brush(s, 1, NULL, inf_angle) == -1, "an infinite angle was taken");
+            CHECK(ew_scene_add_brush(s, 1, beyond, NULL) == -1, "an origin at 2e7 was taken");
+            CHECK(ew_scene_add_brush(s, 1, far_off, NULL) == 0, "an origin at 9e6 was refused");
+            ew_camera views[EW_MAX_VIEWS];
+            const ew_renderer_desc d = { .world = a->world, .palette = a->palette, .colormap = a->colormap,
+                                         .width = 320, .height = 200 };
+            uint8_t *px = ew_benchmark_views(a->world, views) > 0 ? frame_of(d, s, &views[0], NULL) : NULL;
+            CHECK(px != NULL, "a scene with a far-off brush entity does not render");
+            free(px);
+        }
         ew_scene_destroy(s);
     }
     ew_assets_destroy(a);

@@ -197,8 +197,11 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
         nfix = 0;
         for (int i = 0; i < naet; i++) {
             const ew_active a = aet[i];
-            int iu = (int)(((int64_t)a.u + 0xFFFF) >> 16);  /* first pixel centre right of the edge */
-            iu = iu < 0 ? 0 : iu > width ? width : iu;
+            /* The first pixel centre right of the edge: in [0, width] with no
+             * clamp, since every edge runs between projected points on the
+             * screen, [-0.5, width - 0.5] (world/edge_math.h), and its 16.16
+             * steps drift by under 1/16 pixel over 4320 lines. */
+            int iu = (int)(((int64_t)a.u + 0xFFFF) >> 16);
             int s = a.surfs[0];
             /* A trailing edge met before its leading edge (crossed by rounding,
              * or a zero-width sliver) drives the count negative, and the

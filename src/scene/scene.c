@@ -8,6 +8,7 @@
 #include "raster/alias.h"
 
 #include <stdio.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -74,6 +75,10 @@ int ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size
 int ew_scene_add_entity(ew_scene *s, int model, const float origin[3], const float angles[3],
                         int frame, int skin) {
     if (model >= s->nmodels || (model < 0 && -1 - model >= s->world->nummodels)) return -1;
+    /* A moved model must stay where the projection's float arithmetic is
+     * exact enough to keep its points on the screen (world/edge_math.h). */
+    for (int k = 0; k < 3; k++)
+        if ((origin && !(fabsf(origin[k]) <= EW_MAX_ENTITY_COORD)) || (angles && !isfinite(angles[k]))) return -1;
     if (s->nents == s->cap_ents) {
         int cap = s->cap_ents ? s->cap_ents * 2 : 64;
         ew_scene_entity *e = realloc(s->ents, sizeof *e * (size_t)cap);

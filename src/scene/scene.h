@@ -6,6 +6,10 @@
 
 enum { EW_MODEL_ALIAS = 1, EW_MODEL_SPRITE, EW_MODEL_BOX };
 
+/* Entity origins beyond this (or not finite) are refused: the world's own
+ * vertices stop at the same bound (asset/bsp.c). */
+#define EW_MAX_ENTITY_COORD 1.0e7f
+
 typedef struct ew_scene_model {
     int   kind;      /* EW_MODEL_* */
     char  name[64];

@@ -23,10 +23,12 @@ static inline void ew_project(const ew_view *v, const float p[3], ew_proj *out) 
     float u = v->xcenter + v->xscale * t[0] * zi;
     float y = v->ycenter - v->yscale * t[1] * zi;
     /* Frustum clipping leaves points on the screen's borders; float error
-     * must not push them past, or spans would leave the frame. */
+     * must not push them past, or spans would leave the frame.  Written so
+     * that a NaN lands on the low border too: the edge scan relies on every
+     * edge's u lying on the screen (hsr/edge_scan.c). */
     float umax = v->width - 0.5f, vmax = v->height - 0.5f;
-    out->u = u < -0.5f ? -0.5f : u > umax ? umax : u;
-    out->v = y < -0.5f ? -0.5f : y > vmax ? vmax : y;
+    out->u = u > -0.5f ? (u < umax ? u : umax) : -0.5f;
+    out->v = y > -0.5f ? (y < vmax ? y : vmax) : -0.5f;
     out->zi = zi;
 }
 
