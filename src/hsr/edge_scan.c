@@ -201,7 +201,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
              * clamp, since every edge runs between projected points on the
              * screen, [-0.5, width - 0.5] (world/edge_math.h), and its 16.16
              * steps drift by under 1/16 pixel over 4320 lines. */
-            int iu = (int)(((int64_t)a.u + 0xFFFF) >> 16);
+            int iu = (a.u + 0xFFFF) >> 16;  /* no overflow: u < 7681 << 16 */
             int s = a.surfs[0];
             /* A trailing edge met before its leading edge (crossed by rounding,
              * or a zero-width sliver) drives the count negative, and the
@@ -216,7 +216,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
                         lastu[top] = iu;
                     } else {
                         next[prev[s]] = next[s];
-                        if (next[s] >= 0) prev[next[s]] = prev[s];
+                        prev[next[s]] = prev[s];  /* s is not the bottom: the background is */
                     }
                 } else if (c < 0) {
                     neg[nneg++] = s;
