@@ -18,10 +18,7 @@
 #define FIRST_AET 1024
 
 int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
-    b->st_next = malloc(sizeof(int32_t) * max_surfs);
-    b->st_prev = malloc(sizeof(int32_t) * max_surfs);
-    b->st_state = calloc(max_surfs, sizeof(int32_t));
-    b->st_lastu = malloc(sizeof(int32_t) * max_surfs);
+    b->stack = calloc(max_surfs, sizeof *b->stack);
     b->has_spans = malloc((size_t)max_surfs);
     b->cap_spans = max_spans < FIRST_SPANS ? max_spans : FIRST_SPANS;
     b->cap_aet = max_aet < FIRST_AET ? max_aet : FIRST_AET;
@@ -32,7 +29,7 @@ int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
     b->cap_neg = b->st_neg && b->st_fix ? b->cap_aet : 0;
     b->max_spans = max_spans;
     b->max_aet = max_aet;
-    return b->st_next && b->st_prev && b->st_state && b->st_lastu && b->has_spans && b->spans && b->aet && b->st_neg &&
+    return b->stack && b->has_spans && b->spans && b->aet && b->st_neg &&
                    b->st_fix
                ? 0
                : -1;
@@ -49,7 +46,7 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
 }
 
 void ew_band_free(ew_band *b) {
-    free(b->st_next), free(b->st_prev), free(b->st_state), free(b->st_lastu);
+    free(b->stack);
     free(b->has_spans), free(b->spans), free(b->aet), free(b->st_neg), free(b->st_fix), free(b->rowmark), free(b->scratch);
 }
 
@@ -158,7 +155,7 @@ static void sort_edges(ew_active *a, int nold, int n, const int32_t *fix, int nf
 void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     const ew_surf *surfs = el->surfs;
     const ew_edge *edges = el->edges;
-    int32_t *next = b->st_next, *prev = b->st_prev, *state = b->st_state, *lastu = b->st_lastu;
+    ew_stack_entry *st = b->stack;
 
     /* The stack's counts are all zero here: calloc'd, and each line ends by
      * clearing every count it left above or below zero. */
@@ -188,7 +185,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
         sort_edges(aet, nold, naet, fix, nfix);
 
         int top = 0;  /* the background, always at the bottom of the stack */
-        next[0] = -1, prev[0] = -1, lastu[0] = 0;
+        st[0].next = -1, st[0].prev = -1, st[0].lastu = 0;
         /* Surfaces whose count went below zero on this line: cap_neg >=
          * cap_aet >= naet entries, at most one per edge. */
         int32_t *neg = b->st_neg;
@@ -207,35 +204,35 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
              * or a zero-width sliver) drives the count negative, and the
              * late leading edge then brings it back to zero without a push. */
             if (s) {                                             /* trailing edge */
-                int c = --state[s];
+                int c = --st[s].state;
                 if (c == 0) {
                     if (s == top) {
-                        emit_span(b, s, lastu[s], iu, v);
-                        top = next[s];
-                        prev[top] = -1;
-                        lastu[top] = iu;
+                        emit_span(b, s, st[s].lastu, iu, v);
+                        top = st[s].next;
+                        st[top].prev = -1;
+                        st[top].lastu = iu;
                     } else {
-                        next[prev[s]] = next[s];
-                        prev[next[s]] = prev[s];  /* s is not the bottom: the background is */
+                        st[st[s].prev].next = st[s].next;
+                        st[st[s].next].prev = st[s].prev;  /* s is not the bottom: the background is */
                     }
                 } else if (c < 0) {
                     neg[nneg++] = s;
                 }
             }
             s = a.surfs[1];
-            if (s && ++state[s] == 1) {                          /* leading edge */
+            if (s && ++st[s].state == 1) {                          /* leading edge */
                 if (nearer(&surfs[s], &surfs[top], iu, v)) {
-                    emit_span(b, top, lastu[top], iu, v);
-                    next[s] = top, prev[s] = -1;
-                    prev[top] = s;
+                    emit_span(b, top, st[top].lastu, iu, v);
+                    st[s].next = top, st[s].prev = -1;
+                    st[top].prev = s;
                     top = s;
-                    lastu[s] = iu;
+                    st[s].lastu = iu;
                 } else {
                     int p = top;
-                    while (!nearer(&surfs[s], &surfs[next[p]], iu, v)) p = next[p];
-                    next[s] = next[p], prev[s] = p;
-                    prev[next[p]] = s;
-                    next[p] = s;
+                    while (!nearer(&surfs[s], &surfs[st[p].next], iu, v)) p = st[p].next;
+                    st[s].next = st[p].next, st[s].prev = p;
+                    st[st[p].next].prev = s;
+                    st[p].next = s;
                 }
             }
             /* Stepped to the next line in the same pass (n <= i: that slot
@@ -248,14 +245,14 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
                 n++;
             }
         }
-        emit_span(b, top, lastu[top], width, v);
+        emit_span(b, top, st[top].lastu, width, v);
 
         /* Every count back to zero for the next line.  A count above zero is
          * a surface still on the stack (pushed at 0 -> 1, taken off at
          * 1 -> 0), one below zero is in neg; when the line's edges balanced,
          * the stack is just the background and neg is empty. */
-        for (int s = top; s > 0; s = next[s]) state[s] = 0;
-        for (int k = 0; k < nneg; k++) state[neg[k]] = 0;
+        for (int s = top; s > 0; s = st[s].next) st[s].state = 0;
+        for (int k = 0; k < nneg; k++) st[neg[k]].state = 0;
         b->naet = n;
     }
 }

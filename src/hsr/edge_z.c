@@ -39,7 +39,7 @@ enum { C_COMPARES, C_SPLITS, C_TIES };
  * the top. */
 typedef struct zscan {
     const ew_surf *surfs;
-    int32_t *next, *prev;
+    ew_stack_entry *st;   /* next and prev */
     float *zrow;          /* per surface: zi_v * v + zi_0 for this row */
     float v;
     long compares, splits, ties;
@@ -75,9 +75,9 @@ static int crossing(zscan *z, int s, int t, int a, int last) {
 /* The nearest surface of the set at pixel u; 0 (the background) if the
  * set is empty. */
 static int nearest(zscan *z, int u) {
-    int best = z->next[0];
+    int best = z->st[0].next;
     if (best <= 0) return 0;
-    for (int s = z->next[best]; s > 0; s = z->next[s])
+    for (int s = z->st[best].next; s > 0; s = z->st[s].next)
         if (front(z, s, best, u)) best = s;
     return best;
 }
@@ -89,7 +89,7 @@ static void advance(zscan *z, ew_band *b, int *top, int *start, int a, int end, 
     while (t > 0 && a < end) {
         float tu = z->surfs[t].zi_u;
         int best = 0, bu = end;
-        for (int s = z->next[0]; s > 0; s = z->next[s]) {
+        for (int s = z->st[0].next; s > 0; s = z->st[s].next) {
             if (s == t || z->surfs[s].zi_u <= tu || !front(z, s, t, end - 1)) continue;
             int u = crossing(z, s, t, a, end - 1);
             if (u < bu || (u == bu && front(z, s, best, u))) best = s, bu = u;
@@ -124,11 +124,11 @@ static void add_active(ew_band *b, const ew_edge *e, int v) {
 
 static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
     const ew_edge *edges = el->edges;
-    int32_t *state = b->st_state;
+    ew_stack_entry *st = b->stack;
     b->nspans = 0;
     b->naet = 0;
     memset(b->has_spans, 0, (size_t)el->nsurfs);
-    zscan z = {el->surfs, b->st_next, b->st_prev, ew_band_scratch(b, sizeof(float) * (size_t)el->nsurfs), 0, 0, 0, 0};
+    zscan z = {el->surfs, st, ew_band_scratch(b, sizeof(float) * (size_t)el->nsurfs), 0, 0, 0, 0};
     if (!z.zrow) {  /* out of memory: the band stays background */
         b->dropped++;
         for (int v = b->y0; v < b->y1; v++) ew_band_span(b, 0, 0, width, v);
@@ -147,7 +147,7 @@ static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
         ew_active_sort(aet, naet);
 
         z.v = (float)v;
-        z.next[0] = -1, z.prev[0] = -1;
+        z.st[0].next = -1, z.st[0].prev = -1;
         int top = 0, start = 0, at = 0;  /* the top is nearest over [start, at) */
         for (int i = 0; i < naet; i++) {
             const ew_active *a = &aet[i];
@@ -158,10 +158,10 @@ static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
                 at = iu;
             }
             int s = a->surfs[0];
-            if (s && --state[s] == 0) {  /* trailing edge: out of the set */
-                int p = z.prev[s], n = z.next[s];
-                z.next[p] = n;
-                if (n > 0) z.prev[n] = p;
+            if (s && --st[s].state == 0) {  /* trailing edge: out of the set */
+                int p = z.st[s].prev, n = z.st[s].next;
+                z.st[p].next = n;
+                if (n > 0) z.st[n].prev = p;
                 if (s == top) {
                     ew_band_span(b, s, start, iu, v);
                     top = nearest(&z, iu);
@@ -169,13 +169,13 @@ static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
                 }
             }
             s = a->surfs[1];
-            if (s && ++state[s] == 1) {  /* leading edge: into the set */
+            if (s && ++st[s].state == 1) {  /* leading edge: into the set */
                 const ew_surf *sf = &z.surfs[s];
                 z.zrow[s] = sf->zi_v * z.v + sf->zi_0;  /* the reference's order of operations */
-                int n = z.next[0];
-                z.next[s] = n, z.prev[s] = 0;
-                if (n > 0) z.prev[n] = s;
-                z.next[0] = s;
+                int n = z.st[0].next;
+                z.st[s].next = n, z.st[s].prev = 0;
+                if (n > 0) z.st[n].prev = s;
+                z.st[0].next = s;
                 if (top == 0 || front(&z, s, top, iu)) {
                     ew_band_span(b, top, start, iu, v);
                     top = s;
@@ -189,7 +189,7 @@ static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
         int n = 0;
         for (int i = 0; i < naet; i++) {
             ew_active a = aet[i];
-            state[a.surfs[0]] = state[a.surfs[1]] = 0;
+            st[a.surfs[0]].state = st[a.surfs[1]].state = 0;
             if (a.v_last <= v) continue;
             a.u += a.u_step;
             aet[n++] = a;

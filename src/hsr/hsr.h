@@ -109,13 +109,20 @@ typedef struct ew_active {
     uint16_t surfs[2];
 } ew_active;
 
+/* One surface's place in a band's surface stack (the edge list's scans):
+ * its neighbours, its count of edges entered less left, and where its
+ * current span began.  Together, so that one cache line and one base
+ * register serve all four. */
+typedef struct ew_stack_entry {
+    int32_t next, prev, state, lastu;
+} ew_stack_entry;
+
 /* One horizontal band [y0, y1): its scan state, its spans, and what its
  * draw job counted.  Aligned so neighbouring bands' counters, written by
  * different threads, never share a cache line. */
 struct ew_band {
     _Alignas(64) int y0, y1;
-    /* surface stack, indexed by surface number; 0 is the background */
-    int32_t *st_next, *st_prev, *st_state, *st_lastu;
+    ew_stack_entry *stack;          /* indexed by surface number; 0 is the background */
     uint8_t *has_spans;             /* per surface: won a span in this band */
     ew_span *spans;  int nspans, cap_spans, max_spans;
     int unsorted;                   /* a row's spans may overlap or run out of order (see above) */
