@@ -189,9 +189,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
         /* Surfaces whose count went below zero on this line: cap_neg >=
          * cap_aet >= naet entries, at most one per edge. */
         int32_t *neg = b->st_neg;
-        int nneg = 0, n = 0;
-        int32_t max_u = INT32_MIN;
-        nfix = 0;
+        int nneg = 0;
         for (int i = 0; i < naet; i++) {
             const ew_active a = aet[i];
             /* The first pixel centre right of the edge: in [0, width] with no
@@ -235,17 +233,23 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
                     st[p].next = s;
                 }
             }
-            /* Stepped to the next line in the same pass (n <= i: that slot
-             * has been read). */
-            if (a.v_last > v) {
-                aet[n] = a;
-                aet[n].u = a.u + a.u_step;
-                if (aet[n].u > max_u) max_u = aet[n].u;
-                else fix[nfix++] = n;  /* never 0 with a real u; sort_edges checks */
-                n++;
-            }
         }
         emit_span(b, top, st[top].lastu, width, v);
+
+        /* Stepped to the next line, in a pass of its own: the scan above
+         * then keeps its state in registers. */
+        int n = 0;
+        int32_t max_u = INT32_MIN;
+        nfix = 0;
+        for (int i = 0; i < naet; i++) {
+            if (aet[i].v_last <= v) continue;
+            ew_active x = aet[i];
+            x.u += x.u_step;
+            aet[n] = x;
+            if (x.u > max_u) max_u = x.u;
+            else fix[nfix++] = n;  /* never 0 with a real u; sort_edges checks */
+            n++;
+        }
 
         /* Every count back to zero for the next line.  A count above zero is
          * a surface still on the stack (pushed at 0 -> 1, taken off at
