@@ -64,7 +64,8 @@ void *ew_band_scratch(ew_band *b, size_t bytes) {
  * 1/z at the pixel decides, and where they abut (equal 1/z) the one whose
  * 1/z grows faster to the right is in front from here on (chapter 51). */
 static inline int nearer(const ew_surf *a, const ew_surf *b, int u, int v) {
-    if (a->key != b->key) return a->key < b->key;
+    if (a->key < b->key) return 1;  /* two branches: cheaper than a flag made and tested */
+    if (a->key > b->key) return 0;
     if (!a->insubmodel || !b->insubmodel) return 0;
     float za = a->zi_u * u + a->zi_v * v + a->zi_0, zb = b->zi_u * u + b->zi_v * v + b->zi_0;
     if (za != zb) return za > zb;
