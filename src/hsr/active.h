@@ -17,7 +17,8 @@ static inline void ew_active_set(ew_active *a, const ew_edge *e, int v) {
 }
 
 static inline int ew_active_after(const ew_active *a, const ew_active *b) {
-    if (a->u != b->u) return a->u > b->u;
+    if (a->u > b->u) return 1;  /* branches: cheaper than a flag made and tested */
+    if (a->u < b->u) return 0;
     if (a->u_step != b->u_step) return a->u_step > b->u_step;
     return a->surfs[0] != 0 && b->surfs[0] == 0;
 }
