@@ -239,16 +239,22 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
 
         /* Stepped to the next line, in a pass of its own: the scan above
          * then keeps its state in registers. */
-        int n = 0;
         int32_t max_u = INT32_MIN;
         nfix = 0;
-        for (int i = 0; i < naet; i++) {
+        int i = 0;
+        for (; i < naet && aet[i].v_last > v; i++) {  /* up to the first edge that ends: in place */
+            int32_t u = aet[i].u += aet[i].u_step;
+            if (u > max_u) max_u = u;
+            else fix[nfix++] = i;  /* never 0 with a real u; sort_edges checks */
+        }
+        int n = i;
+        for (; i < naet; i++) {  /* then moved down over the ended ones */
             if (aet[i].v_last <= v) continue;
             ew_active x = aet[i];
             x.u += x.u_step;
             aet[n] = x;
             if (x.u > max_u) max_u = x.u;
-            else fix[nfix++] = n;  /* never 0 with a real u; sort_edges checks */
+            else fix[nfix++] = n;
             n++;
         }
 
