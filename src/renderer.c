@@ -504,6 +504,7 @@ static void job_build(void *ctx, int thread) {
             ew_surf_draw *d = &r->lit.surf_draw[s];
             ew_face_gradients(w, sf->view, &w->faces[sf->face], r->lit.surf_cache[s] ? r->lit.surf_cache[s]->mip : 0,
                               &d->g);
+            ew_span_prepare(d);
         }
     }
 }
@@ -627,7 +628,7 @@ static void prepare_surfaces(ew_renderer *r) {
             continue;
         }
         d->kind = EW_DRAW_LIT;
-        d->pixels = e->pixels, d->pitch = e->width;
+        d->pixels = e->pixels, d->pitch = e->width, d->lit16 = 0;
         if (build) {
             r->lit.to_build[r->lit.nbuild++] = e;
             if (r->dbg.mode == EW_DEBUG_BUILDS) d->kind = EW_DRAW_DEBUG, d->flat = r->dbg.build;

@@ -31,6 +31,8 @@ typedef struct ew_surf_draw {
     ew_gradients g;           /* screen gradients (mip of its lit surface; 0 for sky and liquids) */
     const uint8_t *pixels;    /* EW_DRAW_LIT: the lit surface, pitch bytes a row */
     int pitch;
+    int lit16;                /* EW_DRAW_LIT, set with g (ew_span_prepare): 1 or 2 (narrow) for the
+                                 16-pixel drawer of 8-bit frames, 0 for the general one */
     int kind;                 /* EW_DRAW_*; FLAT: no memory for its lit surface */
     const ew_texture *tex;    /* sky and liquids */
     uint32_t flat;            /* EW_DRAW_DEBUG: one colour (raster/debug.h) */
@@ -93,6 +95,8 @@ void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp);  /* black */
 /* Every span of a band, each by its surface's ew_surf_draw; with full_z the
  * world's 1/z goes under every span too (ew_set_full_zfill). */
 void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *draw, int full_z);
+/* Once a surface's gradients are set: which drawer its spans take. */
+void ew_span_prepare(ew_surf_draw *d);
 
 /* Sky colour of one pixel (shared with the reference path). */
 uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y);

@@ -343,6 +343,14 @@ static inline int lit_narrow(const ew_surf_draw *d) {
  * is written straight through and so is the span list, where a surface's
  * own spans lie scattered.  Lit surfaces were looked up and built, and
  * every surface's gradients computed once, before the bands started. */
+void ew_span_prepare(ew_surf_draw *d) {
+#if defined(__SSE2__)
+    d->lit16 = lit_tame(&d->g) ? (lit_narrow(d) ? 2 : 1) : 0;
+#else
+    d->lit16 = 0;
+#endif
+}
+
 void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *draw, int full_z) {
 #if defined(__SSE2__)
     const int lit8 = c->target->bpp == 1 && c->subdiv_shift == 4;
@@ -353,9 +361,9 @@ void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *d
         switch (d->kind) {
         case EW_DRAW_LIT:
 #if defined(__SSE2__)
-            if (lit8 && lit_tame(&d->g)) {  /* the common cases inline: no call a span */
+            if (lit8 && d->lit16) {  /* the common cases inline: no call a span */
                 uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
-                if (lit_narrow(d))
+                if (d->lit16 == 2)
                     lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 1);
                 else
                     lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 0);
