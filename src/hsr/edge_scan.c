@@ -146,10 +146,11 @@ static void sort_edges(ew_active *a, int nold, int n, const int32_t *fix, int nf
     ew_active x[MERGE_MAX];
     memcpy(x, a + nold, sizeof(ew_active) * (size_t)k);
     ew_active_sort(x, k);
-    int i = nold - 1, j = k - 1, d = n - 1;
-    while (j >= 0) {
-        if (i >= 0 && ew_active_after(&a[i], &x[j])) a[d--] = a[i--];
-        else a[d--] = x[j--];
+    int i = nold - 1, d = n - 1;
+    for (int j = k - 1; j >= 0; j--) {
+        const ew_active xj = x[j];  /* held while the old edges after it move up */
+        while (i >= 0 && ew_active_after(&a[i], &xj)) a[d--] = a[i--];
+        a[d--] = xj;
     }
 }
 
@@ -250,10 +251,9 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
         int n = i;
         for (; i < naet; i++) {  /* then moved down over the ended ones */
             if (aet[i].v_last <= v) continue;
-            ew_active x = aet[i];
-            x.u += x.u_step;
-            aet[n] = x;
-            if (x.u > max_u) max_u = x.u;
+            aet[n] = aet[i];  /* copied whole, then stepped: one 16-byte move */
+            int32_t u = aet[n].u += aet[n].u_step;
+            if (u > max_u) max_u = u;
             else fix[nfix++] = n;
             n++;
         }
