@@ -10,6 +10,31 @@
 
 #include <math.h>
 
+/* (int)ceilf, (int)ceil and (int)floor the same, but where the value is
+ * well inside int's range by a truncation and a compare: without SSE4.1
+ * the compiler's inline rounding is some thirty instructions. */
+static inline int ceilf_int(float x) {
+    if (x > -2147483520.0f && x < 2147483520.0f) {
+        int i = (int)x;
+        return i + (i < x);
+    }
+    return (int)ceilf(x);
+}
+static inline int ceil_int(double x) {
+    if (x > -2147483647.0 && x < 2147483647.0) {
+        int i = (int)x;
+        return i + (i < x);
+    }
+    return (int)ceil(x);
+}
+static inline int floor_int(double x) {
+    if (x > -2147483647.0 && x < 2147483647.0) {
+        int i = (int)x;
+        return i - (i > x);
+    }
+    return (int)floor(x);
+}
+
 void ew_zpoly_vertex(const ew_view *v, const float pt[3], float *u, float *vv, float *zi) {
     float t[3];
     ew_view_transform(v, pt, t);
@@ -19,7 +44,7 @@ void ew_zpoly_vertex(const ew_view *v, const float pt[3], float *u, float *vv, f
     *zi = z;
 }
 
-int ew_zpoly_close(const ew_view *v, ew_zpoly *p, int m) {
+int ew_zpoly_bounds(const ew_view *v, ew_zpoly *p, int m) {
     float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
     for (int i = 0; i < m; i++) {
         if (p->u[i] < umin) umin = p->u[i];
@@ -27,22 +52,31 @@ int ew_zpoly_close(const ew_view *v, ew_zpoly *p, int m) {
         if (p->v[i] < vmin) vmin = p->v[i];
         if (p->v[i] > vmax) vmax = p->v[i];
     }
+    p->n = m;
+    p->x0 = ceilf_int(umin), p->x1 = ceilf_int(umax) - 1;
+    p->y0 = ceilf_int(vmin), p->y1 = ceilf_int(vmax) - 1;
+    if (p->x0 < 0) p->x0 = 0;
+    if (p->y0 < 0) p->y0 = 0;
+    if (p->x1 > v->width - 1) p->x1 = v->width - 1;
+    if (p->y1 > v->height - 1) p->y1 = v->height - 1;
+    return p->x0 <= p->x1 && p->y0 <= p->y1;
+}
+
+int ew_zpoly_orient(ew_zpoly *p) {
     /* Orientation of the projected polygon, so "inside" has one sign. */
     double area = 0;
-    for (int i = 0; i < m; i++) {
+    for (int i = 0, m = p->n; i < m; i++) {
         int j = i + 1 == m ? 0 : i + 1;
         area += (double)p->u[i] * p->v[j] - (double)p->u[j] * p->v[i];
     }
     if (area == 0) return 0;
     p->sign = area > 0 ? 1 : -1;
-    p->n = m;
-    p->x0 = (int)ceilf(umin), p->x1 = (int)ceilf(umax) - 1;
-    p->y0 = (int)ceilf(vmin), p->y1 = (int)ceilf(vmax) - 1;
-    if (p->x0 < 0) p->x0 = 0;
-    if (p->y0 < 0) p->y0 = 0;
-    if (p->x1 > v->width - 1) p->x1 = v->width - 1;
-    if (p->y1 > v->height - 1) p->y1 = v->height - 1;
     return 1;
+}
+
+int ew_zpoly_close(const ew_view *v, ew_zpoly *p, int m) {
+    ew_zpoly_bounds(v, p, m);
+    return ew_zpoly_orient(p);
 }
 
 int ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p) {
@@ -186,7 +220,7 @@ long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look 
                 xhi = xlo - 1;  /* parallel to the row and outside */
             }
         }
-        int xa = (int)ceil(xlo), xb = (int)floor(xhi);
+        int xa = ceil_int(xlo), xb = floor_int(xhi);
         if (xa < p->x0) xa = p->x0;
         if (xb > p->x1) xb = p->x1;
         if (xb < xa) continue;
