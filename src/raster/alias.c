@@ -457,8 +457,9 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
         if (x0->clip & x1->clip & x2->clip) continue;
         int back = !tri->facesfront;
         if (!(x0->clip | x1->clip | x2->clip)) {
+            /* Culled before the copies: about half of them are back faces. */
+            if (!ew_alias_tri_visible(&x0->sv, &x1->sv, &x2->sv)) continue;  /* back face or degenerate */
             ew_avert a = x0->sv, b = x1->sv, c = x2->sv;
-            if (!ew_alias_tri_visible(&a, &b, &c)) continue;  /* back face or degenerate */
             if (back) a.s = x0->sback, b.s = x1->sback, c.s = x2->sback;
             drawn++;
             if (subdiv) {

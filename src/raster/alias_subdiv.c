@@ -27,19 +27,25 @@ static inline int top_left(const ew_avert *p, const ew_avert *q) {
     return q->y < p->y || (q->y == p->y && q->x > p->x);
 }
 
+/* The texel of p through its light (looked up only for pixels that win:
+ * most corners lose to a nearer one of the same model). */
+static inline uint8_t texel(const ew_araster *ra, const ew_avert *p) {
+    return ra->colormap[(p->l & 0x3F00) + ra->skin[(p->t >> 16) * ra->skinw + (p->s >> 16)]];
+}
+
 static inline void plot(ew_araster *ra, const ew_avert *p) {
-    uint8_t c = ra->colormap[(p->l & 0x3F00) + ra->skin[(p->t >> 16) * ra->skinw + (p->s >> 16)]];
     if (ra->tile_z) {
         size_t o = (size_t)(p->y - ra->ty0) * ra->tw + (p->x - ra->tx0);
         if (p->zi >= ra->tile_z[o]) {
             ra->tile_z[o] = p->zi;
-            ra->tile_c[o] = c;
+            ra->tile_c[o] = texel(ra, p);
             ra->tile_f[o] = 1;
         }
         return;
     }
     float *z = ew_target_z(ra->target, p->x, p->y);
     if (p->zi >= *z) {
+        uint8_t c = texel(ra, p);
         *z = p->zi;
         ew_put_via(ra->target->bpp, ra->rgba, ew_target_at(ra->target, 0, p->y), p->x, ra->remap ? ra->remap[c] : c);
         ra->pixels++;
