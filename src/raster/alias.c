@@ -361,26 +361,36 @@ void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_p
 
     int32_t smax = (m->skinwidth << 16) - 1, tmax = (m->skinheight << 16) - 1;
     int minx = v->width, miny = v->height, maxx = -1, maxy = -1;
+    /* Two passes, texel and light, then position: one loop holding both
+     * spilled half its values to the stack. */
+    float half = (float)(m->skinwidth / 2);
+    for (int i = 0; i < m->numverts; i++) {
+        xvert *x = &xv[i];
+        const float *n = pose->normals[i];
+        float dot = n[0] * lm[0] + n[1] * lm[1] + n[2] * lm[2];
+        int light = ambient + (dot > 0 ? (int)(shade * dot) : 0);
+        int32_t row = ew_alias_light_row(light);
+        const ew_mdl_st *st = &m->st[i];
+        x->sv.s = fix16((float)st->s, smax);
+        x->sv.t = fix16((float)st->t, tmax);
+        x->sv.l = row;
+        x->sback = st->onseam ? fix16((float)st->s + half, smax) : x->sv.s;
+        /* the clip path's (ew_alias_draw): no vertex of a model wholly in view takes it */
+        if (!accept) x->s = (float)st->s, x->t = (float)st->t, x->l = (float)row;
+    }
     for (int i = 0; i < m->numverts; i++) {
         xvert *x = &xv[i];
         const uint8_t *bv = pose->verts[i].v;
         const float b0 = bv[0], b1 = bv[1], b2 = bv[2];
         float q[3];
         for (int k = 0; k < 3; k++) q[k] = bm[k][0] * b0 + bm[k][1] * b1 + bm[k][2] * b2 + bt[k];
-        x->p[0] = q[0], x->p[1] = q[1], x->p[2] = q[2];
-        const float *n = pose->normals[i];
-        float dot = n[0] * lm[0] + n[1] * lm[1] + n[2] * lm[2];
-        int light = ambient + (dot > 0 ? (int)(shade * dot) : 0);
-        int32_t row = ew_alias_light_row(light);
-        const ew_mdl_st *st = &m->st[i];
-        x->s = (float)st->s, x->t = (float)st->t, x->l = (float)row;
-        x->sv.s = fix16((float)st->s, smax);
-        x->sv.t = fix16((float)st->t, tmax);
-        x->sv.l = row;
-        x->sback = st->onseam ? fix16((float)st->s + (float)(m->skinwidth / 2), smax) : x->sv.s;
-        x->clip = accept ? 0 : clip_flags(&cp, x->p);
+        x->clip = 0;
+        if (!accept) {
+            x->p[0] = q[0], x->p[1] = q[1], x->p[2] = q[2];
+            x->clip = clip_flags(&cp, q);
+        }
         if (!x->clip) {
-            project(v, x->p, &x->sv);
+            project(v, q, &x->sv);
             if (x->sv.x < minx) minx = x->sv.x;
             if (x->sv.x > maxx) maxx = x->sv.x;
             if (x->sv.y < miny) miny = x->sv.y;

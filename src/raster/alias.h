@@ -163,6 +163,8 @@ void   ew_alias_tile_end(ew_araster *ra);
 
 /* A vertex of the current frame: view space, clip flags, projection. */
 typedef struct ew_xvert {
+    /* p, s, t, l: set only for a model not wholly in view (xf->accept 0),
+     * the only one whose triangles can be clipped */
     float   p[3];     /* view space: x right, y up, z forward */
     float   s, t, l;  /* texel (front), light row 8.8 as floats for clipping */
     int32_t sback;    /* 16.16 texel s on the back half (onseam) */
