@@ -426,7 +426,11 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
     if (accept && (vmax < rows->y0 - 1 || vmin > rows->y1 + 1)) return 1;
     /* The world's 1/z under the model's screen box (a pixel of margin for
      * snapping), or under all these rows if the box reaches behind the eye. */
-    if (behind || !(umin <= umax && vmin <= vmax)) {
+    if (accept && minx <= maxx) {
+        /* Wholly in view, every pixel it draws is within its snapped
+         * vertices' box, often a good deal smaller than its bounds'. */
+        ew_zfill_rect(&r->zf, minx, miny > rows->y0 ? miny : rows->y0, maxx + 1, maxy + 1 < rows->y1 ? maxy + 1 : rows->y1);
+    } else if (behind || !(umin <= umax && vmin <= vmax)) {
         ew_zfill_rect(&r->zf, 0, rows->y0, r->target.width, rows->y1);
     } else {
         /* Clamped first: a corner just in front of the eye projects far out. */
