@@ -47,14 +47,50 @@ static const box_corner *box_corner_at(const ew_view *v, const ew_world *bw, con
         float d = bc->p[0] * pl->normal[0] + bc->p[1] * pl->normal[1] + bc->p[2] * pl->normal[2] - pl->dist;
         if (d < 0) bc->out |= 1 << i;
     }
-    if (!bc->out) ew_zpoly_vertex(v, bc->p, &bc->u, &bc->v, &bc->zi);
+    if (!bc->out) {
+        ew_zpoly_vertex(v, bc->p, &bc->u, &bc->v, &bc->zi);
+        /* A wild corner (a NaN origin) goes the clipping path, as it did. */
+        if (!isfinite(bc->u) || !isfinite(bc->v)) bc->out = 1 << 4;
+    }
     return bc;
+}
+
+/* Whether any of the box's front faces, none cut by the frustum (their
+ * corners made), has an area on screen: draw_box's in-view answer. */
+static int box_unclipped_in_view(const ew_world *bw, const ew_model *m, const int16_t *front, int nfront,
+                                 const box_corner *corner) {
+    for (int fi = 0; fi < nfront; fi++) {
+        const ew_face *f = &bw->faces[m->firstface + front[fi]];
+        ew_zpoly zp;
+        int n = f->numedges;
+        if (n < 3) continue;
+        for (int k = 0; k < n; k++) {
+            const box_corner *bc = &corner[ew_face_vertex(bw, f, k)];
+            zp.u[k] = bc->u, zp.v[k] = bc->v;
+        }
+        zp.n = n;
+        if (ew_zpoly_orient(&zp)) return 1;
+    }
+    return 0;
 }
 
 /* An item box: faces of a small world of its own, z-buffered. */
 static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surfs,
-                    const ew_scene_entity *e, const ew_rows *rows) {
+                    const ew_scene_entity *e, int ei, const ew_rows *rows) {
     const ew_model *m = &bw->models[0];
+    /* Another band found this frame which rows its faces reach: when these
+     * are not among them, nothing below would draw here.  The first band
+     * returns whether the box is in view (it counts that), when known. */
+    _Atomic uint64_t *known = ei < r->ents.nbox_rows && r->target.height < 1 << 15 ? &r->ents.box_rows[ei] : NULL;
+    uint64_t frame = (uint64_t)(uint32_t)r->marks.framecount;
+    if (known) {
+        uint64_t k = atomic_load_explicit(known, memory_order_relaxed);
+        int ky0 = (int)(k >> 15 & 0x7FFF), ky1 = (int)(k & 0x7FFF);
+        if (k >> 32 == frame && (ky1 <= rows->y0 || ky0 >= rows->y1)) {
+            if (!rows->first) return 0;
+            if (k >> 31 & 1) return (int)(k >> 30 & 1);
+        }
+    }
     float ax[3][3];
     ew_entity_axes(e->angles, ax);
     float lo[3], hi[3];
@@ -70,7 +106,7 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
      * frustum cuts none of them, the z-fill of the rectangle around them
      * all serves every face (the world's 1/z, wherever it is filled, is the
      * same values). */
-    int zrect = 0;
+    int zrect = 0, ry0 = 0, ry1 = 0;
     if (shared) {
         memset(made, 0, (size_t)bw->numverts);
         float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
@@ -94,10 +130,25 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
             int x0 = (int)ceilf(umin), x1 = (int)ceilf(umax), y0 = (int)ceilf(vmin), y1 = (int)ceilf(vmax);
             ew_zfill_rect(&r->zf, x0, y0 > rows->y0 ? y0 : rows->y0, x1, y1 < rows->y1 ? y1 : rows->y1);
             zrect = 1;
+            /* and its rows, every face's rows among them */
+            ry0 = y0 < 0 ? 0 : y0 > r->target.height ? r->target.height : y0;
+            ry1 = y1 < ry0 ? ry0 : y1 > r->target.height ? r->target.height : y1;
+        } else if (nfront == 0) {
+            zrect = 1, ry0 = ry1 = 0;  /* no face turned to the eye */
+        }
+    }
+    if (zrect && known) {
+        atomic_store_explicit(known, frame << 32 | (uint64_t)ry0 << 15 | (uint64_t)ry1, memory_order_relaxed);
+        if (ry1 <= rows->y0 || ry0 >= rows->y1) {  /* not in these rows: only whether in view */
+            if (!rows->first) return 0;
+            int in_view = box_unclipped_in_view(bw, m, front, nfront, corner);
+            atomic_store_explicit(known, frame << 32 | 1ull << 31 | (uint64_t)in_view << 30 | (uint64_t)ry0 << 15 | (uint64_t)ry1,
+                                  memory_order_relaxed);
+            return in_view;
         }
     }
     long won = 0;
-    int in_view = 0;
+    int in_view = 0, fy0 = r->target.height, fy1 = 0;
     for (int fi = 0, nf = shared ? nfront : m->numfaces; fi < nf; fi++) {
         int i = shared ? front[fi] : fi;
         const ew_face *f = &bw->faces[m->firstface + i];
@@ -133,6 +184,10 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
             if (!ew_zpoly_orient(&zp)) continue;
         }
         in_view = 1;
+        /* The rows of the faces that get this far (one that cannot be
+         * drawn still counts a missing surface), for the other bands. */
+        if ((zp.y0 < zp.y1 ? zp.y0 : zp.y1) < fy0) fy0 = zp.y0 < zp.y1 ? zp.y0 : zp.y1;
+        if ((zp.y0 > zp.y1 ? zp.y0 : zp.y1) + 1 > fy1) fy1 = (zp.y0 > zp.y1 ? zp.y0 : zp.y1) + 1;
         if (zp.y1 < rows->y0 || zp.y0 >= rows->y1) continue;  /* another band's rows */
         if (lit && !bs) {  /* no memory for it */
             rows->stats->dropped++;
@@ -150,6 +205,13 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
         won += ew_zpoly_fill(&r->draw, &zp, &look, NULL, 0, rows->y0, rows->y1);
     }
     rows->stats->alias_pixels += won;
+    if (known) {  /* clamped to the frame, the same for every band; none: empty */
+        int h = r->target.height;
+        fy0 = fy0 < 0 ? 0 : fy0 > h ? h : fy0;
+        fy1 = fy1 < fy0 ? fy0 : fy1 > h ? h : fy1;
+        atomic_store_explicit(known, frame << 32 | 1ull << 31 | (uint64_t)in_view << 30 | (uint64_t)fy0 << 15 | (uint64_t)fy1,
+                              memory_order_relaxed);
+    }
     return in_view;
 }
 
@@ -232,7 +294,7 @@ void ew_draw_models(ew_renderer *r, const ew_rows *rows) {
         } else if (m->kind == EW_MODEL_SPRITE) {
             drawn = ew_draw_sprite_rows(r, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_BOX) {
-            drawn = draw_box(r, m->data, e->model < r->ents.nbox_surfs ? r->ents.box_surfs[e->model] : NULL, e, rows);
+            drawn = draw_box(r, m->data, e->model < r->ents.nbox_surfs ? r->ents.box_surfs[e->model] : NULL, e, i, rows);
         }
         if (rows->first) {
             if (drawn) rows->stats->entities_drawn++;
