@@ -138,13 +138,18 @@ void ew_alias_tri_setup(ew_atri *t, const ew_avert *a, const ew_avert *b, const 
 void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c) {
     int64_t cross = ew_alias_cross(a, b, c);
     if (cross <= 0) return;
-    ew_atri tri;
-    ew_alias_tri_setup(&tri, a, b, c);
-    const ew_avert *v0 = tri.v0, *v1 = tri.v1, *v2 = tri.v2;
-    int32_t ytop = v0->y, ymid = v1->y, ybot = v2->y;
+    /* Rows first: a model crossing several bands sends every band all its
+     * triangles, and the setup's divides are most of a small one's cost. */
+    int32_t ytop = a->y < b->y ? a->y : b->y, ybot = a->y > b->y ? a->y : b->y;
+    if (c->y < ytop) ytop = c->y;
+    if (c->y > ybot) ybot = c->y;
     int32_t ya = ytop > ra->y0 ? ytop : ra->y0;
     int32_t yb = ybot < ra->y1 ? ybot : ra->y1;
     if (ya >= yb) return;
+    ew_atri tri;
+    ew_alias_tri_setup(&tri, a, b, c);
+    const ew_avert *v0 = tri.v0, *v1 = tri.v1, *v2 = tri.v2;
+    int32_t ymid = v1->y;
 
     /* Is the middle vertex right of the long edge (then the long edge is the
      * left one)?  The x range of a scanline is [ceil(xl), ceil(xr)): left

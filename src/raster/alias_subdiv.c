@@ -92,6 +92,15 @@ static void subdivide(ew_araster *ra, const ew_avert *a, const ew_avert *b, cons
 
 void ew_alias_subdiv_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c) {
     if (ew_alias_cross(a, b, c) <= 0) return;
+    /* Every split point is within its corners' rows, and the tile's rows
+     * outside [y0, y1) take nothing (ew_alias_tile_begin): a triangle of
+     * another band's rows would only be split for naught. */
+    if (ra->tile_z) {
+        int32_t ytop = a->y < b->y ? a->y : b->y, ybot = a->y > b->y ? a->y : b->y;
+        if (c->y < ytop) ytop = c->y;
+        if (c->y > ybot) ybot = c->y;
+        if (ybot < ra->y0 || ytop >= ra->y1) return;
+    }
     subdivide(ra, a, b, c, 0);
 }
 
