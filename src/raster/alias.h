@@ -98,6 +98,7 @@ typedef struct ew_araster {
     float            *tile_z;
     uint8_t          *tile_c, *tile_f;
     int               tx0, ty0, tw, th;
+    int               tile_cut;     /* the tile has rows outside [y0, y1) (another band's) */
 } ew_araster;
 
 /* Twice the signed area of the snapped triangle, y down.  Positive for a

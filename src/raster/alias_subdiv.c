@@ -95,7 +95,7 @@ void ew_alias_subdiv_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, c
     /* Every split point is within its corners' rows, and the tile's rows
      * outside [y0, y1) take nothing (ew_alias_tile_begin): a triangle of
      * another band's rows would only be split for naught. */
-    if (ra->tile_z) {
+    if (ra->tile_cut) {
         int32_t ytop = a->y < b->y ? a->y : b->y, ybot = a->y > b->y ? a->y : b->y;
         if (c->y < ytop) ytop = c->y;
         if (c->y > ybot) ybot = c->y;
@@ -112,6 +112,7 @@ void ew_alias_tile_begin(ew_araster *ra, int x0, int y0, int w, int h, void *mem
     ra->tile_c = p + sizeof(float) * (size_t)w * h;
     ra->tile_f = ra->tile_c + (size_t)w * h;
     ra->tx0 = x0, ra->ty0 = y0, ra->tw = w, ra->th = h;
+    ra->tile_cut = y0 < ra->y0 || y0 + h > ra->y1;
     for (int y = 0; y < h; y++) {
         float *tz = ra->tile_z + (size_t)y * w;
         if (y0 + y >= ra->y0 && y0 + y < ra->y1)
@@ -139,4 +140,5 @@ void ew_alias_tile_end(ew_araster *ra) {
     }
     ra->pixels += n;
     ra->tile_z = NULL, ra->tile_c = ra->tile_f = NULL;
+    ra->tile_cut = 0;
 }
