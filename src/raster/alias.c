@@ -233,6 +233,15 @@ static inline int32_t fix16(float f, int32_t max) {
     return (int32_t)x;
 }
 
+/* fix16((float)s, max) for an integer s: (float)s * 65536 is exact while
+ * that fits a float's 24 bits (and past them far above max), so the
+ * float's two tests are the integer's against lim = fix16_lim(max), the
+ * largest s whose product does not pass (float)max. */
+static inline int32_t fix16_lim(int32_t max) { return (int32_t)((float)max / 65536.0f); }
+static inline int32_t fix16_int(int64_t s, int32_t max, int32_t lim) {
+    return s < 0 ? 0 : s > lim ? max : (int32_t)(s << 16);
+}
+
 /* The light comes from this fixed world direction (towards the light),
  * whatever the scene: from the front-above along +x, as the game's fixed
  * light vector did. */
@@ -368,7 +377,7 @@ void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_p
     int minx = v->width, miny = v->height, maxx = -1, maxy = -1;
     /* Two passes, texel and light, then position: one loop holding both
      * spilled half its values to the stack. */
-    float half = (float)(m->skinwidth / 2);
+    int32_t slim = fix16_lim(smax), tlim = fix16_lim(tmax), half = m->skinwidth / 2;
     for (int i = 0; i < m->numverts; i++) {
         xvert *x = &xv[i];
         const float *n = pose->normals[i];
@@ -376,10 +385,10 @@ void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_p
         int light = ambient + (dot > 0 ? (int)(shade * dot) : 0);
         int32_t row = ew_alias_light_row(light);
         const ew_mdl_st *st = &m->st[i];
-        x->sv.s = fix16((float)st->s, smax);
-        x->sv.t = fix16((float)st->t, tmax);
+        x->sv.s = fix16_int(st->s, smax, slim);
+        x->sv.t = fix16_int(st->t, tmax, tlim);
         x->sv.l = row;
-        x->sback = st->onseam ? fix16((float)st->s + half, smax) : x->sv.s;
+        x->sback = st->onseam ? fix16_int((int64_t)st->s + half, smax, slim) : x->sv.s;
         /* the clip path's (ew_alias_draw): no vertex of a model wholly in view takes it */
         if (!accept) x->s = (float)st->s, x->t = (float)st->t, x->l = (float)row;
     }
