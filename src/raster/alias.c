@@ -226,6 +226,24 @@ static void project(const ew_view *v, const float p[3], ew_avert *out) {
     out->zi = zi;
 }
 
+/* project() with the view's numbers and the clamps' limits as floats read
+ * once for a model's vertices (the loop reloaded and converted them). */
+typedef struct proj_k {
+    float xc, yc, xs, ys, xhi, yhi;
+} proj_k;
+static inline void project_k(const proj_k *k, const float p[3], ew_avert *out) {
+    float zi = 1.0f / p[2];
+    float x = k->xc + k->xs * p[0] * zi, y = k->yc - k->ys * p[1] * zi;
+    /* snap(f, 0, hi): the same selects, lo being 0 */
+    x = x > 0.0f ? x : 0.0f;
+    x = x < k->xhi ? x : k->xhi;
+    y = y > 0.0f ? y : 0.0f;
+    y = y < k->yhi ? y : k->yhi;
+    out->x = (int32_t)(x + 0.5f);
+    out->y = (int32_t)(y + 0.5f);
+    out->zi = zi;
+}
+
 static inline int32_t fix16(float f, int32_t max) {
     float x = f * 65536.0f;
     if (!(x >= 0)) return 0;
@@ -378,6 +396,7 @@ void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_p
     /* Two passes, texel and light, then position: one loop holding both
      * spilled half its values to the stack. */
     int32_t slim = fix16_lim(smax), tlim = fix16_lim(tmax), half = m->skinwidth / 2;
+    const proj_k pk = {v->xcenter, v->ycenter, v->xscale, v->yscale, (float)(v->width - 1), (float)(v->height - 1)};
     for (int i = 0; i < m->numverts; i++) {
         xvert *x = &xv[i];
         const float *n = pose->normals[i];
@@ -404,7 +423,7 @@ void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_p
             x->clip = clip_flags(&cp, q);
         }
         if (!x->clip) {
-            project(v, q, &x->sv);
+            project_k(&pk, q, &x->sv);
             if (x->sv.x < minx) minx = x->sv.x;
             if (x->sv.x > maxx) maxx = x->sv.x;
             if (x->sv.y < miny) miny = x->sv.y;
