@@ -501,9 +501,10 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
     for (int ti = 0; ti < m->numtris; ti++) {
         const ew_mdl_tri *tri = &m->tris[ti];
         const xvert *x0 = &xv[tri->v[0]], *x1 = &xv[tri->v[1]], *x2 = &xv[tri->v[2]];
-        if (x0->clip & x1->clip & x2->clip) continue;
+        /* A model wholly in view has no vertex outside: no flag to read. */
+        if (!accept && (x0->clip & x1->clip & x2->clip)) continue;
         int back = !tri->facesfront;
-        if (!(x0->clip | x1->clip | x2->clip)) {
+        if (accept || !(x0->clip | x1->clip | x2->clip)) {
             /* Culled before the copies: about half of them are back faces. */
             if (!ew_alias_tri_visible(&x0->sv, &x1->sv, &x2->sv)) continue;  /* back face or degenerate */
             ew_avert a = x0->sv, b = x1->sv, c = x2->sv;
