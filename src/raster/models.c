@@ -158,6 +158,7 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
         if (lit) bs = surfs && i < surfs->nfaces && surfs->face[i].built ? &surfs->face[i] : NULL;
         ew_zpoly zp;
         int n = f->numedges, out = 0;
+        float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
         if (shared) {
             /* Unclipped, the polygon is its corners as they are (made above). */
             zp.nearzi = 0;
@@ -166,6 +167,10 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
                 out = bc->out;
                 zp.u[k] = bc->u, zp.v[k] = bc->v;
                 if (bc->zi > zp.nearzi) zp.nearzi = bc->zi;
+                if (bc->u < umin) umin = bc->u;
+                if (bc->u > umax) umax = bc->u;
+                if (bc->v < vmin) vmin = bc->v;
+                if (bc->v > vmax) vmax = bc->v;
             }
         }
         int holds;  /* its rectangle holds a pixel centre */
@@ -176,7 +181,7 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
             holds = zp.x0 <= zp.x1 && zp.y0 <= zp.y1;
         } else {
             if (n < 3) continue;
-            holds = ew_zpoly_bounds(&r->view, &zp, n);
+            holds = ew_zpoly_rect(&r->view, &zp, n, umin, umax, vmin, vmax);
             /* Most faces of a far box fall between pixel centres: once the
              * box is known to be in view (and no surface is missing, which
              * is counted below), their orientation tells nothing. */

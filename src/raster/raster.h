@@ -151,6 +151,9 @@ int  ew_zpoly_close(const ew_view *v, ew_zpoly *p, int m);
 /* ew_zpoly_close in its two steps: the rectangle (n, x0 .. y1; 0 when it
  * holds no pixel centre), then the orientation (0: no area, not drawn). */
 int  ew_zpoly_bounds(const ew_view *v, ew_zpoly *p, int m);
+/* ew_zpoly_bounds of the corners' extremes found by the caller (1e30 and
+ * -1e30 to start, taken with < and > in corner order). */
+int  ew_zpoly_rect(const ew_view *v, ew_zpoly *p, int m, float umin, float umax, float vmin, float vmax);
 int  ew_zpoly_orient(ew_zpoly *p);
 /* Fills it into the target where nearer, within rows [y0, y1); ids[pixel]
  * = id where it wins (ids may be NULL).  Returns the pixels won. */

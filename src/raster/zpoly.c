@@ -52,6 +52,10 @@ int ew_zpoly_bounds(const ew_view *v, ew_zpoly *p, int m) {
         if (p->v[i] < vmin) vmin = p->v[i];
         if (p->v[i] > vmax) vmax = p->v[i];
     }
+    return ew_zpoly_rect(v, p, m, umin, umax, vmin, vmax);
+}
+
+int ew_zpoly_rect(const ew_view *v, ew_zpoly *p, int m, float umin, float umax, float vmin, float vmax) {
     p->n = m;
     p->x0 = ceilf_int(umin), p->x1 = ceilf_int(umax) - 1;
     p->y0 = ceilf_int(vmin), p->y1 = ceilf_int(vmax) - 1;
