@@ -138,13 +138,18 @@ void ew_alias_tri_setup(ew_atri *t, const ew_avert *a, const ew_avert *b, const 
 void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c) {
     int64_t cross = ew_alias_cross(a, b, c);
     if (cross <= 0) return;
-    ew_atri tri;
-    ew_alias_tri_setup(&tri, a, b, c);
-    const ew_avert *v0 = tri.v0, *v1 = tri.v1, *v2 = tri.v2;
-    int32_t ytop = v0->y, ymid = v1->y, ybot = v2->y;
+    /* Rows first: a model crossing several bands sends every band all its
+     * triangles, and the setup's divides are most of a small one's cost. */
+    int32_t ytop = a->y < b->y ? a->y : b->y, ybot = a->y > b->y ? a->y : b->y;
+    if (c->y < ytop) ytop = c->y;
+    if (c->y > ybot) ybot = c->y;
     int32_t ya = ytop > ra->y0 ? ytop : ra->y0;
     int32_t yb = ybot < ra->y1 ? ybot : ra->y1;
     if (ya >= yb) return;
+    ew_atri tri;
+    ew_alias_tri_setup(&tri, a, b, c);
+    const ew_avert *v0 = tri.v0, *v1 = tri.v1, *v2 = tri.v2;
+    int32_t ymid = v1->y;
 
     /* Is the middle vertex right of the long edge (then the long edge is the
      * left one)?  The x range of a scanline is [ceil(xl), ceil(xr)): left
@@ -221,11 +226,38 @@ static void project(const ew_view *v, const float p[3], ew_avert *out) {
     out->zi = zi;
 }
 
+/* project() with the view's numbers and the clamps' limits as floats read
+ * once for a model's vertices (the loop reloaded and converted them). */
+typedef struct proj_k {
+    float xc, yc, xs, ys, xhi, yhi;
+} proj_k;
+static inline void project_k(const proj_k *k, const float p[3], ew_avert *out) {
+    float zi = 1.0f / p[2];
+    float x = k->xc + k->xs * p[0] * zi, y = k->yc - k->ys * p[1] * zi;
+    /* snap(f, 0, hi): the same selects, lo being 0 */
+    x = x > 0.0f ? x : 0.0f;
+    x = x < k->xhi ? x : k->xhi;
+    y = y > 0.0f ? y : 0.0f;
+    y = y < k->yhi ? y : k->yhi;
+    out->x = (int32_t)(x + 0.5f);
+    out->y = (int32_t)(y + 0.5f);
+    out->zi = zi;
+}
+
 static inline int32_t fix16(float f, int32_t max) {
     float x = f * 65536.0f;
     if (!(x >= 0)) return 0;
     if (x > (float)max) return max;
     return (int32_t)x;
+}
+
+/* fix16((float)s, max) for an integer s: (float)s * 65536 is exact while
+ * that fits a float's 24 bits (and past them far above max), so the
+ * float's two tests are the integer's against lim = fix16_lim(max), the
+ * largest s whose product does not pass (float)max. */
+static inline int32_t fix16_lim(int32_t max) { return (int32_t)((float)max / 65536.0f); }
+static inline int32_t fix16_int(int64_t s, int32_t max, int32_t lim) {
+    return s < 0 ? 0 : s > lim ? max : (int32_t)(s << 16);
 }
 
 /* The light comes from this fixed world direction (towards the light),
@@ -361,26 +393,37 @@ void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_p
 
     int32_t smax = (m->skinwidth << 16) - 1, tmax = (m->skinheight << 16) - 1;
     int minx = v->width, miny = v->height, maxx = -1, maxy = -1;
+    /* Two passes, texel and light, then position: one loop holding both
+     * spilled half its values to the stack. */
+    int32_t slim = fix16_lim(smax), tlim = fix16_lim(tmax), half = m->skinwidth / 2;
+    const proj_k pk = {v->xcenter, v->ycenter, v->xscale, v->yscale, (float)(v->width - 1), (float)(v->height - 1)};
+    for (int i = 0; i < m->numverts; i++) {
+        xvert *x = &xv[i];
+        const float *n = pose->normals[i];
+        float dot = n[0] * lm[0] + n[1] * lm[1] + n[2] * lm[2];
+        int light = ambient + (dot > 0 ? (int)(shade * dot) : 0);
+        int32_t row = ew_alias_light_row(light);
+        const ew_mdl_st *st = &m->st[i];
+        x->sv.s = fix16_int(st->s, smax, slim);
+        x->sv.t = fix16_int(st->t, tmax, tlim);
+        x->sv.l = row;
+        x->sback = st->onseam ? fix16_int((int64_t)st->s + half, smax, slim) : x->sv.s;
+        /* the clip path's (ew_alias_draw): no vertex of a model wholly in view takes it */
+        if (!accept) x->s = (float)st->s, x->t = (float)st->t, x->l = (float)row;
+    }
     for (int i = 0; i < m->numverts; i++) {
         xvert *x = &xv[i];
         const uint8_t *bv = pose->verts[i].v;
         const float b0 = bv[0], b1 = bv[1], b2 = bv[2];
         float q[3];
         for (int k = 0; k < 3; k++) q[k] = bm[k][0] * b0 + bm[k][1] * b1 + bm[k][2] * b2 + bt[k];
-        x->p[0] = q[0], x->p[1] = q[1], x->p[2] = q[2];
-        const float *n = pose->normals[i];
-        float dot = n[0] * lm[0] + n[1] * lm[1] + n[2] * lm[2];
-        int light = ambient + (dot > 0 ? (int)(shade * dot) : 0);
-        int32_t row = ew_alias_light_row(light);
-        const ew_mdl_st *st = &m->st[i];
-        x->s = (float)st->s, x->t = (float)st->t, x->l = (float)row;
-        x->sv.s = fix16((float)st->s, smax);
-        x->sv.t = fix16((float)st->t, tmax);
-        x->sv.l = row;
-        x->sback = st->onseam ? fix16((float)st->s + (float)(m->skinwidth / 2), smax) : x->sv.s;
-        x->clip = accept ? 0 : clip_flags(&cp, x->p);
+        x->clip = 0;
+        if (!accept) {
+            x->p[0] = q[0], x->p[1] = q[1], x->p[2] = q[2];
+            x->clip = clip_flags(&cp, q);
+        }
         if (!x->clip) {
-            project(v, x->p, &x->sv);
+            project_k(&pk, q, &x->sv);
             if (x->sv.x < minx) minx = x->sv.x;
             if (x->sv.x > maxx) maxx = x->sv.x;
             if (x->sv.y < miny) miny = x->sv.y;
@@ -416,7 +459,11 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
     if (accept && (vmax < rows->y0 - 1 || vmin > rows->y1 + 1)) return 1;
     /* The world's 1/z under the model's screen box (a pixel of margin for
      * snapping), or under all these rows if the box reaches behind the eye. */
-    if (behind || !(umin <= umax && vmin <= vmax)) {
+    if (accept && minx <= maxx) {
+        /* Wholly in view, every pixel it draws is within its snapped
+         * vertices' box, often a good deal smaller than its bounds'. */
+        ew_zfill_rect(&r->zf, minx, miny > rows->y0 ? miny : rows->y0, maxx + 1, maxy + 1 < rows->y1 ? maxy + 1 : rows->y1);
+    } else if (behind || !(umin <= umax && vmin <= vmax)) {
         ew_zfill_rect(&r->zf, 0, rows->y0, r->target.width, rows->y1);
     } else {
         /* Clamped first: a corner just in front of the eye projects far out. */
@@ -454,11 +501,13 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
     for (int ti = 0; ti < m->numtris; ti++) {
         const ew_mdl_tri *tri = &m->tris[ti];
         const xvert *x0 = &xv[tri->v[0]], *x1 = &xv[tri->v[1]], *x2 = &xv[tri->v[2]];
-        if (x0->clip & x1->clip & x2->clip) continue;
+        /* A model wholly in view has no vertex outside: no flag to read. */
+        if (!accept && (x0->clip & x1->clip & x2->clip)) continue;
         int back = !tri->facesfront;
-        if (!(x0->clip | x1->clip | x2->clip)) {
+        if (accept || !(x0->clip | x1->clip | x2->clip)) {
+            /* Culled before the copies: about half of them are back faces. */
+            if (!ew_alias_tri_visible(&x0->sv, &x1->sv, &x2->sv)) continue;  /* back face or degenerate */
             ew_avert a = x0->sv, b = x1->sv, c = x2->sv;
-            if (!ew_alias_tri_visible(&a, &b, &c)) continue;  /* back face or degenerate */
             if (back) a.s = x0->sback, b.s = x1->sback, c.s = x2->sback;
             drawn++;
             if (subdiv) {

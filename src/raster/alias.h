@@ -98,6 +98,7 @@ typedef struct ew_araster {
     float            *tile_z;
     uint8_t          *tile_c, *tile_f;
     int               tx0, ty0, tw, th;
+    int               tile_cut;     /* the tile has rows outside [y0, y1) (another band's) */
 } ew_araster;
 
 /* Twice the signed area of the snapped triangle, y down.  Positive for a
@@ -163,6 +164,8 @@ void   ew_alias_tile_end(ew_araster *ra);
 
 /* A vertex of the current frame: view space, clip flags, projection. */
 typedef struct ew_xvert {
+    /* p, s, t, l: set only for a model not wholly in view (xf->accept 0),
+     * the only one whose triangles can be clipped */
     float   p[3];     /* view space: x right, y up, z forward */
     float   s, t, l;  /* texel (front), light row 8.8 as floats for clipping */
     int32_t sback;    /* 16.16 texel s on the back half (onseam) */

@@ -152,8 +152,8 @@ static int redraw(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew
     for (int ti = 0; ti < m->numtris; ti++) {
         const ew_mdl_tri *tri = &m->tris[ti];
         const ew_xvert *x0 = &xf->xv[tri->v[0]], *x1 = &xf->xv[tri->v[1]], *x2 = &xf->xv[tri->v[2]];
+        if (!ew_alias_tri_visible(&x0->sv, &x1->sv, &x2->sv)) continue;  /* culled before the copies */
         ew_avert a = x0->sv, b = x1->sv, c = x2->sv;
-        if (!ew_alias_tri_visible(&a, &b, &c)) continue;
         if (!tri->facesfront) a.s = x0->sback, b.s = x1->sback, c.s = x2->sback;
         a.x -= s->x0, b.x -= s->x0, c.x -= s->x0;
         a.y -= s->y0, b.y -= s->y0, c.y -= s->y0;

@@ -27,19 +27,25 @@ static inline int top_left(const ew_avert *p, const ew_avert *q) {
     return q->y < p->y || (q->y == p->y && q->x > p->x);
 }
 
+/* The texel of p through its light (looked up only for pixels that win:
+ * most corners lose to a nearer one of the same model). */
+static inline uint8_t texel(const ew_araster *ra, const ew_avert *p) {
+    return ra->colormap[(p->l & 0x3F00) + ra->skin[(p->t >> 16) * ra->skinw + (p->s >> 16)]];
+}
+
 static inline void plot(ew_araster *ra, const ew_avert *p) {
-    uint8_t c = ra->colormap[(p->l & 0x3F00) + ra->skin[(p->t >> 16) * ra->skinw + (p->s >> 16)]];
     if (ra->tile_z) {
         size_t o = (size_t)(p->y - ra->ty0) * ra->tw + (p->x - ra->tx0);
         if (p->zi >= ra->tile_z[o]) {
             ra->tile_z[o] = p->zi;
-            ra->tile_c[o] = c;
+            ra->tile_c[o] = texel(ra, p);
             ra->tile_f[o] = 1;
         }
         return;
     }
     float *z = ew_target_z(ra->target, p->x, p->y);
     if (p->zi >= *z) {
+        uint8_t c = texel(ra, p);
         *z = p->zi;
         ew_put_via(ra->target->bpp, ra->rgba, ew_target_at(ra->target, 0, p->y), p->x, ra->remap ? ra->remap[c] : c);
         ra->pixels++;
@@ -86,6 +92,15 @@ static void subdivide(ew_araster *ra, const ew_avert *a, const ew_avert *b, cons
 
 void ew_alias_subdiv_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, const ew_avert *c) {
     if (ew_alias_cross(a, b, c) <= 0) return;
+    /* Every split point is within its corners' rows, and the tile's rows
+     * outside [y0, y1) take nothing (ew_alias_tile_begin): a triangle of
+     * another band's rows would only be split for naught. */
+    if (ra->tile_cut) {
+        int32_t ytop = a->y < b->y ? a->y : b->y, ybot = a->y > b->y ? a->y : b->y;
+        if (c->y < ytop) ytop = c->y;
+        if (c->y > ybot) ybot = c->y;
+        if (ybot < ra->y0 || ytop >= ra->y1) return;
+    }
     subdivide(ra, a, b, c, 0);
 }
 
@@ -97,6 +112,7 @@ void ew_alias_tile_begin(ew_araster *ra, int x0, int y0, int w, int h, void *mem
     ra->tile_c = p + sizeof(float) * (size_t)w * h;
     ra->tile_f = ra->tile_c + (size_t)w * h;
     ra->tx0 = x0, ra->ty0 = y0, ra->tw = w, ra->th = h;
+    ra->tile_cut = y0 < ra->y0 || y0 + h > ra->y1;
     for (int y = 0; y < h; y++) {
         float *tz = ra->tile_z + (size_t)y * w;
         if (y0 + y >= ra->y0 && y0 + y < ra->y1)
@@ -124,4 +140,5 @@ void ew_alias_tile_end(ew_araster *ra) {
     }
     ra->pixels += n;
     ra->tile_z = NULL, ra->tile_c = ra->tile_f = NULL;
+    ra->tile_cut = 0;
 }

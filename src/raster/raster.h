@@ -146,6 +146,19 @@ enum {
 };
 /* Clips (whole frustum) and projects a world-space polygon; 0 if nothing is left. */
 int  ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p);
+/* Its two halves, for a caller that shares projected corners between
+ * polygons no frustum plane cuts: one point's screen position and 1/z,
+ * and the polygon of m such points (u, v and nearzi set) made ready to
+ * fill; the same values as ew_zpoly_project's. */
+void ew_zpoly_vertex(const ew_view *v, const float pt[3], float *u, float *vv, float *zi);
+int  ew_zpoly_close(const ew_view *v, ew_zpoly *p, int m);
+/* ew_zpoly_close in its two steps: the rectangle (n, x0 .. y1; 0 when it
+ * holds no pixel centre), then the orientation (0: no area, not drawn). */
+int  ew_zpoly_bounds(const ew_view *v, ew_zpoly *p, int m);
+/* ew_zpoly_bounds of the corners' extremes found by the caller (1e30 and
+ * -1e30 to start, taken with < and > in corner order). */
+int  ew_zpoly_rect(const ew_view *v, ew_zpoly *p, int m, float umin, float umax, float vmin, float vmax);
+int  ew_zpoly_orient(ew_zpoly *p);
 /* Fills it into the target where nearer, within rows [y0, y1); ids[pixel]
  * = id where it wins (ids may be NULL).  Returns the pixels won. */
 long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,

@@ -17,7 +17,20 @@ static void zfill_row(ew_zfill *z, int y, int lo, int hi) {
     const ew_span *sp = b->spans + z->row_span0[y];
     float *zr = z->target->zbuf + (size_t)y * z->target->width;
     int sorted = !b->unsorted;  /* a row's spans run left to right: stop past hi */
-    for (int i = 0, n = z->row_nspans[y]; i < n; i++, sp++) {
+    int i = 0, n = z->row_nspans[y];
+    if (sorted && n > 8) {
+        /* Disjoint and in order, they end in order too: skip to the first
+         * that ends past lo by halving (a model's box is a few of a row's
+         * many spans). */
+        int l = 0, h = n;
+        while (l < h) {
+            int mid = (l + h) / 2;
+            if (sp[mid].u + sp[mid].count > lo) h = mid;
+            else l = mid + 1;
+        }
+        i = l, sp += l;
+    }
+    for (; i < n; i++, sp++) {
         if (sp->u >= hi && sorted) break;
         int a = sp->u > lo ? sp->u : lo, e = sp->u + sp->count < hi ? sp->u + sp->count : hi;
         if (a >= e) continue;

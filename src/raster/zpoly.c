@@ -10,6 +10,79 @@
 
 #include <math.h>
 
+/* (int)ceilf, (int)ceil and (int)floor the same, but where the value is
+ * well inside int's range by a truncation and a compare: without SSE4.1
+ * the compiler's inline rounding is some thirty instructions. */
+static inline int ceilf_int(float x) {
+    if (x > -2147483520.0f && x < 2147483520.0f) {
+        int i = (int)x;
+        return i + (i < x);
+    }
+    return (int)ceilf(x);
+}
+static inline int ceil_int(double x) {
+    if (x > -2147483647.0 && x < 2147483647.0) {
+        int i = (int)x;
+        return i + (i < x);
+    }
+    return (int)ceil(x);
+}
+static inline int floor_int(double x) {
+    if (x > -2147483647.0 && x < 2147483647.0) {
+        int i = (int)x;
+        return i - (i > x);
+    }
+    return (int)floor(x);
+}
+
+void ew_zpoly_vertex(const ew_view *v, const float pt[3], float *u, float *vv, float *zi) {
+    float t[3];
+    ew_view_transform(v, pt, t);
+    float z = 1.0f / (t[2] < 0.01f ? 0.01f : t[2]);
+    *u = v->xcenter + v->xscale * t[0] * z;
+    *vv = v->ycenter - v->yscale * t[1] * z;
+    *zi = z;
+}
+
+int ew_zpoly_bounds(const ew_view *v, ew_zpoly *p, int m) {
+    float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
+    for (int i = 0; i < m; i++) {
+        if (p->u[i] < umin) umin = p->u[i];
+        if (p->u[i] > umax) umax = p->u[i];
+        if (p->v[i] < vmin) vmin = p->v[i];
+        if (p->v[i] > vmax) vmax = p->v[i];
+    }
+    return ew_zpoly_rect(v, p, m, umin, umax, vmin, vmax);
+}
+
+int ew_zpoly_rect(const ew_view *v, ew_zpoly *p, int m, float umin, float umax, float vmin, float vmax) {
+    p->n = m;
+    p->x0 = ceilf_int(umin), p->x1 = ceilf_int(umax) - 1;
+    p->y0 = ceilf_int(vmin), p->y1 = ceilf_int(vmax) - 1;
+    if (p->x0 < 0) p->x0 = 0;
+    if (p->y0 < 0) p->y0 = 0;
+    if (p->x1 > v->width - 1) p->x1 = v->width - 1;
+    if (p->y1 > v->height - 1) p->y1 = v->height - 1;
+    return p->x0 <= p->x1 && p->y0 <= p->y1;
+}
+
+int ew_zpoly_orient(ew_zpoly *p) {
+    /* Orientation of the projected polygon, so "inside" has one sign. */
+    double area = 0;
+    for (int i = 0, m = p->n; i < m; i++) {
+        int j = i + 1 == m ? 0 : i + 1;
+        area += (double)p->u[i] * p->v[j] - (double)p->u[j] * p->v[i];
+    }
+    if (area == 0) return 0;
+    p->sign = area > 0 ? 1 : -1;
+    return 1;
+}
+
+int ew_zpoly_close(const ew_view *v, ew_zpoly *p, int m) {
+    ew_zpoly_bounds(v, p, m);
+    return ew_zpoly_orient(p);
+}
+
 int ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p) {
     float out[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
@@ -17,36 +90,13 @@ int ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p) {
     for (int i = 0; i < n; i++) tin[i] = -1;
     int m = ew_clip_poly(v, 15, in, n, out, tin, tout);
     if (m < 3) return 0;
-    float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
     p->nearzi = 0;
     for (int i = 0; i < m; i++) {
-        float t[3];
-        ew_view_transform(v, out[i], t);
-        float zi = 1.0f / (t[2] < 0.01f ? 0.01f : t[2]);
-        p->u[i] = v->xcenter + v->xscale * t[0] * zi;
-        p->v[i] = v->ycenter - v->yscale * t[1] * zi;
+        float zi;
+        ew_zpoly_vertex(v, out[i], &p->u[i], &p->v[i], &zi);
         if (zi > p->nearzi) p->nearzi = zi;
-        if (p->u[i] < umin) umin = p->u[i];
-        if (p->u[i] > umax) umax = p->u[i];
-        if (p->v[i] < vmin) vmin = p->v[i];
-        if (p->v[i] > vmax) vmax = p->v[i];
     }
-    /* Orientation of the projected polygon, so "inside" has one sign. */
-    double area = 0;
-    for (int i = 0; i < m; i++) {
-        int j = i + 1 == m ? 0 : i + 1;
-        area += (double)p->u[i] * p->v[j] - (double)p->u[j] * p->v[i];
-    }
-    if (area == 0) return 0;
-    p->sign = area > 0 ? 1 : -1;
-    p->n = m;
-    p->x0 = (int)ceilf(umin), p->x1 = (int)ceilf(umax) - 1;
-    p->y0 = (int)ceilf(vmin), p->y1 = (int)ceilf(vmax) - 1;
-    if (p->x0 < 0) p->x0 = 0;
-    if (p->y0 < 0) p->y0 = 0;
-    if (p->x1 > v->width - 1) p->x1 = v->width - 1;
-    if (p->y1 > v->height - 1) p->y1 = v->height - 1;
-    return 1;
+    return ew_zpoly_close(v, p, m);
 }
 
 /* Pixels xa..xb of row y of a lit surface, z-tested, textured like a world
@@ -139,23 +189,31 @@ long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look 
     const ew_face *f = look->face;
     const ew_target *tg = c->target;
     ew_gradients g;
-    ew_face_gradients(look->world, look->view, f, look->mip, &g);
+    int have_g = 0;  /* set up at the first pixel: most faces of a small box have none */
     long won = 0;
     int m = p->n;
     int ya = p->y0 > y0 ? p->y0 : y0, yb = p->y1 < y1 - 1 ? p->y1 : y1 - 1;
+    if (ya > yb) return 0;
+    /* A pixel centre is inside when it is on the inner side of every edge,
+     * with a hair of tolerance so centres exactly on a shared edge are
+     * covered by both sides (the z test picks one).  Along a row each edge's
+     * test is linear in x, so it bounds x from one side: the row's pixels are
+     * the interval all of them leave.  Edge i's test,
+     *   sign * (du * (y - v_i) - dv * (x - u_i)) >= -tol,  i.e.  a - b x >= -tol,
+     * has du, dv, tol, b and the dv * u_i of a the same on every row. */
+    double e_du[EW_MAX_POLY], e_dvu[EW_MAX_POLY], e_tol[EW_MAX_POLY], e_b[EW_MAX_POLY];
+    float e_v[EW_MAX_POLY];
+    for (int i = 0; i < m; i++) {
+        int j = i + 1 == m ? 0 : i + 1;
+        double du = (double)p->u[j] - p->u[i], dv = (double)p->v[j] - p->v[i];
+        e_du[i] = du, e_dvu[i] = dv * p->u[i], e_v[i] = p->v[i];
+        e_tol[i] = 1e-6 * (fabs(du) + fabs(dv));
+        e_b[i] = p->sign * dv;
+    }
     for (int y = ya; y <= yb; y++) {
-        /* A pixel centre is inside when it is on the inner side of every
-         * edge, with a hair of tolerance so centres exactly on a shared edge
-         * are covered by both sides (the z test picks one).  Along a row each
-         * edge's test is linear in x, so it bounds x from one side: the row's
-         * pixels are the interval all of them leave. */
         double xlo = p->x0, xhi = p->x1;
         for (int i = 0; i < m && xlo <= xhi; i++) {
-            int j = i + 1 == m ? 0 : i + 1;
-            double du = (double)p->u[j] - p->u[i], dv = (double)p->v[j] - p->v[i];
-            double tol = 1e-6 * (fabs(du) + fabs(dv));
-            /* sign * (du * (y - v_i) - dv * (x - u_i)) >= -tol, i.e. a - b x >= -tol */
-            double a = p->sign * (du * ((double)y - p->v[i]) + dv * p->u[i]), b = p->sign * dv;
+            double a = p->sign * (e_du[i] * ((double)y - e_v[i]) + e_dvu[i]), b = e_b[i], tol = e_tol[i];
             if (b > 0) {
                 double lim = (a + tol) / b;
                 if (lim < xhi) xhi = lim;
@@ -166,15 +224,17 @@ long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look 
                 xhi = xlo - 1;  /* parallel to the row and outside */
             }
         }
-        int xa = (int)ceil(xlo), xb = (int)floor(xhi);
+        int xa = ceil_int(xlo), xb = floor_int(xhi);
         if (xa < p->x0) xa = p->x0;
         if (xb > p->x1) xb = p->x1;
+        if (xb < xa) continue;
+        if (!have_g) ew_face_gradients(look->world, look->view, f, look->mip, &g), have_g = 1;
         if (look->mode != EW_ZP_OPAQUE) {
-            if (xb >= xa) won += see_row(c, &g, look, ids, id, xa, xb, y);
+            won += see_row(c, &g, look, ids, id, xa, xb, y);
             continue;
         }
         if (look->stepped && look->surf && !(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
-            if (xb >= xa) won += stepped_row(c, &g, look, ids, id, xa, xb, y);
+            won += stepped_row(c, &g, look, ids, id, xa, xb, y);
             continue;
         }
         for (int x = xa; x <= xb; x++) {
