@@ -86,6 +86,30 @@ static inline void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
 
 void ew_band_span(ew_band *b, int surf, int u0, int u1, int v) { emit_span(b, surf, u0, u1, v); }
 
+/* emit_span for the scan's inner loop: the band's span array, count and
+ * capacity held in locals (after inlining, registers), since the stores
+ * of a span and its has_spans byte could alias the band's fields. */
+typedef struct span_sink {
+    ew_span *spans;
+    int      n, cap;
+    uint8_t *has;
+} span_sink;
+
+static inline void sink_span(ew_band *b, span_sink *o, int surf, int u0, int u1, int v) {
+    if (u1 <= u0) return;
+    if (o->n >= o->cap) {
+        b->nspans = o->n;
+        if (grow((void **)&b->spans, &b->cap_spans, b->max_spans, sizeof(ew_span)) < 0) {
+            b->dropped++;
+            return;
+        }
+        o->spans = b->spans, o->cap = b->cap_spans;
+    }
+    ew_span *sp = &o->spans[o->n++];
+    sp->u = u0, sp->v = v, sp->count = u1 - u0, sp->surf = surf;
+    o->has[surf] = 1;
+}
+
 /* st_neg and st_fix hold at least cap_aet entries, since a line has at most
  * as many counts going below zero, or edges out of order, as it has edges.
  * Another method may have grown aet on the same band (hsr/edge_z.c); if
@@ -176,6 +200,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
 
     int nfix = 0;  /* sorted */
+    span_sink out = {b->spans, 0, b->cap_spans, b->has_spans};
     for (int v = b->y0; v < b->y1; v++) {
         const int nold = b->naet;  /* last line's edges, stepped: nearly in order */
         for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
@@ -207,7 +232,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
                 int c = --st[s].state;
                 if (c == 0) {
                     if (s == top) {
-                        emit_span(b, s, st[s].lastu, iu, v);
+                        sink_span(b, &out, s, st[s].lastu, iu, v);
                         top = st[s].next;
                         st[top].prev = -1;
                         st[top].lastu = iu;
@@ -222,7 +247,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
             s = a.surfs[1];
             if (s && ++st[s].state == 1) {                          /* leading edge */
                 if (nearer(&surfs[s], &surfs[top], iu, v)) {
-                    emit_span(b, top, st[top].lastu, iu, v);
+                    sink_span(b, &out, top, st[top].lastu, iu, v);
                     st[s].next = top, st[s].prev = -1;
                     st[top].prev = s;
                     top = s;
@@ -236,7 +261,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
                 }
             }
         }
-        emit_span(b, top, st[top].lastu, width, v);
+        sink_span(b, &out, top, st[top].lastu, width, v);
 
         /* Stepped to the next line, in a pass of its own: the scan above
          * then keeps its state in registers. */
@@ -266,6 +291,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
         for (int k = 0; k < nneg; k++) st[neg[k]].state = 0;
         b->naet = n;
     }
+    b->nspans = out.n;
 }
 
 /* ---- the edge list as a hidden-surface method ---- */

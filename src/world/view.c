@@ -96,23 +96,6 @@ void ew_entity_axes(const float angles[3], float ax[3][3]) {
     for (int k = 0; k < 3; k++) ax[k][0] = fwd[k], ax[k][1] = -right[k], ax[k][2] = up[k];
 }
 
-int ew_cull_face(const ew_view *v, const float box[2][3], int clipflags) {
-    const float margin = 1.0f / 16;  /* far above the sums' rounding at map sizes */
-    for (int i = 0; i < 4; i++) {
-        if (!(clipflags & (1 << i))) continue;
-        const ew_plane *p = &v->frustum[i];
-        float far_pt = 0, near_pt = 0;
-        for (int k = 0; k < 3; k++) {
-            int pos = p->normal[k] >= 0;
-            far_pt += p->normal[k] * box[pos][k];
-            near_pt += p->normal[k] * box[!pos][k];
-        }
-        if (far_pt < p->dist - margin) return -1;
-        if (near_pt > p->dist + margin) clipflags &= ~(1 << i);
-    }
-    return clipflags;
-}
-
 /* Returns -1 if the box is outside a plane, else the reduced clipflags. */
 int ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags) {
     for (int i = 0; i < 4; i++) {

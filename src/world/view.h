@@ -39,7 +39,22 @@ int  ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int
  * it is wholly outside one, else the planes it may cross.  Decides only
  * what ew_clip_poly would decide the same way for every corner (a margin
  * keeps a box touching a plane in the flags), so a face keeps its clip. */
-int  ew_cull_face(const ew_view *v, const float box[2][3], int clipflags);
+static inline int ew_cull_face(const ew_view *v, const float box[2][3], int clipflags) {
+    const float margin = 1.0f / 16;  /* far above the sums' rounding at map sizes */
+    for (int i = 0; i < 4; i++) {
+        if (!(clipflags & (1 << i))) continue;
+        const ew_plane *p = &v->frustum[i];
+        float far_pt = 0, near_pt = 0;
+        for (int k = 0; k < 3; k++) {
+            int pos = p->normal[k] >= 0;
+            far_pt += p->normal[k] * box[pos][k];
+            near_pt += p->normal[k] * box[!pos][k];
+        }
+        if (far_pt < p->dist - margin) return -1;
+        if (near_pt > p->dist + margin) clipflags &= ~(1 << i);
+    }
+    return clipflags;
+}
 
 /* world/clip.c: clips a polygon (world coords) against the frustum planes
  * in clipflags; returns the vertex count (0 if all clipped).  tag_out[i] =
