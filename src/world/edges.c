@@ -12,7 +12,7 @@ static void project(const ew_renderer *r, const float p[3], proj *out) { ew_proj
 
 /* Adds the edge a->b for surface s; returns its index, or -1 if it crosses
  * no scanline centre (horizontal or too short) and so never bounds a span. */
-static int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) {
+static inline int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) {
     ew_edge spill, *e = r->el.nedges < r->el.max_edges ? &r->el.edges[r->el.nedges] : &spill;
     if (!ew_edge_setup(a, b, e)) return -1;
     if (e == &spill) {
@@ -25,7 +25,7 @@ static int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) {
 
 /* Emits (or reuses) world edge `se` (a signed surfedge) between a and b,
  * projecting the ends on demand.  Returns the nearest 1/z it saw. */
-static float emit_world_edge(ew_renderer *r, int se, const float *pa, const float *pb,
+static inline float emit_world_edge(ew_renderer *r, int se, const float *pa, const float *pb,
                              proj *ja, int *va, proj *jb, int *vb, int s) {
     float zi;
     if (ew_edge_cache_take(r, se, s, &zi)) return zi;
