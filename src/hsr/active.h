@@ -29,18 +29,22 @@ static inline int ew_active_cmp(const void *pa, const void *pb) {
     return ew_active_after(a, b) ? 1 : ew_active_after(b, a) ? -1 : 0;
 }
 
+/* One step of the insertion sort, a[0..i) sorted: a[i] moved down past
+ * the edges after it (i > 0). */
+static inline void ew_active_insert(ew_active *a, int i) {
+    if (!ew_active_after(&a[i - 1], &a[i])) return;  /* in place already: most edges, most lines */
+    ew_active x = a[i];
+    int j = i - 1;
+    do {
+        a[j + 1] = a[j];
+        j--;
+    } while (j >= 0 && ew_active_after(&a[j], &x));
+    a[j + 1] = x;
+}
+
 /* Insertion sort (stable): the list is nearly sorted every line. */
 static inline void ew_active_sort(ew_active *a, int n) {
-    for (int i = 1; i < n; i++) {
-        if (!ew_active_after(&a[i - 1], &a[i])) continue;  /* in place already: most edges, most lines */
-        ew_active x = a[i];
-        int j = i - 1;
-        do {
-            a[j + 1] = a[j];
-            j--;
-        } while (j >= 0 && ew_active_after(&a[j], &x));
-        a[j + 1] = x;
-    }
+    for (int i = 1; i < n; i++) ew_active_insert(a, i);
 }
 
 #endif

@@ -150,17 +150,8 @@ static void add_active(ew_band *b, const ew_edge *e, int v) {
  * would leave it where it is, having compared it once. */
 #define MERGE_MAX 64
 static void sort_edges(ew_active *a, int nold, int n, const int32_t *fix, int nfix) {
-    for (int f = 0; f < nfix; f++) {
-        int i = fix[f];
-        if (i == 0 || !ew_active_after(&a[i - 1], &a[i])) continue;
-        ew_active x = a[i];
-        int j = i - 1;
-        do {
-            a[j + 1] = a[j];
-            j--;
-        } while (j >= 0 && ew_active_after(&a[j], &x));
-        a[j + 1] = x;
-    }
+    for (int f = 0; f < nfix; f++)
+        if (fix[f] > 0) ew_active_insert(a, fix[f]);
     int k = n - nold;
     if (k <= 0) return;
     if (k > MERGE_MAX || nold == 0) {
