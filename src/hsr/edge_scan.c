@@ -29,10 +29,7 @@ int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
     b->cap_neg = b->st_neg && b->st_fix ? b->cap_aet : 0;
     b->max_spans = max_spans;
     b->max_aet = max_aet;
-    return b->stack && b->has_spans && b->spans && b->aet && b->st_neg &&
-                   b->st_fix
-               ? 0
-               : -1;
+    return b->stack && b->has_spans && b->spans && b->aet && b->st_neg && b->st_fix ? 0 : -1;
 }
 
 /* Doubles an array of *cap elements, at most to max; 0 if it could. */
@@ -72,23 +69,10 @@ static inline int nearer(const ew_surf *a, const ew_surf *b, int u, int v) {
     return a->zi_u > b->zi_u;
 }
 
-static inline void emit_span(ew_band *b, int surf, int u0, int u1, int v) {
-    if (u1 <= u0) return;
-    if (b->nspans >= b->cap_spans && grow((void **)&b->spans, &b->cap_spans, b->max_spans, sizeof(ew_span)) < 0) {
-        b->dropped++;
-        return;
-    }
-    ew_span *sp = &b->spans[b->nspans];
-    sp->u = u0, sp->v = v, sp->count = u1 - u0, sp->surf = surf;
-    b->has_spans[surf] = 1;
-    b->nspans++;
-}
-
-void ew_band_span(ew_band *b, int surf, int u0, int u1, int v) { emit_span(b, surf, u0, u1, v); }
-
-/* emit_span for the scan's inner loop: the band's span array, count and
- * capacity held in locals (after inlining, registers), since the stores
- * of a span and its has_spans byte could alias the band's fields. */
+/* A span of surf on row v from u0 to u1 (none if empty) into the band.
+ * The scan's inner loop holds the band's span array, count and capacity
+ * in locals (after inlining, registers), since the stores of a span and
+ * its has_spans byte could alias the band's fields. */
 typedef struct span_sink {
     ew_span *spans;
     int      n, cap;
@@ -108,6 +92,13 @@ static inline void sink_span(ew_band *b, span_sink *o, int surf, int u0, int u1,
     ew_span *sp = &o->spans[o->n++];
     sp->u = u0, sp->v = v, sp->count = u1 - u0, sp->surf = surf;
     o->has[surf] = 1;
+}
+
+/* A span for the other methods (one at a time, through the band's fields). */
+void ew_band_span(ew_band *b, int surf, int u0, int u1, int v) {
+    span_sink o = {b->spans, b->nspans, b->cap_spans, b->has_spans};
+    sink_span(b, &o, surf, u0, u1, v);
+    b->nspans = o.n;
 }
 
 /* st_neg and st_fix hold at least cap_aet entries, since a line has at most
@@ -195,7 +186,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     for (int v = b->y0; v < b->y1; v++) {
         const int nold = b->naet;  /* last line's edges, stepped: nearly in order */
         for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
-        /* Read once per line: emit_span's stores could alias them, so
+        /* Read once per line: a span's stores could alias them, so
          * the compiler would reload both at every edge. */
         ew_active *aet = b->aet;
         const int naet = b->naet;

@@ -32,9 +32,6 @@ static inline void ew_project(const ew_view *v, const float p[3], ew_proj *out) 
     out->zi = zi;
 }
 
-/* The edge a->b's position (u, u_step, v_first, v_last; not its surfaces
- * or list link) into e; 0 if it crosses no scanline centre (horizontal or
- * too short) and so never bounds a span. */
 /* ceilf and floor by truncation, for the ranges below (without SSE4.1
  * both are long sequences): v > -1; |x| < 2^31. */
 static inline int ew_ceil_row(float v) {
@@ -46,6 +43,9 @@ static inline int32_t ew_floor_fix(double x) {
     return t - (x < (double)t);
 }
 
+/* The edge a->b's position (u, u_step, v_first, v_last; not its surfaces
+ * or list link) into e; 0 if it crosses no scanline centre (horizontal or
+ * too short) and so never bounds a span. */
 static inline int ew_edge_setup(const ew_proj *a, const ew_proj *b, ew_edge *e) {
     int down = b->v > a->v;
     const ew_proj *top = down ? a : b, *bot = down ? b : a;

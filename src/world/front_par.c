@@ -811,7 +811,7 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
         }
         return 1;
     }
-    for (int p = 0; p < staged_chunks(fp) * CHUNK && p < fp->nfaces; p++) {
+    for (int p = 0; !fp->direct && p < fp->nfaces; p++) {  /* direct: the faces are in the list */
         prepare(r, fp, p, 0);  /* every edge set up: an earlier face may be dropped here */
         merge_face(r, &fp->faces[p], fp->pedges + fp->faces[p].pe);
     }

@@ -101,16 +101,8 @@ int ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int 
     for (int i = 0; i < 4; i++) {
         if (!(clipflags & (1 << i))) continue;
         const ew_plane *p = &v->frustum[i];
-        float far_pt = 0, near_pt = 0;  /* corners most / least along the normal */
-        for (int k = 0; k < 3; k++) {
-            if (p->normal[k] >= 0) {
-                far_pt += p->normal[k] * maxs[k];
-                near_pt += p->normal[k] * mins[k];
-            } else {
-                far_pt += p->normal[k] * mins[k];
-                near_pt += p->normal[k] * maxs[k];
-            }
-        }
+        float far_pt, near_pt;  /* corners most / least along the normal */
+        ew_box_reach(p, mins, maxs, &far_pt, &near_pt);
         if (far_pt <= p->dist) return -1;                 /* wholly outside */
         if (near_pt >= p->dist) clipflags &= ~(1 << i);   /* wholly inside */
     }

@@ -33,6 +33,18 @@ static inline void ew_view_transform(const ew_view *v, const float p[3], float o
     out[1] = d0 * v->up[0] + d1 * v->up[1] + d2 * v->up[2];
     out[2] = d0 * v->forward[0] + d1 * v->forward[1] + d2 * v->forward[2];
 }
+/* The box [lo, hi]'s distances along plane p's normal: *far_pt of its corner
+ * furthest along it, *near_pt of the least (the plane's dist not taken). */
+static inline void ew_box_reach(const ew_plane *p, const float lo[3], const float hi[3], float *far_pt,
+                                float *near_pt) {
+    float f = 0, n = 0;
+    for (int k = 0; k < 3; k++) {
+        int pos = p->normal[k] >= 0;
+        f += p->normal[k] * (pos ? hi[k] : lo[k]);
+        n += p->normal[k] * (pos ? lo[k] : hi[k]);
+    }
+    *far_pt = f, *near_pt = n;
+}
 /* -1 if the box is outside a frustum plane in clipflags, else the planes it still crosses. */
 int  ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int clipflags);
 /* A face's box (ew_world.face_box) against the planes in clipflags: -1 if
@@ -44,12 +56,8 @@ static inline int ew_cull_face(const ew_view *v, const float box[2][3], int clip
     for (int i = 0; i < 4; i++) {
         if (!(clipflags & (1 << i))) continue;
         const ew_plane *p = &v->frustum[i];
-        float far_pt = 0, near_pt = 0;
-        for (int k = 0; k < 3; k++) {
-            int pos = p->normal[k] >= 0;
-            far_pt += p->normal[k] * box[pos][k];
-            near_pt += p->normal[k] * box[!pos][k];
-        }
+        float far_pt, near_pt;
+        ew_box_reach(p, box[0], box[1], &far_pt, &near_pt);
         if (far_pt < p->dist - margin) return -1;
         if (near_pt > p->dist + margin) clipflags &= ~(1 << i);
     }
