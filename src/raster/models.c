@@ -3,6 +3,7 @@
  * "models" pass of scene/passes.c).  Which ones and their light were
  * settled once for the frame (world/entities.c). */
 #include "renderer.h"
+#include "ew_util.h"
 #include "raster/alias.h"
 #include "scene/scene.h"
 
@@ -127,7 +128,7 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
         }
         if (!out && umin <= umax) {
             /* ew_zpoly_close's rectangle, of all the corners: it holds every face's */
-            int x0 = (int)ceilf(umin), x1 = (int)ceilf(umax), y0 = (int)ceilf(vmin), y1 = (int)ceilf(vmax);
+            int x0 = ew_ceilf_int(umin), x1 = ew_ceilf_int(umax), y0 = ew_ceilf_int(vmin), y1 = ew_ceilf_int(vmax);
             ew_zfill_rect(&r->zf, x0, y0 > rows->y0 ? y0 : rows->y0, x1, y1 < rows->y1 ? y1 : rows->y1);
             zrect = 1;
             /* and its rows, every face's rows among them */

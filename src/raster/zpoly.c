@@ -7,33 +7,9 @@
  * texturing, a divide every 16 pixels: near the eye a box covers a tenth
  * of the frame, and a divide per pixel there cost a fifth of the frame. */
 #include "raster/span_step.h"
+#include "ew_util.h"
 
 #include <math.h>
-
-/* (int)ceilf, (int)ceil and (int)floor the same, but where the value is
- * well inside int's range by a truncation and a compare: without SSE4.1
- * the compiler's inline rounding is some thirty instructions. */
-static inline int ceilf_int(float x) {
-    if (x > -2147483520.0f && x < 2147483520.0f) {
-        int i = (int)x;
-        return i + (i < x);
-    }
-    return (int)ceilf(x);
-}
-static inline int ceil_int(double x) {
-    if (x > -2147483647.0 && x < 2147483647.0) {
-        int i = (int)x;
-        return i + (i < x);
-    }
-    return (int)ceil(x);
-}
-static inline int floor_int(double x) {
-    if (x > -2147483647.0 && x < 2147483647.0) {
-        int i = (int)x;
-        return i - (i > x);
-    }
-    return (int)floor(x);
-}
 
 void ew_zpoly_vertex(const ew_view *v, const float pt[3], float *u, float *vv, float *zi) {
     float t[3];
@@ -57,8 +33,8 @@ int ew_zpoly_bounds(const ew_view *v, ew_zpoly *p, int m) {
 
 int ew_zpoly_rect(const ew_view *v, ew_zpoly *p, int m, float umin, float umax, float vmin, float vmax) {
     p->n = m;
-    p->x0 = ceilf_int(umin), p->x1 = ceilf_int(umax) - 1;
-    p->y0 = ceilf_int(vmin), p->y1 = ceilf_int(vmax) - 1;
+    p->x0 = ew_ceilf_int(umin), p->x1 = ew_ceilf_int(umax) - 1;
+    p->y0 = ew_ceilf_int(vmin), p->y1 = ew_ceilf_int(vmax) - 1;
     if (p->x0 < 0) p->x0 = 0;
     if (p->y0 < 0) p->y0 = 0;
     if (p->x1 > v->width - 1) p->x1 = v->width - 1;
@@ -224,7 +200,7 @@ long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look 
                 xhi = xlo - 1;  /* parallel to the row and outside */
             }
         }
-        int xa = ceil_int(xlo), xb = floor_int(xhi);
+        int xa = ew_ceil_int(xlo), xb = ew_floor_int(xhi);
         if (xa < p->x0) xa = p->x0;
         if (xb > p->x1) xb = p->x1;
         if (xb < xa) continue;

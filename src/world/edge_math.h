@@ -8,6 +8,7 @@
 #define EW_WORLD_EDGE_MATH_H
 
 #include "renderer.h"
+#include "ew_util.h"
 
 #include <math.h>
 
@@ -32,31 +33,18 @@ static inline void ew_project(const ew_view *v, const float p[3], ew_proj *out) 
     out->zi = zi;
 }
 
-/* ceilf and floor by truncation, for the ranges below (without SSE4.1
- * both are long sequences): v > -1; |x| < 2^31. */
-static inline int ew_ceil_row(float v) {
-    int t = (int)v;
-    return t + (v > (float)t);
-}
-static inline int32_t ew_floor_fix(double x) {
-    int32_t t = (int32_t)x;
-    return t - (x < (double)t);
-}
-
 /* The edge a->b's position (u, u_step, v_first, v_last; not its surfaces
  * or list link) into e; 0 if it crosses no scanline centre (horizontal or
  * too short) and so never bounds a span. */
 static inline int ew_edge_setup(const ew_proj *a, const ew_proj *b, ew_edge *e) {
     int down = b->v > a->v;
     const ew_proj *top = down ? a : b, *bot = down ? b : a;
-    int first = ew_ceil_row(top->v), last = ew_ceil_row(bot->v) - 1;  /* v >= -0.5: ew_project */
+    int first = ew_ceilf_int(top->v), last = ew_ceilf_int(bot->v) - 1;
     if (first > last) return 0;
     double slope = (double)(bot->u - top->u) / (double)(bot->v - top->v);
     double u = top->u + (first - top->v) * slope;
-    /* u on the screen; the slope at most the screen's width when there is
-     * a step (bot->v - top->v > 1) */
-    e->u = ew_floor_fix(u * 65536.0 + 0.5);
-    e->u_step = first == last ? 0 : ew_floor_fix(slope * 65536.0 + 0.5);
+    e->u = ew_floor_int(u * 65536.0 + 0.5);
+    e->u_step = first == last ? 0 : ew_floor_int(slope * 65536.0 + 0.5);
     e->v_first = first;
     e->v_last = last;
     return 1;
