@@ -72,7 +72,7 @@ static void clear_target(void) {
     memset(&R->stats, 0, sizeof R->stats);
 }
 
-static ew_rows all_rows(void) { return (ew_rows){0, R->target.height, &R->stats, 1, NULL}; }
+static ew_rows all_rows(void) { return (ew_rows){0, R->target.height, &R->stats, 1}; }
 
 /* Draws the N models in mode (sprite-cache through the slots). */
 static void draw_all(const ew_model_pose *p, int mode) {

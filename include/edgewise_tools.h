@@ -47,9 +47,10 @@ EW_API void ew_set_full_zfill(ew_renderer *r, int on);
 /* How the renderer cuts a frame of height rows into n >= 1 bands: each
  * band ends where the running sum of row_cost first reaches its share of
  * the total, after at least 8 rows, so every band costs about the same
- * (with fewer than 8 * n rows: equal rows).  The renderer passes the last frame's costs
- * (each band's time spread over its rows); `edgewise bench --bands` the
- * one-thread frame's own.  Writes bounds[0..n]: band i is rows
+ * (with fewer than 8 * n rows: equal rows).  The renderer passes the last frame's scan
+ * costs for its bands (each band's time spread over its rows) and this
+ * frame's estimated draw costs for the draw's pieces; `edgewise bench
+ * --bands` the one-thread frame's own.  Writes bounds[0..n]: band i is rows
  * bounds[i] .. bounds[i+1]-1. */
 EW_API void ew_place_bands(const float *row_cost, int height, int n, int *bounds);
 

@@ -114,7 +114,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->lit.surf_cache = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs);
     /* the edge list's surfaces and as many see-through ones (world/divert.c) */
     r->lit.to_build = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs * 2);
-    r->sched.row_cost = malloc(sizeof(float) * (size_t)height);
+    r->sched.row_cost = malloc(sizeof(float) * ((size_t)height + 1));
     r->zf.row_band = calloc((size_t)height, sizeof(int32_t));
     r->zf.row_span0 = calloc((size_t)height, sizeof(int32_t));
     r->zf.row_nspans = calloc((size_t)height, sizeof(int32_t));
@@ -159,7 +159,9 @@ static void free_bands(ew_renderer *r) {
     r->sched.pool = NULL;
     for (int i = 0; i < r->sched.nbands; i++) ew_band_free(&r->sched.bands[i]);
     free(r->sched.bands);
+    free(r->sched.items);
     r->sched.bands = NULL;
+    r->sched.items = NULL;
     r->zf.bands = NULL;
     r->sched.nbands = 0;
     r->sched.nthreads = 0;
@@ -189,8 +191,16 @@ int ew_set_threads(ew_renderer *r, int n) {
     if (nb > r->target.height / 8) nb = r->target.height / 8;
     /* Aligned like ew_band, so no two bands' counters share a cache line. */
     r->sched.bands = aligned_alloc(_Alignof(ew_band), sizeof(ew_band) * (size_t)nb);
+    /* The draw's items: finer, and the bands themselves where the debug
+     * views and the row profile need them. */
+    int ni = n == 1 ? 1 : n * EW_ITEMS_PER_THREAD;
+    if (ni > r->target.height / 8) ni = r->target.height / 8;
+    if (ni < nb) ni = nb;
+    r->sched.max_items = ni;
+    r->sched.items = aligned_alloc(_Alignof(ew_draw_item), sizeof(ew_draw_item) * (size_t)ni);
     r->lit.blocklights = malloc(sizeof(int) * 3 * (size_t)r->lit.maxlm * n);  /* RGB */
-    if (!r->sched.bands || !r->lit.blocklights) return -1;
+    if (!r->sched.bands || !r->sched.items || !r->lit.blocklights) return -1;
+    memset(r->sched.items, 0, sizeof(ew_draw_item) * (size_t)ni);
     memset(r->sched.bands, 0, sizeof(ew_band) * (size_t)nb);
     r->zf.bands = r->sched.bands;
     r->sched.nthreads = n;
@@ -469,6 +479,8 @@ static void job_scan(void *ctx, int thread) {
         memset(b->counters, 0, sizeof b->counters);
         r->cfg.hsr->resolve(r, b);
         ew_zfill_index_band(&r->zf, b, i);
+        account_spans(b, r->target.width);
+        if (r->cfg.face_ids_on) record_face_ids(r, b);  /* before the passes, which may win pixels */
         b->ms = ew_now_ms() - t0;
     }
 }
@@ -529,29 +541,50 @@ static void job_gamma(void *ctx, int thread) {
     }
 }
 
-/* A band's world, then the moving things in its rows: its z-fill is done
- * by then, and no other band touches those rows. */
+/* The draw's items: equal shares of the draw's cost per row, known once
+ * the bands are scanned and the models posed.  The debug views and the row
+ * profile draw band by band. */
+static void place_draw(ew_renderer *r) {
+    ew_sched *s = &r->sched;
+    ew_draw_item *it = s->items;
+    if (r->dbg.mode || s->profile_rows || s->nbands == 1) {
+        s->nitems = s->nbands;
+        for (int i = 0; i < s->nitems; i++) it[i].y0 = s->bands[i].y0, it[i].y1 = s->bands[i].y1;
+        return;
+    }
+    int bounds[EW_MAX_ITEMS + 1];
+    s->nitems = s->max_items;
+    ew_estimate_draw_costs(r, s->row_cost);  /* bands.c */
+    ew_place_bands(s->row_cost, r->target.height, s->nitems, bounds);
+    for (int i = 0; i < s->nitems; i++) it[i].y0 = bounds[i], it[i].y1 = bounds[i + 1];
+}
+
+/* An item's world spans, row by row from the scan's bands, then the moving
+ * things in its rows: their z-fill is done by then, and no other item
+ * touches those rows. */
 static void job_draw(void *ctx, int thread) {
     (void)thread;
     ew_renderer *r = ctx;
-    for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;) {
+    const ew_zfill *zf = &r->zf;
+    for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nitems;) {
         double t0 = ew_now_ms();
-        ew_band *b = &r->sched.bands[i];
-        if (r->dbg.mode == EW_DEBUG_SPANS)
-            ew_debug_spans(r, b);
-        else
-            ew_draw_spans(&r->draw, b, r->lit.surf_draw, r->zf.all);
-        account_spans(b, r->target.width);
-        if (r->cfg.face_ids_on) record_face_ids(r, b);  /* before the passes, which may win pixels */
+        ew_draw_item *it = &r->sched.items[i];
+        if (r->dbg.mode == EW_DEBUG_SPANS) {
+            ew_debug_spans(r, &r->sched.bands[i]);
+        } else {
+            for (int y = it->y0; y < it->y1; y++)
+                ew_draw_spans(&r->draw, zf->bands[zf->row_band[y]].spans + zf->row_span0[y], zf->row_nspans[y],
+                              r->lit.surf_draw, zf->all);
+        }
         double t1 = ew_now_ms();
-        memset(&b->model_stats, 0, sizeof b->model_stats);
-        ew_rows rows = {b->y0, b->y1, &b->model_stats, i == 0, b};
+        memset(&it->stats, 0, sizeof it->stats);
+        ew_rows rows = {it->y0, it->y1, &it->stats, i == 0};
         if (r->dbg.mode)
-            ew_debug_passes(r, b, &rows);
+            ew_debug_passes(r, &r->sched.bands[i], &rows);
         else
             ew_passes_draw(r, &rows);
-        b->model_ms = ew_now_ms() - t1;
-        b->ms += ew_now_ms() - t0;
+        it->model_ms = ew_now_ms() - t1;
+        if (r->sched.profile_rows) r->sched.bands[i].ms += ew_now_ms() - t0;  /* the row profile: scan and draw */
     }
 }
 
@@ -687,6 +720,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     atomic_store(&r->sched.next_build, 0);
     atomic_store(&r->sched.next_grad, 0);
     ew_pool_run(r->sched.pool, job_build, r);
+    place_draw(r);
     atomic_store(&r->sched.next_band, 0);
     ew_pool_run(r->sched.pool, job_draw, r);
     r->sched.bands_sized_for = r->sched.nbands;
@@ -708,18 +742,21 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double models_ms = 0;
     for (int i = 0; i < r->sched.nbands; i++) {
         const ew_band *b = &r->sched.bands[i];
-        const ew_stats *m = &b->model_stats;
         st->spans += b->nspans;
-        st->dropped += b->dropped + m->dropped;
+        st->dropped += b->dropped;
+        st->pixels_written += b->written, st->pixels_covered += b->covered;
+        for (int k = 0; k < EW_HSR_COUNTERS; k++) st->hsr_counters[k] += b->counters[k];
+    }
+    for (int i = 0; i < r->sched.nitems; i++) {
+        const ew_stats *m = &r->sched.items[i].stats;
+        st->dropped += m->dropped;
         st->entities_drawn += m->entities_drawn, st->entities_culled += m->entities_culled;
         st->alias_tris += m->alias_tris, st->alias_tris_subdiv += m->alias_tris_subdiv;
         st->alias_pixels += m->alias_pixels, st->particles += m->particles;
         st->alias_sprite_hits += m->alias_sprite_hits, st->alias_sprite_misses += m->alias_sprite_misses;
         st->fence_pixels += m->fence_pixels, st->translucent_pixels += m->translucent_pixels;
         st->fog_pixels += m->fog_pixels;
-        models_ms += b->model_ms;
-        st->pixels_written += b->written, st->pixels_covered += b->covered;
-        for (int k = 0; k < EW_HSR_COUNTERS; k++) st->hsr_counters[k] += b->counters[k];
+        models_ms += r->sched.items[i].model_ms;
     }
     if (r->cfg.hsr->memory) st->hsr_bytes = (long)r->cfg.hsr->memory(r);
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;

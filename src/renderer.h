@@ -48,6 +48,15 @@ typedef struct ew_config {
     const ew_hsr *hsr;          /* hidden-surface method */
 } ew_config;
 
+/* The draw's own cut of the rows, placed after the scan by what each row
+ * then holds (its spans, the models over it), since a row's cost to scan
+ * and its cost to draw differ. */
+typedef struct ew_draw_item {
+    _Alignas(64) int y0, y1;
+    ew_stats stats;      /* the moving things' counters in its rows */
+    double   model_ms;   /* time it spent on them */
+} ew_draw_item;
+
 /* Bands of the frame: several per thread, taken in turn by whichever
  * thread is free, with boundaries that follow the last frame's cost.  The
  * counters threads take work from sit on cache lines of their own. */
@@ -55,7 +64,9 @@ typedef struct ew_sched {
     ew_pool *pool;
     int      nthreads, nbands;
     ew_band *bands;
-    float   *row_cost;                            /* per scanline, from the bands' cost */
+    ew_draw_item *items;                          /* nitems this frame, of max_items */
+    int      nitems, max_items;
+    float   *row_cost;                            /* per scanline (and one more): the cost bands and items are placed by */
     int      bands_sized_for;                     /* row_cost valid for this many bands */
     int      profile_rows;                        /* ew_set_row_profile: strips of 8 rows */
     int      front_serial;                        /* test hook: the one-thread front end (ew_walk_world) */
@@ -163,6 +174,11 @@ struct ew_renderer {
  * (R, G, B through lut, A kept). */
 void ew_gamma_table(float g, uint8_t lut[256]);
 void ew_gamma_pixels(uint32_t *px, size_t n, const uint8_t lut[256]);
+
+/* bands.c: the frame's cost to draw per row (cost[0..height-1]; cost[height]
+ * is scratch), from the scan's spans and the posed models, for placing the
+ * draw's items. */
+void ew_estimate_draw_costs(const ew_renderer *r, float *cost);
 
 /* renderer.c: new frame number, view, per-frame tables, PVS marks, and the
  * hidden-surface method's begin. */

@@ -178,7 +178,7 @@ static void test_masks_mesh(void) {
  * through the slots. */
 static void draw_models(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, int n, ew_alias_xf *xf,
                         ew_xvert *xv, ew_sc_slot *slot) {
-    ew_rows rows = {0, r->target.height, &r->stats, 1, NULL};
+    ew_rows rows = {0, r->target.height, &r->stats, 1};
     for (int i = 0; i < n; i++) {
         if (!ew_alias_place(r, m, &p[i], &xf[i])) continue;
         int sc = r->cfg.alias_raster == EW_ALIAS_SPRITE_CACHE;

@@ -68,10 +68,7 @@ static void redraw_span(const ew_renderer *r, scratch *s, const ew_band *b, int 
         return;
     }
     kind_spans[r->lit.surf_draw[sp->surf].kind]++;
-    ew_band one = *b;
-    one.spans = (ew_span *)sp;
-    one.nspans = 1;
-    for (int k = 0; k < 2; k++) ew_draw_spans(&s->ctx[k], &one, r->lit.surf_draw, 0);
+    for (int k = 0; k < 2; k++) ew_draw_spans(&s->ctx[k], sp, 1, r->lit.surf_draw, 0);
 
     const int u0 = sp->u, u1 = sp->u + sp->count, v = sp->v;
     /* Nothing outside the span on its row, nor on the rows around it. */

@@ -133,10 +133,8 @@ struct ew_band {
     int32_t *st_neg;  int cap_neg;  /* >= cap_aet entries (the edge list's scan): counts gone below zero on a line */
     int32_t *st_fix;                /* as many: the stepped edges that may be out of order for the next line */
     int dropped;
-    ew_stats model_stats;           /* this band's share of the moving things' counters */
     long written, covered;          /* world pixels its spans wrote, and covered at least once */
-    double model_ms;                /* time it spent on them */
-    double ms;                      /* the whole band's cost this frame (sizes the next frame's bands) */
+    double ms;                      /* its scan's time this frame (and its draw's, in the row profile) */
 };
 
 int  ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet);

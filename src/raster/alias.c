@@ -568,6 +568,6 @@ int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, 
 }
 
 int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
-    ew_rows all = {0, r->target.height, &r->stats, 1, NULL};
+    ew_rows all = {0, r->target.height, &r->stats, 1};
     return ew_draw_alias_rows(r, m, p, &all);
 }

@@ -48,24 +48,14 @@ static long fog_run(const ew_fog *f, int bpp, float *zr, uint8_t *px, int x0, in
     return n;
 }
 
-void ew_draw_fog(ew_renderer *r, const ew_rows *rows) {
-    const ew_fog *fog = &r->draw.fog;
-    if (!fog->table) return;
+/* Span by span (they cover the row once): the sky's own pixels, where
+ * nothing nearer was drawn over it, are found by their 1/z, recomputed
+ * exactly as the z-fill wrote it, and take the sky's level. */
+static long fog_spans(const ew_renderer *r, const ew_fog *fog, const ew_span *spans, int nspans) {
     const ew_target *t = &r->target;
-    ew_zfill_rect(&r->zf, 0, rows->y0, t->width, rows->y1);  /* every pixel's depth */
     long n = 0;
-    const ew_band *b = rows->band;
-    if (!b || b->nspans == 0) {  /* no spans (the reference method): depth everywhere */
-        for (int y = rows->y0; y < rows->y1; y++)
-            n += fog_run(fog, t->bpp, ew_target_z(t, 0, y), ew_target_at(t, 0, y), 0, t->width);
-        rows->stats->fog_pixels += n;
-        return;
-    }
-    /* Span by span (they cover the band once): the sky's own pixels, where
-     * nothing nearer was drawn over it, are found by their 1/z, recomputed
-     * exactly as the z-fill wrote it, and take the sky's level. */
-    for (int i = 0; i < b->nspans; i++) {
-        const ew_span *sp = &b->spans[i];
+    for (int i = 0; i < nspans; i++) {
+        const ew_span *sp = &spans[i];
         float *zr = ew_target_z(t, 0, sp->v);
         uint8_t *px = ew_target_at(t, 0, sp->v);
         const ew_surf_draw *d = &r->lit.surf_draw[sp->surf];
@@ -82,6 +72,24 @@ void ew_draw_fog(ew_renderer *r, const ew_rows *rows) {
                 fog_px(fog, t->bpp, px, x, ew_fog_level(fog, zr[x]));
             n++;
         }
+    }
+    return n;
+}
+
+void ew_draw_fog(ew_renderer *r, const ew_rows *rows) {
+    const ew_fog *fog = &r->draw.fog;
+    if (!fog->table) return;
+    const ew_target *t = &r->target;
+    ew_zfill_rect(&r->zf, 0, rows->y0, t->width, rows->y1);  /* every pixel's depth */
+    long n = 0;
+    const ew_zfill *zf = &r->zf;
+    for (int y = rows->y0; y < rows->y1; y++) {
+        if (zf->row_nspans[y] == 0) {  /* no spans (the reference method): depth everywhere */
+            n += fog_run(fog, t->bpp, ew_target_z(t, 0, y), ew_target_at(t, 0, y), 0, t->width);
+            continue;
+        }
+        const ew_span *spans = zf->bands[zf->row_band[y]].spans + zf->row_span0[y];
+        n += fog_spans(r, fog, spans, zf->row_nspans[y]);
     }
     rows->stats->fog_pixels += n;
 }

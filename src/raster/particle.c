@@ -77,6 +77,6 @@ int ew_particle_field(ew_particle *out, int n, const float center[3], float radi
 }
 
 void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
-    ew_rows all = {0, r->target.height, &r->stats, 1, NULL};
+    ew_rows all = {0, r->target.height, &r->stats, 1};
     ew_draw_particles_rows(r, p, n, &all);
 }

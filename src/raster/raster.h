@@ -92,9 +92,9 @@ void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_dra
 void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *t);
 void ew_draw_turb_span(const ew_span_ctx *c, const ew_span *sp, const ew_gradients *g, const ew_texture *t);
 void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp);  /* black */
-/* Every span of a band, each by its surface's ew_surf_draw; with full_z the
- * world's 1/z goes under every span too (ew_set_full_zfill). */
-void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *draw, int full_z);
+/* n spans, each by its surface's ew_surf_draw; with full_z the world's 1/z
+ * goes under every span too (ew_set_full_zfill). */
+void ew_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z);
 /* Once a surface's gradients are set: which drawer its spans take. */
 void ew_span_prepare(ew_surf_draw *d);
 
@@ -113,8 +113,7 @@ uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, 
 typedef struct ew_rows {
     int       y0, y1;      /* [y0, y1) */
     ew_stats *stats;
-    int       first;       /* the band that counts per-model figures (triangles, entities) */
-    const ew_band *band;   /* the band of these rows (its spans), or NULL */
+    int       first;       /* the rows that count per-model figures (triangles, entities) */
 } ew_rows;
 
 /* raster/zpoly.c: the z-buffered polygon fill (reference path, item boxes) */

@@ -351,12 +351,12 @@ void ew_span_prepare(ew_surf_draw *d) {
 #endif
 }
 
-void ew_draw_spans(const ew_span_ctx *c, const ew_band *b, const ew_surf_draw *draw, int full_z) {
+void ew_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z) {
 #if defined(__SSE2__)
     const int lit8 = c->target->bpp == 1 && c->subdiv_shift == 4;
 #endif
-    for (int i = 0; i < b->nspans; i++) {
-        const ew_span *sp = &b->spans[i];
+    for (int i = 0; i < n; i++) {
+        const ew_span *sp = &spans[i];
         const ew_surf_draw *d = &draw[sp->surf];
         switch (d->kind) {
         case EW_DRAW_LIT:

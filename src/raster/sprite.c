@@ -166,6 +166,6 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
 }
 
 int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
-    ew_rows all = {0, r->target.height, &r->stats, 1, NULL};
+    ew_rows all = {0, r->target.height, &r->stats, 1};
     return ew_draw_sprite_rows(r, s, p, &all);
 }
