@@ -107,7 +107,9 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->marks.edge_cache_index = calloc((size_t)w->numedges + 1, sizeof(int));
     r->marks.edge_cache_down = calloc((size_t)w->numedges + 1, 1);
     r->el.edges = malloc(sizeof(ew_edge) * r->el.max_edges);
-    r->el.new_edges = malloc(sizeof(int32_t) * (size_t)(height + 1));
+    r->el.row_first = malloc(sizeof(int32_t) * (size_t)(height + 2));
+    r->el.by_row = malloc(sizeof(int32_t) * r->el.max_edges);
+    r->el.by_row_last = malloc(sizeof(int32_t) * r->el.max_edges);
     r->el.surfs = malloc(sizeof(ew_surf) * r->el.max_surfs);
     r->lit.maxlm = maxlm;
     r->el.max_spans = max_spans;
@@ -128,7 +130,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
         !r->marks.face_frame ||
         !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
         !r->marks.edge_cache_frame || !r->marks.edge_cache_index || !r->marks.edge_cache_down || !r->el.edges ||
-        !r->el.new_edges || !r->el.surfs || !r->lit.surf_cache || !r->lit.to_build || !r->sched.row_cost ||
+        !r->el.row_first || !r->el.by_row || !r->el.by_row_last || !r->el.surfs || !r->lit.surf_cache || !r->lit.to_build || !r->sched.row_cost ||
         !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi || !r->lit.surf_draw ||
         !r->lit.surf_state || !r->lit.surf_mip || !r->lit.grad_list)
         goto oom;
@@ -226,7 +228,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     ew_free_box_surfs(r);
     free(r->marks.face_dlframe), free(r->marks.face_dlbits);
     free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
-    free(r->el.edges), free(r->el.new_edges), free(r->el.surfs), free(r->lit.blocklights);
+    free(r->el.edges), free(r->el.row_first), free(r->el.by_row), free(r->el.by_row_last), free(r->el.surfs), free(r->lit.blocklights);
     free(r->ref.polys);
     ew_spolys_free(r->spolys);
     free(r->see.polys), free(r->see.order), free(r->warp_copy);
@@ -493,6 +495,7 @@ typedef struct front_tail_arg {
 static void front_tail(void *arg) {
     front_tail_arg *a = arg;
     a->t1 = ew_now_ms();
+    if (a->r->cfg.hsr->finish) a->r->cfg.hsr->finish(a->r);
     place_bands(a->r);
     atomic_store(&a->r->sched.next_band, 0);
     a->t_end = ew_now_ms();

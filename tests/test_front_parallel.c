@@ -53,10 +53,13 @@ static frame_sig sign_frame(const ew_renderer *r, const ew_stats *st) {
     for (int i = 0; i < el->nedges; i++) {
         const ew_edge *e = &el->edges[i];
         mix_int(&f, e->u), mix_int(&f, e->u_step), mix_int(&f, e->v_first), mix_int(&f, e->v_last);
-        mix_int(&f, e->surfs[0]), mix_int(&f, e->surfs[1]), mix_int(&f, e->next_new);
+        mix_int(&f, e->surfs[0]), mix_int(&f, e->surfs[1]);
         mix(&f, &e->nearzi, sizeof e->nearzi);
     }
-    for (int v = 0; v <= r->target.height; v++) mix_int(&f, el->new_edges[v]);
+    if (r->cfg.hsr->finish) {  /* the scans' order by row: made for the edge list's methods only */
+        for (int v = 0; v <= r->target.height + 1; v++) mix_int(&f, el->row_first[v]);
+        for (int i = 0; i < el->nedges; i++) mix_int(&f, el->by_row[i]), mix_int(&f, el->by_row_last[i]);
+    }
     s.edges = f.h;
     f.h = 1469598103934665603ull;
     for (int i = 0; i < el->nsurfs; i++) {

@@ -285,8 +285,7 @@ static void synth_edge(ew_edge_list *el, float u0, float v0, float u1, float v1,
     e->surfs[0] = down ? (uint16_t)s : 0;
     e->surfs[1] = down ? 0 : (uint16_t)s;
     e->nearzi = 0;
-    e->next_new = el->new_edges[first];
-    el->new_edges[first] = el->nedges++;
+    el->nedges++;
 }
 
 /* A convex polygon, clockwise on the screen, with the 1/z plane given. */
@@ -296,11 +295,10 @@ static void synth_poly(ew_edge_list *el, const float (*p)[2], int n, float zu, f
     for (int i = 0; i < n; i++) synth_edge(el, p[i][0], p[i][1], p[(i + 1) % n][0], p[(i + 1) % n][1], s);
 }
 
-static void synth_begin(ew_edge_list *el, int h) {
+static void synth_begin(ew_edge_list *el) {
     el->nedges = 0;
     el->nsurfs = 1;
     el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1};
-    for (int v = 0; v <= h; v++) el->new_edges[v] = -1;
 }
 
 /* Where each edge's u lands on row y: the first pixel centre right of it. */
@@ -350,6 +348,7 @@ static long synth_resolve(ew_renderer *r, int h, const int *want, long counters[
     long bad = -1;
     if (ew_band_init(&b, r->el.max_surfs, r->el.max_spans, r->el.max_edges) == 0) {
         b.y0 = 0, b.y1 = h;
+        ew_hsr_get(EW_HSR_EDGE_Z)->finish(r);
         ew_hsr_get(EW_HSR_EDGE_Z)->resolve(r, &b);
         memcpy(counters, b.counters, sizeof b.counters);
         bad = 0;
@@ -397,7 +396,7 @@ static void edge_z_synthetic(void) {
      * first is nearer left of it, the second from pixel 101 on.  In BSP
      * order one would hide the other whole. */
     static const float box[4][2] = {{40, 10}, {200, 10}, {200, 20}, {40, 20}};
-    synth_begin(el, H);
+    synth_begin(el);
     synth_poly(el, box, 4, -1e-5f, 0, 0.01f + 100.5f * 1e-5f);
     synth_poly(el, box, 4, 1e-5f, 0, 0.01f - 100.5f * 1e-5f);
     synth_expect(el, W, H, want);
@@ -410,7 +409,7 @@ static void edge_z_synthetic(void) {
      * its first pixel the two are equal: the faster-growing 1/z wins. */
     static const float wall[4][2] = {{40, 30}, {200, 30}, {200, 40}, {40, 40}};
     static const float door[4][2] = {{119.5f, 30}, {180, 30}, {180, 40}, {119.5f, 40}};
-    synth_begin(el, H);
+    synth_begin(el);
     synth_poly(el, wall, 4, 0, 0, 0.01f);
     synth_poly(el, door, 4, 1e-5f, 0, 0.01f - 120 * 1e-5f);
     synth_expect(el, W, H, want);
@@ -423,7 +422,7 @@ static void edge_z_synthetic(void) {
     unsigned seed = 12345;
     long splits = 0, total_bad = 0;
     for (int scene = 0; scene < 20; scene++) {
-        synth_begin(el, H);
+        synth_begin(el);
         for (int k = 0; k < 24; k++) {
             /* one corner on each side of a box inside the screen: convex */
             float f[10];

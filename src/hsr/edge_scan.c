@@ -176,16 +176,16 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
      * the rows above are visited, and the edges are sorted at once, since
      * the insertion sort of the first row would take time quadratic in
      * their number. */
-    for (int v = 0; v < b->y0; v++)
-        for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new)
-            if (edges[i].v_last >= b->y0) add_active(b, &edges[i], b->y0);
+    const int32_t *first = el->row_first, *by_row = el->by_row, *by_last = el->by_row_last;
+    for (int k = 0, end = first[b->y0]; k < end; k++)
+        if (by_last[k] >= b->y0) add_active(b, &edges[by_row[k]], b->y0);
     if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
 
     int nfix = 0;  /* sorted */
     span_sink out = {b->spans, 0, b->cap_spans, b->has_spans};
     for (int v = b->y0; v < b->y1; v++) {
         const int nold = b->naet;  /* last line's edges, stepped: nearly in order */
-        for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
+        for (int k = first[v], end = first[v + 1]; k < end; k++) add_active(b, &edges[by_row[k]], v);
         /* Read once per line: a span's stores could alias them, so
          * the compiler would reload both at every edge. */
         ew_active *aet = b->aet;
@@ -283,9 +283,28 @@ void ew_edge_begin(ew_renderer *r) {
     el->nedges = 0;
     el->nsurfs = 1;  /* surface 0: the background, behind everything */
     el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->view};
-    for (int v = 0; v <= r->target.height; v++) el->new_edges[v] = -1;
+}
+
+/* A counting sort by first scanline.  Within a row the later edge comes
+ * first, the order the per-row lists this replaced had (and the scans'
+ * ties depend on). */
+void ew_edge_sort_rows(ew_renderer *r) {
+    ew_edge_list *el = &r->el;
+    const int h = r->target.height;
+    int32_t *first = el->row_first;
+    memset(first, 0, sizeof(int32_t) * (size_t)(h + 2));
+    for (int i = 0; i < el->nedges; i++) first[el->edges[i].v_first + 2]++;
+    for (int v = 2; v <= h + 1; v++) first[v] += first[v - 1];
+    /* first[v + 1] is where row v starts; placing moves it to row v's end,
+     * which is row v + 1's start. */
+    for (int i = el->nedges - 1; i >= 0; i--) {
+        const ew_edge *e = &el->edges[i];
+        int k = first[e->v_first + 1]++;
+        el->by_row[k] = i, el->by_row_last[k] = e->v_last;
+    }
 }
 
 static void edge_resolve(ew_renderer *r, ew_band *b) { ew_scan_band(&r->el, r->target.width, b); }
 
-const ew_hsr ew_hsr_edge = {"edge", ew_edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0, {NULL}, 1, NULL};
+const ew_hsr ew_hsr_edge = {"edge", ew_edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0, {NULL}, 1, NULL,
+                            ew_edge_sort_rows};

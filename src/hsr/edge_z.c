@@ -135,13 +135,13 @@ static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
         return;
     }
 
-    for (int v = 0; v < b->y0; v++)
-        for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new)
-            if (edges[i].v_last >= b->y0) add_active(b, &edges[i], b->y0);
+    const int32_t *first = el->row_first, *by_row = el->by_row, *by_last = el->by_row_last;
+    for (int k = 0, end = first[b->y0]; k < end; k++)
+        if (by_last[k] >= b->y0) add_active(b, &edges[by_row[k]], b->y0);
     if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
 
     for (int v = b->y0; v < b->y1; v++) {
-        for (int i = el->new_edges[v]; i >= 0; i = edges[i].next_new) add_active(b, &edges[i], v);
+        for (int k = first[v], end = first[v + 1]; k < end; k++) add_active(b, &edges[by_row[k]], v);
         ew_active *aet = b->aet;
         const int naet = b->naet;
         ew_active_sort(aet, naet);
@@ -208,7 +208,6 @@ static void z_begin(ew_renderer *r) {
     el->nedges = 0;
     el->nsurfs = 1;  /* surface 0: the background, 1/z 0 everywhere */
     el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->view};
-    for (int v = 0; v <= r->target.height; v++) el->new_edges[v] = -1;
 }
 
 /* ew_emit_face gives only brush-model fragments a plane; here world faces
@@ -234,4 +233,4 @@ static size_t z_memory(const ew_renderer *r) {
 const ew_hsr ew_hsr_edge_z = {
     "edge-z", z_begin, z_face, ew_emit_poly, z_resolve, 0,
     {[C_COMPARES] = "1/z comparisons", [C_SPLITS] = "intersections split", [C_TIES] = "abutting ties"},
-    1, z_memory};
+    1, z_memory, ew_edge_sort_rows};

@@ -51,6 +51,9 @@ typedef struct ew_hsr {
     /* Bytes the method holds for the frame beyond the edge list and the
      * bands' spans (ew_stats.hsr_bytes); NULL: none. */
     size_t (*memory)(const ew_renderer *r);
+    /* The front end is done, no band resolved yet (serial); NULL: nothing
+     * to do.  The edge list's scans sort its edges by row here. */
+    void (*finish)(ew_renderer *r);
 } ew_hsr;
 
 extern const ew_hsr ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */
@@ -74,7 +77,6 @@ typedef struct ew_edge {
     int32_t  v_first;    /* first scanline crossed */
     int32_t  v_last;     /* last scanline crossed */
     uint16_t surfs[2];   /* [0]: surface it trails (right side), [1]: leads */
-    int32_t  next_new;   /* next edge starting on the same line, -1 end */
     float    nearzi;     /* larger 1/z of its two ends */
 } ew_edge;
 
@@ -91,7 +93,12 @@ typedef struct ew_surf {
 
 typedef struct ew_edge_list {
     ew_edge *edges;      int nedges, max_edges;
-    int32_t *new_edges;  /* per scanline: first edge starting there, -1 */
+    /* The edges by first scanline (ew_edge_sort_rows, once the front end is
+     * done): row v's are by_row[row_first[v] .. row_first[v + 1]), the
+     * later edge first; by_row_last holds their last scanlines, so a band
+     * finds the edges alive at its top row in one pass over two arrays. */
+    int32_t *row_first;  /* height + 2 */
+    int32_t *by_row, *by_row_last;  /* max_edges each */
     ew_surf *surfs;      int nsurfs, max_surfs;  /* surface 0 is the background */
     int      max_spans;  /* per band */
 } ew_edge_list;
@@ -154,8 +161,10 @@ void ew_band_span(ew_band *b, int surf, int u0, int u1, int v);
  * the edge list: the edge method's face and poly. */
 void ew_emit_face(ew_renderer *r, int face, int clipflags, int key);
 void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
-/* hsr/edge_scan.c: the edge list emptied for a frame (the edge method's begin). */
+/* hsr/edge_scan.c: the edge list emptied for a frame (the edge method's
+ * begin); its edges sorted by first scanline (the scans' finish). */
 void ew_edge_begin(ew_renderer *r);
+void ew_edge_sort_rows(ew_renderer *r);
 /* hsr/surf_poly.c: frees r->spolys, the screen polygons of beamtree and raycast. */
 struct ew_spolys;
 void ew_spolys_free(struct ew_spolys *sp);

@@ -51,14 +51,12 @@ static inline int ew_edge_setup(const ew_proj *a, const ew_proj *b, ew_edge *e) 
 }
 
 /* The edge el->edges[el->nedges] (its position set) joins the list for
- * surface s: on its right side if it goes down the screen, else its left,
- * and in the list of edges starting on its first scanline.  Its index. */
+ * surface s: on its right side if it goes down the screen, else its left.
+ * Its index. */
 static inline int ew_edge_link(ew_edge_list *el, int down, int s) {
     ew_edge *e = &el->edges[el->nedges];
     e->surfs[0] = down ? (uint16_t)s : 0;
     e->surfs[1] = down ? 0 : (uint16_t)s;
-    e->next_new = el->new_edges[e->v_first];
-    el->new_edges[e->v_first] = el->nedges;
     return el->nedges++;
 }
 

@@ -861,16 +861,6 @@ static void write_brush(ew_renderer *r, struct ew_front_par *fp, int i) {
     }
 }
 
-/* The per-scanline lists of new edges, as ew_edge_link makes them one
- * edge at a time. */
-static void link_edges(ew_edge_list *el, int from, int to) {
-    for (int i = from; i < to; i++) {
-        ew_edge *e = &el->edges[i];
-        e->next_new = el->new_edges[e->v_first];
-        el->new_edges[e->v_first] = i;
-    }
-}
-
 /* ---- the pool run ---- */
 
 /* Item i of phase k.  The items likely to be largest come first, so that
@@ -986,7 +976,7 @@ static void job_front(void *ctx, int thread) {
     run_items(r, fp, 4, 0);
     wait_done(fp, 4);
     t = ew_now_ms();
-    int e0 = r->el.nedges, fits = number(r, fp);
+    int fits = number(r, fp);
     ser += ew_now_ms() - t;
     open_phase(fp, 5, fits ? staged_chunks(fp) + fp->nbitems : 0);
     run_items(r, fp, 5, 0);
@@ -1001,7 +991,6 @@ static void job_front(void *ctx, int thread) {
             r->el.nsurfs = fp->chunk_s0[last] + fp->chunk_ns[last];
             r->el.nedges = fp->chunk_e0[last] + fp->chunk_ne[last];
         }
-        link_edges(&r->el, e0, r->el.nedges);
     }
     ser += ew_now_ms() - t;
     run->serial_ms[0] = ser;
