@@ -7,7 +7,7 @@
 #define EW_MAX_BANDS (EW_MAX_THREADS * EW_BANDS_PER_THREAD)
 /* The draw's items are finer: they cost nothing to cut (but a model's
  * setup in each item it crosses), and the last one taken idles the rest. */
-#define EW_ITEMS_PER_THREAD 16
+#define EW_ITEMS_PER_THREAD 8
 #define EW_MAX_ITEMS (EW_MAX_THREADS * EW_ITEMS_PER_THREAD)
 
 typedef struct ew_pool ew_pool;

@@ -575,9 +575,13 @@ static void job_draw(void *ctx, int thread) {
         if (r->dbg.mode == EW_DEBUG_SPANS) {
             ew_debug_spans(r, &r->sched.bands[i]);
         } else {
-            for (int y = it->y0; y < it->y1; y++)
-                ew_draw_spans(&r->draw, zf->bands[zf->row_band[y]].spans + zf->row_span0[y], zf->row_nspans[y],
-                              r->lit.surf_draw, zf->all);
+            /* Rows whose spans follow each other in one band: one call. */
+            for (int y = it->y0, y1; y < it->y1; y = y1) {
+                int band = zf->row_band[y], s0 = zf->row_span0[y], n = zf->row_nspans[y];
+                for (y1 = y + 1; y1 < it->y1 && zf->row_band[y1] == band && zf->row_span0[y1] == s0 + n; y1++)
+                    n += zf->row_nspans[y1];
+                ew_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw, zf->all);
+            }
         }
         double t1 = ew_now_ms();
         memset(&it->stats, 0, sizeof it->stats);

@@ -505,6 +505,15 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
         if (!accept && (x0->clip & x1->clip & x2->clip)) continue;
         int back = !tri->facesfront;
         if (accept || !(x0->clip | x1->clip | x2->clip)) {
+            /* Rows first where nothing is counted: a model crossing several
+             * of the draw's pieces sends each all its triangles, and no
+             * rasterizer writes a row outside its corners'. */
+            if (!counts) {
+                int32_t ytop = x0->sv.y < x1->sv.y ? x0->sv.y : x1->sv.y, ybot = x0->sv.y > x1->sv.y ? x0->sv.y : x1->sv.y;
+                if (x2->sv.y < ytop) ytop = x2->sv.y;
+                if (x2->sv.y > ybot) ybot = x2->sv.y;
+                if (ybot < rows->y0 || ytop >= rows->y1) continue;
+            }
             /* Culled before the copies: about half of them are back faces. */
             if (!ew_alias_tri_visible(&x0->sv, &x1->sv, &x2->sv)) continue;  /* back face or degenerate */
             ew_avert a = x0->sv, b = x1->sv, c = x2->sv;
