@@ -130,7 +130,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
         !r->marks.face_frame ||
         !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
         !r->marks.edge_cache_frame || !r->marks.edge_cache_index || !r->marks.edge_cache_down || !r->el.edges ||
-        !r->el.row_first || !r->el.by_row || !r->el.by_row_last || !r->el.surfs || !r->lit.surf_cache || !r->lit.to_build || !r->sched.row_cost ||
+        !r->el.row_first || !r->el.by_row || !r->el.by_row_last || !r->el.surfs || !r->lit.surf_cache ||
+        !r->lit.to_build || !r->sched.row_cost ||
         !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi || !r->lit.surf_draw ||
         !r->lit.surf_state || !r->lit.surf_mip || !r->lit.grad_list)
         goto oom;
@@ -228,7 +229,8 @@ void ew_renderer_destroy(ew_renderer *r) {
     ew_free_box_surfs(r);
     free(r->marks.face_dlframe), free(r->marks.face_dlbits);
     free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
-    free(r->el.edges), free(r->el.row_first), free(r->el.by_row), free(r->el.by_row_last), free(r->el.surfs), free(r->lit.blocklights);
+    free(r->el.edges), free(r->el.row_first), free(r->el.by_row), free(r->el.by_row_last);
+    free(r->el.surfs), free(r->lit.blocklights);
     free(r->ref.polys);
     ew_spolys_free(r->spolys);
     free(r->see.polys), free(r->see.order), free(r->warp_copy);

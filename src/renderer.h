@@ -66,7 +66,7 @@ typedef struct ew_sched {
     ew_band *bands;
     ew_draw_item *items;                          /* nitems this frame, of max_items */
     int      nitems, max_items;
-    float   *row_cost;                            /* per scanline (and one more): the cost bands and items are placed by */
+    float   *row_cost;                            /* per scanline and one more: what bands, items are placed by */
     int      bands_sized_for;                     /* row_cost valid for this many bands */
     int      profile_rows;                        /* ew_set_row_profile: strips of 8 rows */
     int      front_serial;                        /* test hook: the one-thread front end (ew_walk_world) */

@@ -88,7 +88,8 @@ static void ref_resolve(ew_renderer *r, ew_band *b) {
 
 static size_t ref_memory(const ew_renderer *r) { return sizeof(ew_ref_poly) * (size_t)r->ref.cap; }
 
-const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve, 1, {NULL}, 0, ref_memory, NULL};
+const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve, 1, {NULL}, 0, ref_memory,
+                                  NULL};
 
 /* Renders the frame with the reference method (the moving things drawn
  * over its z-buffer as over the edge list's), then copies it out. */

@@ -509,7 +509,8 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
              * of the draw's pieces sends each all its triangles, and no
              * rasterizer writes a row outside its corners'. */
             if (!counts) {
-                int32_t ytop = x0->sv.y < x1->sv.y ? x0->sv.y : x1->sv.y, ybot = x0->sv.y > x1->sv.y ? x0->sv.y : x1->sv.y;
+                int32_t ytop = x0->sv.y < x1->sv.y ? x0->sv.y : x1->sv.y;
+                int32_t ybot = x0->sv.y > x1->sv.y ? x0->sv.y : x1->sv.y;
                 if (x2->sv.y < ytop) ytop = x2->sv.y;
                 if (x2->sv.y > ybot) ybot = x2->sv.y;
                 if (ybot < rows->y0 || ytop >= rows->y1) continue;
