@@ -691,41 +691,49 @@ static void row_after(void *ctx, int pass, int v) {
     if (c->fl && v % 2) floor_rep(c->fl);
 }
 
-/* Slowest band over the mean when rows [0, h) of per-row costs cost are
- * cut into n bands by the renderer's rule (ew_place_bands). */
-static double band_imbalance(const float *cost, int h, int n) {
-    int bounds[MAX_BANDS + 1];
-    ew_place_bands(cost, h, n, bounds);
-    double total = 0, slowest = 0;
+/* Rows [0, h) of per-row costs cost cut into n pieces placed by placed_by
+ * (ew_place_bands), handed out in order to whichever of threads threads is
+ * free first; returns when the last finishes and adds the work to *total.
+ * With as many pieces as threads, the slowest piece. */
+static double phase_end(const float *placed_by, const float *cost, int h, int n, int threads, double *total) {
+    int bounds[MAX_BANDS * EW_DRAW_ITEMS_PER_THREAD + 1];
+    double busy[MAX_BANDS] = { 0 }, end = 0;
+    ew_place_bands(placed_by, h, n, bounds);
     for (int b = 0; b < n; b++) {
         double c = 0;
         for (int v = bounds[b]; v < bounds[b + 1]; v++) c += cost[v];
-        total += c;
-        if (c > slowest) slowest = c;
-    }
-    return total > 0 ? slowest / (total / n) : NAN;
-}
-
-/* The renderer itself on n threads: n * 4 bands (at most h/8) cut by the
- * last frame's costs (placed_by), handed out in order to whichever thread
- * is free first; its finishing time over a perfect share, total / n. */
-static double sched_imbalance(const float *placed_by, const float *cost, int h, int n) {
-    int nb = n * 4 < h / 8 ? n * 4 : h / 8;
-    int bounds[MAX_BANDS * 4 + 1];
-    double busy[MAX_BANDS] = { 0 }, total = 0, end = 0;
-    ew_place_bands(placed_by, h, nb, bounds);
-    for (int b = 0; b < nb; b++) {
-        double c = 0;
-        for (int v = bounds[b]; v < bounds[b + 1]; v++) c += cost[v];
         int t = 0;
-        for (int k = 1; k < n; k++)
+        for (int k = 1; k < threads; k++)
             if (busy[k] < busy[t])
                 t = k;
         busy[t] += c;
-        total += c;
+        *total += c;
         if (busy[t] > end)
             end = busy[t];
     }
+    return end;
+}
+
+/* The frame's two phases, which wait for each other, each cut into n bands
+ * by its own row costs (scan, draw): their slowest bands over the mean. */
+static double band_imbalance(const float *scan, const float *draw, int h, int n) {
+    double total = 0, end = phase_end(scan, scan, h, n, n, &total) + phase_end(draw, draw, h, n, n, &total);
+    return total > 0 ? end / (total / n) : NAN;
+}
+
+/* The renderer itself on n threads: the scan's bands placed by the last
+ * frame's scan costs (prev_scan), the draw's pieces by this frame's draw
+ * costs (which the renderer estimates from its spans and models; here the
+ * measured ones), each phase handed out to whichever thread is free first;
+ * the two finishing times over a perfect share, total / n. */
+static double sched_imbalance(const float *prev_scan, const float *scan, const float *draw, int h, int n) {
+    int nb = n * EW_BANDS_PER_THREAD < h / 8 ? n * EW_BANDS_PER_THREAD : h / 8;
+    int ni = n * EW_DRAW_ITEMS_PER_THREAD < h / 8 ? n * EW_DRAW_ITEMS_PER_THREAD : h / 8;
+    if (n == 1)
+        nb = ni = 1;
+    if (ni < nb)
+        ni = nb;
+    double total = 0, end = phase_end(prev_scan, scan, h, nb, n, &total) + phase_end(draw, draw, h, ni, n, &total);
     return total > 0 ? end / (total / n) : NAN;
 }
 
@@ -734,13 +742,13 @@ static float min3(float a, float b, float c) {
     return c < m ? c : m;
 }
 
-/* --bands: the one-thread frame's cost per row (strips of 8 rows, the
- * view set rendered PROFILE_PASSES times and each strip's least time kept:
- * a time slice lost to another process, 4 ms here, hits a strip of one
- * pass in a hundred, so its median of three still caught one view a map
- * on this shared machine), cut
- * into each N bands; per N the median over the views of slowest band /
- * mean band, and the worst view's.  rd is left on one thread, without
+/* --bands: the one-thread frame's cost per row in its scan and in its
+ * draw (strips of 8 rows, the view set rendered PROFILE_PASSES times and
+ * each strip's least time kept: a time slice lost to another process, 4 ms
+ * here, hits a strip of one pass in a hundred, so its median of three
+ * still caught one view a map on this shared machine), each phase cut
+ * into each N bands; per N the median over the views of the slowest bands
+ * over the mean band, and the worst view's.  rd is left on one thread, without
  * the profile.  0, or -1 when out of memory or a camera fails. */
 static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *views, int nviews, int h,
                          size_ctx *sx) {
@@ -751,13 +759,14 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
     sx->have_profile = 1;
     return 0;
 #else
-    /* per pass and view, each row's time; then per view the medians */
+    /* per pass and view, each row's time in the scan and in the draw; then
+     * per view each strip's least */
     size_t hv = (size_t)h * (size_t)nviews;
-    float *rows = malloc(sizeof(float) * hv * (PROFILE_PASSES + 1));
+    float *scan = malloc(sizeof(float) * hv * (PROFILE_PASSES + 1) * 2), *draw = scan + hv * (PROFILE_PASSES + 1);
     double *imb = malloc(sizeof(double) * (size_t)nviews * (size_t)o->nbands * 2);
     double *items = malloc(sizeof(double) * (size_t)nviews);
     int rc = -1;
-    if (!rows || !imb || !items || ew_set_threads(rd, 1) < 0 || ew_set_row_profile(rd, 1) < 0)
+    if (!scan || !imb || !items || ew_set_threads(rd, 1) < 0 || ew_set_row_profile(rd, 1) < 0)
         goto out;
     double *simb = imb + (size_t)nviews * o->nbands;
     /* Pass after pass over the view set, so one stall of the machine hits
@@ -767,26 +776,31 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
             ew_stats st;
             if (ew_render(rd, &views[v], &st) < 0)
                 goto out;
-            ew_frame_row_ms(rd, rows + hv * p + (size_t)h * v, h);
+            ew_frame_row_ms(rd, scan + hv * p + (size_t)h * v, draw + hv * p + (size_t)h * v, h);
             /* the front end's largest items: the least of the passes too */
             if (p == 0 || st.ms_front_items < items[v]) items[v] = st.ms_front_items;
         }
     sx->front_items = median_of(items, nviews);
     for (int v = 0; v < nviews; v++) {
-        const float *r0 = rows + (size_t)h * v, *r1 = r0 + hv, *r2 = r1 + hv;
-        float *best = rows + hv * PROFILE_PASSES + (size_t)h * v;
-        for (int y = 0; y < h; y++)
-            best[y] = min3(r0[y], r1[y], r2[y]);
+        float *ph[2] = { scan, draw };
+        for (int k = 0; k < 2; k++) {
+            const float *r0 = ph[k] + (size_t)h * v, *r1 = r0 + hv, *r2 = r1 + hv;
+            float *best = ph[k] + hv * PROFILE_PASSES + (size_t)h * v;
+            for (int y = 0; y < h; y++)
+                best[y] = min3(r0[y], r1[y], r2[y]);
+        }
+        const float *bs = scan + hv * PROFILE_PASSES + (size_t)h * v, *bd = draw + hv * PROFILE_PASSES + (size_t)h * v;
         for (int b = 0; b < o->nbands; b++)
-            imb[(size_t)b * nviews + v] = band_imbalance(best, h, o->bands[b]);
+            imb[(size_t)b * nviews + v] = band_imbalance(bs, bd, h, o->bands[b]);
     }
     /* The bench's frames follow each other view after view, the first after
-     * the last: each is cut by the one before. */
+     * the last: each one's scan is cut by the one before. */
     for (int v = 0; v < nviews; v++) {
-        const float *cur = rows + hv * PROFILE_PASSES + (size_t)h * v;
-        const float *prev = rows + hv * PROFILE_PASSES + (size_t)h * ((v + nviews - 1) % nviews);
+        const float *cur = scan + hv * PROFILE_PASSES + (size_t)h * v;
+        const float *prev = scan + hv * PROFILE_PASSES + (size_t)h * ((v + nviews - 1) % nviews);
+        const float *dr = draw + hv * PROFILE_PASSES + (size_t)h * v;
         for (int b = 0; b < o->nbands; b++)
-            simb[(size_t)b * nviews + v] = sched_imbalance(prev, cur, h, o->bands[b]);
+            simb[(size_t)b * nviews + v] = sched_imbalance(prev, cur, dr, h, o->bands[b]);
     }
     for (int b = 0; b < o->nbands; b++) {
         double *col = imb + (size_t)b * nviews;
@@ -799,7 +813,7 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
 out:
     if (ew_set_row_profile(rd, 0) < 0)
         rc = -1;
-    free(rows);
+    free(scan);
     free(imb);
     free(items);
     return rc;

@@ -44,6 +44,16 @@ EW_API int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pi
  * and exists to measure what deferring saves. */
 EW_API void ew_set_full_zfill(ew_renderer *r, int on);
 
+/* How the renderer cuts a frame for its threads, in two phases with a wait
+ * between: with more than one thread, the scan into EW_BANDS_PER_THREAD
+ * bands a thread, placed by the last frame's scan costs, then the draw
+ * (spans and moving things) into EW_DRAW_ITEMS_PER_THREAD pieces a
+ * thread, placed by this frame's draw costs, known once the scan is done;
+ * each at most height / 8 in all.  The draw's pieces are finer since the
+ * last one taken idles the other threads and cutting them costs little. */
+#define EW_BANDS_PER_THREAD 4
+#define EW_DRAW_ITEMS_PER_THREAD 8
+
 /* How the renderer cuts a frame of height rows into n >= 1 bands: each
  * band ends where the running sum of row_cost first reaches its share of
  * the total, after at least 8 rows, so every band costs about the same
@@ -60,9 +70,11 @@ EW_API void ew_place_bands(const float *row_cost, int height, int n, int *bounds
  * the same as ever.  Re-makes the bands like ew_set_threads and returns
  * what it does.  Off: the bands as usual. */
 EW_API int ew_set_row_profile(ew_renderer *r, int on);
-/* The last frame's cost per row in ms (its band's time over its rows) into
- * ms[0 .. min(n, height)-1]; returns the frame's height. */
-EW_API int ew_frame_row_ms(const ew_renderer *r, float *ms, int n);
+/* The last frame's cost per row in ms, in its two parallel phases: the scan
+ * (its band's time over its rows) into scan_ms, the draw (its piece's time,
+ * spans and moving things, over its rows) into draw_ms, each [0 .. min(n,
+ * height)-1] and either NULL to skip; returns the frame's height. */
+EW_API int ew_frame_row_ms(const ew_renderer *r, float *scan_ms, float *draw_ms, int n);
 
 /* ---- files --------------------------------------------------------------- */
 

@@ -2,13 +2,11 @@
 #ifndef EW_POOL_H
 #define EW_POOL_H
 
+#include "edgewise_tools.h"  /* EW_BANDS_PER_THREAD, EW_DRAW_ITEMS_PER_THREAD */
+
 #define EW_MAX_THREADS 64
-#define EW_BANDS_PER_THREAD 4
 #define EW_MAX_BANDS (EW_MAX_THREADS * EW_BANDS_PER_THREAD)
-/* The draw's items are finer: they cost nothing to cut (but a model's
- * setup in each item it crosses), and the last one taken idles the rest. */
-#define EW_ITEMS_PER_THREAD 8
-#define EW_MAX_ITEMS (EW_MAX_THREADS * EW_ITEMS_PER_THREAD)
+#define EW_MAX_ITEMS (EW_MAX_THREADS * EW_DRAW_ITEMS_PER_THREAD)
 
 typedef struct ew_pool ew_pool;
 ew_pool *ew_pool_create(int threads);

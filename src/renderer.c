@@ -196,7 +196,7 @@ int ew_set_threads(ew_renderer *r, int n) {
     r->sched.bands = aligned_alloc(_Alignof(ew_band), sizeof(ew_band) * (size_t)nb);
     /* The draw's items: finer, and the bands themselves where the debug
      * views and the row profile need them. */
-    int ni = n == 1 ? 1 : n * EW_ITEMS_PER_THREAD;
+    int ni = n == 1 ? 1 : n * EW_DRAW_ITEMS_PER_THREAD;
     if (ni > r->target.height / 8) ni = r->target.height / 8;
     if (ni < nb) ni = nb;
     r->sched.max_items = ni;
@@ -593,7 +593,7 @@ static void job_draw(void *ctx, int thread) {
         else
             ew_passes_draw(r, &rows);
         it->model_ms = ew_now_ms() - t1;
-        if (r->sched.profile_rows) r->sched.bands[i].ms += ew_now_ms() - t0;  /* the row profile: scan and draw */
+        it->ms = ew_now_ms() - t0;
     }
 }
 

@@ -55,6 +55,7 @@ typedef struct ew_draw_item {
     _Alignas(64) int y0, y1;
     ew_stats stats;      /* the moving things' counters in its rows */
     double   model_ms;   /* time it spent on them */
+    double   ms;         /* its whole time */
 } ew_draw_item;
 
 /* Bands of the frame: several per thread, taken in turn by whichever

@@ -109,11 +109,18 @@ int main(void) {
     CHECK(ew_set_row_profile(r, 1) == 1, "row profile on one thread");
     CHECK(ew_render(r, &views[0], NULL) == 0 && count_diff(first, ew_frame_pixels(r), n) == 0,
           "the row profile changes the frame");
-    float row_ms[200];
-    CHECK(ew_frame_row_ms(r, row_ms, 200) == 200, "row costs: height");
+    float scan_ms[200], draw_ms[200];
+    for (int y = 0; y < 200; y++) scan_ms[y] = draw_ms[y] = -1;
+    CHECK(ew_frame_row_ms(r, scan_ms, draw_ms, 200) == 200, "row costs: height");
     int positive = 0;
-    for (int y = 0; y < 200; y++) positive += row_ms[y] >= 0 && (y % 8 == 0 || row_ms[y] == row_ms[y - 1]);
-    CHECK(positive == 200, "row costs: %d of 200 rows non-negative and even within their strip", positive);
+    double draw_total = 0;
+    for (int y = 0; y < 200; y++) {
+        positive += scan_ms[y] >= 0 && (y % 8 == 0 || scan_ms[y] == scan_ms[y - 1]);
+        positive += draw_ms[y] >= 0 && (y % 8 == 0 || draw_ms[y] == draw_ms[y - 1]);
+        draw_total += draw_ms[y];
+    }
+    CHECK(positive == 400, "row costs: %d of 2 x 200 rows non-negative and even within their strip", positive);
+    CHECK(draw_total > 0, "row costs: the draw took no time (%g ms)", draw_total);
     CHECK(ew_set_row_profile(r, 0) == 1, "row profile off");
     /* The placement rule: even costs give even bands; a costly row gets a
      * band of 8 rows to itself (at least 8 a band); too few rows, equal rows. */

@@ -141,7 +141,7 @@ struct ew_band {
     int32_t *st_fix;                /* as many: the stepped edges that may be out of order for the next line */
     int dropped;
     long written, covered;          /* world pixels its spans wrote, and covered at least once */
-    double ms;                      /* its scan's time this frame (and its draw's, in the row profile) */
+    double ms;                      /* its scan's time this frame */
 };
 
 int  ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet);
