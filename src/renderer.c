@@ -238,6 +238,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     ew_debug_free(r);
     ew_front_par_free(r->fpar);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
+    free(r->ents.box_frame), free(r->ents.box_faces), free(r->ents.box_list);
     ew_sprite_cache_free(r->ents.sprite_cache);
     free(r->ents.tint_rgba), free(r->ents.tint_remap);
     free(r);

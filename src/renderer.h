@@ -101,15 +101,16 @@ typedef struct ew_ents {
     ew_ent_frame *ent_frame;  int nent_frame, max_ent_frame;
     int           tested_frame;                 /* frame whose entities were tested in the front end */
     ew_box_surfs **box_surfs; int nbox_surfs;   /* per scene model: item box surfaces, or NULL */
-    /* per entity: an item box's frame number << 32 | in view known << 31
-     * | in view << 30 | its rows' first << 15 | their end, published by
-     * the first band to project it, so the others skip it when it misses
-     * their rows (raster/models.c; sized by ew_prepare_box) */
-    _Atomic uint64_t *box_rows; int nbox_rows, box_rows_frame;
+    /* item boxes projected once a frame for every piece of the draw
+     * (raster/models.c): per entity its frame, the faces to fill of all of
+     * them, and the visible boxes, the parallel work after the alias models */
+    struct ew_box_frame *box_frame; int max_box_frame;
+    struct ew_box_face  *box_faces; int max_box_faces;
+    int          *box_list;   int nbox;
     /* alias models posed once a frame for every band (raster/alias.h) */
     struct ew_alias_xf *xf;   int max_xf;       /* per entity */
     struct ew_xvert *xverts;  size_t max_xverts; /* their vertices, one run per visible model */
-    int          *alias_list; int nalias;       /* visible alias entities, the parallel work */
+    int          *alias_list; int nalias;       /* visible alias entities, the parallel work first */
     uint32_t     *tint_rgba;                    /* per entity, 256: the palette in its light's colour */
     uint8_t      *tint_remap;                   /* per entity, 256: 8-bit, the nearest colours of that */
     /* EW_ALIAS_SPRITE_CACHE: per entity, its image kept across frames

@@ -18,24 +18,6 @@ void ew_free_box_surfs(ew_renderer *r) {
     free(r->ents.box_surfs);
     r->ents.box_surfs = NULL;
     r->ents.nbox_surfs = 0;
-    free((void *)r->ents.box_rows);
-    r->ents.box_rows = NULL;
-    r->ents.nbox_rows = 0;
-}
-
-/* Per-entity row ranges for this frame's boxes (see ew_ents): room for
- * every entity, and none left from a frame of the same number (the count
- * wrapped).  Without memory the boxes are simply drawn by every band. */
-static void reserve_box_rows(ew_renderer *r) {
-    int n = r->ents.scene ? r->ents.scene->nents : 0, frame = r->marks.framecount;
-    if (frame < r->ents.box_rows_frame)
-        for (int i = 0; i < r->ents.nbox_rows; i++) atomic_init(&r->ents.box_rows[i], 0);
-    r->ents.box_rows_frame = frame;
-    if (n <= r->ents.nbox_rows) return;
-    _Atomic uint64_t *p = realloc((void *)r->ents.box_rows, sizeof *p * (size_t)n);
-    if (!p) return;
-    for (int i = r->ents.nbox_rows; i < n; i++) atomic_init(&p[i], 0);
-    r->ents.box_rows = p, r->ents.nbox_rows = n;
 }
 
 static void box_light(const ew_renderer *r, const ew_face *f, int light[4]) {
@@ -44,7 +26,6 @@ static void box_light(const ew_renderer *r, const ew_face *f, int light[4]) {
 
 /* Makes scene model mi's box surfaces current; -1 when out of memory. */
 int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
-    reserve_box_rows(r);
     if (mi >= r->ents.nbox_surfs) {
         ew_box_surfs **p = realloc(r->ents.box_surfs, sizeof *p * (size_t)(mi + 1));
         if (!p) return -1;

@@ -1,13 +1,16 @@
-/* The scene's z-buffered moving things, drawn in each band's rows after its
- * world spans: alias models, sprites, item boxes, then particles (the
- * "models" pass of scene/passes.c).  Which ones and their light were
- * settled once for the frame (world/entities.c). */
+/* The scene's z-buffered moving things, drawn in each piece of the draw's
+ * rows after its world spans: alias models, sprites, item boxes, then
+ * particles (the "models" pass of scene/passes.c).  Which ones and their
+ * light were settled once for the frame (world/entities.c); alias models
+ * are posed and item boxes projected once for the frame too, in the pass's
+ * parallel work, so a piece only rasterizes. */
 #include "renderer.h"
 #include "ew_util.h"
 #include "raster/alias.h"
 #include "scene/scene.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* An item box's corner, moved and projected once for all the faces that
@@ -56,49 +59,49 @@ static const box_corner *box_corner_at(const ew_view *v, const ew_world *bw, con
     return bc;
 }
 
-/* Whether any of the box's front faces, none cut by the frustum (their
- * corners made), has an area on screen: draw_box's in-view answer. */
-static int box_unclipped_in_view(const ew_world *bw, const ew_model *m, const int16_t *front, int nfront,
-                                 const box_corner *corner) {
-    for (int fi = 0; fi < nfront; fi++) {
-        const ew_face *f = &bw->faces[m->firstface + front[fi]];
-        ew_zpoly zp;
-        int n = f->numedges;
-        if (n < 3) continue;
-        for (int k = 0; k < n; k++) {
-            const box_corner *bc = &corner[ew_face_vertex(bw, f, k)];
-            zp.u[k] = bc->u, zp.v[k] = bc->v;
-        }
-        zp.n = n;
-        if (ew_zpoly_orient(&zp)) return 1;
+int ew_boxes_reserve(ew_renderer *r, int nents, int nfaces) {
+    ew_ents *en = &r->ents;
+    if (nents > en->max_box_frame) {
+        ew_box_frame *bf = realloc(en->box_frame, sizeof *bf * (size_t)nents);
+        if (bf) en->box_frame = bf;
+        int *list = realloc(en->box_list, sizeof *list * (size_t)nents);
+        if (list) en->box_list = list;
+        if (!bf || !list) return -1;
+        for (int i = en->max_box_frame; i < nents; i++) bf[i].frame = -1;
+        en->max_box_frame = nents;
+    }
+    if (nfaces > en->max_box_faces) {
+        ew_box_face *f = realloc(en->box_faces, sizeof *f * (size_t)nfaces);
+        if (!f) return -1;
+        en->box_faces = f, en->max_box_faces = nfaces;
     }
     return 0;
 }
 
-/* An item box: faces of a small world of its own, z-buffered. */
-static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surfs,
-                    const ew_scene_entity *e, int ei, const ew_rows *rows) {
+/* Item box entity ei this frame: its corners moved and projected once for
+ * the faces that share them, its faces turned to the eye projected and
+ * oriented, the rows they reach, and the faces left to fill (those with a
+ * pixel centre inside and a surface to draw).  Once a frame, on any
+ * thread; the pieces of the draw only fill (draw_box). */
+static void prepare_box(ew_renderer *r, int ei) {
+    const struct ew_scene *sc = r->ents.scene;
+    const ew_scene_entity *e = &sc->ents[ei];
+    const ew_world *bw = sc->models[e->model].data;
+    const ew_box_surfs *surfs = e->model < r->ents.nbox_surfs ? r->ents.box_surfs[e->model] : NULL;
     const ew_model *m = &bw->models[0];
-    /* Another band found this frame which rows its faces reach: when these
-     * are not among them, nothing below would draw here.  The first band
-     * returns whether the box is in view (it counts that), when known. */
-    _Atomic uint64_t *known = ei < r->ents.nbox_rows && r->target.height < 1 << 15 ? &r->ents.box_rows[ei] : NULL;
-    uint64_t frame = (uint64_t)(uint32_t)r->marks.framecount;
-    if (known) {
-        uint64_t k = atomic_load_explicit(known, memory_order_relaxed);
-        int ky0 = (int)(k >> 15 & 0x7FFF), ky1 = (int)(k & 0x7FFF);
-        if (k >> 32 == frame && (ky1 <= rows->y0 || ky0 >= rows->y1)) {
-            if (!rows->first) return 0;
-            if (k >> 31 & 1) return (int)(k >> 30 & 1);
-        }
-    }
+    ew_box_frame *bf = &r->ents.box_frame[ei];
+    ew_box_face *out = r->ents.box_faces + bf->face0;
+    const int h = r->target.height;
+    bf->frame = r->marks.framecount;
+    bf->in_frustum = bf->in_view = bf->nfaces = bf->dropped = bf->zrect = 0;
+    bf->y0 = bf->y1 = 0;
     float ax[3][3];
     ew_entity_axes(e->angles, ax);
     float lo[3], hi[3];
     ew_moved_box(ax, e->origin, m->mins, m->maxs, lo, hi);
-    if (ew_cull_box(&r->view, lo, hi, 15) < 0) return 0;
-    ew_view mv;  /* the camera in the box's space */
-    ew_view_to_model(&r->view, ax, e->origin, &mv);
+    if (ew_cull_box(&r->view, lo, hi, 15) < 0) return;
+    bf->in_frustum = 1;
+    ew_view_to_model(&r->view, ax, e->origin, &bf->mv);
     box_corner corner[BOX_CORNERS];
     uint8_t made[BOX_CORNERS];
     int16_t front[BOX_FACES];
@@ -107,67 +110,49 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
      * frustum cuts none of them, the z-fill of the rectangle around them
      * all serves every face (the world's 1/z, wherever it is filled, is the
      * same values). */
-    int zrect = 0, ry0 = 0, ry1 = 0;
     if (shared) {
         memset(made, 0, (size_t)bw->numverts);
         float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
-        int out = 0;
+        int cut = 0;
         for (int i = 0; i < m->numfaces; i++) {
             const ew_face *f = &bw->faces[m->firstface + i];
-            if (!box_face_front(bw, f, &mv)) continue;
+            if (!box_face_front(bw, f, &bf->mv)) continue;
             front[nfront++] = (int16_t)i;
             for (int k = 0; k < f->numedges; k++) {  /* every one, for the faces below */
                 const box_corner *bc = box_corner_at(&r->view, bw, ax, e->origin, corner, made, ew_face_vertex(bw, f, k));
-                out |= bc->out;
-                if (out) continue;
+                cut |= bc->out;
+                if (cut) continue;
                 if (bc->u < umin) umin = bc->u;
                 if (bc->u > umax) umax = bc->u;
                 if (bc->v < vmin) vmin = bc->v;
                 if (bc->v > vmax) vmax = bc->v;
             }
         }
-        if (!out && umin <= umax) {
+        if (!cut && umin <= umax) {
             /* ew_zpoly_close's rectangle, of all the corners: it holds every face's */
-            int x0 = ew_ceilf_int(umin), x1 = ew_ceilf_int(umax), y0 = ew_ceilf_int(vmin), y1 = ew_ceilf_int(vmax);
-            ew_zfill_rect(&r->zf, x0, y0 > rows->y0 ? y0 : rows->y0, x1, y1 < rows->y1 ? y1 : rows->y1);
-            zrect = 1;
-            /* and its rows, every face's rows among them */
-            ry0 = y0 < 0 ? 0 : y0 > r->target.height ? r->target.height : y0;
-            ry1 = y1 < ry0 ? ry0 : y1 > r->target.height ? r->target.height : y1;
-        } else if (nfront == 0) {
-            zrect = 1, ry0 = ry1 = 0;  /* no face turned to the eye */
+            bf->zrect = 1;
+            bf->zx0 = ew_ceilf_int(umin), bf->zx1 = ew_ceilf_int(umax);
+            bf->zy0 = ew_ceilf_int(vmin), bf->zy1 = ew_ceilf_int(vmax);
         }
     }
-    if (zrect && known) {
-        atomic_store_explicit(known, frame << 32 | (uint64_t)ry0 << 15 | (uint64_t)ry1, memory_order_relaxed);
-        if (ry1 <= rows->y0 || ry0 >= rows->y1) {  /* not in these rows: only whether in view */
-            if (!rows->first) return 0;
-            int in_view = box_unclipped_in_view(bw, m, front, nfront, corner);
-            atomic_store_explicit(known, frame << 32 | 1ull << 31 | (uint64_t)in_view << 30 | (uint64_t)ry0 << 15 | (uint64_t)ry1,
-                                  memory_order_relaxed);
-            return in_view;
-        }
-    }
-    long won = 0;
-    int in_view = 0, fy0 = r->target.height, fy1 = 0;
+    int in_view = 0, fy0 = h, fy1 = 0;
     for (int fi = 0, nf = shared ? nfront : m->numfaces; fi < nf; fi++) {
         int i = shared ? front[fi] : fi;
         const ew_face *f = &bw->faces[m->firstface + i];
-        if (!shared && !box_face_front(bw, f, &mv)) continue;
-        const ew_box_surf *bs = NULL;
+        if (!shared && !box_face_front(bw, f, &bf->mv)) continue;
         int lit = !(f->flags & (EW_SURF_SKY | EW_SURF_TURB));
-        if (lit) bs = surfs && i < surfs->nfaces && surfs->face[i].built ? &surfs->face[i] : NULL;
-        ew_zpoly zp;
-        int n = f->numedges, out = 0;
+        int has_surf = !lit || (surfs && i < surfs->nfaces && surfs->face[i].built);
+        ew_zpoly *zp = &out[bf->nfaces].zp;
+        int n = f->numedges, cut = 0;
         float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
         if (shared) {
             /* Unclipped, the polygon is its corners as they are (made above). */
-            zp.nearzi = 0;
-            for (int k = 0; k < n && !out; k++) {
+            zp->nearzi = 0;
+            for (int k = 0; k < n && !cut; k++) {
                 const box_corner *bc = &corner[ew_face_vertex(bw, f, k)];
-                out = bc->out;
-                zp.u[k] = bc->u, zp.v[k] = bc->v;
-                if (bc->zi > zp.nearzi) zp.nearzi = bc->zi;
+                cut = bc->out;
+                zp->u[k] = bc->u, zp->v[k] = bc->v;
+                if (bc->zi > zp->nearzi) zp->nearzi = bc->zi;
                 if (bc->u < umin) umin = bc->u;
                 if (bc->u > umax) umax = bc->u;
                 if (bc->v < vmin) vmin = bc->v;
@@ -175,50 +160,67 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
             }
         }
         int holds;  /* its rectangle holds a pixel centre */
-        if (!shared || out) {
+        if (!shared || cut) {
             float p[EW_MAX_POLY][3];
             for (int k = 0; k < n; k++) box_move(ax, e->origin, bw->verts[ew_face_vertex(bw, f, k)], p[k]);
-            if (!ew_zpoly_project(&r->view, p, n, &zp)) continue;
-            holds = zp.x0 <= zp.x1 && zp.y0 <= zp.y1;
+            if (!ew_zpoly_project(&r->view, p, n, zp)) continue;
+            holds = zp->x0 <= zp->x1 && zp->y0 <= zp->y1;
         } else {
             if (n < 3) continue;
-            holds = ew_zpoly_rect(&r->view, &zp, n, umin, umax, vmin, vmax);
+            holds = ew_zpoly_rect(&r->view, zp, n, umin, umax, vmin, vmax);
             /* Most faces of a far box fall between pixel centres: once the
              * box is known to be in view (and no surface is missing, which
              * is counted below), their orientation tells nothing. */
-            if (!holds && in_view && (bs || !lit)) continue;
-            if (!ew_zpoly_orient(&zp)) continue;
+            if (!holds && in_view && has_surf) continue;
+            if (!ew_zpoly_orient(zp)) continue;
         }
         in_view = 1;
-        /* The rows of the faces that get this far (one that cannot be
-         * drawn still counts a missing surface), for the other bands. */
-        if ((zp.y0 < zp.y1 ? zp.y0 : zp.y1) < fy0) fy0 = zp.y0 < zp.y1 ? zp.y0 : zp.y1;
-        if ((zp.y0 > zp.y1 ? zp.y0 : zp.y1) + 1 > fy1) fy1 = (zp.y0 > zp.y1 ? zp.y0 : zp.y1) + 1;
-        if (zp.y1 < rows->y0 || zp.y0 >= rows->y1) continue;  /* another band's rows */
-        if (lit && !bs) {  /* no memory for it */
-            rows->stats->dropped++;
+        int ylo = zp->y0 < zp->y1 ? zp->y0 : zp->y1, yhi = (zp->y0 > zp->y1 ? zp->y0 : zp->y1) + 1;
+        if (!has_surf) {  /* no memory for it */
+            bf->dropped++;
             continue;
         }
         if (!holds) continue;  /* nothing to fill, and an empty z-fill rectangle */
-        ew_zpoly_look look = {bw, f, &mv, ew_face_texture(bw, f, r->view.time), NULL, 0, 0, 1, EW_ZP_OPAQUE, NULL, 256};
-        if (bs) {
-            look.mip = ew_face_mip(&r->view, bw, f, zp.nearzi);
+        if (ylo < fy0) fy0 = ylo;
+        if (yhi > fy1) fy1 = yhi;
+        out[bf->nfaces++].face = i;
+    }
+    bf->in_view = in_view;
+    bf->y0 = fy0 < 0 ? 0 : fy0 > h ? h : fy0;
+    bf->y1 = fy1 < bf->y0 ? bf->y0 : fy1 > h ? h : fy1;
+}
+
+/* An item box in the rows of one piece of the draw: its prepared faces
+ * filled, z-buffered; whether it is in view. */
+static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surfs, int ei, const ew_rows *rows) {
+    if (ei >= r->ents.max_box_frame || r->ents.box_frame[ei].frame != r->marks.framecount) return 0;
+    const ew_box_frame *bf = &r->ents.box_frame[ei];
+    if (rows->first) rows->stats->dropped += bf->dropped;
+    if (bf->y1 <= rows->y0 || bf->y0 >= rows->y1) return bf->in_view;
+    if (bf->zrect)
+        ew_zfill_rect(&r->zf, bf->zx0, bf->zy0 > rows->y0 ? bf->zy0 : rows->y0, bf->zx1,
+                      bf->zy1 < rows->y1 ? bf->zy1 : rows->y1);
+    const ew_model *m = &bw->models[0];
+    long won = 0;
+    for (int k = 0; k < bf->nfaces; k++) {
+        const ew_box_face *bx = &r->ents.box_faces[bf->face0 + k];
+        const ew_zpoly *zp = &bx->zp;
+        if (zp->y1 < rows->y0 || zp->y0 >= rows->y1) continue;  /* another piece's rows */
+        const ew_face *f = &bw->faces[m->firstface + bx->face];
+        ew_zpoly_look look = {bw, f, &bf->mv, ew_face_texture(bw, f, r->view.time), NULL, 0, 0, 1, EW_ZP_OPAQUE,
+                              NULL, 256};
+        if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
+            const ew_box_surf *bs = &surfs->face[bx->face];  /* built: prepare_box kept only such */
+            look.mip = ew_face_mip(&r->view, bw, f, zp->nearzi);
             look.surf = bs->pixels[look.mip], look.surf_width = bs->width[look.mip];
         }
-        if (!zrect)
-            ew_zfill_rect(&r->zf, zp.x0, zp.y0 > rows->y0 ? zp.y0 : rows->y0, zp.x1 + 1,
-                          zp.y1 + 1 < rows->y1 ? zp.y1 + 1 : rows->y1);
-        won += ew_zpoly_fill(&r->draw, &zp, &look, NULL, 0, rows->y0, rows->y1);
+        if (!bf->zrect)
+            ew_zfill_rect(&r->zf, zp->x0, zp->y0 > rows->y0 ? zp->y0 : rows->y0, zp->x1 + 1,
+                          zp->y1 + 1 < rows->y1 ? zp->y1 + 1 : rows->y1);
+        won += ew_zpoly_fill(&r->draw, zp, &look, NULL, 0, rows->y0, rows->y1);
     }
     rows->stats->alias_pixels += won;
-    if (known) {  /* clamped to the frame, the same for every band; none: empty */
-        int h = r->target.height;
-        fy0 = fy0 < 0 ? 0 : fy0 > h ? h : fy0;
-        fy1 = fy1 < fy0 ? fy0 : fy1 > h ? h : fy1;
-        atomic_store_explicit(known, frame << 32 | 1ull << 31 | (uint64_t)in_view << 30 | (uint64_t)fy0 << 15 | (uint64_t)fy1,
-                              memory_order_relaxed);
-    }
-    return in_view;
+    return bf->in_view;
 }
 
 static void tint_palette(ew_renderer *r, const ew_ent_frame *ef, int i, ew_alias_xf *xf);
@@ -239,7 +241,13 @@ static ew_model_pose entity_pose(const ew_renderer *r, const ew_scene_entity *e,
     return pose;
 }
 
-void ew_pose_alias(ew_renderer *r, int item) {
+/* The models pass's work: the frame's visible alias models posed, then its
+ * item boxes projected. */
+void ew_models_work(ew_renderer *r, int item) {
+    if (item >= r->ents.nalias) {
+        prepare_box(r, r->ents.box_list[item - r->ents.nalias]);
+        return;
+    }
     const struct ew_scene *sc = r->ents.scene;
     int i = r->ents.alias_list[item];
     const ew_scene_entity *e = &sc->ents[i];
@@ -300,7 +308,7 @@ void ew_draw_models(ew_renderer *r, const ew_rows *rows) {
         } else if (m->kind == EW_MODEL_SPRITE) {
             drawn = ew_draw_sprite_rows(r, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_BOX) {
-            drawn = draw_box(r, m->data, e->model < r->ents.nbox_surfs ? r->ents.box_surfs[e->model] : NULL, e, i, rows);
+            drawn = draw_box(r, m->data, e->model < r->ents.nbox_surfs ? r->ents.box_surfs[e->model] : NULL, i, rows);
         }
         if (rows->first) {
             if (drawn) rows->stats->entities_drawn++;

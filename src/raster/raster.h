@@ -124,6 +124,25 @@ typedef struct ew_zpoly {
     double sign;
     int    x0, y0, x1, y1;
 } ew_zpoly;
+/* raster/models.c: an item box this frame, projected once (in the models
+ * pass's work) for every piece of the draw, which only fills. */
+typedef struct ew_box_frame {
+    int     frame;                  /* the frame it was prepared for: else not drawn */
+    int     in_frustum, in_view;    /* its box meets the frustum; a face has an area on screen */
+    int     y0, y1;                 /* the rows its faces reach */
+    int     zrect, zx0, zy0, zx1, zy1;  /* one z-fill rectangle holds every face's */
+    int     face0, nfaces;          /* its faces to fill, in ents.box_faces; face0 set by the reserve */
+    int     dropped;                /* lit faces in view with no surface */
+    ew_view mv;                     /* the camera in the box's space */
+} ew_box_frame;
+typedef struct ew_box_face {
+    ew_zpoly zp;                    /* projected and oriented */
+    int      face;                  /* of the box model */
+} ew_box_face;
+/* Room for the frame's item boxes: nents entity frames and list slots
+ * (before the entities are listed), then nfaces faces; -1 without memory. */
+int  ew_boxes_reserve(ew_renderer *r, int nents, int nfaces);
+
 typedef struct ew_zpoly_look {
     const ew_world   *world;
     const ew_face    *face;

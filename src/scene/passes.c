@@ -5,7 +5,7 @@
 
 static const ew_pass passes[] = {
     /* alias models, sprites, item boxes, particles */
-    {"models", ew_prepare_entities, ew_pose_alias, ew_draw_models},
+    {"models", ew_prepare_entities, ew_models_work, ew_draw_models},
     /* fence textures: holes show the world and the models behind */
     {"fences", ew_see_prepare, NULL, ew_draw_fences},
     /* fog over everything opaque, by its depth */

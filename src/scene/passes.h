@@ -32,10 +32,11 @@ void        ew_pass_draw(ew_renderer *r, const ew_rows *rows, int i);
 
 /* raster/models.c: alias models, sprites, item boxes, then particles,
  * z-buffered over the z-filled world.  (Brush models are in the world.)
- * ew_pose_alias poses the frame's item-th visible alias model (the work
- * ew_prepare_entities leaves). */
+ * ew_models_work does the frame's item-th piece of the work
+ * ew_prepare_entities leaves: the visible alias models posed, then the item
+ * boxes projected, once for every piece of the draw. */
 void ew_draw_models(ew_renderer *r, const ew_rows *rows);
-void ew_pose_alias(ew_renderer *r, int item);
+void ew_models_work(ew_renderer *r, int item);
 
 /* raster/seethrough.c: fence textures (alpha-tested, z-written), then
  * translucent surfaces (blended far to near, no z), as the front end

@@ -84,6 +84,9 @@ int ew_prepare_entities(ew_renderer *r) {
         }
     }
     size_t nxverts = 0;
+    int nbox_faces = 0, boxes = ew_boxes_reserve(r, sc->nents, 0) == 0;
+    en->nbox = 0;
+    if (!boxes) r->stats.dropped++;  /* no item box drawn */
     for (int i = 0; i < sc->nents; i++) {
         const ew_scene_entity *e = &sc->ents[i];
         const ew_ent_frame *ef = &r->ents.ent_frame[i];
@@ -96,18 +99,29 @@ int ew_prepare_entities(ew_renderer *r) {
             nxverts += (size_t)((const ew_mdl *)m->data)->numverts;
             en->alias_list[en->nalias++] = i;
         }
-        if (m->kind == EW_MODEL_BOX && ew_prepare_box(r, e->model, m->data) < 0) r->stats.dropped++;
+        if (m->kind == EW_MODEL_BOX) {
+            if (ew_prepare_box(r, e->model, m->data) < 0) r->stats.dropped++;
+            if (boxes) {
+                en->box_frame[i].face0 = nbox_faces;
+                nbox_faces += ((const ew_world *)m->data)->models[0].numfaces;
+                en->box_list[en->nbox++] = i;
+            }
+        }
+    }
+    if (boxes && ew_boxes_reserve(r, sc->nents, nbox_faces) < 0) {
+        r->stats.dropped++;
+        en->nbox = 0;
     }
     r->ents.nent_frame = sc->nents;
     if (ew_sprite_cache_reserve(r, sc->nents) < 0) r->stats.dropped++;  /* models drawn exactly then */
     if (nxverts > en->max_xverts) {
         ew_xvert *xv = realloc(en->xverts, sizeof *xv * nxverts);
-        if (!xv) {  /* each band poses its own then */
+        if (!xv) {  /* each piece poses its own then */
             r->stats.dropped++;
             en->nalias = 0;
-            return 0;
+            return en->nbox;
         }
         en->xverts = xv, en->max_xverts = nxverts;
     }
-    return en->nalias;
+    return en->nalias + en->nbox;
 }
