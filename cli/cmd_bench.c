@@ -727,12 +727,8 @@ static double band_imbalance(const float *scan, const float *draw, int h, int n)
  * measured ones), each phase handed out to whichever thread is free first;
  * the two finishing times over a perfect share, total / n. */
 static double sched_imbalance(const float *prev_scan, const float *scan, const float *draw, int h, int n) {
-    int nb = n * EW_BANDS_PER_THREAD < h / 8 ? n * EW_BANDS_PER_THREAD : h / 8;
-    int ni = n * EW_DRAW_ITEMS_PER_THREAD < h / 8 ? n * EW_DRAW_ITEMS_PER_THREAD : h / 8;
-    if (n == 1)
-        nb = ni = 1;
-    if (ni < nb)
-        ni = nb;
+    int nb, ni;
+    ew_frame_cuts(n, h, &nb, &ni);
     double total = 0, end = phase_end(prev_scan, scan, h, nb, n, &total) + phase_end(draw, draw, h, ni, n, &total);
     return total > 0 ? end / (total / n) : NAN;
 }

@@ -53,6 +53,9 @@ EW_API void ew_set_full_zfill(ew_renderer *r, int on);
  * last one taken idles the other threads and cutting them costs little. */
 #define EW_BANDS_PER_THREAD 4
 #define EW_DRAW_ITEMS_PER_THREAD 8
+/* The renderer's counts of both (outside the row profile) for threads
+ * threads at height rows: one each on one thread. */
+EW_API void ew_frame_cuts(int threads, int height, int *bands, int *pieces);
 
 /* How the renderer cuts a frame of height rows into n >= 1 bands: each
  * band ends where the running sum of row_cost first reaches its share of

@@ -60,6 +60,14 @@ void ew_estimate_draw_costs(const ew_renderer *r, float *cost) {
     }
 }
 
+void ew_frame_cuts(int threads, int height, int *bands, int *pieces) {
+    int nb = threads <= 1 ? 1 : threads * EW_BANDS_PER_THREAD;
+    int ni = threads <= 1 ? 1 : threads * EW_DRAW_ITEMS_PER_THREAD;
+    if (nb > height / 8) nb = height / 8;  /* at least 8 rows a band */
+    if (ni > height / 8) ni = height / 8;
+    *bands = nb, *pieces = ni < nb ? nb : ni;
+}
+
 int ew_set_row_profile(ew_renderer *r, int on) {
     r->sched.profile_rows = on != 0;
     return ew_set_threads(r, r->sched.nthreads > 0 ? r->sched.nthreads : 1);

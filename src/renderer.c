@@ -188,17 +188,15 @@ int ew_set_threads(ew_renderer *r, int n) {
     r->sched.pool = ew_pool_create(n);
     n = r->sched.pool ? ew_pool_threads(r->sched.pool) : 1;
     /* One band alone; with threads, several each (at least 8 rows a band),
-     * so a thread that finishes early takes the next band instead of idling.
-     * The row profile: strips of 8 rows. */
-    int nb = r->sched.profile_rows ? r->target.height / 8 : n == 1 ? 1 : n * EW_BANDS_PER_THREAD;
-    if (nb > r->target.height / 8) nb = r->target.height / 8;
+     * so a thread that finishes early takes the next band instead of idling,
+     * and finer pieces for the draw (bands.c).  The row profile: strips of
+     * 8 rows, drawn as they were scanned (the items are the bands then, as
+     * in the debug views). */
+    int nb, ni;
+    ew_frame_cuts(n, r->target.height, &nb, &ni);
+    if (r->sched.profile_rows) nb = ni = r->target.height / 8;
     /* Aligned like ew_band, so no two bands' counters share a cache line. */
     r->sched.bands = aligned_alloc(_Alignof(ew_band), sizeof(ew_band) * (size_t)nb);
-    /* The draw's items: finer, and the bands themselves where the debug
-     * views and the row profile need them. */
-    int ni = n == 1 ? 1 : n * EW_DRAW_ITEMS_PER_THREAD;
-    if (ni > r->target.height / 8) ni = r->target.height / 8;
-    if (ni < nb) ni = nb;
     r->sched.max_items = ni;
     r->sched.items = aligned_alloc(_Alignof(ew_draw_item), sizeof(ew_draw_item) * (size_t)ni);
     r->lit.blocklights = malloc(sizeof(int) * 3 * (size_t)r->lit.maxlm * n);  /* RGB */

@@ -44,7 +44,8 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
 
 void ew_band_free(ew_band *b) {
     free(b->stack);
-    free(b->has_spans), free(b->spans), free(b->aet), free(b->st_neg), free(b->st_fix), free(b->rowmark), free(b->scratch);
+    free(b->has_spans), free(b->spans), free(b->aet), free(b->st_neg), free(b->st_fix);
+    free(b->rowmark), free(b->scratch);
 }
 
 void *ew_band_scratch(ew_band *b, size_t bytes) {
@@ -126,6 +127,22 @@ static void add_active(ew_band *b, const ew_edge *e, int v) {
     ew_active_set(&b->aet[b->naet++], e, v);
 }
 
+void ew_band_start(const ew_edge_list *el, ew_band *b) {
+    /* Only the rows above are visited, and the edges are sorted at once,
+     * since the insertion sort of the first row would take time quadratic
+     * in their number. */
+    b->naet = 0;
+    for (int k = 0, end = el->row_first[b->y0]; k < end; k++)
+        if (el->by_row_last[k] >= b->y0) add_active(b, &el->edges[el->by_row[k]], b->y0);
+    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
+}
+
+static inline void add_row(const ew_edge_list *el, ew_band *b, int v) {
+    for (int k = el->row_first[v], end = el->row_first[v + 1]; k < end; k++)
+        add_active(b, &el->edges[el->by_row[k]], v);
+}
+void ew_band_add_row(const ew_edge_list *el, ew_band *b, int v) { add_row(el, b, v); }
+
 /* The line's edges in order: a[0..nold) are last line's, stepped, nearly in
  * order already; a[nold..n) start on this line, in the order they were
  * added.  The result is the insertion sort's of the whole array, which is a
@@ -162,30 +179,20 @@ static void sort_edges(ew_active *a, int nold, int n, const int32_t *fix, int nf
 
 void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     const ew_surf *surfs = el->surfs;
-    const ew_edge *edges = el->edges;
     ew_stack_entry *st = b->stack;
 
     /* The stack's counts are all zero here: calloc'd, and each line ends by
      * clearing every count it left above or below zero. */
     b->nspans = 0;
-    b->naet = 0;
     fit_neg(b);
     memset(b->has_spans, 0, (size_t)el->nsurfs);
-
-    /* Edges that began above the band and are still alive at its top: only
-     * the rows above are visited, and the edges are sorted at once, since
-     * the insertion sort of the first row would take time quadratic in
-     * their number. */
-    const int32_t *first = el->row_first, *by_row = el->by_row, *by_last = el->by_row_last;
-    for (int k = 0, end = first[b->y0]; k < end; k++)
-        if (by_last[k] >= b->y0) add_active(b, &edges[by_row[k]], b->y0);
-    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
+    ew_band_start(el, b);
 
     int nfix = 0;  /* sorted */
     span_sink out = {b->spans, 0, b->cap_spans, b->has_spans};
     for (int v = b->y0; v < b->y1; v++) {
         const int nold = b->naet;  /* last line's edges, stepped: nearly in order */
-        for (int k = first[v], end = first[v + 1]; k < end; k++) add_active(b, &edges[by_row[k]], v);
+        add_row(el, b, v);
         /* Read once per line: a span's stores could alias them, so
          * the compiler would reload both at every edge. */
         ew_active *aet = b->aet;

@@ -26,7 +26,6 @@
 #include "hsr/active.h"
 
 #include <limits.h>
-#include <stdlib.h>
 #include <string.h>
 
 enum { C_COMPARES, C_SPLITS, C_TIES };
@@ -102,28 +101,7 @@ static void advance(zscan *z, ew_band *b, int *top, int *start, int a, int end, 
     *top = t;
 }
 
-/* ---- the active edges (the edge method's, kept apart so its scan is untouched) ---- */
-
-static int grow_aet(ew_band *b) {
-    if (b->cap_aet >= b->max_aet) return -1;
-    int n = b->cap_aet * 2 > b->max_aet ? b->max_aet : b->cap_aet * 2;
-    ew_active *p = realloc(b->aet, sizeof *p * (size_t)n);
-    if (!p) return -1;
-    b->aet = p, b->cap_aet = n;
-    return 0;
-}
-
-static void add_active(ew_band *b, const ew_edge *e, int v) {
-    if (b->naet >= b->cap_aet && grow_aet(b) < 0) {
-        b->dropped++;
-        return;
-    }
-    ew_active_set(&b->aet[b->naet++], e, v);
-}
-
-
 static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
-    const ew_edge *edges = el->edges;
     ew_stack_entry *st = b->stack;
     b->nspans = 0;
     b->naet = 0;
@@ -135,13 +113,10 @@ static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
         return;
     }
 
-    const int32_t *first = el->row_first, *by_row = el->by_row, *by_last = el->by_row_last;
-    for (int k = 0, end = first[b->y0]; k < end; k++)
-        if (by_last[k] >= b->y0) add_active(b, &edges[by_row[k]], b->y0);
-    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
+    ew_band_start(el, b);  /* the edge method's active edges (hsr/edge_scan.c) */
 
     for (int v = b->y0; v < b->y1; v++) {
-        for (int k = first[v], end = first[v + 1]; k < end; k++) add_active(b, &edges[by_row[k]], v);
+        ew_band_add_row(el, b, v);
         ew_active *aet = b->aet;
         const int naet = b->naet;
         ew_active_sort(aet, naet);

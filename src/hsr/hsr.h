@@ -148,6 +148,11 @@ int  ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet);
 void ew_band_free(ew_band *b);
 /* The edge list's scan of one band into spans. */
 void ew_scan_band(const ew_edge_list *el, int width, ew_band *b);
+/* The edge list's scans (edge_scan.c, edge_z.c): a band's active edges made
+ * those alive at its top row, sorted; then each row's new edges added,
+ * unsorted.  Edges past the band's capacity are counted in dropped. */
+void ew_band_start(const ew_edge_list *el, ew_band *b);
+void ew_band_add_row(const ew_edge_list *el, ew_band *b, int v);
 /* The band's scratch of at least bytes (grown, contents kept up to the old
  * size; zeroed when first made), or NULL when memory runs out.  Freed with
  * the band.  A method keeps its per-band state here: bands resolve on

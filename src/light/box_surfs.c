@@ -3,7 +3,6 @@
  * when a light style on the face or its texture frame changes; the bands
  * only read them. */
 #include "renderer.h"
-#include "scene/scene.h"
 
 #include <stdlib.h>
 #include <string.h>

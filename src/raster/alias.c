@@ -140,9 +140,8 @@ void ew_alias_affine_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, c
     if (cross <= 0) return;
     /* Rows first: a model crossing several bands sends every band all its
      * triangles, and the setup's divides are most of a small one's cost. */
-    int32_t ytop = a->y < b->y ? a->y : b->y, ybot = a->y > b->y ? a->y : b->y;
-    if (c->y < ytop) ytop = c->y;
-    if (c->y > ybot) ybot = c->y;
+    int32_t ytop, ybot;
+    ew_alias_tri_rows(a, b, c, &ytop, &ybot);
     int32_t ya = ytop > ra->y0 ? ytop : ra->y0;
     int32_t yb = ybot < ra->y1 ? ybot : ra->y1;
     if (ya >= yb) return;
@@ -506,13 +505,10 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
         int back = !tri->facesfront;
         if (accept || !(x0->clip | x1->clip | x2->clip)) {
             /* Rows first where nothing is counted: a model crossing several
-             * of the draw's pieces sends each all its triangles, and no
-             * rasterizer writes a row outside its corners'. */
+             * of the draw's pieces sends each all its triangles. */
             if (!counts) {
-                int32_t ytop = x0->sv.y < x1->sv.y ? x0->sv.y : x1->sv.y;
-                int32_t ybot = x0->sv.y > x1->sv.y ? x0->sv.y : x1->sv.y;
-                if (x2->sv.y < ytop) ytop = x2->sv.y;
-                if (x2->sv.y > ybot) ybot = x2->sv.y;
+                int32_t ytop, ybot;
+                ew_alias_tri_rows(&x0->sv, &x1->sv, &x2->sv, &ytop, &ybot);
                 if (ybot < rows->y0 || ytop >= rows->y1) continue;
             }
             /* Culled before the copies: about half of them are back faces. */

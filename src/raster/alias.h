@@ -110,6 +110,13 @@ static inline int64_t ew_alias_cross(const ew_avert *a, const ew_avert *b, const
 static inline int ew_alias_tri_visible(const ew_avert *a, const ew_avert *b, const ew_avert *c) {
     return ew_alias_cross(a, b, c) > 0;
 }
+/* The rows of the triangle's snapped corners, [*top, *bot]: no rasterizer
+ * writes a row outside them. */
+static inline void ew_alias_tri_rows(const ew_avert *a, const ew_avert *b, const ew_avert *c, int32_t *top,
+                                     int32_t *bot) {
+    int32_t t = a->y < b->y ? a->y : b->y, m = a->y > b->y ? a->y : b->y;
+    *top = c->y < t ? c->y : t, *bot = c->y > m ? c->y : m;
+}
 
 /* Affine texture mapping with Gouraud shading and the top-left fill rule on
  * pixel centres: a pixel is drawn if its centre is inside the triangle, or

@@ -96,9 +96,8 @@ void ew_alias_subdiv_tri(ew_araster *ra, const ew_avert *a, const ew_avert *b, c
      * outside [y0, y1) take nothing (ew_alias_tile_begin): a triangle of
      * another band's rows would only be split for naught. */
     if (ra->tile_cut) {
-        int32_t ytop = a->y < b->y ? a->y : b->y, ybot = a->y > b->y ? a->y : b->y;
-        if (c->y < ytop) ytop = c->y;
-        if (c->y > ybot) ybot = c->y;
+        int32_t ytop, ybot;
+        ew_alias_tri_rows(a, b, c, &ytop, &ybot);
         if (ybot < ra->y0 || ytop >= ra->y1) return;
     }
     subdivide(ra, a, b, c, 0);

@@ -93,14 +93,13 @@ static void prepare_box(ew_renderer *r, int ei) {
     ew_box_face *out = r->ents.box_faces + bf->face0;
     const int h = r->target.height;
     bf->frame = r->marks.framecount;
-    bf->in_frustum = bf->in_view = bf->nfaces = bf->dropped = bf->zrect = 0;
+    bf->in_view = bf->nfaces = bf->dropped = bf->zrect = 0;
     bf->y0 = bf->y1 = 0;
     float ax[3][3];
     ew_entity_axes(e->angles, ax);
     float lo[3], hi[3];
     ew_moved_box(ax, e->origin, m->mins, m->maxs, lo, hi);
     if (ew_cull_box(&r->view, lo, hi, 15) < 0) return;
-    bf->in_frustum = 1;
     ew_view_to_model(&r->view, ax, e->origin, &bf->mv);
     box_corner corner[BOX_CORNERS];
     uint8_t made[BOX_CORNERS];

@@ -128,7 +128,7 @@ typedef struct ew_zpoly {
  * pass's work) for every piece of the draw, which only fills. */
 typedef struct ew_box_frame {
     int     frame;                  /* the frame it was prepared for: else not drawn */
-    int     in_frustum, in_view;    /* its box meets the frustum; a face has an area on screen */
+    int     in_view;                /* a face has an area on screen */
     int     y0, y1;                 /* the rows its faces reach */
     int     zrect, zx0, zy0, zx1, zy1;  /* one z-fill rectangle holds every face's */
     int     face0, nfaces;          /* its faces to fill, in ents.box_faces; face0 set by the reserve */
@@ -171,10 +171,9 @@ int  ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p);
 void ew_zpoly_vertex(const ew_view *v, const float pt[3], float *u, float *vv, float *zi);
 int  ew_zpoly_close(const ew_view *v, ew_zpoly *p, int m);
 /* ew_zpoly_close in its two steps: the rectangle (n, x0 .. y1; 0 when it
- * holds no pixel centre), then the orientation (0: no area, not drawn). */
-int  ew_zpoly_bounds(const ew_view *v, ew_zpoly *p, int m);
-/* ew_zpoly_bounds of the corners' extremes found by the caller (1e30 and
- * -1e30 to start, taken with < and > in corner order). */
+ * holds no pixel centre) of the corners' extremes found by the caller (1e30
+ * and -1e30 to start, taken with < and > in corner order), then the
+ * orientation (0: no area, not drawn). */
 int  ew_zpoly_rect(const ew_view *v, ew_zpoly *p, int m, float umin, float umax, float vmin, float vmax);
 int  ew_zpoly_orient(ew_zpoly *p);
 /* Fills it into the target where nearer, within rows [y0, y1); ids[pixel]

@@ -20,7 +20,8 @@ void ew_zpoly_vertex(const ew_view *v, const float pt[3], float *u, float *vv, f
     *zi = z;
 }
 
-int ew_zpoly_bounds(const ew_view *v, ew_zpoly *p, int m) {
+/* ew_zpoly_rect of the polygon's own corners. */
+static int zpoly_bounds(const ew_view *v, ew_zpoly *p, int m) {
     float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f;
     for (int i = 0; i < m; i++) {
         if (p->u[i] < umin) umin = p->u[i];
@@ -55,7 +56,7 @@ int ew_zpoly_orient(ew_zpoly *p) {
 }
 
 int ew_zpoly_close(const ew_view *v, ew_zpoly *p, int m) {
-    ew_zpoly_bounds(v, p, m);
+    zpoly_bounds(v, p, m);
     return ew_zpoly_orient(p);
 }
 

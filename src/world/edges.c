@@ -26,7 +26,7 @@ static inline int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) 
 /* Emits (or reuses) world edge `se` (a signed surfedge) between a and b,
  * projecting the ends on demand.  Returns the nearest 1/z it saw. */
 static inline float emit_world_edge(ew_renderer *r, int se, const float *pa, const float *pb,
-                             proj *ja, int *va, proj *jb, int *vb, int s) {
+                                    proj *ja, int *va, proj *jb, int *vb, int s) {
     float zi;
     if (ew_edge_cache_take(r, se, s, &zi)) return zi;
     if (!*va) project(r, pa, ja), *va = 1;

@@ -111,8 +111,8 @@ void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view 
 /* world/entities.c: once per frame before the bands draw (serial): which
  * entities the PVS and the frustum let through, and the light on each, so
  * that the bands do not each work it out again; returns how many alias
- * models are left to pose and item boxes to project (ew_models_work).  Out of memory: no entities
- * (counted in dropped). */
+ * models are left to pose and item boxes to project (ew_models_work).
+ * Out of memory: no entities (counted in dropped). */
 typedef struct ew_ent_frame {
     int    visible, culled;  /* culled: a model entity the frustum or the PVS hides */
     int    ambient, shade;

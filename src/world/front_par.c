@@ -595,10 +595,13 @@ static void prepare_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
         while (p >= fp->segs[j].face0 + fp->segs[j].nfaces) j++;
         const seg *s = &fp->segs[j];
         const lface *l = &fp->lf[s->lf0 + (p - s->face0)];
+        if (fp->direct) {  /* straight to the list: nothing staged */
+            ew_emit_face(r, l->face, l->clipflags, s->key0 + l->key);
+            continue;
+        }
         pface *pf = &fp->faces[p];
         pf->face = l->face, pf->clipflags = l->clipflags, pf->key = s->key0 + l->key, pf->pe = s->pe0 + l->pe;
-        if (fp->direct) ew_emit_face(r, pf->face, pf->clipflags, pf->key);
-        else prepare(r, fp, p, 1);
+        prepare(r, fp, p, 1);
     }
 }
 
