@@ -171,8 +171,11 @@ struct ew_world {
 
 /* Vertex index of the i-th corner of face f. */
 static inline int ew_face_vertex(const ew_world *w, const ew_face *f, int i) {
-    int se = w->surfedges[f->firstedge + i];
-    return se >= 0 ? (int)w->edges[se][0] : (int)w->edges[-se][1];
+    /* Indexed by the sign, not branched on (gcc makes a branch of a
+     * ternary here): the signs of a face's sides follow no pattern a
+     * predictor could learn.  m is -1 for a negative surfedge, else 0. */
+    int se = w->surfedges[f->firstedge + i], m = -(se < 0);
+    return (int)w->edges[(se ^ m) - m][m & 1];
 }
 /* Face f's corners copied into p (room for f->numedges). */
 static inline void ew_face_points(const ew_world *w, const ew_face *f, float (*p)[3]) {

@@ -97,6 +97,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->target.zbuf = malloc(sizeof(float) * (size_t)px);
     r->marks.leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
     r->marks.node_frame = calloc((size_t)w->numnodes + 1, sizeof(int));
+    r->marks.leaf_up = malloc(sizeof(int) * ((size_t)w->numleaves + 1));
+    r->marks.node_up = malloc(sizeof(int) * ((size_t)w->numnodes + 1));
     r->marks.vis = malloc(sizeof(int) * ((size_t)w->numleaves + 2));
     r->marks.face_frame = calloc((size_t)w->numfaces + 1, sizeof(int));
     r->marks.leaf_key = calloc((size_t)w->numleaves + 1, sizeof(int));
@@ -127,6 +129,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->lit.surf_mip = malloc((size_t)r->el.max_surfs);
     r->lit.grad_list = malloc(sizeof(int) * (size_t)r->el.max_surfs);
     if (!r->target.pixels || !r->target.zbuf || !r->marks.leaf_frame || !r->marks.node_frame || !r->marks.vis ||
+        !r->marks.leaf_up || !r->marks.node_up ||
         !r->marks.face_frame ||
         !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
         !r->marks.edge_cache_frame || !r->marks.edge_cache_index || !r->marks.edge_cache_down || !r->el.edges ||
@@ -135,6 +138,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
         !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi || !r->lit.surf_draw ||
         !r->lit.surf_state || !r->lit.surf_mip || !r->lit.grad_list)
         goto oom;
+    for (int i = 0; i < w->numleaves; i++) r->marks.leaf_up[i] = w->leaves[i].parent;
+    for (int i = 0; i < w->numnodes; i++) r->marks.node_up[i] = w->nodes[i].parent;
     r->zf.draw = r->lit.surf_draw;
     ew_fog_levels(&r->draw.fog);
     if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
@@ -222,7 +227,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
     free(r->lit.surf_draw), free(r->lit.grad_list), free(r->lit.surf_state), free(r->lit.surf_mip);
     free(r->target.pixels), free(r->target.zbuf), free(r->face_ids);
-    free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame), free(r->marks.vis);
+    free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.leaf_up), free(r->marks.node_up), free(r->marks.face_frame), free(r->marks.vis);
     free(r->marks.leaf_key), free(r->marks.leaf_keyframe), free(r->ents.ent_views), free(r->ents.ent_frame);
     ew_free_box_surfs(r);
     free(r->marks.face_dlframe), free(r->marks.face_dlbits);

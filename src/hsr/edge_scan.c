@@ -253,23 +253,28 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
         sink_span(b, &out, top, st[top].lastu, width, v);
 
         /* Stepped to the next line, in a pass of its own: the scan above
-         * then keeps its state in registers. */
+         * then keeps its state in registers.  No branch on an edge's u
+         * or its end: which edges fall out of order or end follows no
+         * pattern, so every such branch would be a coin toss. */
         int32_t max_u = INT32_MIN;
         nfix = 0;
         int i = 0;
         for (; i < naet && aet[i].v_last > v; i++) {  /* up to the first edge that ends: in place */
             int32_t u = aet[i].u += aet[i].u_step;
-            if (u > max_u) max_u = u;
-            else fix[nfix++] = i;  /* never 0 with a real u; sort_edges checks */
+            fix[nfix] = i;  /* never 0 with a real u; sort_edges checks */
+            nfix += u <= max_u;
+            max_u = u > max_u ? u : max_u;
         }
         int n = i;
         for (; i < naet; i++) {  /* then moved down over the ended ones */
-            if (aet[i].v_last <= v) continue;
-            aet[n] = aet[i];  /* copied whole, then stepped: one 16-byte move */
+            const int alive = aet[i].v_last > v;
+            aet[n] = aet[i];  /* copied whole, then stepped: one 16-byte move; an ended one is overwritten next */
             int32_t u = aet[n].u += aet[n].u_step;
-            if (u > max_u) max_u = u;
-            else fix[nfix++] = n;
-            n++;
+            fix[nfix] = n;
+            nfix += alive & (u <= max_u);
+            const int32_t lead = alive ? u : INT32_MIN;
+            max_u = lead > max_u ? lead : max_u;
+            n += alive;
         }
 
         /* Every count back to zero for the next line.  A count above zero is

@@ -15,6 +15,7 @@ typedef struct ew_renderer ew_renderer;
 typedef struct ew_marks {
     int  framecount;
     int *leaf_frame, *node_frame, *face_frame;
+    int *leaf_up, *node_up;                   /* the world's parent links, packed: PVS marking climbs them */
     int *leaf_key, *leaf_keyframe;            /* BSP key of each visited leaf */
     int *face_dlframe; unsigned *face_dlbits; /* dynamic lights on each face */
     int *edge_cache_frame, *edge_cache_index; /* per world edge: shared edges */

@@ -19,10 +19,10 @@ int ew_point_leaf(const ew_world *w, int headnode, const float p[3]) {
 }
 
 static void mark_leaf(ew_renderer *r, int leaf, int frame) {
-    const ew_world *w = r->world;
     if (__atomic_load_n(&r->marks.leaf_frame[leaf], __ATOMIC_RELAXED) == frame) return;
     __atomic_store_n(&r->marks.leaf_frame[leaf], frame, __ATOMIC_RELAXED);
-    for (int n = w->leaves[leaf].parent; n >= 0; n = w->nodes[n].parent) {
+    const int *up = r->marks.node_up;
+    for (int n = r->marks.leaf_up[leaf]; n >= 0; n = up[n]) {
         if (__atomic_load_n(&r->marks.node_frame[n], __ATOMIC_RELAXED) == frame) break;
         __atomic_store_n(&r->marks.node_frame[n], frame, __ATOMIC_RELAXED);
     }
