@@ -447,6 +447,10 @@ static void task_leaf(ew_walker *wk, int li) {
         } else if (o == -1) {
             _Atomic uint64_t *m = &t->fp->topmark[fi];
             uint64_t cur = atomic_load_explicit(m, memory_order_relaxed);
+            if (t->fp->direct) {  /* one thread: no locked instruction */
+                if (cur < want) atomic_store_explicit(m, want, memory_order_relaxed);
+                continue;
+            }
             while (cur < want && !atomic_compare_exchange_weak_explicit(m, &cur, want, memory_order_relaxed,
                                                                         memory_order_relaxed)) {
             }
@@ -900,6 +904,12 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
 
 static void run_items(ew_renderer *r, struct ew_front_par *fp, int k, int thread) {
     phase *ph = &fp->ph[k];
+    if (fp->direct && !fp->time_items) {  /* one thread: the items in order, no locked instructions */
+        for (int i = 0; i < ph->n; i++) do_item(r, fp, k, i, thread);
+        atomic_store_explicit(&ph->next, ph->n, memory_order_relaxed);
+        atomic_store_explicit(&ph->done, ph->n, memory_order_relaxed);
+        return;
+    }
     for (int i; (i = atomic_fetch_add_explicit(&ph->next, 1, memory_order_relaxed)) < ph->n;) {
         /* The row profile (one thread) times each item: the largest of a
          * phase bounds it on any number of threads. */
