@@ -692,13 +692,18 @@ static void row_after(void *ctx, int pass, int v) {
 }
 
 /* Rows [0, h) of per-row costs cost cut into n pieces placed by placed_by
- * (ew_place_bands), handed out in order to whichever of threads threads is
- * free first; returns when the last finishes and adds the work to *total.
- * With as many pieces as threads, the slowest piece. */
-static double phase_end(const float *placed_by, const float *cost, int h, int n, int threads, double *total) {
+ * (ew_place_bands, or with guided ew_place_pieces as the draw's), handed
+ * out in order to whichever of threads threads is free first; returns when
+ * the last finishes and adds the work to *total.  With as many pieces as
+ * threads, the slowest piece. */
+static double phase_end(const float *placed_by, const float *cost, int h, int n, int threads, int guided,
+                        double *total) {
     int bounds[MAX_BANDS * EW_DRAW_ITEMS_PER_THREAD + 1];
     double busy[MAX_BANDS] = { 0 }, end = 0;
-    ew_place_bands(placed_by, h, n, bounds);
+    if (guided)
+        ew_place_pieces(placed_by, h, n, threads, bounds);
+    else
+        ew_place_bands(placed_by, h, n, bounds);
     for (int b = 0; b < n; b++) {
         double c = 0;
         for (int v = bounds[b]; v < bounds[b + 1]; v++) c += cost[v];
@@ -717,7 +722,7 @@ static double phase_end(const float *placed_by, const float *cost, int h, int n,
 /* The frame's two phases, which wait for each other, each cut into n bands
  * by its own row costs (scan, draw): their slowest bands over the mean. */
 static double band_imbalance(const float *scan, const float *draw, int h, int n) {
-    double total = 0, end = phase_end(scan, scan, h, n, n, &total) + phase_end(draw, draw, h, n, n, &total);
+    double total = 0, end = phase_end(scan, scan, h, n, n, 0, &total) + phase_end(draw, draw, h, n, n, 0, &total);
     return total > 0 ? end / (total / n) : NAN;
 }
 
@@ -729,7 +734,8 @@ static double band_imbalance(const float *scan, const float *draw, int h, int n)
 static double sched_imbalance(const float *prev_scan, const float *scan, const float *draw, int h, int n) {
     int nb, ni;
     ew_frame_cuts(n, h, &nb, &ni);
-    double total = 0, end = phase_end(prev_scan, scan, h, nb, n, &total) + phase_end(draw, draw, h, ni, n, &total);
+    double total = 0,
+           end = phase_end(prev_scan, scan, h, nb, n, 0, &total) + phase_end(draw, draw, h, ni, n, 1, &total);
     return total > 0 ? end / (total / n) : NAN;
 }
 

@@ -61,11 +61,17 @@ EW_API void ew_frame_cuts(int threads, int height, int *bands, int *pieces);
  * band ends where the running sum of row_cost first reaches its share of
  * the total, after at least 8 rows, so every band costs about the same
  * (with fewer than 8 * n rows: equal rows).  The renderer passes the last frame's scan
- * costs for its bands (each band's time spread over its rows) and this
- * frame's estimated draw costs for the draw's pieces; `edgewise bench
- * --bands` the one-thread frame's own.  Writes bounds[0..n]: band i is rows
+ * costs for its bands (each band's time spread over its rows); `edgewise
+ * bench --bands` the one-thread frame's own.  Writes bounds[0..n]: band i is rows
  * bounds[i] .. bounds[i+1]-1. */
 EW_API void ew_place_bands(const float *row_cost, int height, int n, int *bounds);
+
+/* How the renderer cuts the draw's n pieces for `threads` threads, which
+ * take them in order as each becomes free: "guided" sizes, each piece
+ * 1/(2 threads) of the cost still left (at least 8 rows; the last piece
+ * takes the rest), large first and small last, so the threads finish close
+ * together.  One thread: as ew_place_bands.  bounds as there. */
+EW_API void ew_place_pieces(const float *row_cost, int height, int n, int threads, int *bounds);
 
 /* Per-row cost profile (for `edgewise bench --bands`).  On: the frame is
  * cut into fixed strips of 8 rows, whatever the thread count, each strip's

@@ -6,7 +6,11 @@
 #include "raster/alias.h"
 #include "scene/scene.h"
 
-void ew_place_bands(const float *row_cost, int h, int n, int *bounds) {
+/* Rows cut at running-cost targets: band b (of n) ends where the running
+ * cost first reaches target(b), after at least 8 rows, or when the bands
+ * left need all the rows left; the last band takes the rest.  guide 0:
+ * equal shares; guide g > 0: each band takes 1/g of the cost still left. */
+static void place(const float *row_cost, int h, int n, double guide, int *bounds) {
     bounds[0] = 0;
     if (n <= 1 || h < 8 * n) {  /* one band, or too few rows for 8 a band: equal rows */
         for (int i = 1; i <= n; i++) bounds[i] = (int)((long)h * i / n);
@@ -14,22 +18,31 @@ void ew_place_bands(const float *row_cost, int h, int n, int *bounds) {
     }
     double total = 0;
     for (int v = 0; v < h; v++) total += row_cost[v];
-    /* Each band ends where the running cost first reaches its share, after
-     * at least 8 rows, or when the bands left need all the rows left. */
-    double acc = 0;
+    double acc = 0, target = guide > 0 ? total / guide : total / n;
     int band = 0, y0 = 0;
     for (int v = 0; v < h && band < n - 1; v++) {
         acc += row_cost[v];
         int rows_left = h - (v + 1), bands_left = n - band - 1;
-        if ((acc >= total * (band + 1) / n && v + 1 - y0 >= 8) || rows_left == 8 * bands_left) {
+        if ((acc >= target && v + 1 - y0 >= 8) || rows_left == 8 * bands_left) {
             bounds[++band] = v + 1;
             y0 = v + 1;
+            target = guide > 0 ? acc + (total - acc) / guide : total * (band + 1) / n;
         }
     }
     for (; band < n; band++) {  /* the last band takes the rest */
         y0 = band == n - 1 ? h : y0 + 8;
         bounds[band + 1] = y0;
     }
+}
+
+void ew_place_bands(const float *row_cost, int h, int n, int *bounds) { place(row_cost, h, n, 0, bounds); }
+
+/* Pieces are handed out in order to whichever thread is free, so the
+ * thread that finishes last waits for at most the last piece it took:
+ * "guided" sizes, each piece 1/(2 threads) of the cost left, make the first
+ * pieces large (few set-ups) and the last small (little waiting). */
+void ew_place_pieces(const float *row_cost, int h, int n, int threads, int *bounds) {
+    place(row_cost, h, n, threads > 1 ? 2.0 * threads : 0, bounds);
 }
 
 /* The frame's cost to draw per row, known once the bands are scanned and

@@ -564,7 +564,7 @@ static void place_draw(ew_renderer *r) {
     int bounds[EW_MAX_ITEMS + 1];
     s->nitems = s->max_items;
     ew_estimate_draw_costs(r, s->row_cost);  /* bands.c */
-    ew_place_bands(s->row_cost, r->target.height, s->nitems, bounds);
+    ew_place_pieces(s->row_cost, r->target.height, s->nitems, s->nthreads, bounds);
     for (int i = 0; i < s->nitems; i++) it[i].y0 = bounds[i], it[i].y1 = bounds[i + 1];
 }
 

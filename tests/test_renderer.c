@@ -138,6 +138,19 @@ int main(void) {
     for (int i = 0; i < 25; i++) CHECK(bounds[i + 1] - bounds[i] == 8, "25 bands of 200 rows: band %d", i);
     ew_place_bands(cost, 100, 25, bounds);
     CHECK(bounds[25] == 100 && bounds[1] == 4, "too few rows: %d %d", bounds[1], bounds[25]);
+    /* The draw's guided pieces: on even costs and 2 threads each takes a
+     * quarter of the rows left (the first 48 of 192), never fewer than 8,
+     * and together they cover the frame once. */
+    float even[192];
+    for (int y = 0; y < 192; y++) even[y] = 1;
+    ew_place_pieces(even, 192, 8, 2, bounds);
+    CHECK(bounds[0] == 0 && bounds[1] == 48 && bounds[2] == 84 && bounds[8] == 192, "guided pieces: %d %d %d %d",
+          bounds[0], bounds[1], bounds[2], bounds[8]);
+    for (int i = 0; i < 8; i++) CHECK(bounds[i + 1] - bounds[i] >= 8, "guided piece %d has %d rows", i, bounds[i + 1] - bounds[i]);
+    for (int i = 1; i < 7; i++)
+        CHECK(bounds[i + 1] - bounds[i] <= bounds[i] - bounds[i - 1], "guided piece %d larger than piece %d", i, i - 1);
+    ew_place_pieces(even, 192, 4, 1, bounds);
+    CHECK(bounds[1] == 48 && bounds[2] == 96 && bounds[4] == 192, "one thread: even pieces %d %d", bounds[1], bounds[2]);
 
     /* Neighbouring faces share emitted edges. */
     CHECK(s1.edges_cached > 0 && s1.edges > 0, "edges %d, reused %d", s1.edges, s1.edges_cached);
