@@ -7,6 +7,8 @@
 
 #include "hsr/hsr.h"
 
+#include <string.h>
+
 /* Edge e entering the active table on line v. */
 static inline void ew_active_set(ew_active *a, const ew_edge *e, int v) {
     a->u = e->u + (v - e->v_first) * e->u_step;
@@ -45,6 +47,29 @@ static inline void ew_active_insert(ew_active *a, int i) {
 /* Insertion sort (stable): the list is nearly sorted every line. */
 static inline void ew_active_sort(ew_active *a, int n) {
     for (int i = 1; i < n; i++) ew_active_insert(a, i);
+}
+
+/* A stable merge sort for a list in no order (a band's first line), with
+ * tmp room for n: runs of 8 sorted by insertion, then merged pairwise, the
+ * comparisons inlined (qsort's calls through a pointer cost three times
+ * as much).  Stable, as glibc's qsort is here, so ties keep the order they
+ * were added in. */
+static inline void ew_active_sort_any(ew_active *a, int n, ew_active *tmp) {
+    enum { RUN = 8 };
+    for (int i = 0; i < n; i += RUN) ew_active_sort(a + i, n - i < RUN ? n - i : RUN);
+    ew_active *src = a, *dst = tmp;
+    for (int w = RUN; w < n; w *= 2) {
+        for (int lo = 0; lo < n; lo += 2 * w) {
+            int mid = lo + w < n ? lo + w : n, hi = lo + 2 * w < n ? lo + 2 * w : n;
+            int i = lo, j = mid, k = lo;
+            while (i < mid && j < hi) dst[k++] = ew_active_after(&src[i], &src[j]) ? src[j++] : src[i++];
+            while (i < mid) dst[k++] = src[i++];
+            while (j < hi) dst[k++] = src[j++];
+        }
+        ew_active *t = src;
+        src = dst, dst = t;
+    }
+    if (src != a) memcpy(a, src, sizeof *a * (size_t)n);
 }
 
 #endif

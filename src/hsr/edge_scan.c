@@ -44,7 +44,7 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
 
 void ew_band_free(ew_band *b) {
     free(b->stack);
-    free(b->has_spans), free(b->spans), free(b->aet), free(b->st_neg), free(b->st_fix);
+    free(b->has_spans), free(b->spans), free(b->aet), free(b->aet_tmp), free(b->st_neg), free(b->st_fix);
     free(b->rowmark), free(b->scratch);
 }
 
@@ -134,7 +134,15 @@ void ew_band_start(const ew_edge_list *el, ew_band *b) {
     b->naet = 0;
     for (int k = 0, end = el->row_first[b->y0]; k < end; k++)
         if (el->by_row_last[k] >= b->y0) add_active(b, &el->edges[el->by_row[k]], b->y0);
-    if (b->naet > 1) qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
+    if (b->naet <= 1) return;
+    if (b->cap_tmp < b->naet) {
+        ew_active *t = realloc(b->aet_tmp, sizeof *t * (size_t)b->naet);
+        if (t) b->aet_tmp = t, b->cap_tmp = b->naet;
+    }
+    if (b->cap_tmp >= b->naet)
+        ew_active_sort_any(b->aet, b->naet, b->aet_tmp);
+    else  /* no memory for the merge: the same order, slower */
+        qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
 }
 
 static inline void add_row(const ew_edge_list *el, ew_band *b, int v) {

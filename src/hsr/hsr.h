@@ -137,6 +137,7 @@ struct ew_band {
     uint8_t *rowmark;               /* width bytes of scratch (accounting unsorted rows), or NULL */
     void *scratch;  size_t scratch_bytes;  /* the method's own per-band memory (ew_band_scratch) */
     ew_active *aet;  int naet, cap_aet, max_aet;
+    ew_active *aet_tmp;  int cap_tmp;  /* the band start's merge sort */
     int32_t *st_neg;  int cap_neg;  /* >= cap_aet entries (the edge list's scan): counts gone below zero on a line */
     int32_t *st_fix;                /* as many: the stepped edges that may be out of order for the next line */
     int dropped;
