@@ -13,6 +13,11 @@
 # Sources and builds are kept in bench/.cache (ignored by git) and reused.
 # A revision from before `edgewise bench` existed is measured with the
 # current tree's CLI (cli/*.c) linked against that revision's library.
+# PAIRED=1 runs each round's two sides at the same time instead, one on
+# core 0 and one on core 1 (taskset), swapping cores every round: on a
+# shared machine whose speed drifts from second to second both sides then
+# see the same drift (it needs two cores, and each side's absolute times
+# include the other's share of memory bandwidth).
 # OLD_ARGS and NEW_ARGS (split at spaces) go to one side only, for options
 # that one side does not have or spells differently: a revision from before
 # `--classic` drew the classic look by default, so
@@ -101,13 +106,29 @@ B=$(build "$NEW")
 RUN=$CACHE/compare-last
 rm -rf "$RUN" && mkdir -p "$RUN"
 i=1
+if [ "${PAIRED:-0}" = 1 ] && ! command -v taskset >/dev/null 2>&1; then
+    echo "compare: PAIRED=1 needs taskset (util-linux)" >&2
+    exit 2
+fi
 while [ "$i" -le "$ROUNDS" ]; do
-    echo "compare: round $i/$ROUNDS: $OLD" >&2
-    # shellcheck disable=SC2086
-    "$A" bench "$@" ${OLD_ARGS:-} --out "$RUN/old.$i.jsonl" >/dev/null
-    echo "compare: round $i/$ROUNDS: $NEW" >&2
-    # shellcheck disable=SC2086
-    "$B" bench "$@" ${NEW_ARGS:-} --out "$RUN/new.$i.jsonl" >/dev/null
+    if [ "${PAIRED:-0}" = 1 ]; then
+        echo "compare: round $i/$ROUNDS: $OLD and $NEW at once" >&2
+        co=$((i % 2)); cn=$((1 - co))
+        # shellcheck disable=SC2086
+        taskset -c "$co" "$A" bench "$@" ${OLD_ARGS:-} --out "$RUN/old.$i.jsonl" >/dev/null &
+        po=$!
+        # shellcheck disable=SC2086
+        taskset -c "$cn" "$B" bench "$@" ${NEW_ARGS:-} --out "$RUN/new.$i.jsonl" >/dev/null &
+        pn=$!
+        wait "$po" && wait "$pn" || { echo "compare: a bench run failed" >&2; exit 1; }
+    else
+        echo "compare: round $i/$ROUNDS: $OLD" >&2
+        # shellcheck disable=SC2086
+        "$A" bench "$@" ${OLD_ARGS:-} --out "$RUN/old.$i.jsonl" >/dev/null
+        echo "compare: round $i/$ROUNDS: $NEW" >&2
+        # shellcheck disable=SC2086
+        "$B" bench "$@" ${NEW_ARGS:-} --out "$RUN/new.$i.jsonl" >/dev/null
+    fi
     i=$((i + 1))
 done
 

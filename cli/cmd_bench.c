@@ -727,9 +727,9 @@ static double band_imbalance(const float *scan, const float *draw, int h, int n)
 }
 
 /* The renderer itself on n threads: the scan's bands placed by the last
- * frame's scan costs (prev_scan), the draw's pieces by this frame's draw
- * costs (which the renderer estimates from its spans and models; here the
- * measured ones), each phase handed out to whichever thread is free first;
+ * frame's scan costs (prev_scan), the draw's guided pieces by this frame's
+ * draw costs (which the renderer estimates from its spans and models; here
+ * the measured ones), each phase handed out to whichever thread is free first;
  * the two finishing times over a perfect share, total / n. */
 static double sched_imbalance(const float *prev_scan, const float *scan, const float *draw, int h, int n) {
     int nb, ni;
