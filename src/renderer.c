@@ -227,7 +227,8 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
     free(r->lit.surf_draw), free(r->lit.grad_list), free(r->lit.surf_state), free(r->lit.surf_mip);
     free(r->target.pixels), free(r->target.zbuf), free(r->face_ids);
-    free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.leaf_up), free(r->marks.node_up), free(r->marks.face_frame), free(r->marks.vis);
+    free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame), free(r->marks.vis);
+    free(r->marks.leaf_up), free(r->marks.node_up);
     free(r->marks.leaf_key), free(r->marks.leaf_keyframe), free(r->ents.ent_views), free(r->ents.ent_frame);
     ew_free_box_surfs(r);
     free(r->marks.face_dlframe), free(r->marks.face_dlbits);

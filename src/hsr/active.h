@@ -25,12 +25,6 @@ static inline int ew_active_after(const ew_active *a, const ew_active *b) {
     return a->surfs[0] != 0 && b->surfs[0] == 0;
 }
 
-/* For qsort. */
-static inline int ew_active_cmp(const void *pa, const void *pb) {
-    const ew_active *a = pa, *b = pb;
-    return ew_active_after(a, b) ? 1 : ew_active_after(b, a) ? -1 : 0;
-}
-
 /* One step of the insertion sort, a[0..i) sorted: a[i] moved down past
  * the edges after it (i > 0). */
 static inline void ew_active_insert(ew_active *a, int i) {
@@ -51,9 +45,8 @@ static inline void ew_active_sort(ew_active *a, int n) {
 
 /* A stable merge sort for a list in no order (a band's first line), with
  * tmp room for n: runs of 8 sorted by insertion, then merged pairwise, the
- * comparisons inlined (qsort's calls through a pointer cost three times
- * as much).  Stable, as glibc's qsort is here, so ties keep the order they
- * were added in. */
+ * comparisons inlined.  Stable, as the insertion sort is, so ties keep the
+ * order they were added in and either gives the same list. */
 static inline void ew_active_sort_any(ew_active *a, int n, ew_active *tmp) {
     enum { RUN = 8 };
     for (int i = 0; i < n; i += RUN) ew_active_sort(a + i, n - i < RUN ? n - i : RUN);

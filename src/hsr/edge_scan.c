@@ -142,7 +142,7 @@ void ew_band_start(const ew_edge_list *el, ew_band *b) {
     if (b->cap_tmp >= b->naet)
         ew_active_sort_any(b->aet, b->naet, b->aet_tmp);
     else  /* no memory for the merge: the same order, slower */
-        qsort(b->aet, (size_t)b->naet, sizeof *b->aet, ew_active_cmp);
+        ew_active_sort(b->aet, b->naet);
 }
 
 static inline void add_row(const ew_edge_list *el, ew_band *b, int v) {

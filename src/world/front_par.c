@@ -906,7 +906,6 @@ static void run_items(ew_renderer *r, struct ew_front_par *fp, int k, int thread
     phase *ph = &fp->ph[k];
     if (fp->direct && !fp->time_items) {  /* one thread: the items in order, no locked instructions */
         for (int i = 0; i < ph->n; i++) do_item(r, fp, k, i, thread);
-        atomic_store_explicit(&ph->next, ph->n, memory_order_relaxed);
         atomic_store_explicit(&ph->done, ph->n, memory_order_relaxed);
         return;
     }
