@@ -395,6 +395,11 @@ typedef struct ew_stats {
      * summed: what no number of threads can shorten in the front end
      * (else 0). */
     double ms_front_items;
+    /* Surfaces of the edge list that won at least one span, of `surfaces`:
+     * the rest got through the PVS, frustum and facing tests but lay wholly
+     * behind nearer ones, and cost the front end and the scan all the same
+     * (0 for the methods that write no spans, such as reference). */
+    int    surfaces_shown;
 } ew_stats;
 
 /* Renders one frame of the world into the renderer's 8-bit frame buffer and

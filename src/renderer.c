@@ -726,6 +726,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double t2 = ew_now_ms();
     serial_lap(r, &sc);
     prepare_surfaces(r);
+    r->stats.surfaces_shown = r->lit.ngrad;  /* the surfaces with a span */
     ser[3] += serial_lap(r, &sc);
     double te = ew_now_ms();
     ew_passes_prepare(r);

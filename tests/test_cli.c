@@ -215,7 +215,7 @@ static void test_with_map(void) {
 static void check_stats_json(const char *what, const char *out) {
     static const char *const keys[] = {
         "map", "width", "height", "view", "pixels", "pixels_written", "pixels_covered",
-        "overdraw", "edges", "edges_cached", "surfaces", "spans", "surfaces_built",
+        "overdraw", "edges", "edges_cached", "surfaces", "surfaces_shown", "spans", "surfaces_built",
         "surfaces_cached", "visible_leaves", "dropped", "ms_front", "ms_scan", "ms_draw",
         "ms_total", "ms_serial",
     };

@@ -100,6 +100,29 @@ int main(void) {
           s2.surfaces_cached, s1.surfaces_built);
     CHECK(count_diff(first, ew_frame_pixels(r), n) == 0, "same view, same pixels");
 
+    /* surfaces_shown: the edge list's surfaces that won a span, counted here
+     * from the bands' spans; on e1m1 some are always hidden behind others. */
+    long shown_all = 0, surfs_all = 0;
+    uint8_t *seen = calloc((size_t)r->el.max_surfs, 1);
+    for (int v = 0; v < nv && seen; v++) {
+        ew_stats st;
+        CHECK(ew_render(r, &views[v], &st) == 0, "render view %d", v);
+        memset(seen, 0, (size_t)r->el.max_surfs);
+        int distinct = 0;
+        for (int b = 0; b < r->sched.nbands; b++)
+            for (int i = 0; i < r->sched.bands[b].nspans; i++) {
+                int s = r->sched.bands[b].spans[i].surf;
+                distinct += s > 0 && !seen[s];
+                seen[s] = 1;
+            }
+        CHECK(st.surfaces_shown == distinct && distinct > 0 && distinct <= st.surfaces,
+              "view %d: surfaces_shown %d, %d surfaces in the spans, %d in the list", v, st.surfaces_shown, distinct,
+              st.surfaces);
+        shown_all += st.surfaces_shown, surfs_all += st.surfaces;
+    }
+    CHECK(shown_all < surfs_all, "every surface of every view won a span (%ld of %ld)", shown_all, surfs_all);
+    free(seen);
+
     /* The serial time, and its parts within it. */
     CHECK(s2.ms_serial > 0 &&
               s2.ms_serial_begin + s2.ms_serial_walk + s2.ms_serial_brush + s2.ms_serial_prepare +
