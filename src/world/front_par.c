@@ -19,22 +19,23 @@
  *   2 (all) each subtree is walked with a key of its own from 0, listing
  *     its faces; a face on a top node marked by its leaves records the
  *     earliest segment that marked it;
+ *   3 (all) a top node's faces are listed if a segment before it marked
+ *     them (as in the one-thread walk, where only the leaves walked before
+ *     a node's faces can have marked them);
  *   - (calling thread) keys, face positions and edge slots are laid out by
- *     prefix sums over the segments; a top node's faces are listed if a
- *     segment before it marked them (as in the one-thread walk, where only
- *     the leaves walked before a node's faces can have marked them); the
- *     faces for the see-through pass are handed over, in order;
- *   3 (all) every face is clipped, projected and its edges set up, noting
+ *     prefix sums over the segments; the faces for the see-through pass
+ *     are handed over, in order;
+ *   4 (all) every face is clipped, projected and its edges set up, noting
  *     on each world edge which face lies on it; the leaves' keys are made
  *     global; the entities are tested against the frustum and the PVS;
- *   4 (all) every edge on a world edge is settled: of the two faces on it,
+ *   5 (all) every edge on a world edge is settled: of the two faces on it,
  *     the first in BSP order adds it and the second takes its free side
  *     (the edge cache of the one-thread emission); each face's surface and
  *     added edges are counted; the brush entities are split into the
  *     world's leaves and their fragments clipped, projected and set up;
  *   - (calling thread) surface and edge numbers by prefix sums over chunks
  *     of faces and over brush entities;
- *   5 (all) surfaces and edges written at their numbers;
+ *   6 (all) surfaces and edges written at their numbers;
  *   - (calling thread) the per-scanline lists of new edges linked in edge
  *     order, then tail(arg) (the bands placed);
  *   then(r, thread) on every thread: the scan.
@@ -44,9 +45,9 @@
  * would overflow, the prepared faces are merged one at a time as the
  * one-thread emission does, which is where its limits apply.
  *
- * On a pool of one thread the chunks of phase 3 run in order, so their
+ * On a pool of one thread the chunks of phase 4 run in order, so their
  * faces go straight to ew_emit_face ("direct"): no staging, nothing for
- * phases 4 and 5 but the brush entities.  The phases and their serial
+ * phases 5 and 6 but the brush entities.  The phases and their serial
  * steps stay the same, so bench's serial share still describes the run of
  * many threads (which does the staging: a little more work in all). */
 #define _POSIX_C_SOURCE 200809L  /* sched_yield */
@@ -67,6 +68,8 @@
 #define M_DROPPED (-2)     /* a face with too many edges (counted as dropped) */
 #define ENT_CHUNK 4        /* entities a thread tests at a time (a light trace each) */
 #define PVS_CHUNK 64       /* PVS leaves a thread marks at a time */
+#define NODE_CHUNK 8       /* top nodes whose faces a thread lists at a time */
+#define NPHASES 7          /* phases 1..6 */
 
 typedef struct pface {
     int   face, clipflags, key;
@@ -136,10 +139,10 @@ typedef struct phase {
 struct ew_front_par {
     _Alignas(64) atomic_int stage;      /* the phase the calling thread has opened */
     _Alignas(64) atomic_int front_done; /* the tail has run: the edge list is complete */
-    phase ph[6];
+    phase ph[NPHASES];
     int    time_items;                  /* the row profile: items timed (one thread) */
-    int    direct;                      /* one thread: phase 3 hands the faces to ew_emit_face in BSP order */
-    double longest[6];                  /* then per phase its largest item, ms */
+    int    direct;                      /* one thread: phase 4 hands the faces to ew_emit_face in BSP order */
+    double longest[NPHASES];            /* then per phase its largest item, ms */
     /* The plan. */
     int   top_n;                        /* a top node has more nodes than this below it */
     int   head_root;                    /* 1: the head node is itself a root (a small tree) */
@@ -151,7 +154,8 @@ struct ew_front_par {
     int   max_segs;
     /* Per frame. */
     seg  *segs;   int nsegs;
-    int  *tree_segs; int ntree;         /* the SEG_TREE segments: phase 1's items */
+    int  *tree_segs; int ntree;         /* the SEG_TREE segments: phase 2's items */
+    int  *node_segs; int nnode;         /* the SEG_NODE segments: phase 3's, NODE_CHUNK an item */
     lface *lf;
     int  *leaves;
     pface *faces; int nfaces;
@@ -163,9 +167,9 @@ struct ew_front_par {
     struct eside { _Atomic int frame; int pos, pe; } (*eside)[2];
     _Atomic uint64_t *topmark;          /* per face of a top node: frame << 32 | ~earliest segment that marked it */
     int   last_frame;
-    /* Brush entities (phase 3 splits them, phase 4 writes them). */
+    /* Brush entities (phase 5 splits them, phase 6 writes them). */
     ew_brush_item *bitems; bres *bres; int nbitems, cap_bitems, bculled;
-    int   nent_items;                   /* phase 2 also tests the entities, ENT_CHUNK at a time */
+    int   nent_items;                   /* phase 4 also tests the entities, ENT_CHUNK at a time */
     arena arenas[EW_MAX_THREADS];
     void (*tail)(void *arg);
     void  *tail_arg;
@@ -188,7 +192,7 @@ static inline void relax(int *rounds) {
 void ew_front_par_free(struct ew_front_par *fp) {
     if (!fp) return;
     free(fp->node_root), free(fp->face_root), free(fp->node_lf0), free(fp->node_lfend), free(fp->node_leaf0), free(fp->edge_faces);
-    free(fp->segs), free(fp->tree_segs), free(fp->lf), free(fp->leaves), free(fp->faces), free(fp->pedges);
+    free(fp->segs), free(fp->tree_segs), free(fp->node_segs), free(fp->lf), free(fp->leaves), free(fp->faces), free(fp->pedges);
     free(fp->chunk_seg), free(fp->chunk_ns), free(fp->chunk_ne), free(fp->chunk_cached), free(fp->chunk_dropped);
     free(fp->chunk_s0), free(fp->chunk_e0), free((void *)fp->eside), free((void *)fp->topmark);
     free(fp->bitems), free(fp->bres);
@@ -356,6 +360,7 @@ static struct ew_front_par *front_par_new(const ew_world *w) {
         }
         fp->segs = malloc(sizeof(seg) * (size_t)fp->max_segs);
         fp->tree_segs = malloc(sizeof(int) * (size_t)fp->max_segs);
+        fp->node_segs = malloc(sizeof(int) * (size_t)fp->max_segs);
         fp->lf = malloc(sizeof(lface) * (size_t)(nlf + 1));
         fp->leaves = malloc(sizeof(int) * (size_t)(nleaves + 1));
         fp->faces = malloc(sizeof(pface) * (size_t)(nf + 1));
@@ -370,7 +375,7 @@ static struct ew_front_par *front_par_new(const ew_world *w) {
         fp->chunk_e0 = malloc(sizeof(int) * (size_t)nch);
         fp->eside = calloc((size_t)ne + 1, sizeof *fp->eside);
         fp->topmark = calloc((size_t)nf + 1, sizeof(uint64_t));
-        ok = fp->segs && fp->tree_segs && fp->lf && fp->leaves && fp->faces && fp->pedges && fp->chunk_seg &&
+        ok = fp->segs && fp->tree_segs && fp->node_segs && fp->lf && fp->leaves && fp->faces && fp->pedges && fp->chunk_seg &&
              fp->chunk_ns && fp->chunk_ne && fp->chunk_cached && fp->chunk_dropped && fp->chunk_s0 &&
              fp->chunk_e0 && fp->eside && fp->topmark;
     }
@@ -382,7 +387,7 @@ static struct ew_front_par *front_par_new(const ew_world *w) {
     return fp;
 }
 
-/* ---- 0: the top nodes, front to back, into segments ---- */
+/* ---- before 2 (calling thread): the top nodes, front to back, into segments ---- */
 
 static void add_seg(struct ew_front_par *fp, int kind, int n, int clipflags, int depth, int leaf0) {
     seg *s = &fp->segs[fp->nsegs];
@@ -390,6 +395,7 @@ static void add_seg(struct ew_front_par *fp, int kind, int n, int clipflags, int
     s->kind = kind, s->n = n, s->clipflags = clipflags, s->depth = depth, s->leaf0 = leaf0;
     if (n >= 0) s->lf0 = fp->node_lf0[n], s->lfend = fp->node_lfend[n];
     if (kind == SEG_TREE) fp->tree_segs[fp->ntree++] = fp->nsegs;
+    else fp->node_segs[fp->nnode++] = fp->nsegs;
     fp->nsegs++;
 }
 
@@ -420,7 +426,7 @@ static void top_walk(ew_renderer *r, struct ew_front_par *fp, int n, int clipfla
     }
 }
 
-/* ---- 1: a subtree's walk ---- */
+/* ---- 2: a subtree's walk ---- */
 
 typedef struct task_walker {
     ew_walker wk;
@@ -480,9 +486,10 @@ static void walk_seg(ew_renderer *r, struct ew_front_par *fp, int segno) {
     s->nkeys = t.wk.key, s->visible_leaves = t.wk.visible_leaves, s->dropped = t.wk.dropped;
 }
 
-/* ---- between 1 and 2 (calling thread): the layout ---- */
+/* ---- 3: a top node's faces ---- */
 
-/* A top node's faces marked by a segment before it (its own number). */
+/* A top node's faces marked by a segment before it (its own number).  The
+ * segments touch only their own faces and their own ranges of lf. */
 static void node_faces(ew_renderer *r, struct ew_front_par *fp, int segno) {
     seg *s = &fp->segs[segno];
     const ew_node *nd = &r->world->nodes[s->n];
@@ -498,11 +505,12 @@ static void node_faces(ew_renderer *r, struct ew_front_par *fp, int segno) {
     s->nkeys = 1;
 }
 
+/* ---- between 3 and 4 (calling thread): the layout ---- */
+
 static void layout(ew_renderer *r, struct ew_front_par *fp) {
     int key = 0, nf = 0, npe = 0, c = 0;
     for (int j = 0; j < fp->nsegs; j++) {
         seg *s = &fp->segs[j];
-        if (s->kind == SEG_NODE) node_faces(r, fp, j);
         s->key0 = key, s->face0 = nf, s->pe0 = npe;
         for (; c * CHUNK < nf + s->nfaces; c++) fp->chunk_seg[c] = j;
         nf += s->nfaces, npe += s->npe;
@@ -517,7 +525,7 @@ static void layout(ew_renderer *r, struct ew_front_par *fp) {
     fp->nfaces = nf, fp->nchunks = c;
 }
 
-/* ---- 2: faces clipped, projected and their edges set up (any thread) ---- */
+/* ---- 4: faces clipped, projected and their edges set up (any thread) ---- */
 
 static void set_pedge(pedge *p, const ew_proj *a, const ew_proj *b, int32_t se) {
     p->se = se;
@@ -615,7 +623,7 @@ static void fix_leaf_keys(ew_renderer *r, struct ew_front_par *fp, int segno) {
     for (int i = 0; i < s->nleaves; i++) r->marks.leaf_key[fp->leaves[s->leaf0 + i]] += s->key0;
 }
 
-/* ---- 3: the edges shared by two faces settled (any thread) ---- */
+/* ---- 5: the edges shared by two faces settled (any thread) ---- */
 
 /* The edge cache's decisions: the first face (in BSP order) on a world
  * edge adds it, the second takes its free side and its 1/z, or nothing if
@@ -663,7 +671,7 @@ static void resolve_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
     fp->chunk_ns[c] = ns, fp->chunk_ne[c] = ne, fp->chunk_cached[c] = cached, fp->chunk_dropped[c] = dropped;
 }
 
-/* ---- 3, also: brush entities split into fragments (any thread) ---- */
+/* ---- 5, also: brush entities split into fragments (any thread) ---- */
 
 static int grow(void **p, int *cap, int need, size_t size) {
     if (need <= *cap) return 1;
@@ -741,10 +749,10 @@ static void split_brush(ew_renderer *r, struct ew_front_par *fp, int i, int thre
     }
 }
 
-/* ---- between 3 and 4 (calling thread): numbers, or the serial merge ---- */
+/* ---- between 5 and 6 (calling thread): numbers, or the serial merge ---- */
 
-/* The chunks whose faces wait in fp->faces for phases 4 and 5: none when
- * phase 3 handed them to the list itself. */
+/* The chunks whose faces wait in fp->faces for phases 5 and 6: none when
+ * phase 4 handed them to the list itself. */
 static int staged_chunks(const struct ew_front_par *fp) { return fp->direct ? 0 : fp->nchunks; }
 
 static int add_prepared(ew_renderer *r, const pedge *p, int s) {
@@ -781,7 +789,7 @@ static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
     ew_surf_add_world(r, pf->face, pf->key, nearzi);
 }
 
-/* Returns 1 if the faces and fragments fit the lists (phase 4 writes
+/* Returns 1 if the faces and fragments fit the lists (phase 6 writes
  * them), else merges them here one at a time, as the serial front end
  * does, and returns 0. */
 static int number(ew_renderer *r, struct ew_front_par *fp) {
@@ -826,7 +834,7 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
     return 0;
 }
 
-/* ---- 4: surfaces and edges written at their numbers (any thread) ---- */
+/* ---- 6: surfaces and edges written at their numbers (any thread) ---- */
 
 static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
     int hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
@@ -872,7 +880,7 @@ static void write_brush(ew_renderer *r, struct ew_front_par *fp, int i) {
 
 /* Item i of phase k.  The items likely to be largest come first, so that
  * no thread starts one when the others are nearly done: the entity tests
- * (a light trace each) in phase 3, the brush entities in phase 4. */
+ * (a light trace each) in phase 4, the brush entities in phase 5. */
 static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int thread) {
     switch (k) {
     case 1: {
@@ -882,6 +890,9 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
     }
     case 2: walk_seg(r, fp, fp->tree_segs[i]); break;
     case 3:
+        for (int q = i * NODE_CHUNK; q < fp->nnode && q < (i + 1) * NODE_CHUNK; q++) node_faces(r, fp, fp->node_segs[q]);
+        break;
+    case 4:
         if (i < fp->nent_items) {
             int e0 = i * ENT_CHUNK, n = r->ents.scene->nents;
             ew_test_entities(r, e0, e0 + ENT_CHUNK < n ? e0 + ENT_CHUNK : n);
@@ -891,11 +902,11 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
             fix_leaf_keys(r, fp, i - fp->nchunks);
         }
         break;
-    case 4:
+    case 5:
         if (i < fp->nbitems) split_brush(r, fp, i, thread);
         else resolve_chunk(r, fp, i - fp->nbitems);  /* not in direct mode: no such items */
         break;
-    case 5:
+    case 6:
         if (i < staged_chunks(fp)) write_chunk(r, fp, i);
         else write_brush(r, fp, i - staged_chunks(fp));
         break;
@@ -945,7 +956,7 @@ static void job_front(void *ctx, int thread) {
     ew_renderer *r = run->r;
     struct ew_front_par *fp = r->fpar;
     if (thread != 0) {
-        for (int k = 1; k <= 5; k++) {
+        for (int k = 1; k < NPHASES; k++) {
             int rounds = 0;
             while (atomic_load_explicit(&fp->stage, memory_order_acquire) < k) relax(&rounds);
             run_items(r, fp, k, thread);
@@ -969,7 +980,7 @@ static void job_front(void *ctx, int thread) {
     wait_done(fp, 1);
     r->marks.vis_pending = 0;
     t = ew_now_ms();
-    fp->nsegs = fp->ntree = 0;
+    fp->nsegs = fp->ntree = fp->nnode = 0;
     int head = r->world->models[0].headnode;
     if (fp->head_root) add_seg(fp, SEG_TREE, head, 15, 0, 0);
     else top_walk(r, fp, head, 15, 0);
@@ -977,22 +988,25 @@ static void job_front(void *ctx, int thread) {
     open_phase(fp, 2, fp->ntree);
     run_items(r, fp, 2, 0);
     wait_done(fp, 2);
+    open_phase(fp, 3, (fp->nnode + NODE_CHUNK - 1) / NODE_CHUNK);
+    run_items(r, fp, 3, 0);
+    wait_done(fp, 3);
     t = ew_now_ms();
     layout(r, fp);
     ser += ew_now_ms() - t;
-    open_phase(fp, 3, fp->nchunks + fp->nsegs + fp->nent_items);
-    run_items(r, fp, 3, 0);
-    wait_done(fp, 3);
-    if (fp->nent_items) r->ents.tested_frame = r->marks.framecount;
-    open_phase(fp, 4, staged_chunks(fp) + fp->nbitems);
+    open_phase(fp, 4, fp->nchunks + fp->nsegs + fp->nent_items);
     run_items(r, fp, 4, 0);
     wait_done(fp, 4);
+    if (fp->nent_items) r->ents.tested_frame = r->marks.framecount;
+    open_phase(fp, 5, staged_chunks(fp) + fp->nbitems);
+    run_items(r, fp, 5, 0);
+    wait_done(fp, 5);
     t = ew_now_ms();
     int fits = number(r, fp);
     ser += ew_now_ms() - t;
-    open_phase(fp, 5, fits ? staged_chunks(fp) + fp->nbitems : 0);
-    run_items(r, fp, 5, 0);
-    wait_done(fp, 5);
+    open_phase(fp, 6, fits ? staged_chunks(fp) + fp->nbitems : 0);
+    run_items(r, fp, 6, 0);
+    wait_done(fp, 6);
     t = ew_now_ms();
     if (fits) {
         if (fp->nbitems > 0) {
@@ -1047,6 +1061,6 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     front_run run = {r, {0, 0}};
     ew_pool_run(r->sched.pool, job_front, &run);
     serial_ms[0] = run.serial_ms[0], serial_ms[1] = run.serial_ms[1];
-    for (int k = 1; k < 6; k++) r->stats.ms_front_items += fp->longest[k];
+    for (int k = 1; k < NPHASES; k++) r->stats.ms_front_items += fp->longest[k];
     return 0;
 }
