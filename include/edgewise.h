@@ -683,8 +683,8 @@ typedef struct ew_overlay_info {
  *   ms front 1.23 scan 0.45             ew_stats ms_front, ms_scan
  *   ms draw 3.21 models 0.10            ms_draw, ms_models
  *   ms total 5.00 present 0.30          ms_total; present: extra only
- *   edges 1234 surfs 567 spans 8901     edges, surfaces, spans
- *   cache built 12 hit 345              surfaces_built, surfaces_cached
+ *   edges 1234 surfs 567 shown 89       edges, surfaces, surfaces_shown
+ *   spans 8901 cache built 12 hit 345   spans, surfaces_built, surfaces_cached
  *   leaves 67                           visible_leaves
  *   pos 480.0 -352.0 88.0               extra->camera origin (x y z)
  *   ang 0.0 90.0 0.0                    extra->camera angles (pitch yaw roll)

@@ -172,9 +172,9 @@ int ew_format_stats_overlay(char *buf, size_t size, const ew_stats *st, const ew
     }
     return snprintf(buf, size,
                     "%sms front %.2f scan %.2f\nms draw %.2f models %.2f\nms total %.2f%s\n"
-                    "edges %d surfs %d spans %d\ncache built %d hit %d\nleaves %d%s",
+                    "edges %d surfs %d shown %d\nspans %d cache built %d hit %d\nleaves %d%s",
                     fps, st->ms_front, st->ms_scan, st->ms_draw, st->ms_models, st->ms_total, present,
-                    st->edges, st->surfaces, st->spans, st->surfaces_built, st->surfaces_cached,
+                    st->edges, st->surfaces, st->surfaces_shown, st->spans, st->surfaces_built, st->surfaces_cached,
                     st->visible_leaves, cam);
 }
 
