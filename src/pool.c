@@ -1,10 +1,14 @@
 /* A small persistent worker pool: ew_pool_run(pool, job, ctx) runs
- * job(ctx, i) for i = 0..threads-1, index 0 on the calling thread, and
- * returns when all are done.  Threads are created once per renderer.  A
- * frame has a few short phases, so both sides spin briefly before they
- * sleep on a condition variable: a wake-up through the kernel costs more
- * than a phase at small frame sizes.  ew_pool_wake, called as a frame
- * starts, has sleeping workers poll through the serial front end. */
+ * job(ctx, 0) on the calling thread and job(ctx, i) on each worker that
+ * joins before the caller's own call returns, and returns when those are
+ * done.  The jobs share their work through atomic counters, so a worker
+ * still asleep when the caller has finished everything is not waited for:
+ * it would only find nothing left, after a kernel wake-up (20-100 us on a
+ * busy machine).  Threads are created once per renderer.  A frame has a
+ * few short phases, so both sides spin briefly before they sleep on a
+ * condition variable: a wake-up through the kernel costs more than a phase
+ * at small frame sizes.  ew_pool_wake, called as a frame starts, has
+ * sleeping workers poll through the serial front end. */
 #include "renderer.h"
 #include "ew_util.h"
 
@@ -27,7 +31,10 @@ struct ew_pool {
     pthread_cond_t   start, done;
     atomic_uint      generation;  /* bumped to start a job */
     atomic_uint      wakes;       /* bumped by ew_pool_wake */
-    atomic_int       pending;     /* workers still running it */
+    /* The job's door: its generation << 32, OPEN while the caller runs its
+     * own part, and the workers that came in; then how many have finished. */
+    _Atomic uint64_t entry;
+    atomic_int       finished;
     atomic_int       quit;
     void           (*job)(void *ctx, int index);
     void            *ctx;
@@ -58,7 +65,22 @@ static int job_posted(void *a) {
     gen_wait *g = a;
     return atomic_load(&g->p->generation) != g->seen || atomic_load(&g->p->quit);
 }
-static int all_done(void *a) { return atomic_load(&((ew_pool *)a)->pending) <= 0; }
+#define OPEN ((uint64_t)1 << 31)
+#define JOINED(e) ((int)((e) & (OPEN - 1)))
+
+/* Comes in to job generation g if its caller is still at it. */
+static int join(ew_pool *p, unsigned g) {
+    uint64_t e = atomic_load(&p->entry);
+    while ((unsigned)(e >> 32) == g && (e & OPEN))
+        if (atomic_compare_exchange_weak(&p->entry, &e, e + 1)) return 1;
+    return 0;
+}
+
+typedef struct done_wait { ew_pool *p; int joined; } done_wait;
+static int all_done(void *a) {
+    done_wait *d = a;
+    return atomic_load(&d->p->finished) >= d->joined;
+}
 
 static void *worker(void *vp) {
     worker_arg *wa = vp;
@@ -87,8 +109,11 @@ static void *worker(void *vp) {
         if (atomic_load(&p->quit)) break;
         seen = g;
         woken = atomic_load(&p->wakes);  /* a wake before this job is used up */
+        if (!join(p, g)) continue;  /* too late: the caller has done it all */
         p->job(p->ctx, index);  /* job and ctx were set before the bump */
-        if (atomic_fetch_sub(&p->pending, 1) == 1) {
+        int f = atomic_fetch_add(&p->finished, 1) + 1;
+        uint64_t e = atomic_load(&p->entry);
+        if (!(e & OPEN) && f == JOINED(e)) {  /* the last one the caller waits for */
             pthread_mutex_lock(&p->mu);
             pthread_cond_signal(&p->done);
             pthread_mutex_unlock(&p->mu);
@@ -140,15 +165,18 @@ static void run_job(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
         return;
     }
     p->job = job, p->ctx = ctx;
-    atomic_store(&p->pending, p->threads - 1);
+    unsigned g = atomic_load(&p->generation) + 1;
+    atomic_store(&p->finished, 0);
+    atomic_store(&p->entry, (uint64_t)g << 32 | OPEN);
     pthread_mutex_lock(&p->mu);
-    atomic_fetch_add(&p->generation, 1);  /* publishes job and ctx */
+    atomic_store(&p->generation, g);  /* publishes job, ctx and the open door */
     pthread_cond_broadcast(&p->start);
     pthread_mutex_unlock(&p->mu);
     job(ctx, 0);
-    if (!spin_until(all_done, p, SPIN_MS)) {
+    done_wait d = {p, JOINED(atomic_fetch_and(&p->entry, ~OPEN))};  /* no one comes in after this */
+    if (!spin_until(all_done, &d, SPIN_MS)) {
         pthread_mutex_lock(&p->mu);
-        while (atomic_load(&p->pending) > 0) pthread_cond_wait(&p->done, &p->mu);
+        while (!all_done(&d)) pthread_cond_wait(&p->done, &p->mu);
         pthread_mutex_unlock(&p->mu);
     }
 }

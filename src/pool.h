@@ -12,9 +12,12 @@ typedef struct ew_pool ew_pool;
 ew_pool *ew_pool_create(int threads);
 void     ew_pool_free(ew_pool *p);
 int      ew_pool_threads(const ew_pool *p);
-/* Runs job(ctx, i) for every thread index i, 0 on the caller; waits for all.
- * A pool of one thread (no workers) runs job(ctx, 0) on the caller, as
- * does p == NULL. */
+/* Runs job(ctx, 0) on the caller and job(ctx, i) on each worker i that
+ * comes in before the caller's own call returns, and waits for those: a
+ * worker asleep or off its core meanwhile is not waited for.  So a job
+ * shares its work out (atomic counters) and must not count on any index
+ * but 0 running.  A pool of one thread (no workers) runs job(ctx, 0) on
+ * the caller, as does p == NULL. */
 void     ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx);
 /* Wall time (ms) spent inside ew_pool_run since the pool was made, call to
  * return: the frame's parallel sections, whatever calls them; everything

@@ -1,0 +1,87 @@
+/* The worker pool (src/pool.c): every run does all of its shared work
+ * exactly once and returns only when every worker that came in has left,
+ * with more threads than cores and with workers put to sleep between runs,
+ * so that some come late or not at all. */
+#define _POSIX_C_SOURCE 200809L  /* nanosleep */
+#include "util.h"
+#include "pool.h"
+
+#include <signal.h>
+#include <stdatomic.h>
+#include <time.h>
+#include <unistd.h>
+
+typedef struct run {
+    atomic_int next, items_done, inside, joined;
+    int        n;
+} run;
+
+static atomic_int sink;  /* the items' busy work goes somewhere */
+
+static void job(void *vp, int index) {
+    run *r = vp;
+    atomic_fetch_add(&r->inside, 1);
+    if (index > 0) atomic_fetch_add(&r->joined, 1);
+    for (int i; (i = atomic_fetch_add(&r->next, 1)) < r->n;) {
+        for (int k = 0; k < 300; k++) atomic_store_explicit(&sink, k, memory_order_relaxed);
+        atomic_fetch_add(&r->items_done, 1);
+    }
+    atomic_fetch_sub(&r->inside, 1);
+}
+
+static void nap_us(long us) {
+    struct timespec ts = {0, us * 1000};
+    nanosleep(&ts, NULL);
+}
+
+/* A pool that loses track of its workers can hang instead of failing. */
+static void hung(int sig) {
+    (void)sig;
+    static const char msg[] = "FAIL test_pool: still running after 120 s (the pool hung)\n";
+    if (write(2, msg, sizeof msg - 1) < 0) _exit(2);
+    _exit(1);
+}
+
+int main(void) {
+    signal(SIGALRM, hung);
+    alarm(120);
+    const int counts[] = {1, 2, 4, 8};
+    for (int c = 0; c < 4; c++) {
+        int threads = counts[c];
+        ew_pool *p = ew_pool_create(threads);
+        CHECK(p != NULL && ew_pool_threads(p) == threads, "a pool of %d threads", threads);
+        if (!p) continue;
+        long joined = 0, bad_items = 0, still_inside = 0, too_many = 0;
+        const int runs = 3000;
+        for (int k = 0; k < runs; k++) {
+            /* Now and then the workers fall asleep (past the pool's spin)
+             * and the next run starts with or without a wake-up call. */
+            if (k % 200 == 199) {
+                nap_us(2000);
+                if (k % 400 == 399) ew_pool_wake(p);
+            }
+            run r = {0};
+            r.n = k % 61;
+            ew_pool_run(p, job, &r);
+            bad_items += atomic_load(&r.items_done) != r.n;
+            still_inside += atomic_load(&r.inside) != 0;
+            too_many += atomic_load(&r.joined) > threads - 1;
+            joined += atomic_load(&r.joined);
+        }
+        CHECK(bad_items == 0, "%d threads: %ld runs did not do their items exactly once", threads, bad_items);
+        CHECK(still_inside == 0, "%d threads: %ld runs returned with a worker still in the job", threads,
+              still_inside);
+        CHECK(too_many == 0, "%d threads: %ld runs had more workers than the pool", threads, too_many);
+        if (threads == 1) CHECK(joined == 0, "a pool of one thread has no workers (%ld joined)", joined);
+        else CHECK(joined > 0, "%d threads: no worker ever took part in %d runs", threads, runs);
+        printf("%d threads: workers took part %ld times in %d runs (at most %ld)\n", threads, joined, runs,
+               (long)runs * (threads - 1));
+        ew_pool_free(p);
+    }
+    /* NULL: the caller alone. */
+    run r = {0};
+    r.n = 10;
+    ew_pool_run(NULL, job, &r);
+    CHECK(atomic_load(&r.items_done) == 10 && atomic_load(&r.joined) == 0, "no pool: the caller's part only");
+    return ew_t_finish();
+}
