@@ -946,6 +946,14 @@ static void wait_done(struct ew_front_par *fp, int k) {
     while (atomic_load_explicit(&fp->ph[k].done, memory_order_acquire) < fp->ph[k].n) relax(&rounds);
 }
 
+/* The calling thread's side of phase k: opened with n items, its share
+ * taken, then every item waited for. */
+static void run_phase(ew_renderer *r, struct ew_front_par *fp, int k, int n) {
+    open_phase(fp, k, n);
+    run_items(r, fp, k, 0);
+    wait_done(fp, k);
+}
+
 typedef struct front_run {
     ew_renderer *r;
     double       serial_ms[2];
@@ -975,9 +983,7 @@ static void job_front(void *ctx, int thread) {
     for (int i = 0; i < r->sched.nthreads && i < EW_MAX_THREADS; i++)
         fp->arenas[i].nfrags = fp->arenas[i].nedges = fp->arenas[i].nverts = fp->arenas[i].failed = 0;
     run->serial_ms[1] = ew_now_ms() - t;
-    open_phase(fp, 1, (r->marks.nvis + PVS_CHUNK - 1) / PVS_CHUNK);
-    run_items(r, fp, 1, 0);
-    wait_done(fp, 1);
+    run_phase(r, fp, 1, (r->marks.nvis + PVS_CHUNK - 1) / PVS_CHUNK);
     r->marks.vis_pending = 0;
     t = ew_now_ms();
     fp->nsegs = fp->ntree = fp->nnode = 0;
@@ -985,28 +991,18 @@ static void job_front(void *ctx, int thread) {
     if (fp->head_root) add_seg(fp, SEG_TREE, head, 15, 0, 0);
     else top_walk(r, fp, head, 15, 0);
     ser += ew_now_ms() - t;
-    open_phase(fp, 2, fp->ntree);
-    run_items(r, fp, 2, 0);
-    wait_done(fp, 2);
-    open_phase(fp, 3, (fp->nnode + NODE_CHUNK - 1) / NODE_CHUNK);
-    run_items(r, fp, 3, 0);
-    wait_done(fp, 3);
+    run_phase(r, fp, 2, fp->ntree);
+    run_phase(r, fp, 3, (fp->nnode + NODE_CHUNK - 1) / NODE_CHUNK);
     t = ew_now_ms();
     layout(r, fp);
     ser += ew_now_ms() - t;
-    open_phase(fp, 4, fp->nchunks + fp->nsegs + fp->nent_items);
-    run_items(r, fp, 4, 0);
-    wait_done(fp, 4);
+    run_phase(r, fp, 4, fp->nchunks + fp->nsegs + fp->nent_items);
     if (fp->nent_items) r->ents.tested_frame = r->marks.framecount;
-    open_phase(fp, 5, staged_chunks(fp) + fp->nbitems);
-    run_items(r, fp, 5, 0);
-    wait_done(fp, 5);
+    run_phase(r, fp, 5, staged_chunks(fp) + fp->nbitems);
     t = ew_now_ms();
     int fits = number(r, fp);
     ser += ew_now_ms() - t;
-    open_phase(fp, 6, fits ? staged_chunks(fp) + fp->nbitems : 0);
-    run_items(r, fp, 6, 0);
-    wait_done(fp, 6);
+    run_phase(r, fp, 6, fits ? staged_chunks(fp) + fp->nbitems : 0);
     t = ew_now_ms();
     if (fits) {
         if (fp->nbitems > 0) {
