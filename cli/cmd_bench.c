@@ -322,14 +322,22 @@ static const struct counter_def {
     COUNTER(pixels_written), COUNTER(pixels_covered), COUNTER(edges),
     COUNTER(edges_cached), COUNTER(surfaces), COUNTER(surfaces_shown), COUNTER(spans),
     COUNTER(surfaces_built), COUNTER(surfaces_cached), COUNTER(visible_leaves),
-    COUNTER(dropped), COUNTER(entities_drawn), COUNTER(entities_culled),
+    COUNTER(dropped), COUNTER(entities_drawn), COUNTER(entities_culled), COUNTER(entities_hidden),
     COUNTER(entities_unknown), COUNTER(models_missing), COUNTER(alias_tris),
     COUNTER(alias_tris_subdiv), COUNTER(alias_pixels), COUNTER(particles),
     COUNTER(surfaces_rebuilt_by_dlights), COUNTER(seethrough_surfaces), COUNTER(fence_pixels),
     COUNTER(translucent_pixels), COUNTER(fog_pixels), COUNTER(underwater), COUNTER(hsr_bytes),
 };
 #undef COUNTER
-enum { NCOUNTERS = sizeof counter_defs / sizeof counter_defs[0], C_SEETHROUGH = 19 };
+enum { NCOUNTERS = sizeof counter_defs / sizeof counter_defs[0] };
+
+/* The counter of an ew_stats field, by its offset (found, not numbered by
+ * hand: the list grows in the middle). */
+static int counter_of(size_t offset) {
+    for (int i = 0; i < NCOUNTERS; i++)
+        if (counter_defs[i].offset == offset) return i;
+    return 0;
+}
 
 static double counter_value(const ew_stats *s, const struct counter_def *d) {
     const char *p = (const char *)s + d->offset;
@@ -572,7 +580,8 @@ static void print_table_row(const row *r) {
            "%7.3f %7.3f %7.3f %6.1f",
            r->map, size, r->threads, r->views, r->median, r->mean, r->p99, r->max, r->max_view,
            r->level, r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->stages[ST_FRONT],
-           r->stages[ST_SCAN], r->stages[ST_DRAW], r->stages[ST_MODELS], r->counters[C_SEETHROUGH]);
+           r->stages[ST_SCAN], r->stages[ST_DRAW], r->stages[ST_MODELS],
+           r->counters[counter_of(offsetof(ew_stats, seethrough_surfaces))]);
     printf(" %7.3f %6.2f", r->serial, 100 * r->serial_share);
     for (int b = 0; b < r->nbands; b++)
         printf(" %6.3f %6.2f %6.2f", r->imbalance[b], r->speedup[b], r->sched_speedup[b]);

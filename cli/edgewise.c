@@ -521,10 +521,10 @@ static void print_stats(const char *name, const options *o, int view, const ew_c
             s->edges, s->edges_cached, s->surfaces, s->surfaces_shown, s->spans, s->surfaces_built,
             s->surfaces_cached, s->visible_leaves, s->dropped);
     fprintf(f,
-            ",\"entities_drawn\":%d,\"entities_culled\":%d,\"entities_unknown\":%d,"
+            ",\"entities_drawn\":%d,\"entities_culled\":%d,\"entities_hidden\":%d,\"entities_unknown\":%d,"
             "\"models_missing\":%d,\"alias_tris\":%d,\"alias_tris_subdiv\":%d,\"alias_pixels\":%ld,"
             "\"alias_sprite_hits\":%d,\"alias_sprite_misses\":%d,\"particles\":%d,\"surfaces_rebuilt_by_dlights\":%d",
-            s->entities_drawn, s->entities_culled, s->entities_unknown, s->models_missing,
+            s->entities_drawn, s->entities_culled, s->entities_hidden, s->entities_unknown, s->models_missing,
             s->alias_tris, s->alias_tris_subdiv, s->alias_pixels,
             s->alias_sprite_hits, s->alias_sprite_misses, s->particles,
             s->surfaces_rebuilt_by_dlights);

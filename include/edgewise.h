@@ -400,6 +400,11 @@ typedef struct ew_stats {
      * behind nearer ones, and cost the front end and the scan all the same
      * (0 for the methods that write no spans, such as reference). */
     int    surfaces_shown;
+    /* Moving things in the frustum and the PVS that the opaque world hides
+     * entirely (alias models and item boxes whose screen box lies behind
+     * the world's 1/z everywhere): neither posed nor drawn, and counted in
+     * entities_culled too. */
+    int    entities_hidden;
 } ew_stats;
 
 /* Renders one frame of the world into the renderer's 8-bit frame buffer and

@@ -44,6 +44,13 @@ EW_API int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pi
  * and exists to measure what deferring saves. */
 EW_API void ew_set_full_zfill(ew_renderer *r, int on);
 
+/* Moving things the opaque world hides entirely: alias models and item
+ * boxes whose screen box lies behind the world's 1/z at every pixel are
+ * neither posed nor drawn (1, the default; ew_stats.entities_hidden counts
+ * them), or drawn like the rest (0).  The frame and ew_frame_zbuffer are
+ * the same either way; 0 exists to check that and to measure the saving. */
+EW_API void ew_set_hide_occluded(ew_renderer *r, int on);
+
 /* How the renderer cuts a frame for its threads, in two phases with a wait
  * between: with more than one thread, the scan into EW_BANDS_PER_THREAD
  * bands a thread, placed by the last frame's scan costs, then the draw

@@ -68,6 +68,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->cfg.classic = d.classic != 0;
     r->cfg.liquid_alpha = -1, r->cfg.fog_density = -1;  /* the map's */
     r->cfg.waterwarp = 1;
+    r->cfg.hide_occluded = 1;
     /* The frame target: 8-bit palette indices or 32-bit pixels, rows one
      * after another. */
     r->target.width = width, r->target.height = height;
@@ -281,6 +282,7 @@ const float *ew_frame_zbuffer(ew_renderer *r) {
 }
 
 void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
+void ew_set_hide_occluded(ew_renderer *r, int on) { r->cfg.hide_occluded = on != 0; }
 const int *ew_frame_face_ids(const ew_renderer *r) { return r->face_ids; }
 
 /* Light styles: each frame's values come from these settings (ew_frame_begin). */
@@ -766,6 +768,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         const ew_stats *m = &r->sched.items[i].stats;
         st->dropped += m->dropped;
         st->entities_drawn += m->entities_drawn, st->entities_culled += m->entities_culled;
+        st->entities_hidden += m->entities_hidden;
         st->alias_tris += m->alias_tris, st->alias_tris_subdiv += m->alias_tris_subdiv;
         st->alias_pixels += m->alias_pixels, st->particles += m->particles;
         st->alias_sprite_hits += m->alias_sprite_hits, st->alias_sprite_misses += m->alias_sprite_misses;

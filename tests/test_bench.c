@@ -50,7 +50,7 @@ static void check_row(const char *what, const char *line, int w, int h, int view
         "median_ms", "mean_ms", "p99_ms", "max_ms", "max_view", "level", "ns_per_pixel",
         "floor_ms", "floor_ratio", "front", "scan", "draw", "models", "total", "pixels",
         "pixels_written", "pixels_covered", "edges", "edges_cached", "surfaces", "surfaces_shown", "spans",
-        "surfaces_built", "surfaces_cached", "visible_leaves", "dropped", "entities_drawn",
+        "surfaces_built", "surfaces_cached", "visible_leaves", "dropped", "entities_drawn", "entities_hidden",
         "alias_tris", "particles", "serial_ms", "serial_share", "begin_ms", "walk_ms", "brush_ms",
         "prepare_ms", "passes_ms", "serial_mean_ms",
     };

@@ -216,7 +216,7 @@ static void check_stats_json(const char *what, const char *out) {
     static const char *const keys[] = {
         "map", "width", "height", "view", "pixels", "pixels_written", "pixels_covered",
         "overdraw", "edges", "edges_cached", "surfaces", "surfaces_shown", "spans", "surfaces_built",
-        "surfaces_cached", "visible_leaves", "dropped", "ms_front", "ms_scan", "ms_draw",
+        "surfaces_cached", "visible_leaves", "dropped", "entities_hidden", "ms_front", "ms_scan", "ms_draw",
         "ms_total", "ms_serial",
     };
     CHECK(out[0] == '{' && count_lines(out) == 1 && strstr(out, "}\n"), "%s: stdout: %s", what,

@@ -302,7 +302,7 @@ static int clip_poly(const clip_planes *cp, int mask, cvert *in, int n, cvert *s
 }
 
 int ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf) {
-    xf->visible = 0;
+    xf->visible = xf->hidden = 0;
     xf->rgba = NULL, xf->remap = NULL;
     for (int k = 0; k < 3; k++)
         if (!isfinite(p->origin[k]) || !isfinite(p->angles[k]) || fabsf(p->origin[k]) > 1e6f) return 0;
@@ -334,7 +334,7 @@ int ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p
     ew_view_planes(v, NEAR_Z, &cp);
     xf->cp = cp;
     int and_flags = 0x1F, or_flags = 0, behind = 0;
-    float vmin = 1e30f, vmax = -1e30f, umin = 1e30f, umax = -1e30f;
+    float vmin = 1e30f, vmax = -1e30f, umin = 1e30f, umax = -1e30f, znear = 1e30f;
     for (int c = 0; c < 8; c++) {
         float mp[3] = {c & 1 ? pose->maxs[0] : pose->mins[0], c & 2 ? pose->maxs[1] : pose->mins[1],
                        c & 4 ? pose->maxs[2] : pose->mins[2]};
@@ -342,6 +342,7 @@ int ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p
         for (int i = 0; i < 3; i++) vp[i] = mm[i][0] * mp[0] + mm[i][1] * mp[1] + mm[i][2] * mp[2] + mt[i];
         int f = clip_flags(&cp, vp);
         and_flags &= f, or_flags |= f;
+        if (vp[2] < znear) znear = vp[2];
         if (vp[2] > 0) {
             float sx = v->xcenter + v->xscale * vp[0] / vp[2];
             float sy = v->ycenter - v->yscale * vp[1] / vp[2];
@@ -371,6 +372,7 @@ int ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p
         xf->lm[j] = light_towards[0] * axis[j][0] + light_towards[1] * axis[j][1] + light_towards[2] * axis[j][2];
     xf->visible = 1, xf->accept = accept, xf->behind = behind, xf->subdiv = subdiv;
     xf->umin = umin, xf->umax = umax, xf->vmin = vmin, xf->vmax = vmax;
+    xf->zi_near = behind ? INFINITY : 1.0f / znear;
     xf->image = image, xf->pose = (int)(pose - m->poses);
     memcpy(xf->rot, mm, sizeof mm), memcpy(xf->org, mt, sizeof mt);
     xf->xv = NULL;

@@ -186,9 +186,11 @@ typedef struct ew_xvert {
  * band the model crosses (ew_alias_draw), so no band transforms or lights
  * it again. */
 typedef struct ew_alias_xf {
-    int              visible;                  /* 0: outside the frustum (or a bad pose) */
+    int              visible;                  /* 0: outside the frustum (or a bad pose), or hidden */
+    int              hidden;                   /* the world hides it (raster/models.c) */
     int              accept, behind, subdiv;   /* wholly in view; a corner behind the eye; rasterizer */
     float            umin, umax, vmin, vmax;   /* screen box of its bounds */
+    float            zi_near;                  /* the largest 1/z of its bounds' corners (unless behind) */
     int              minx, miny, maxx, maxy;   /* of its projected vertices */
     int              image;                    /* skin picture */
     int              pose;                     /* vertex frame (m->poses) */

@@ -6,8 +6,7 @@
 
 #include <math.h>
 
-/* The 1/z plane of face f seen through v. */
-static void face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]) {
+void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]) {
     const ew_plane *pl = &w->planes[f->plane];
     float nx = 0, ny = 0, nz = 0, od = 0;
     for (int k = 0; k < 3; k++) {
@@ -27,7 +26,7 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
                        ew_gradients *g) {
     const ew_texinfo *ti = &w->texinfo[f->texinfo];
     float zp[3];
-    face_zplane(w, v, f, zp);
+    ew_face_zplane(w, v, f, zp);
     g->zi_u = zp[0], g->zi_v = zp[1], g->zi_0 = zp[2];
     g->pad_u = g->pad_v = g->pad_0 = 0;
     float xs = v->xscale, ys = v->yscale, xc = v->xcenter, yc = v->ycenter;

@@ -78,6 +78,88 @@ int ew_boxes_reserve(ew_renderer *r, int nents, int nfaces) {
     return 0;
 }
 
+/* Does the opaque world hide every pixel of [x0, x1) x [y0, y1) (clipped
+ * to the frame) from a thing nowhere nearer than 1/z = zi?  The world's
+ * 1/z there comes from this frame's spans, each surface's 1/z plane taken
+ * as the z-fill takes it (ew_face_zplane gives the gradients' zi_u, zi_v,
+ * zi_0), so it is the z-buffer the thing would be tested against.  Along a
+ * span 1/z is linear (and its rounded values monotone), so a span's two
+ * ends bound it.  A row with no spans indexed, or a span of the background
+ * (1/z 0), hides nothing. */
+static int world_hides(const ew_renderer *r, int x0, int y0, int x1, int y1, float zi) {
+    const ew_zfill *z = &r->zf;
+    const ew_world *w = r->world;
+    if (x0 < 0) x0 = 0;
+    if (y0 < 0) y0 = 0;
+    if (x1 > r->target.width) x1 = r->target.width;
+    if (y1 > r->target.height) y1 = r->target.height;
+    if (x0 >= x1 || y0 >= y1) return 0;
+    /* The planes of the last few surfaces met: a thing's rows cross few. */
+    enum { NPLANES = 8 };
+    int psurf[NPLANES];
+    float plane[NPLANES][3];
+    for (int i = 0; i < NPLANES; i++) psurf[i] = -1;
+    for (int y = y0; y < y1; y++) {
+        int n = z->row_nspans[y];
+        if (n == 0) return 0;
+        const ew_band *b = &z->bands[z->row_band[y]];
+        const ew_span *sp = b->spans + z->row_span0[y];
+        for (int i = 0; i < n; i++, sp++) {
+            if (sp->u >= x1 && !b->unsorted) break;
+            int a = sp->u > x0 ? sp->u : x0, e = sp->u + sp->count < x1 ? sp->u + sp->count : x1;
+            if (a >= e) continue;
+            const ew_surf *sf = &r->el.surfs[sp->surf];
+            if (sp->surf == 0 || sf->face < 0) return 0;
+            int slot = sp->surf & (NPLANES - 1);
+            if (psurf[slot] != sp->surf) {
+                ew_face_zplane(w, sf->view, &w->faces[sf->face], plane[slot]);
+                psurf[slot] = sp->surf;
+            }
+            const float *pl = plane[slot];
+            float z0 = pl[0] * sp->u + pl[1] * sp->v + pl[2];
+            float za = z0 + (float)(a - sp->u) * pl[0], ze = z0 + (float)(e - 1 - sp->u) * pl[0];
+            if (!(za > zi && ze > zi)) return 0;
+        }
+    }
+    return 1;
+}
+
+/* A moving thing with screen box [umin, umax] x [vmin, vmax], none of it
+ * behind the eye, and no pixel nearer than 1/z = zi_near, that the world
+ * hides.  The box gets a pixel more each way (for snapped vertices), and
+ * zi_near 2% more: a pixel's 1/z is interpolated between corners' or
+ * vertices' that are at most zi_near, and 2% covers that arithmetic's
+ * rounding many times over, so the test never hides a pixel that would
+ * pass the z test. */
+static int screen_box_hidden(const ew_renderer *r, float umin, float umax, float vmin, float vmax, float zi_near) {
+    if (!r->cfg.hide_occluded || !(umin <= umax && vmin <= vmax) || !(zi_near < 1e30f)) return 0;
+    float wd = (float)r->target.width, ht = (float)r->target.height;
+    int x0 = (int)floorf(fminf(fmaxf(umin, -2), wd)) - 1, x1 = (int)ceilf(fminf(fmaxf(umax, -2), wd)) + 2;
+    int y0 = (int)floorf(fminf(fmaxf(vmin, -2), ht)) - 1, y1 = (int)ceilf(fminf(fmaxf(vmax, -2), ht)) + 2;
+    return world_hides(r, x0, y0, x1, y1, zi_near * 1.02f);
+}
+
+/* An alias model placed (ew_alias_place): its bounds' screen box and
+ * nearest corner. */
+static int alias_hidden(const ew_renderer *r, const ew_alias_xf *xf) {
+    return !xf->behind && screen_box_hidden(r, xf->umin, xf->umax, xf->vmin, xf->vmax, xf->zi_near);
+}
+
+/* A world-space box, every corner in front of the eye. */
+static int box_hidden(const ew_renderer *r, const float lo[3], const float hi[3]) {
+    const ew_view *v = &r->view;
+    float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f, znear = 1e30f;
+    for (int c = 0; c < 8; c++) {
+        float p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]}, t[3];
+        ew_view_transform(v, p, t);
+        if (!(t[2] > 1.0f)) return 0;  /* near the eye or behind it (or NaN) */
+        float zi = 1.0f / t[2], u = v->xcenter + v->xscale * t[0] * zi, y = v->ycenter - v->yscale * t[1] * zi;
+        umin = fminf(umin, u), umax = fmaxf(umax, u), vmin = fminf(vmin, y), vmax = fmaxf(vmax, y);
+        znear = fminf(znear, t[2]);
+    }
+    return screen_box_hidden(r, umin, umax, vmin, vmax, 1.0f / znear);
+}
+
 /* Item box entity ei this frame: its corners moved and projected once for
  * the faces that share them, its faces turned to the eye projected and
  * oriented, the rows they reach, and the faces left to fill (those with a
@@ -93,13 +175,25 @@ static void prepare_box(ew_renderer *r, int ei) {
     ew_box_face *out = r->ents.box_faces + bf->face0;
     const int h = r->target.height;
     bf->frame = r->marks.framecount;
-    bf->in_view = bf->nfaces = bf->dropped = bf->zrect = 0;
+    bf->in_view = bf->nfaces = bf->dropped = bf->zrect = bf->hidden = 0;
     bf->y0 = bf->y1 = 0;
     float ax[3][3];
     ew_entity_axes(e->angles, ax);
     float lo[3], hi[3];
     ew_moved_box(ax, e->origin, m->mins, m->maxs, lo, hi);
     if (ew_cull_box(&r->view, lo, hi, 15) < 0) return;
+    if (r->cfg.hide_occluded) {
+        /* The box of its vertices: an item box's model bounds lie a unit
+         * inside its faces (the map compiler's habit). */
+        float vlo[3] = {1e30f, 1e30f, 1e30f}, vhi[3] = {-1e30f, -1e30f, -1e30f}, olo[3], ohi[3];
+        for (int i = 0; i < bw->numverts; i++)
+            for (int k = 0; k < 3; k++) vlo[k] = fminf(vlo[k], bw->verts[i][k]), vhi[k] = fmaxf(vhi[k], bw->verts[i][k]);
+        ew_moved_box(ax, e->origin, vlo, vhi, olo, ohi);
+        if (bw->numverts > 0 && box_hidden(r, olo, ohi)) {
+            bf->hidden = 1;  /* its faces' pixels lie in the moved box's */
+            return;
+        }
+    }
     ew_view_to_model(&r->view, ax, e->origin, &bf->mv);
     box_corner corner[BOX_CORNERS];
     uint8_t made[BOX_CORNERS];
@@ -258,6 +352,10 @@ void ew_models_work(ew_renderer *r, int item) {
     ew_sc_slot *slot = ew_sprite_cache_slot(r, i);
     if (slot) slot->use = 0;  /* not last frame's decision, whatever happens below */
     if (!ew_alias_place(r, m->data, &pose, xf)) return;
+    if (alias_hidden(r, xf)) {
+        xf->visible = 0, xf->hidden = 1;  /* nothing to pose or draw */
+        return;
+    }
     if (ef->tinted) tint_palette(r, ef, i, xf);
     if (slot && ew_sprite_cache_reuse(r, slot, m->data, xf, &pose, ew_sprite_cache_tol(r))) return;
     ew_alias_pose_verts(r, m->data, &pose, xf, r->ents.xverts + ef->xvert0);
@@ -281,6 +379,13 @@ static void tint_palette(ew_renderer *r, const ew_ent_frame *ef, int i, ew_alias
         remap[c] = lc->fullbright[c] || !r->lit.nearest ? (uint8_t)c : r->lit.nearest[ew_blend_at(&r->blend, v[0], v[1], v[2])];
     }
     xf->rgba = rgba, xf->remap = remap;
+}
+
+/* Entity i (of model kind) was left out because the world hides it. */
+static int entity_hidden(const ew_renderer *r, int i, int kind) {
+    if (kind == EW_MODEL_ALIAS) return r->ents.nalias && r->ents.xf[i].hidden;
+    return kind == EW_MODEL_BOX && i < r->ents.max_box_frame && r->ents.box_frame[i].frame == r->marks.framecount &&
+           r->ents.box_frame[i].hidden;
 }
 
 void ew_draw_models(ew_renderer *r, const ew_rows *rows) {
@@ -312,6 +417,7 @@ void ew_draw_models(ew_renderer *r, const ew_rows *rows) {
         if (rows->first) {
             if (drawn) rows->stats->entities_drawn++;
             else rows->stats->entities_culled++;
+            if (!drawn && entity_hidden(r, i, m->kind)) rows->stats->entities_hidden++;
         }
     }
     if (sc->nparticles) ew_draw_particles_rows(r, sc->particles, sc->nparticles, rows);

@@ -24,6 +24,9 @@ typedef struct ew_gradients {
  * face's own space) at a mip level. */
 void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
                        ew_gradients *g);
+/* Its 1/z plane alone (the gradients' zi_u, zi_v, zi_0): 1/z = out[0] u +
+ * out[1] v + out[2]. */
+void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]);
 
 /* How one surface's spans are drawn this frame (set before the bands draw). */
 enum { EW_DRAW_BACKGROUND, EW_DRAW_LIT, EW_DRAW_SKY, EW_DRAW_TURB, EW_DRAW_FLAT, EW_DRAW_DEBUG };
@@ -129,6 +132,7 @@ typedef struct ew_zpoly {
 typedef struct ew_box_frame {
     int     frame;                  /* the frame it was prepared for: else not drawn */
     int     in_view;                /* a face has an area on screen */
+    int     hidden;                 /* the world hides it (raster/models.c): not in view */
     int     y0, y1;                 /* the rows its faces reach */
     int     zrect, zx0, zy0, zx1, zy1;  /* one z-fill rectangle holds every face's */
     int     face0, nfaces;          /* its faces to fill, in ents.box_faces; face0 set by the reserve */

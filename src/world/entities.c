@@ -90,7 +90,7 @@ int ew_prepare_entities(ew_renderer *r) {
     for (int i = 0; i < sc->nents; i++) {
         const ew_scene_entity *e = &sc->ents[i];
         const ew_ent_frame *ef = &r->ents.ent_frame[i];
-        en->xf[i].visible = 0;
+        en->xf[i].visible = en->xf[i].hidden = 0;
         r->stats.entities_culled += ef->culled;
         if (!ef->visible) continue;
         const ew_scene_model *m = &sc->models[e->model];
