@@ -7,6 +7,7 @@
 #include "renderer.h"
 #include "ew_util.h"
 #include "raster/alias.h"
+#include "world/edge_math.h"  /* ew_project */
 #include "scene/scene.h"
 
 #include <math.h>
@@ -100,12 +101,11 @@ static int world_hides(const ew_renderer *r, int x0, int y0, int x1, int y1, flo
     float plane[NPLANES][3];
     for (int i = 0; i < NPLANES; i++) psurf[i] = -1;
     for (int y = y0; y < y1; y++) {
-        int n = z->row_nspans[y];
+        const ew_span *sp;
+        int sorted, n = ew_zfill_row_spans(z, y, x0, &sp, &sorted);
         if (n == 0) return 0;
-        const ew_band *b = &z->bands[z->row_band[y]];
-        const ew_span *sp = b->spans + z->row_span0[y];
         for (int i = 0; i < n; i++, sp++) {
-            if (sp->u >= x1 && !b->unsorted) break;
+            if (sp->u >= x1 && sorted) break;
             int a = sp->u > x0 ? sp->u : x0, e = sp->u + sp->count < x1 ? sp->u + sp->count : x1;
             if (a >= e) continue;
             const ew_surf *sf = &r->el.surfs[sp->surf];
@@ -145,19 +145,20 @@ static int alias_hidden(const ew_renderer *r, const ew_alias_xf *xf) {
     return !xf->behind && screen_box_hidden(r, xf->umin, xf->umax, xf->vmin, xf->vmax, xf->zi_near);
 }
 
-/* A world-space box, every corner in front of the eye. */
+/* A world-space box, every corner more than a unit in front of the eye
+ * (ew_project clamps a corner to the frame's border, as the test's box is
+ * clamped anyway). */
 static int box_hidden(const ew_renderer *r, const float lo[3], const float hi[3]) {
-    const ew_view *v = &r->view;
-    float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f, znear = 1e30f;
+    float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f, zi_near = 0;
     for (int c = 0; c < 8; c++) {
-        float p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]}, t[3];
-        ew_view_transform(v, p, t);
-        if (!(t[2] > 1.0f)) return 0;  /* near the eye or behind it (or NaN) */
-        float zi = 1.0f / t[2], u = v->xcenter + v->xscale * t[0] * zi, y = v->ycenter - v->yscale * t[1] * zi;
-        umin = fminf(umin, u), umax = fmaxf(umax, u), vmin = fminf(vmin, y), vmax = fmaxf(vmax, y);
-        znear = fminf(znear, t[2]);
+        const float p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]};
+        ew_proj j;
+        ew_project(&r->view, p, &j);
+        if (!(j.zi < 1.0f)) return 0;  /* near the eye or behind it (or NaN) */
+        umin = fminf(umin, j.u), umax = fmaxf(umax, j.u), vmin = fminf(vmin, j.v), vmax = fmaxf(vmax, j.v);
+        zi_near = fmaxf(zi_near, j.zi);
     }
-    return screen_box_hidden(r, umin, umax, vmin, vmax, 1.0f / znear);
+    return screen_box_hidden(r, umin, umax, vmin, vmax, zi_near);
 }
 
 /* Item box entity ei this frame: its corners moved and projected once for
@@ -179,20 +180,15 @@ static void prepare_box(ew_renderer *r, int ei) {
     bf->y0 = bf->y1 = 0;
     float ax[3][3];
     ew_entity_axes(e->angles, ax);
+    /* Its vertices' box (ew_scene_model.lo, hi), moved: it holds every pixel
+     * of its faces. */
+    const ew_scene_model *sm = &sc->models[e->model];
     float lo[3], hi[3];
-    ew_moved_box(ax, e->origin, m->mins, m->maxs, lo, hi);
+    ew_moved_box(ax, e->origin, sm->lo, sm->hi, lo, hi);
     if (ew_cull_box(&r->view, lo, hi, 15) < 0) return;
-    if (r->cfg.hide_occluded) {
-        /* The box of its vertices: an item box's model bounds lie a unit
-         * inside its faces (the map compiler's habit). */
-        float vlo[3] = {1e30f, 1e30f, 1e30f}, vhi[3] = {-1e30f, -1e30f, -1e30f}, olo[3], ohi[3];
-        for (int i = 0; i < bw->numverts; i++)
-            for (int k = 0; k < 3; k++) vlo[k] = fminf(vlo[k], bw->verts[i][k]), vhi[k] = fmaxf(vhi[k], bw->verts[i][k]);
-        ew_moved_box(ax, e->origin, vlo, vhi, olo, ohi);
-        if (bw->numverts > 0 && box_hidden(r, olo, ohi)) {
-            bf->hidden = 1;  /* its faces' pixels lie in the moved box's */
-            return;
-        }
+    if (box_hidden(r, lo, hi)) {
+        bf->hidden = 1;
+        return;
     }
     ew_view_to_model(&r->view, ax, e->origin, &bf->mv);
     box_corner corner[BOX_CORNERS];

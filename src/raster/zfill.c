@@ -10,15 +10,13 @@ void ew_zfill_span(const ew_target *t, const ew_span *sp, const ew_gradients *g)
     for (int i = 0; i < sp->count; i++) z[i] = zi + (float)i * dz;
 }
 
-/* World 1/z over [lo, hi) of row y from the spans that cover it. */
-static void zfill_row(ew_zfill *z, int y, int lo, int hi) {
-    if (z->row_nspans[y] == 0) return;  /* no spans (yet, or their bands are gone) */
+int ew_zfill_row_spans(const ew_zfill *z, int y, int lo, const ew_span **first, int *sorted) {
+    int n = z->row_nspans[y];
+    if (n == 0) return 0;  /* no spans (yet, or their bands are gone) */
     const ew_band *b = &z->bands[z->row_band[y]];
     const ew_span *sp = b->spans + z->row_span0[y];
-    float *zr = z->target->zbuf + (size_t)y * z->target->width;
-    int sorted = !b->unsorted;  /* a row's spans run left to right: stop past hi */
-    int i = 0, n = z->row_nspans[y];
-    if (sorted && n > 8) {
+    *sorted = !b->unsorted;
+    if (*sorted && n > 8) {
         /* Disjoint and in order, they end in order too: skip to the first
          * that ends past lo by halving (a model's box is a few of a row's
          * many spans). */
@@ -28,9 +26,18 @@ static void zfill_row(ew_zfill *z, int y, int lo, int hi) {
             if (sp[mid].u + sp[mid].count > lo) h = mid;
             else l = mid + 1;
         }
-        i = l, sp += l;
+        sp += l, n -= l;
     }
-    for (; i < n; i++, sp++) {
+    *first = sp;
+    return n;
+}
+
+/* World 1/z over [lo, hi) of row y from the spans that cover it. */
+static void zfill_row(ew_zfill *z, int y, int lo, int hi) {
+    const ew_span *sp;
+    int sorted, n = ew_zfill_row_spans(z, y, lo, &sp, &sorted);
+    float *zr = z->target->zbuf + (size_t)y * z->target->width;
+    for (int i = 0; i < n; i++, sp++) {
         if (sp->u >= hi && sorted) break;
         int a = sp->u > lo ? sp->u : lo, e = sp->u + sp->count < hi ? sp->u + sp->count : hi;
         if (a >= e) continue;

@@ -23,6 +23,11 @@ void ew_zfill_span(const ew_target *t, const ew_span *sp, const ew_gradients *g)
  * filled yet.  Every moving thing calls it for its screen box before its z
  * test; a caller drawing in a band passes rows inside that band. */
 void ew_zfill_rect(ew_zfill *z, int x0, int y0, int x1, int y1);
+/* Row y's spans from the first that may reach past column lo: *first, and
+ * the count returned (0: no spans indexed for the row).  *sorted: they run
+ * left to right, disjoint, so a caller stops at the first past its
+ * interval; else (an overdrawing method's) every one must be looked at. */
+int ew_zfill_row_spans(const ew_zfill *z, int y, int lo, const ew_span **first, int *sorted);
 /* Indexes a scanned band's spans by row and marks its rows unfilled. */
 void ew_zfill_index_band(ew_zfill *z, const ew_band *b, int band);
 /* Declares every row filled (the reference path's own z, a caller's). */

@@ -68,6 +68,16 @@ int ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size
     ew_scene_model *m = &s->models[s->nmodels];
     m->kind = kind;
     m->data = model;
+    if (kind == EW_MODEL_BOX) {
+        const ew_world *bw = model;
+        const ew_model *bm = &bw->models[0];
+        for (int k = 0; k < 3; k++) m->lo[k] = bm->mins[k], m->hi[k] = bm->maxs[k];
+        for (int i = 0; i < bw->numverts; i++)
+            for (int k = 0; k < 3; k++) {
+                if (bw->verts[i][k] < m->lo[k]) m->lo[k] = bw->verts[i][k];
+                if (bw->verts[i][k] > m->hi[k]) m->hi[k] = bw->verts[i][k];
+            }
+    }
     snprintf(m->name, sizeof m->name, "%s", name);
     return s->nmodels++;
 }

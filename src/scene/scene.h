@@ -14,6 +14,7 @@ typedef struct ew_scene_model {
     int   kind;      /* EW_MODEL_* */
     char  name[64];
     void *data;      /* ew_mdl *, ew_spr *, or ew_world * (item box) */
+    float lo[3], hi[3];  /* item box: the box of its vertices (the file's model bounds lie a unit inside its faces) */
 } ew_scene_model;
 
 typedef struct ew_scene_entity {
