@@ -66,8 +66,7 @@ int ew_scene_load_model(ew_scene *s, const char *name, const uint8_t *data, size
         s->models = m, s->cap_models = cap;
     }
     ew_scene_model *m = &s->models[s->nmodels];
-    m->kind = kind;
-    m->data = model;
+    *m = (ew_scene_model){.kind = kind, .data = model};  /* lo, hi 0 but for item boxes */
     if (kind == EW_MODEL_BOX) {
         const ew_world *bw = model;
         const ew_model *bm = &bw->models[0];
