@@ -209,12 +209,10 @@ static inline __m128i lit_point(const lit_row *r, float fu, __m128i lo) {
     return _mm_add_epi32(min32(max32(x, lo), r->hi), r->adj);
 }
 
-/* 16 texels from st (s, t in lanes 1 and 2) with steps d (likewise). */
+/* 16 texels from st (s, t, s, t) with steps d (ds, dt, ds, dt). */
 static inline void texel_run16(uint8_t *dst, const uint8_t *pixels, __m128i st, __m128i d, __m128i mul,
-                               int bytes, int narrow) {
+                                  int bytes, int narrow) {
     texel_lanes l;
-    st = _mm_shuffle_epi32(st, _MM_SHUFFLE(2, 1, 2, 1));  /* s, t, s, t */
-    d = _mm_shuffle_epi32(d, _MM_SHUFFLE(2, 1, 2, 1));
     l.a = _mm_add_epi32(st, _mm_and_si128(d, _mm_setr_epi32(0, 0, -1, -1)));
     d = _mm_add_epi32(d, d);
     l.b = _mm_add_epi32(l.a, d);
@@ -236,13 +234,61 @@ static inline void texel_run16(uint8_t *dst, const uint8_t *pixels, __m128i st, 
     }
 }
 
+/* The end points of four segments at fu + off (off: each lane's distance
+ * in columns), s in *S and t in *T: lit_point's arithmetic lane by lane
+ * with the low clamp lo16 (each lane of divps is divss's result), so four
+ * points cost one divide. */
+static inline void lit_points4(const lit_row *r, float fu, __m128 off, __m128i *S, __m128i *T) {
+    const __m128 f = _mm_add_ps(_mm_set1_ps(fu), off);
+    const __m128 zi = _mm_add_ps(_mm_mul_ps(_mm_shuffle_ps(r->u, r->u, 0x00), f), _mm_shuffle_ps(r->c, r->c, 0x00));
+    const __m128 z = _mm_div_ps(_mm_set1_ps(65536.0f), zi);
+    __m128 ps = _mm_mul_ps(_mm_add_ps(_mm_mul_ps(_mm_shuffle_ps(r->u, r->u, 0x55), f), _mm_shuffle_ps(r->c, r->c, 0x55)), z);
+    __m128 pt = _mm_mul_ps(_mm_add_ps(_mm_mul_ps(_mm_shuffle_ps(r->u, r->u, 0xAA), f), _mm_shuffle_ps(r->c, r->c, 0xAA)), z);
+    const __m128 lo = _mm_set1_ps(-1e9f), hi = _mm_set1_ps(1e9f);
+    __m128i xs = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(ps, lo), hi));
+    __m128i xt = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(pt, lo), hi));
+    *S = _mm_add_epi32(min32(max32(xs, _mm_shuffle_epi32(r->lo16, 0x55)), _mm_shuffle_epi32(r->hi, 0x55)),
+                       _mm_shuffle_epi32(r->adj, 0x55));
+    *T = _mm_add_epi32(min32(max32(xt, _mm_shuffle_epi32(r->lo16, 0xAA)), _mm_shuffle_epi32(r->hi, 0xAA)),
+                       _mm_shuffle_epi32(r->adj, 0xAA));
+}
+
+/* Four 16-pixel segments in a row, from the first one's start st (s, t in
+ * lanes 1 and 2) and each one's end (lane k of S and T): start and step
+ * of segments 0 and 1 in a and da, of 2 and 3 in b and db, as (s, t, s, t)
+ * pairs. */
+typedef struct seg4 { __m128i a, b, da, db; } seg4;
+static inline seg4 segments4(__m128i st, __m128i S, __m128i T) {
+    const __m128i lane0 = _mm_setr_epi32(-1, 0, 0, 0);
+    /* The starts: the carried point, then the first three ends. */
+    const __m128i PS = _mm_or_si128(_mm_slli_si128(S, 4), _mm_and_si128(_mm_shuffle_epi32(st, 0x55), lane0));
+    const __m128i PT = _mm_or_si128(_mm_slli_si128(T, 4), _mm_and_si128(_mm_shuffle_epi32(st, 0xAA), lane0));
+    const __m128i DS = _mm_srai_epi32(_mm_sub_epi32(S, PS), 4), DT = _mm_srai_epi32(_mm_sub_epi32(T, PT), 4);
+    return (seg4){_mm_unpacklo_epi32(PS, PT), _mm_unpackhi_epi32(PS, PT), _mm_unpacklo_epi32(DS, DT),
+                  _mm_unpackhi_epi32(DS, DT)};
+}
+
+/* Segment k (0 to 3, a constant after inlining) of q: 16 texels. */
+static inline void seg4_run(uint8_t *dst, const uint8_t *pixels, const seg4 *q, int k, __m128i mul, int bytes,
+                            int narrow) {
+    const __m128i p = k < 2 ? q->a : q->b, d = k < 2 ? q->da : q->db;
+    if (k % 2 == 0)
+        texel_run16(dst + 16 * k * bytes, pixels, _mm_shuffle_epi32(p, 0x44), _mm_shuffle_epi32(d, 0x44), mul, bytes,
+                    narrow);
+    else
+        texel_run16(dst + 16 * k * bytes, pixels, _mm_shuffle_epi32(p, 0xEE), _mm_shuffle_epi32(d, 0xEE), mul, bytes,
+                    narrow);
+}
+
 /* A lit span with the default divide every 16 pixels (bytes: 1 for 8-bit
  * frames, 4 for true colour; a tame surface, lit_tame): the stepper's
  * arithmetic with the surface's gradients and limits held in registers,
- * s and t kept in vector lanes from one segment point to the next, whole
- * segments first, then the last one of 1 to 16 pixels, which ends on its
- * own last pixel.  Columns are whole numbers far below 2^24, so fu stepped
- * in floats is exactly (float)u. */
+ * whole segments first, then the last one of 1 to 16 pixels, which ends on
+ * its own last pixel.  The segments' end points are computed four at a
+ * time: one divide instruction for four, where the divide's latency, one
+ * segment after another, had been what the span waited on (the pixels are
+ * the same).  Columns are whole numbers far below 2^24, so fu stepped in
+ * floats is exactly (float)u. */
 static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u, int v, int count, int bytes,
                                       int narrow) {
     if (count <= 0) return;
@@ -250,20 +296,44 @@ static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u
     const uint32_t pitch = (uint32_t)d->pitch;
     const lit_row r = lit_row_at(&d->g, v, pitch);
     float fu = (float)u;
-    __m128i st = lit_point(&r, fu, r.lo0), stn;
-    for (; count > 16; count -= 16) {
-        fu += 16.0f;
-        stn = lit_point(&r, fu, r.lo16);  /* not quite 0 at the low end, as in ew_step_next */
-        texel_run16(dst, pixels, st, _mm_srai_epi32(_mm_sub_epi32(stn, st), 4), r.mul, bytes, narrow);
-        dst += 16 * bytes;
-        st = stn;
+    __m128i st = lit_point(&r, fu, r.lo0);
+    const __m128 ends = _mm_setr_ps(16.0f, 32.0f, 48.0f, 64.0f);
+    for (; count > 64; count -= 64) {  /* four whole segments a divide */
+        __m128i S, T;
+        lit_points4(&r, fu, ends, &S, &T);
+        const seg4 q = segments4(st, S, T);
+        seg4_run(dst, pixels, &q, 0, r.mul, bytes, narrow);  /* not a loop: gcc would not unroll it */
+        seg4_run(dst, pixels, &q, 1, r.mul, bytes, narrow);
+        seg4_run(dst, pixels, &q, 2, r.mul, bytes, narrow);
+        seg4_run(dst, pixels, &q, 3, r.mul, bytes, narrow);
+        dst += 64 * bytes;
+        fu += 64.0f;
+        st = _mm_slli_si128(_mm_unpackhi_epi32(_mm_shuffle_epi32(S, 0xFF), _mm_shuffle_epi32(T, 0xFF)), 4);
     }
     int32_t s = _mm_cvtsi128_si32(_mm_srli_si128(st, 4)), t = _mm_cvtsi128_si32(_mm_srli_si128(st, 8));
     int32_t ds = 0, dt = 0;
     if (count > 1) {
-        stn = lit_point(&r, fu + (float)(count - 1), r.lo16);
-        ds = ew_step_div(_mm_cvtsi128_si32(_mm_srli_si128(stn, 4)) - s, count - 1);
-        dt = ew_step_div(_mm_cvtsi128_si32(_mm_srli_si128(stn, 8)) - t, count - 1);
+        /* The rest, up to three whole segments and the last one's end (on
+         * the span's last pixel), also from one divide. */
+        const int last = count - 1, nfull = last >> 4;
+        __m128i S, T;
+        lit_points4(&r, fu, _mm_min_ps(ends, _mm_set1_ps((float)last)), &S, &T);
+        int32_t sa[4], ta[4];
+        _mm_storeu_si128((__m128i *)(void *)sa, S);
+        _mm_storeu_si128((__m128i *)(void *)ta, T);
+        if (nfull > 0) {
+            const seg4 q = segments4(st, S, T);
+            seg4_run(dst, pixels, &q, 0, r.mul, bytes, narrow);
+            if (nfull > 1) seg4_run(dst, pixels, &q, 1, r.mul, bytes, narrow);
+            if (nfull > 2) seg4_run(dst, pixels, &q, 2, r.mul, bytes, narrow);
+            s = sa[nfull - 1], t = ta[nfull - 1];
+            dst += 16 * nfull * bytes;
+            count -= 16 * nfull;
+        }
+        if (count > 1) {
+            ds = ew_step_div(sa[nfull] - s, count - 1);
+            dt = ew_step_div(ta[nfull] - t, count - 1);
+        }
     }
     if (bytes == 1)
         texel_run(dst, pixels, pitch, s, t, ds, dt, count, narrow);
