@@ -297,27 +297,29 @@ static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u
     const lit_row r = lit_row_at(&d->g, v, pitch);
     float fu = (float)u;
     __m128i st = lit_point(&r, fu, r.lo0);
+    /* The points of the next four segments, or of the rest (up to three
+     * whole segments and the last one's end, on the span's last pixel), are
+     * computed before the four before them are drawn: their divide's
+     * latency then hides behind 64 pixels of drawing. */
     const __m128 ends = _mm_setr_ps(16.0f, 32.0f, 48.0f, 64.0f);
+    __m128i S, T;
+    lit_points4(&r, fu, count > 64 ? ends : _mm_min_ps(ends, _mm_set1_ps((float)(count - 1))), &S, &T);
     for (; count > 64; count -= 64) {  /* four whole segments a divide */
-        __m128i S, T;
-        lit_points4(&r, fu, ends, &S, &T);
         const seg4 q = segments4(st, S, T);
+        st = _mm_slli_si128(_mm_unpackhi_epi32(_mm_shuffle_epi32(S, 0xFF), _mm_shuffle_epi32(T, 0xFF)), 4);
+        fu += 64.0f;
+        const int left = count - 64;
+        lit_points4(&r, fu, left > 64 ? ends : _mm_min_ps(ends, _mm_set1_ps((float)(left - 1))), &S, &T);
         seg4_run(dst, pixels, &q, 0, r.mul, bytes, narrow);  /* not a loop: gcc would not unroll it */
         seg4_run(dst, pixels, &q, 1, r.mul, bytes, narrow);
         seg4_run(dst, pixels, &q, 2, r.mul, bytes, narrow);
         seg4_run(dst, pixels, &q, 3, r.mul, bytes, narrow);
         dst += 64 * bytes;
-        fu += 64.0f;
-        st = _mm_slli_si128(_mm_unpackhi_epi32(_mm_shuffle_epi32(S, 0xFF), _mm_shuffle_epi32(T, 0xFF)), 4);
     }
     int32_t s = _mm_cvtsi128_si32(_mm_srli_si128(st, 4)), t = _mm_cvtsi128_si32(_mm_srli_si128(st, 8));
     int32_t ds = 0, dt = 0;
     if (count > 1) {
-        /* The rest, up to three whole segments and the last one's end (on
-         * the span's last pixel), also from one divide. */
         const int last = count - 1, nfull = last >> 4;
-        __m128i S, T;
-        lit_points4(&r, fu, _mm_min_ps(ends, _mm_set1_ps((float)last)), &S, &T);
         int32_t sa[4], ta[4];
         _mm_storeu_si128((__m128i *)(void *)sa, S);
         _mm_storeu_si128((__m128i *)(void *)ta, T);
