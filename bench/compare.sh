@@ -18,6 +18,14 @@
 # shared machine whose speed drifts from second to second both sides then
 # see the same drift (it needs two cores, and each side's absolute times
 # include the other's share of memory bandwidth).
+# INPROC=1 times the two in one process instead (bench/inproc.c): both
+# libraries linked into one program, the new one's symbols renamed
+# (objcopy), every view rendered by each in turn, so the ratio holds to
+# about 1% where the runs above move by 10-20%.  It takes MAP... --data DIR
+# --size WxH... --passes P --threads N --classic --no-entities, and both
+# revisions must have the public calls it makes (any since ew_set_classic);
+# its frames differing column must read 0 for a change meant to keep the
+# pixels.
 # OLD_ARGS and NEW_ARGS (split at spaces) go to one side only, for options
 # that one side does not have or spells differently: a revision from before
 # `--classic` drew the classic look by default, so
@@ -102,6 +110,26 @@ build() {
 
 A=$(build "$OLD")
 B=$(build "$NEW")
+
+if [ "${INPROC:-0}" = 1 ]; then
+    for tool in nm objcopy; do
+        command -v $tool >/dev/null 2>&1 || { echo "compare: INPROC=1 needs $tool (binutils)" >&2; exit 2; }
+    done
+    LA=$(dirname "$A")/libedgewise.a
+    LB=$(dirname "$B")/libedgewise.a
+    IN=$CACHE/inproc
+    mkdir -p "$IN"
+    # Every symbol the new library defines gets a b_ prefix, in its own
+    # references too, so the two can be linked side by side.
+    nm --defined-only -g "$LB" | awk 'NF == 3 { print $3, "b_" $3 }' | sort -u >"$IN/syms"
+    objcopy --redefine-syms="$IN/syms" "$LB" "$IN/libB.a"
+    png=$(pkg-config --libs libpng 2>/dev/null || echo -lpng)
+    # shellcheck disable=SC2086
+    ${CC:-cc} -std=c11 -O2 -I"$ROOT/include" "$ROOT/bench/inproc.c" "$LA" "$IN/libB.a" $png -lz -lm -pthread \
+        -o "$IN/inproc" || { echo "compare: bench/inproc.c does not build" >&2; exit 1; }
+    echo "compare: in one process, A = $OLD, B = $NEW" >&2
+    exec "$IN/inproc" "$@"
+fi
 
 RUN=$CACHE/compare-last
 rm -rf "$RUN" && mkdir -p "$RUN"

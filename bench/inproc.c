@@ -1,0 +1,202 @@
+/* bench/inproc.c: two builds of the library timed frame by frame in one
+ * process (bench/compare.sh with INPROC=1 builds and runs it).
+ *
+ * Side A is the library linked as is (ew_*), side B a second library whose
+ * symbols compare.sh renamed to b_ew_* (objcopy --redefine-syms).  Each side
+ * loads its own world and scene, so the two revisions' internal structures
+ * may differ; only the public calls below must be the same.  Every view of
+ * the view set is rendered by A and by B in turn, the order swapped from
+ * frame to frame, so both sides see the machine in the same state to within
+ * a frame: on a shared machine whose speed drifts by 10-20% from one run to
+ * the next, the ratio of the two then holds to about 1%, where separate
+ * bench runs needed many rounds to resolve 5%.
+ *
+ * One warm-up pass, whose frames are also compared byte for byte (a change
+ * meant to keep the pixels must show 0 frames differing), then P timed
+ * passes.  Per map and size: each side's mean over the views of the
+ * view's median frame time, B/A of those, and the median and range of the
+ * per-view ratios.
+ *
+ *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
+ *          [--classic] [--no-entities] */
+#define _POSIX_C_SOURCE 200809L  /* clock_gettime */
+#include "edgewise.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* Side B: the same functions under the names compare.sh gave them. */
+#define B_SIDE(fn) extern __typeof__(fn) b_##fn;
+B_SIDE(ew_assets_create)
+B_SIDE(ew_assets_destroy)
+B_SIDE(ew_scene_create_from_map)
+B_SIDE(ew_scene_destroy)
+B_SIDE(ew_benchmark_views)
+B_SIDE(ew_renderer_create)
+B_SIDE(ew_renderer_destroy)
+B_SIDE(ew_set_classic)
+B_SIDE(ew_set_scene)
+B_SIDE(ew_render)
+B_SIDE(ew_frame_pixels)
+
+typedef struct side {
+    __typeof__(ew_assets_create) *assets_create;
+    __typeof__(ew_assets_destroy) *assets_destroy;
+    __typeof__(ew_scene_create_from_map) *scene_create;
+    __typeof__(ew_scene_destroy) *scene_destroy;
+    __typeof__(ew_benchmark_views) *views;
+    __typeof__(ew_renderer_create) *renderer_create;
+    __typeof__(ew_renderer_destroy) *renderer_destroy;
+    __typeof__(ew_set_classic) *set_classic;
+    __typeof__(ew_set_scene) *set_scene;
+    __typeof__(ew_render) *render;
+    __typeof__(ew_frame_pixels) *pixels;
+    /* per map and size */
+    ew_assets   *assets;
+    ew_scene    *scene;
+    ew_renderer *r;
+} side;
+
+static side sides[2] = {
+    {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
+     ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
+     NULL, NULL, NULL},
+    {b_ew_assets_create, b_ew_assets_destroy, b_ew_scene_create_from_map, b_ew_scene_destroy,
+     b_ew_benchmark_views, b_ew_renderer_create, b_ew_renderer_destroy, b_ew_set_classic, b_ew_set_scene,
+     b_ew_render, b_ew_frame_pixels, NULL, NULL, NULL},
+};
+
+static double now_ms(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n) {
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+}
+
+static int usage(const char *why) {
+    fprintf(stderr, "inproc: %s\nusage: inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N] "
+                    "[--classic] [--no-entities]\n", why);
+    return 2;
+}
+
+/* One map at one size: 0, or -1 with a line on stderr. */
+static int run(const char *map, const char *size, const char *data, int w, int h, int passes, int threads, int classic,
+               int entities) {
+    ew_error err;
+    ew_camera views[EW_MAX_VIEWS];
+    int nv = 0;
+    for (int k = 0; k < 2; k++) {
+        side *s = &sides[k];
+        if (!(s->assets = s->assets_create(map, data, &err))) {
+            fprintf(stderr, "inproc: side %c: %s\n", "AB"[k], err.msg);
+            return -1;
+        }
+        if (entities && !(s->scene = s->scene_create(s->assets->world, map, data, &err))) {
+            fprintf(stderr, "inproc: side %c: %s\n", "AB"[k], err.msg);
+            return -1;
+        }
+        ew_renderer_desc d = {.world = s->assets->world, .palette = s->assets->palette,
+                              .colormap = s->assets->colormap, .width = w, .height = h, .threads = threads};
+        if (!(s->r = s->renderer_create(&d, &err))) {
+            fprintf(stderr, "inproc: side %c: %s\n", "AB"[k], err.msg);
+            return -1;
+        }
+        s->set_classic(s->r, classic);
+        if (s->scene) s->set_scene(s->r, s->scene);
+        nv = s->views(s->assets->world, views);  /* the same cameras from either side */
+    }
+    if (nv <= 0) {
+        fprintf(stderr, "inproc: %s: no views\n", map);
+        return -1;
+    }
+    double *t = malloc(sizeof(double) * 2 * (size_t)nv * (size_t)passes), *col = malloc(sizeof(double) * (size_t)passes);
+    double *ratio = malloc(sizeof(double) * (size_t)nv);
+    if (!t || !col || !ratio) {
+        fprintf(stderr, "inproc: out of memory\n");
+        free(t), free(col), free(ratio);
+        return -1;
+    }
+    int differ = 0;
+    for (int p = -1; p < passes; p++)
+        for (int v = 0; v < nv; v++) {
+            int first = (p + v) & 1;  /* which side goes first swaps every frame */
+            for (int k = 0; k < 2; k++) {
+                int s = k ^ first;
+                ew_stats st;
+                double t0 = now_ms();
+                sides[s].render(sides[s].r, &views[v], &st);
+                if (p >= 0) t[((size_t)s * passes + (size_t)p) * nv + v] = now_ms() - t0;
+            }
+            if (p < 0 && memcmp(sides[0].pixels(sides[0].r), sides[1].pixels(sides[1].r), (size_t)w * h)) differ++;
+        }
+    double sum[2] = {0, 0};
+    for (int v = 0; v < nv; v++) {
+        double m[2];
+        for (int s = 0; s < 2; s++) {
+            for (int p = 0; p < passes; p++) col[p] = t[((size_t)s * passes + (size_t)p) * nv + v];
+            m[s] = median(col, passes);
+            sum[s] += m[s];
+        }
+        ratio[v] = m[1] / m[0];
+    }
+    qsort(ratio, (size_t)nv, sizeof *ratio, cmp_double);
+    printf("%-10s %9s %3d %9.4f %9.4f %8.4f %8.4f  %.3f-%.3f  %d of %d\n", map, size, threads, sum[0] / nv, sum[1] / nv,
+           sum[1] / sum[0], nv % 2 ? ratio[nv / 2] : (ratio[nv / 2 - 1] + ratio[nv / 2]) / 2, ratio[0],
+           ratio[nv - 1], differ, nv);
+    free(t), free(col), free(ratio);
+    return 0;
+}
+
+int main(int argc, char **argv) {
+    const char *maps[64], *data = NULL;
+    int nmaps = 0, sizes[16][2], nsizes = 0, passes = 10, threads = 1, classic = 0, entities = 1;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--data") && i + 1 < argc) data = argv[++i];
+        else if (!strcmp(a, "--size") && i + 1 < argc) {
+            if (nsizes == 16 || sscanf(argv[++i], "%dx%d", &sizes[nsizes][0], &sizes[nsizes][1]) != 2)
+                return usage("--size must be WxH, at most 16 of them");
+            nsizes++;
+        } else if (!strcmp(a, "--passes") && i + 1 < argc) {
+            passes = atoi(argv[++i]);
+            if (passes < 1 || passes > 1000) return usage("--passes must be 1 to 1000");
+        } else if (!strcmp(a, "--threads") && i + 1 < argc) {
+            threads = atoi(argv[++i]);
+            if (threads < 0 || threads > EW_MAX_THREADS) return usage("--threads out of range");
+        } else if (!strcmp(a, "--classic")) classic = 1;
+        else if (!strcmp(a, "--no-entities")) entities = 0;
+        else if (!strcmp(a, "--quiet")) continue;  /* what compare.sh passes to bench too */
+        else if (a[0] == '-') return usage("unknown option");
+        else if (nmaps < 64) maps[nmaps++] = a;
+        else return usage("at most 64 maps");
+    }
+    if (!nmaps) return usage("no map");
+    if (!nsizes) sizes[0][0] = 640, sizes[0][1] = 480, nsizes = 1;
+    printf("%-10s %9s %3s %9s %9s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "view_med",
+           "view range", "frames differing");
+    for (int m = 0; m < nmaps; m++)
+        for (int s = 0; s < nsizes; s++) {
+            char size[24];
+            snprintf(size, sizeof size, "%dx%d", sizes[s][0], sizes[s][1]);
+            int rc = run(maps[m], size, data, sizes[s][0], sizes[s][1], passes, threads, classic, entities);
+            for (int k = 0; k < 2; k++) {
+                if (sides[k].r) sides[k].renderer_destroy(sides[k].r);
+                if (sides[k].scene) sides[k].scene_destroy(sides[k].scene);
+                if (sides[k].assets) sides[k].assets_destroy(sides[k].assets);
+                sides[k].r = NULL, sides[k].scene = NULL, sides[k].assets = NULL;
+            }
+            if (rc < 0) return 1;
+        }
+    return 0;
+}
