@@ -211,7 +211,7 @@ static inline __m128i lit_point(const lit_row *r, float fu, __m128i lo) {
 
 /* 16 texels from st (s, t, s, t) with steps d (ds, dt, ds, dt). */
 static inline void texel_run16(uint8_t *dst, const uint8_t *pixels, __m128i st, __m128i d, __m128i mul,
-                                  int bytes, int narrow) {
+                               int bytes, int narrow) {
     texel_lanes l;
     l.a = _mm_add_epi32(st, _mm_and_si128(d, _mm_setr_epi32(0, 0, -1, -1)));
     d = _mm_add_epi32(d, d);
