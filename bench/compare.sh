@@ -25,7 +25,8 @@
 # --size WxH... --passes P --threads N --classic --no-entities, and both
 # revisions must have the public calls it makes (any since ew_set_classic);
 # its frames differing column must read 0 for a change meant to keep the
-# pixels.
+# pixels.  --stage front|scan|draw|models times that stage alone (its
+# ew_stats time) and --per-view prints every view's pair.
 # OLD_ARGS and NEW_ARGS (split at spaces) go to one side only, for options
 # that one side does not have or spells differently: a revision from before
 # `--classic` drew the classic look by default, so

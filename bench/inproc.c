@@ -17,8 +17,12 @@
  * view's median frame time, B/A of those, and the median and range of the
  * per-view ratios.
  *
+ * --stage front|scan|draw|models times one stage of the frame instead (the
+ * renderer's own ew_stats times), so a change to that stage alone is not
+ * lost in the frame's noise; --per-view prints each view's two medians.
+ *
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
- *          [--classic] [--no-entities] */
+ *          [--classic] [--no-entities] [--stage S] [--per-view] */
 #define _POSIX_C_SOURCE 200809L  /* clock_gettime */
 #include "edgewise.h"
 
@@ -86,8 +90,23 @@ static double median(double *v, int n) {
 
 static int usage(const char *why) {
     fprintf(stderr, "inproc: %s\nusage: inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N] "
-                    "[--classic] [--no-entities]\n", why);
+                    "[--classic] [--no-entities] [--stage front|scan|draw|models] [--per-view]\n", why);
     return 2;
+}
+
+/* What is timed: the whole ew_render call, or one stage's time in its stats. */
+enum { STAGE_FRAME, STAGE_FRONT, STAGE_SCAN, STAGE_DRAW, STAGE_MODELS };
+static const char *const stage_names[] = {"frame", "front", "scan", "draw", "models"};
+static int stage = STAGE_FRAME, per_view = 0;
+
+static double stage_ms(const ew_stats *st, double wall) {
+    switch (stage) {
+    case STAGE_FRONT: return st->ms_front;
+    case STAGE_SCAN: return st->ms_scan;
+    case STAGE_DRAW: return st->ms_draw;
+    case STAGE_MODELS: return st->ms_models;
+    default: return wall;
+    }
 }
 
 /* One map at one size: 0, or -1 with a line on stderr. */
@@ -136,7 +155,7 @@ static int run(const char *map, const char *size, const char *data, int w, int h
                 ew_stats st;
                 double t0 = now_ms();
                 sides[s].render(sides[s].r, &views[v], &st);
-                if (p >= 0) t[((size_t)s * passes + (size_t)p) * nv + v] = now_ms() - t0;
+                if (p >= 0) t[((size_t)s * passes + (size_t)p) * nv + v] = stage_ms(&st, now_ms() - t0);
             }
             if (p < 0 && memcmp(sides[0].pixels(sides[0].r), sides[1].pixels(sides[1].r), (size_t)w * h)) differ++;
         }
@@ -148,7 +167,8 @@ static int run(const char *map, const char *size, const char *data, int w, int h
             m[s] = median(col, passes);
             sum[s] += m[s];
         }
-        ratio[v] = m[1] / m[0];
+        ratio[v] = m[0] > 0 ? m[1] / m[0] : 1;
+        if (per_view) printf("  view %2d %9.4f %9.4f %8.4f\n", v, m[0], m[1], ratio[v]);
     }
     qsort(ratio, (size_t)nv, sizeof *ratio, cmp_double);
     printf("%-10s %9s %3d %9.4f %9.4f %8.4f %8.4f  %.3f-%.3f  %d of %d\n", map, size, threads, sum[0] / nv, sum[1] / nv,
@@ -176,13 +196,21 @@ int main(int argc, char **argv) {
             if (threads < 0 || threads > EW_MAX_THREADS) return usage("--threads out of range");
         } else if (!strcmp(a, "--classic")) classic = 1;
         else if (!strcmp(a, "--no-entities")) entities = 0;
-        else if (!strcmp(a, "--quiet")) continue;  /* what compare.sh passes to bench too */
+        else if (!strcmp(a, "--per-view")) per_view = 1;
+        else if (!strcmp(a, "--stage") && i + 1 < argc) {
+            const char *n = argv[++i];
+            stage = -1;
+            for (int k = 0; k < (int)(sizeof stage_names / sizeof *stage_names); k++)
+                if (!strcmp(n, stage_names[k])) stage = k;
+            if (stage < 0) return usage("--stage must be frame, front, scan, draw or models");
+        } else if (!strcmp(a, "--quiet")) continue;  /* what compare.sh passes to bench too */
         else if (a[0] == '-') return usage("unknown option");
         else if (nmaps < 64) maps[nmaps++] = a;
         else return usage("at most 64 maps");
     }
     if (!nmaps) return usage("no map");
     if (!nsizes) sizes[0][0] = 640, sizes[0][1] = 480, nsizes = 1;
+    if (stage != STAGE_FRAME) printf("timed: the %s stage (ew_stats.ms_%s)\n", stage_names[stage], stage_names[stage]);
     printf("%-10s %9s %3s %9s %9s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "view_med",
            "view range", "frames differing");
     for (int m = 0; m < nmaps; m++)

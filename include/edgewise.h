@@ -405,6 +405,10 @@ typedef struct ew_stats {
      * the world's 1/z everywhere): neither posed nor drawn, and counted in
      * entities_culled too. */
     int    entities_hidden;
+    /* World faces that passed the PVS, frustum and facing tests but that
+     * nearer faces were found to cover entirely before their edges were
+     * set up (the edge method, ew_set_occlusion_cull): not in `surfaces`. */
+    int    faces_occluded;
 } ew_stats;
 
 /* Renders one frame of the world into the renderer's 8-bit frame buffer and

@@ -51,6 +51,14 @@ EW_API void ew_set_full_zfill(ew_renderer *r, int on);
  * the same either way; 0 exists to check that and to measure the saving. */
 EW_API void ew_set_hide_occluded(ew_renderer *r, int on);
 
+/* World faces that nearer world faces hide: the edge method leaves out of
+ * its edge list every face whose pixels, on a coarse map of the screen,
+ * faces earlier in BSP order already cover (1, the default;
+ * ew_stats.faces_occluded counts them), or keeps them all (0).  The frame
+ * is the same either way, on any number of threads; 0 exists to check
+ * that and to measure the saving.  The other methods keep every face. */
+EW_API void ew_set_occlusion_cull(ew_renderer *r, int on);
+
 /* How the renderer cuts a frame for its threads, in two phases with a wait
  * between: with more than one thread, the scan into EW_BANDS_PER_THREAD
  * bands a thread, placed by the last frame's scan costs, then the draw

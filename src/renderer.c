@@ -144,6 +144,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->zf.draw = r->lit.surf_draw;
     ew_fog_levels(&r->draw.fog);
     if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
+    if (ew_occ_init(&r->occ, width, height) < 0) goto oom;
     if (ew_set_threads(r, d.threads) < 0) goto oom;
     /* The cache holds many frames' worth of surfaces at this size, so a
      * walk through a level rebuilds little (16 bytes a pixel, 16..512 MiB),
@@ -242,6 +243,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     ew_blend_free(&r->blend);
     ew_debug_free(r);
     ew_front_par_free(r->fpar);
+    ew_occ_free(&r->occ);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
     free(r->ents.box_frame), free(r->ents.box_faces), free(r->ents.box_list);
     ew_sprite_cache_free(r->ents.sprite_cache);
@@ -283,6 +285,7 @@ const float *ew_frame_zbuffer(ew_renderer *r) {
 
 void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
 void ew_set_hide_occluded(ew_renderer *r, int on) { r->cfg.hide_occluded = on != 0; }
+void ew_set_occlusion_cull(ew_renderer *r, int on) { r->occ.enabled = on != 0; }
 const int *ew_frame_face_ids(const ew_renderer *r) { return r->face_ids; }
 
 /* Light styles: each frame's values come from these settings (ew_frame_begin). */
@@ -405,6 +408,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     if (!r->lit.nearest && r->target.bpp == 1 && !r->cfg.classic &&
         (ew_use_rgb_light(r, r->world) || coloured_dlights(r->ents.scene)))
         r->lit.nearest = ew_blend_cube(&r->blend);
+    r->occ.on = 0;  /* until the method's begin says otherwise */
     r->cfg.hsr->begin(r);
     r->see.n = 0;
     r->eye_contents = r->world->leaves[ew_pvs_mark(r)].contents;

@@ -170,6 +170,7 @@ struct ew_renderer {
     ew_debug    dbg;                             /* debug modes (raster/debug.c) */
     struct ew_front_par *fpar;                   /* the parallel front end's lists (world/front_par.c), or NULL */
     int         fpar_bad;                        /* its plan failed (an irregular tree): the serial front end */
+    ew_occlusion occ;                            /* faces nearer faces hide (world/occlude.c) */
 };
 
 /* output/gamma.c: the table of a channel through gamma g (out = 255 *

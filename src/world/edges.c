@@ -39,8 +39,8 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[fi];
     int n = f->numedges;
-    if (r->el.nsurfs >= r->el.max_surfs || n > EW_MAX_POLY - 8 ||
-        r->el.nedges + n + 4 > r->el.max_edges) {
+    int full = r->el.nsurfs >= r->el.max_surfs || r->el.nedges + n + 4 > r->el.max_edges;
+    if (n > EW_MAX_POLY - 8 || (full && !r->occ.on)) {
         r->stats.dropped++;
         return;
     }
@@ -48,9 +48,43 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
     float nearzi = 0;
     proj pj[EW_MAX_POLY];
     int valid[EW_MAX_POLY];  /* cleared for the face's (clipped) vertices only, not all 256 */
+    float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
+    int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
+    int m = n;
+    if (clipflags) {
+        ew_face_points(w, f, in);
+        for (int i = 0; i < n; i++) tin[i] = i;
+        m = ew_clip_poly(&r->view, clipflags, in, n, out, tin, tout);
+    }
+    if (r->occ.on) {
+        /* Every point projected first, for the coverage map (world/occlude.c),
+         * which every face with points counts in, even one the budgets then
+         * refuse, as the parallel front end decides them all before it
+         * numbers any. */
+        int hidden = 1;
+        if (m >= 3) {
+            for (int i = 0; i < m; i++) {
+                project(r, clipflags ? out[i] : w->verts[ew_face_vertex(w, f, i)], &pj[i]);
+                valid[i] = 1;
+            }
+            ew_occ_box b = ew_occ_box_of(&r->occ, pj, m, r->target.width, r->target.height);
+            hidden = ew_occ_face(&r->occ, &r->occ.whole, pj, m, b, key);
+        }
+        if (full) {
+            r->stats.dropped++;
+            return;
+        }
+        if (m < 3) return;
+        if (hidden) {
+            r->stats.faces_occluded++;
+            return;
+        }
+    } else {
+        if (m < 3) return;
+        for (int i = 0; i < m; i++) valid[i] = 0;
+    }
 
     if (clipflags == 0) {
-        for (int i = 0; i < n; i++) valid[i] = 0;
         /* Wholly inside the frustum: every edge is a whole world edge. */
         for (int i = 0; i < n; i++) {
             int j = i + 1 == n ? 0 : i + 1;
@@ -61,13 +95,6 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
             if (zi > nearzi) nearzi = zi;
         }
     } else {
-        float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
-        int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
-        ew_face_points(w, f, in);
-        for (int i = 0; i < n; i++) tin[i] = i;
-        int m = ew_clip_poly(&r->view, clipflags, in, n, out, tin, tout);
-        if (m < 3) return;
-        for (int i = 0; i < m; i++) valid[i] = 0;
         for (int i = 0; i < m; i++) {
             int j = i + 1 == m ? 0 : i + 1;
             float zi;

@@ -8,6 +8,8 @@
 
 #include "world/view.h"
 
+#include <stdint.h>
+
 typedef struct ew_renderer ew_renderer;
 
 /* Per-world marks, compared against framecount (so nothing is cleared
@@ -22,6 +24,40 @@ typedef struct ew_marks {
     int8_t *edge_cache_down;                  /* +1: +sign traversal goes down */
     int    *vis, nvis, vis_pending;            /* this frame's PVS leaves, not yet marked */
 } ew_marks;
+
+/* world/occlude.c: world faces that nearer world faces hide, found on a
+ * coarse coverage map of the screen and left out of the edge list (the
+ * edge method only; the other methods' figures count every face).  A
+ * strip of tile rows [ty0, ty1] notes the tiles of the faces of the
+ * current key as pending until a larger key comes. */
+struct ew_proj;
+typedef struct ew_occ_range { int16_t ty, tx0, tx1; } ew_occ_range;
+typedef struct ew_occ_strip {
+    int           ty0, ty1, key;
+    int           npend, cap;
+    ew_occ_range *pend;
+    int           failed;  /* out of memory: nothing more is hidden in the strip */
+} ew_occ_strip;
+typedef struct ew_occlusion {
+    int           enabled, on;        /* the setting (ew_set_occlusion_cull); in use this frame */
+    int           shift, tw, th, words;  /* tiles of 1 << shift pixels; tw x th of them; words a row */
+    uint64_t     *bits;               /* th rows of words: tile covered */
+    ew_occ_strip  whole;              /* every row: the one-thread emission's */
+    ew_occ_strip *strips; int nstrips;/* the parallel front end's */
+} ew_occlusion;
+/* The tiles a face's pixels may fall in (and its points' vertical extent). */
+typedef struct ew_occ_box { int tx0, tx1, ty0, ty1; float vmin, vmax; } ew_occ_box;
+int        ew_occ_init(ew_occlusion *o, int width, int height);
+void       ew_occ_free(ew_occlusion *o);
+/* n strips (at most one a tile row) for the parallel front end; the count. */
+int        ew_occ_strips(ew_occlusion *o, int n);
+/* A frame starts: the map cleared, in use if on (and enabled). */
+void       ew_occ_begin(ew_occlusion *o, int on);
+ew_occ_box ew_occ_box_of(const ew_occlusion *o, const struct ew_proj *p, int n, int width, int height);
+/* The projected face p[0..n) with box b and BSP key `key`, in strip s: 1
+ * if faces with smaller keys cover every tile of b in the strip (or b has
+ * none there), else 0, its covered tiles noted. */
+int        ew_occ_face(ew_occlusion *o, ew_occ_strip *s, const struct ew_proj *p, int n, ew_occ_box b, int key);
 
 /* world/pvs.c: lists the leaves visible from the camera's leaf for this
  * frame (marks.vis, pending) and returns the view leaf; ew_pvs_apply marks

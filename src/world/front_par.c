@@ -28,14 +28,18 @@
  *   4 (all) every face is clipped, projected and its edges set up, noting
  *     on each world edge which face lies on it; the leaves' keys are made
  *     global; the entities are tested against the frustum and the PVS;
- *   5 (all) every edge on a world edge is settled: of the two faces on it,
- *     the first in BSP order adds it and the second takes its free side
- *     (the edge cache of the one-thread emission); each face's surface and
- *     added edges are counted; the brush entities are split into the
- *     world's leaves and their fragments clipped, projected and set up;
+ *   5 (all) for the edge method, the faces that nearer faces hide are
+ *     found, each strip of the screen's coverage map (world/occlude.c)
+ *     going through every face in BSP order;
+ *   6 (all) every edge on a world edge is settled: of the two faces on it
+ *     that are not hidden, the first in BSP order adds it and the second
+ *     takes its free side (the edge cache of the one-thread emission);
+ *     each face's surface and added edges are counted; the brush entities
+ *     are split into the world's leaves and their fragments clipped,
+ *     projected and set up;
  *   - (calling thread) surface and edge numbers by prefix sums over chunks
  *     of faces and over brush entities;
- *   6 (all) surfaces and edges written at their numbers;
+ *   7 (all) surfaces and edges written at their numbers;
  *   - (calling thread) the per-scanline lists of new edges linked in edge
  *     order, then tail(arg) (the bands placed);
  *   then(r, thread) on every thread: the scan.
@@ -47,7 +51,8 @@
  *
  * On a pool of one thread the chunks of phase 4 run in order, so their
  * faces go straight to ew_emit_face ("direct"): no staging, nothing for
- * phases 5 and 6 but the brush entities.  The phases and their serial
+ * phases 6 and 7 but the brush entities (and ew_emit_face finds the
+ * hidden faces itself).  The phases and their serial
  * steps stay the same, so bench's serial share still describes the run of
  * many threads (which does the staging: a little more work in all). */
 #define _POSIX_C_SOURCE 200809L  /* sched_yield */
@@ -63,13 +68,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CHUNK 8            /* faces a thread takes at a time in phases 3-5 */
+#define CHUNK 8            /* faces a thread takes at a time in phases 3, 4, 6 and 7 */
 #define PE_CLIP INT32_MIN  /* a prepared edge the clip made (no world edge) */
 #define M_DROPPED (-2)     /* a face with too many edges (counted as dropped) */
 #define ENT_CHUNK 4        /* entities a thread tests at a time (a light trace each) */
 #define PVS_CHUNK 64       /* PVS leaves a thread marks at a time */
 #define NODE_CHUNK 8       /* top nodes whose faces a thread lists at a time */
-#define NPHASES 7          /* phases 1..6 */
+#define NPHASES 8          /* phases 1..7 */
 
 typedef struct pface {
     int   face, clipflags, key;
@@ -87,6 +92,7 @@ typedef struct pedge {
     int8_t  down;   /* its second end is lower on the screen */
     int8_t  crosses;/* it crosses a scanline centre */
     int8_t  emit;   /* this face adds it to the list */
+    int8_t  skipped;/* not set up: the face on its other side, earlier, had it (prepare's may_skip) */
 } pedge;
 
 /* A face the walk listed, in its segment's range: key local to the
@@ -160,6 +166,14 @@ struct ew_front_par {
     int  *leaves;
     pface *faces; int nfaces;
     pedge *pedges; int cap_pedges;
+    /* Faces that nearer faces hide (world/occlude.c), when the list leaves
+     * them out: per prepared edge its first point, per face position its
+     * tiles and whether some strip of the screen found it not hidden. */
+    int   occ;                          /* this frame (never in direct mode: ew_emit_face decides there) */
+    ew_proj *pts;
+    ew_occ_box *boxes;
+    atomic_uchar *vis;
+    int  *chunk_occluded;
     int  *chunk_seg, *chunk_ns, *chunk_ne, *chunk_cached, *chunk_dropped, *chunk_s0, *chunk_e0;
     int   nchunks;
     /* Per world edge, per face on it (edge_faces order): which prepared
@@ -167,7 +181,7 @@ struct ew_front_par {
     struct eside { _Atomic int frame; int pos, pe; } (*eside)[2];
     _Atomic uint64_t *topmark;          /* per face of a top node: frame << 32 | ~earliest segment that marked it */
     int   last_frame;
-    /* Brush entities (phase 5 splits them, phase 6 writes them). */
+    /* Brush entities (phase 6 splits them, phase 7 writes them). */
     ew_brush_item *bitems; bres *bres; int nbitems, cap_bitems, bculled;
     int   nent_items;                   /* phase 4 also tests the entities, ENT_CHUNK at a time */
     arena arenas[EW_MAX_THREADS];
@@ -195,6 +209,7 @@ void ew_front_par_free(struct ew_front_par *fp) {
     free(fp->segs), free(fp->tree_segs), free(fp->node_segs), free(fp->lf), free(fp->leaves), free(fp->faces), free(fp->pedges);
     free(fp->chunk_seg), free(fp->chunk_ns), free(fp->chunk_ne), free(fp->chunk_cached), free(fp->chunk_dropped);
     free(fp->chunk_s0), free(fp->chunk_e0), free((void *)fp->eside), free((void *)fp->topmark);
+    free(fp->pts), free(fp->boxes), free((void *)fp->vis), free(fp->chunk_occluded);
     free(fp->bitems), free(fp->bres);
     for (int i = 0; i < EW_MAX_THREADS; i++) free(fp->arenas[i].frags), free(fp->arenas[i].edges), free(fp->arenas[i].verts);
     free(fp);
@@ -373,11 +388,15 @@ static struct ew_front_par *front_par_new(const ew_world *w) {
         fp->chunk_dropped = malloc(sizeof(int) * (size_t)nch);
         fp->chunk_s0 = malloc(sizeof(int) * (size_t)nch);
         fp->chunk_e0 = malloc(sizeof(int) * (size_t)nch);
+        fp->chunk_occluded = malloc(sizeof(int) * (size_t)nch);
+        fp->pts = malloc(sizeof(ew_proj) * (size_t)fp->cap_pedges);
+        fp->boxes = malloc(sizeof(ew_occ_box) * (size_t)(nf + 1));
+        fp->vis = malloc((size_t)nf + 1);
         fp->eside = calloc((size_t)ne + 1, sizeof *fp->eside);
         fp->topmark = calloc((size_t)nf + 1, sizeof(uint64_t));
         ok = fp->segs && fp->tree_segs && fp->node_segs && fp->lf && fp->leaves && fp->faces && fp->pedges && fp->chunk_seg &&
              fp->chunk_ns && fp->chunk_ne && fp->chunk_cached && fp->chunk_dropped && fp->chunk_s0 &&
-             fp->chunk_e0 && fp->eside && fp->topmark;
+             fp->chunk_e0 && fp->eside && fp->topmark && fp->chunk_occluded && fp->pts && fp->boxes && fp->vis;
     }
     free(c.size), free(c.seen_leaf);
     if (!ok || c.bad) {
@@ -561,41 +580,40 @@ static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int ma
         return;
     }
     ew_proj pj[EW_MAX_POLY];
-    if (pf->clipflags == 0) {
-        /* Vertices projected as the edges that are set up need them. */
-        uint8_t valid[EW_MAX_POLY];
-        memset(valid, 0, (size_t)n);
-        for (int i = 0; i < n; i++) {
-            int j = i + 1 == n ? 0 : i + 1;
-            int32_t se = w->surfedges[f->firstedge + i];
-            if (note_edge(r, fp, pf->face, se, p, pf->pe + i) && may_skip) {
-                out[i].se = se, out[i].crosses = 0;
-                continue;
-            }
-            if (!valid[i]) ew_project(&r->view, w->verts[ew_face_vertex(w, f, i)], &pj[i]), valid[i] = 1;
-            if (!valid[j]) ew_project(&r->view, w->verts[ew_face_vertex(w, f, j)], &pj[j]), valid[j] = 1;
-            set_pedge(&out[i], &pj[i], &pj[j], se);
-        }
-        pf->m = n;
-        return;
-    }
+    uint8_t valid[EW_MAX_POLY];
     float in[EW_MAX_POLY][3], cl[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
-    ew_face_points(w, f, in);
-    for (int i = 0; i < n; i++) tin[i] = i;
-    int m = ew_clip_poly(&r->view, pf->clipflags, in, n, cl, tin, tout);
-    if (m < 3) return;
-    uint8_t valid[EW_MAX_POLY];
-    memset(valid, 0, (size_t)m);
+    int m = n;
+    if (pf->clipflags) {
+        ew_face_points(w, f, in);
+        for (int i = 0; i < n; i++) tin[i] = i;
+        m = ew_clip_poly(&r->view, pf->clipflags, in, n, cl, tin, tout);
+        if (m < 3) return;
+    }
+    if (fp->occ) {
+        /* Every point, for the coverage map (the cull phase), kept. */
+        for (int i = 0; i < m; i++) {
+            ew_project(&r->view, pf->clipflags ? cl[i] : w->verts[ew_face_vertex(w, f, i)], &pj[i]);
+            fp->pts[pf->pe + i] = pj[i];
+        }
+        memset(valid, 1, (size_t)m);
+        fp->boxes[p] = ew_occ_box_of(&r->occ, pj, m, r->target.width, r->target.height);
+    } else {
+        /* Vertices projected as the edges that are set up need them. */
+        memset(valid, 0, (size_t)m);
+    }
     for (int i = 0; i < m; i++) {
         int j = i + 1 == m ? 0 : i + 1;
-        int32_t se = tout[i] >= 0 ? w->surfedges[f->firstedge + tout[i]] : PE_CLIP;
+        int32_t se = pf->clipflags == 0 ? w->surfedges[f->firstedge + i]
+                     : tout[i] >= 0     ? w->surfedges[f->firstedge + tout[i]]
+                                        : PE_CLIP;
+        out[i].skipped = 0;
         if (se != PE_CLIP && note_edge(r, fp, pf->face, se, p, pf->pe + i) && may_skip) {
-            out[i].se = se, out[i].crosses = 0;
+            out[i].se = se, out[i].crosses = 0, out[i].skipped = 1;
             continue;
         }
-        if (!valid[i]) ew_project(&r->view, cl[i], &pj[i]), valid[i] = 1;
-        if (!valid[j]) ew_project(&r->view, cl[j], &pj[j]), valid[j] = 1;
+        if (!valid[i]) ew_project(&r->view, pf->clipflags ? cl[i] : w->verts[ew_face_vertex(w, f, i)], &pj[i]), valid[i] = 1;
+        if (!valid[j]) ew_project(&r->view, pf->clipflags ? cl[j] : w->verts[ew_face_vertex(w, f, j)], &pj[j]), valid[j] = 1;
         set_pedge(&out[i], &pj[i], &pj[j], se);
     }
     pf->m = m;
@@ -613,6 +631,7 @@ static void prepare_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
         }
         pface *pf = &fp->faces[p];
         pf->face = l->face, pf->clipflags = l->clipflags, pf->key = s->key0 + l->key, pf->pe = s->pe0 + l->pe;
+        atomic_store_explicit(&fp->vis[p], 0, memory_order_relaxed);
         prepare(r, fp, p, 1);
     }
 }
@@ -623,7 +642,27 @@ static void fix_leaf_keys(ew_renderer *r, struct ew_front_par *fp, int segno) {
     for (int i = 0; i < s->nleaves; i++) r->marks.leaf_key[fp->leaves[s->leaf0 + i]] += s->key0;
 }
 
-/* ---- 5: the edges shared by two faces settled (any thread) ---- */
+/* ---- 5: faces that nearer ones hide, strip by strip (any thread) ---- */
+
+/* Every face in BSP order against strip i of the coverage map: a face not
+ * hidden in some strip is kept.  Any number of strips decides as the
+ * one-thread emission's one does (world/occlude.c). */
+static void cull_strip(ew_renderer *r, struct ew_front_par *fp, int i) {
+    ew_occ_strip *st = &r->occ.strips[i];
+    for (int p = 0; p < fp->nfaces; p++) {
+        const pface *pf = &fp->faces[p];
+        if (pf->m < 3) continue;  /* clipped away or dropped: not in the map, as in ew_emit_face */
+        if (!ew_occ_face(&r->occ, st, fp->pts + pf->pe, pf->m, fp->boxes[p], pf->key))
+            atomic_store_explicit(&fp->vis[p], 1, memory_order_relaxed);
+    }
+}
+
+/* Face position p was found hidden (and is left out). */
+static inline int hidden_at(const struct ew_front_par *fp, int p) {
+    return fp->occ && !atomic_load_explicit(&fp->vis[p], memory_order_relaxed);
+}
+
+/* ---- 6: the edges shared by two faces settled (any thread) ---- */
 
 /* The edge cache's decisions: the first face (in BSP order) on a world
  * edge adds it, the second takes its free side and its 1/z, or nothing if
@@ -631,12 +670,16 @@ static void fix_leaf_keys(ew_renderer *r, struct ew_front_par *fp, int segno) {
 static void resolve_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
     const int frame = r->marks.framecount;
     int hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
-    int ns = 0, ne = 0, cached = 0, dropped = 0;
+    int ns = 0, ne = 0, cached = 0, dropped = 0, occluded = 0;
     for (int p = c * CHUNK; p < hi; p++) {
         pface *pf = &fp->faces[p];
         pf->ls = -1, pf->nemit = 0;
         if (pf->m < 0) {
             dropped += pf->m == M_DROPPED;
+            continue;
+        }
+        if (hidden_at(fp, p)) {
+            occluded++;
             continue;
         }
         pf->ls = ns++;
@@ -651,6 +694,15 @@ static void resolve_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
                 int e = pe->se >= 0 ? pe->se : -pe->se, side = fp->edge_faces[e][0] == pf->face ? 0 : 1;
                 const struct eside *o = &fp->eside[e][!side];
                 int q = atomic_load_explicit(&o->frame, memory_order_relaxed) == frame ? o->pos : -1;
+                if (q >= 0 && hidden_at(fp, q)) {
+                    /* The face on the other side is left out: this one adds
+                     * the edge, as ew_emit_face finds no cached one. */
+                    q = -1;
+                    if (pe->skipped) {
+                        set_pedge(pe, &fp->pts[pf->pe + k], &fp->pts[pf->pe + (k + 1 == pf->m ? 0 : k + 1)], pe->se);
+                        pe->skipped = 0;
+                    }
+                }
                 if (q >= 0 && q < p) {  /* second: the earlier face's edge */
                     const pedge *gp = &fp->pedges[o->pe];
                     pe->emit = 0;
@@ -669,6 +721,7 @@ static void resolve_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
         ne += nemit;
     }
     fp->chunk_ns[c] = ns, fp->chunk_ne[c] = ne, fp->chunk_cached[c] = cached, fp->chunk_dropped[c] = dropped;
+    fp->chunk_occluded[c] = occluded;
 }
 
 /* ---- 5, also: brush entities split into fragments (any thread) ---- */
@@ -751,7 +804,7 @@ static void split_brush(ew_renderer *r, struct ew_front_par *fp, int i, int thre
 
 /* ---- between 5 and 6 (calling thread): numbers, or the serial merge ---- */
 
-/* The chunks whose faces wait in fp->faces for phases 5 and 6: none when
+/* The chunks whose faces wait in fp->faces for phases 6 and 7: none when
  * phase 4 handed them to the list itself. */
 static int staged_chunks(const struct ew_front_par *fp) { return fp->direct ? 0 : fp->nchunks; }
 
@@ -766,7 +819,7 @@ static int add_prepared(ew_renderer *r, const pedge *p, int s) {
 }
 
 /* ew_emit_face's decisions one face at a time, with its limits. */
-static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
+static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe, int hidden) {
     const ew_world *w = r->world;
     const ew_face *f = &w->faces[pf->face];
     int n = f->numedges;
@@ -775,6 +828,10 @@ static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
         return;
     }
     if (pf->m < 0) return;
+    if (hidden) {
+        r->stats.faces_occluded++;
+        return;
+    }
     int s = r->el.nsurfs;
     float nearzi = 0;
     for (int k = 0; k < pf->m; k++) {
@@ -789,16 +846,16 @@ static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe) {
     ew_surf_add_world(r, pf->face, pf->key, nearzi);
 }
 
-/* Returns 1 if the faces and fragments fit the lists (phase 6 writes
+/* Returns 1 if the faces and fragments fit the lists (phase 7 writes
  * them), else merges them here one at a time, as the serial front end
  * does, and returns 0. */
 static int number(ew_renderer *r, struct ew_front_par *fp) {
     int s = r->el.nsurfs, e = r->el.nedges, failed = 0;
-    long cached = 0, dropped = 0;
+    long cached = 0, dropped = 0, occluded = 0;
     for (int c = 0; c < staged_chunks(fp); c++) {
         fp->chunk_s0[c] = s, fp->chunk_e0[c] = e;
         s += fp->chunk_ns[c], e += fp->chunk_ne[c];
-        cached += fp->chunk_cached[c], dropped += fp->chunk_dropped[c];
+        cached += fp->chunk_cached[c], dropped += fp->chunk_dropped[c], occluded += fp->chunk_occluded[c];
     }
     for (int i = 0; i < fp->nbitems; i++) {
         bres *b = &fp->bres[i];
@@ -811,6 +868,7 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
     if (!failed && s <= r->el.max_surfs && (long)e + EW_MAX_POLY <= r->el.max_edges) {
         r->stats.edges_cached += cached;
         r->stats.dropped += dropped;
+        r->stats.faces_occluded += (int)occluded;
         r->stats.entities_culled += fp->bculled;
         for (int i = 0; i < fp->nbitems; i++) {
             const bres *b = &fp->bres[i];
@@ -828,7 +886,7 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
     }
     for (int p = 0; !fp->direct && p < fp->nfaces; p++) {  /* direct: the faces are in the list */
         prepare(r, fp, p, 0);  /* every edge set up: an earlier face may be dropped here */
-        merge_face(r, &fp->faces[p], fp->pedges + fp->faces[p].pe);
+        merge_face(r, &fp->faces[p], fp->pedges + fp->faces[p].pe, hidden_at(fp, p));
     }
     ew_walk_brush_models(r);
     return 0;
@@ -880,7 +938,7 @@ static void write_brush(ew_renderer *r, struct ew_front_par *fp, int i) {
 
 /* Item i of phase k.  The items likely to be largest come first, so that
  * no thread starts one when the others are nearly done: the entity tests
- * (a light trace each) in phase 4, the brush entities in phase 5. */
+ * (a light trace each) in phase 4, the brush entities in phase 6. */
 static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int thread) {
     switch (k) {
     case 1: {
@@ -902,11 +960,12 @@ static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int t
             fix_leaf_keys(r, fp, i - fp->nchunks);
         }
         break;
-    case 5:
+    case 5: cull_strip(r, fp, i); break;
+    case 6:
         if (i < fp->nbitems) split_brush(r, fp, i, thread);
         else resolve_chunk(r, fp, i - fp->nbitems);  /* not in direct mode: no such items */
         break;
-    case 6:
+    case 7:
         if (i < staged_chunks(fp)) write_chunk(r, fp, i);
         else write_brush(r, fp, i - staged_chunks(fp));
         break;
@@ -998,11 +1057,12 @@ static void job_front(void *ctx, int thread) {
     ser += ew_now_ms() - t;
     run_phase(r, fp, 4, fp->nchunks + fp->nsegs + fp->nent_items);
     if (fp->nent_items) r->ents.tested_frame = r->marks.framecount;
-    run_phase(r, fp, 5, staged_chunks(fp) + fp->nbitems);
+    run_phase(r, fp, 5, fp->occ ? r->occ.nstrips : 0);
+    run_phase(r, fp, 6, staged_chunks(fp) + fp->nbitems);
     t = ew_now_ms();
     int fits = number(r, fp);
     ser += ew_now_ms() - t;
-    run_phase(r, fp, 6, fits ? staged_chunks(fp) + fp->nbitems : 0);
+    run_phase(r, fp, 7, fits ? staged_chunks(fp) + fp->nbitems : 0);
     t = ew_now_ms();
     if (fits) {
         if (fp->nbitems > 0) {
@@ -1053,6 +1113,10 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     /* One thread takes the chunks in order: the faces can go straight to
      * the list, as the serial walk hands them, with no staging. */
     fp->direct = r->sched.nthreads == 1;
+    /* Hidden faces: decided inline by ew_emit_face in direct mode, else
+     * in phase 5 on strips of the map, two a thread. */
+    fp->occ = r->occ.on && !fp->direct;
+    if (fp->occ && ew_occ_strips(&r->occ, 2 * r->sched.nthreads) < 0) return -1;
     memset(fp->longest, 0, sizeof fp->longest);
     front_run run = {r, {0, 0}};
     ew_pool_run(r->sched.pool, job_front, &run);
