@@ -36,6 +36,7 @@ typedef struct ew_occ_strip {
     int           ty0, ty1, key;
     int           npend, cap;
     ew_occ_range *pend;
+    int           any;     /* a tile of the strip is set */
     int           failed;  /* out of memory: nothing more is hidden in the strip */
 } ew_occ_strip;
 typedef struct ew_occlusion {

@@ -59,7 +59,7 @@ int ew_occ_init(ew_occlusion *o, int width, int height) {
     o->tw = (width + t - 1) / t, o->th = (height + t - 1) / t;
     o->words = (o->tw + 63) / 64;
     o->bits = calloc((size_t)o->th * (size_t)o->words, sizeof(uint64_t));
-    o->whole = (ew_occ_strip){0, o->th - 1, 0, 0, 0, NULL, 0};
+    o->whole = (ew_occ_strip){.ty0 = 0, .ty1 = o->th - 1, .key = -1};
     o->enabled = 1;
     return o->bits ? 0 : -1;
 }
@@ -72,7 +72,7 @@ void ew_occ_free(ew_occlusion *o) {
     o->bits = NULL, o->strips = NULL, o->whole.pend = NULL, o->nstrips = 0;
 }
 
-static void strip_reset(ew_occ_strip *s) { s->key = -1, s->npend = 0, s->failed = 0; }
+static void strip_reset(ew_occ_strip *s) { s->key = -1, s->npend = 0, s->any = 0, s->failed = 0; }
 
 int ew_occ_strips(ew_occlusion *o, int n) {
     if (n > o->th) n = o->th;
@@ -141,6 +141,7 @@ static void row_set(uint64_t *row, int tx0, int tx1) {
 }
 
 static void flush(ew_occlusion *o, ew_occ_strip *s) {
+    s->any |= s->npend > 0;
     for (int i = 0; i < s->npend; i++) {
         const ew_occ_range *g = &s->pend[i];
         row_set(o->bits + (size_t)g->ty * (size_t)o->words, g->tx0, g->tx1);
@@ -172,7 +173,7 @@ int ew_occ_face(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_oc
     }
     int ty0 = b.ty0 > s->ty0 ? b.ty0 : s->ty0, ty1 = b.ty1 < s->ty1 ? b.ty1 : s->ty1;
     if (ty0 > ty1) return 1;  /* no pixel in this strip */
-    int hidden = !s->failed;
+    int hidden = s->any && !s->failed;  /* nothing can be hidden before a tile is set */
     for (int ty = ty0; hidden && ty <= ty1; ty++) hidden = row_full(o->bits + (size_t)ty * (size_t)o->words, b.tx0, b.tx1);
     if (hidden) return 1;
     /* The tiles whose pixel centres all lie inside by the margin.  Tile
