@@ -320,7 +320,7 @@ static const struct counter_def {
     int         is_long;
 } counter_defs[] = {
     COUNTER(pixels_written), COUNTER(pixels_covered), COUNTER(edges),
-    COUNTER(edges_cached), COUNTER(surfaces), COUNTER(surfaces_shown), COUNTER(spans),
+    COUNTER(edges_cached), COUNTER(surfaces), COUNTER(surfaces_shown), COUNTER(faces_occluded), COUNTER(spans),
     COUNTER(surfaces_built), COUNTER(surfaces_cached), COUNTER(visible_leaves),
     COUNTER(dropped), COUNTER(entities_drawn), COUNTER(entities_culled), COUNTER(entities_hidden),
     COUNTER(entities_unknown), COUNTER(models_missing), COUNTER(alias_tris),

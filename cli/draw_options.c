@@ -9,7 +9,7 @@
 #define _POSIX_C_SOURCE 200809L  /* stat */
 #include "cli.h"
 #include "edgewise.h"
-#include "edgewise_tools.h"  /* ew_set_full_zfill */
+#include "edgewise_tools.h"  /* ew_set_full_zfill, ew_set_occlusion_cull */
 #include "mapgen/mapgen.h"   /* ew_stress_generate: builtin:detail=N */
 
 #include <ctype.h>
@@ -20,7 +20,7 @@
 #include <sys/stat.h>
 
 enum {
-    D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
+    D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_NOOCC, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
     D_NOWARP, D_HSR, D_COLOR, D_NOLIT, D_DITHER, D_LIGHTSTYLE, D_GAMMA, D_DEBUG, D_COUNT
 };
 
@@ -39,6 +39,8 @@ static const struct draw_def {
                       "a number of pixels above 0, at most 10000 (default 40)" },
     [D_FULLZ] = { "--full-zfill", NULL, "z-fill under every world span (default: only under moving things)",
                   NULL },
+    [D_NOOCC] = { "--no-occlusion", NULL,
+                  "keep the world faces nearer ones hide in the edge list (the same picture, more work)", NULL },
     [D_CLASSIC] = { "--classic", NULL,
                     "the 1996 look: no see-through surfaces, fog or underwater warp", NULL },
     [D_WATERALPHA] = { "--wateralpha", "A", "opacity of every liquid, whatever the map asks",
@@ -254,6 +256,7 @@ int draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i) {
     switch (k) {
     case D_NOENT: d->no_entities = 1; break;
     case D_FULLZ: d->full_zfill = 1; break;
+    case D_NOOCC: d->no_occlusion = 1; break;
     case D_CLASSIC: d->classic = 1; break;
     case D_NOFOG: d->fog_mode = 2; for (int c = 0; c < 4; c++) d->fog[c] = 0; break;
     case D_FOG: d->fog_mode = 1; break;
@@ -267,6 +270,7 @@ int draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i) {
 int draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene) {
     ew_set_alias_raster(r, (ew_alias_raster)d->alias_raster, (float)d->subdiv_threshold);
     ew_set_full_zfill(r, d->full_zfill);
+    ew_set_occlusion_cull(r, !d->no_occlusion);
     ew_set_classic(r, d->classic);
     ew_set_liquid_alpha(r, (float)d->wateralpha);
     if (d->fog_mode)
@@ -294,8 +298,8 @@ void draw_opts_json(FILE *f, const draw_opts *d) {
     fprintf(f, ",\"entities\":%s,\"alias_raster\":\"%s\",\"subdiv_threshold\":",
             d->no_entities ? "false" : "true", modes[d->alias_raster]);
     json_number(f, d->subdiv_threshold > 0 ? d->subdiv_threshold : 40);
-    fprintf(f, ",\"zfill\":\"%s\",\"classic\":%s,\"wateralpha\":", d->full_zfill ? "full" : "deferred",
-            d->classic ? "true" : "false");
+    fprintf(f, ",\"zfill\":\"%s\",\"occlusion\":%s,\"classic\":%s,\"wateralpha\":", d->full_zfill ? "full" : "deferred",
+            d->no_occlusion ? "false" : "true", d->classic ? "true" : "false");
     if (d->wateralpha > 0)
         json_number(f, d->wateralpha);
     else

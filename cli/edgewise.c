@@ -516,9 +516,9 @@ static void print_stats(const char *name, const options *o, int view, const ew_c
             s->pixels, s->pixels_written, s->pixels_covered);
     json_number(f, s->overdraw);
     fprintf(f,
-            ",\"edges\":%d,\"edges_cached\":%d,\"surfaces\":%d,\"surfaces_shown\":%d,\"spans\":%d,"
-            "\"surfaces_built\":%d,\"surfaces_cached\":%d,\"visible_leaves\":%d,\"dropped\":%d",
-            s->edges, s->edges_cached, s->surfaces, s->surfaces_shown, s->spans, s->surfaces_built,
+            ",\"edges\":%d,\"edges_cached\":%d,\"surfaces\":%d,\"surfaces_shown\":%d,\"faces_occluded\":%d,"
+            "\"spans\":%d,\"surfaces_built\":%d,\"surfaces_cached\":%d,\"visible_leaves\":%d,\"dropped\":%d",
+            s->edges, s->edges_cached, s->surfaces, s->surfaces_shown, s->faces_occluded, s->spans, s->surfaces_built,
             s->surfaces_cached, s->visible_leaves, s->dropped);
     fprintf(f,
             ",\"entities_drawn\":%d,\"entities_culled\":%d,\"entities_hidden\":%d,\"entities_unknown\":%d,"

@@ -40,7 +40,7 @@ _edgewise()
                         return 0 ;;
     esac
 
-    local drawn='--no-entities --alias-raster --subdiv-threshold --full-zfill --classic
+    local drawn='--no-entities --alias-raster --subdiv-threshold --full-zfill --no-occlusion --classic
                  --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit --dither
                  --lightstyle --gamma --debug'
     local opts

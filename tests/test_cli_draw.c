@@ -76,6 +76,7 @@ static void options_accepted(void) {
         {{"--alias-raster", "sprite-cache"}, "\"alias_raster\":\"sprite-cache\""},
         {{"--subdiv-threshold", "20"}, "\"subdiv_threshold\":20"},
         {{"--full-zfill"}, "\"zfill\":\"full\""},
+        {{"--no-occlusion"}, "\"occlusion\":false"},
         {{"--classic"}, "\"classic\":true"},
         {{"--wateralpha", "0.5"}, "\"wateralpha\":0.5"},
         {{"--wateralpha=1"}, "\"wateralpha\":1"},

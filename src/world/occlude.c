@@ -166,6 +166,24 @@ static inline int ceil_int(float x) {
     return i + ((float)i < x);
 }
 
+/* The extents below assume a convex polygon.  A face's projection is one
+ * up to float error (vertices in a line bend a little either way), unless
+ * a point very near the eye had its depth clamped (ew_project): a face
+ * with a point more than a twentieth of a pixel inside the line between
+ * its neighbours is tested but covers nothing. */
+static int convex(const ew_proj *p, int n) {
+    float area = 0;
+    for (int i = 0, j = n - 1; i < n; j = i++) area += p[j].u * p[i].v - p[i].u * p[j].v;
+    for (int i = 0; i < n; i++) {
+        const ew_proj *a = &p[i], *b = &p[(i + 1) % n], *c = &p[(i + 2) % n];
+        float cross = (b->u - a->u) * (c->v - a->v) - (b->v - a->v) * (c->u - a->u);  /* b against a -> c */
+        if ((cross > 0) == (area > 0) || cross == 0) continue;
+        float dx = c->u - a->u, dy = c->v - a->v;
+        if (cross * cross > 0.0025f * (dx * dx + dy * dy)) return 0;  /* b is 1/20 px or more inside */
+    }
+    return 1;
+}
+
 int ew_occ_face(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_occ_box b, int key) {
     if (key != s->key) {  /* every face with a smaller key is in: their tiles count now */
         flush(o, s);
@@ -189,7 +207,7 @@ int ew_occ_face(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_oc
      * MIN_ROWS such rows and a box MIN_COLS tiles wider than its margins
      * are noted (decided on the whole face, so every strip agrees). */
     int ra = ceil_int((b.vmin + 0.5f) * inv), rb = (int)((b.vmax + 0.5f) * inv + 1.0f) - 2;
-    if (ra + MIN_ROWS - 1 > rb || b.tx1 - b.tx0 < 1 + MIN_COLS) return 0;
+    if (ra + MIN_ROWS - 1 > rb || b.tx1 - b.tx0 < 1 + MIN_COLS || !convex(p, n)) return 0;
     ra = ra > ty0 ? ra : ty0, rb = rb < ty1 ? rb : ty1;
     for (int r0 = ra; r0 <= rb; r0 += MAX_ROWS) {  /* MAX_ROWS tile rows at a time */
         int nl = (rb - r0 + 1 < MAX_ROWS ? rb - r0 + 1 : MAX_ROWS) + 1;  /* boundary lines */
