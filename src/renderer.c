@@ -5,6 +5,7 @@
 #include "renderer.h"
 #include "ew_util.h"
 #include "scene/scene.h"
+#include "world/edge_math.h"  /* ew_proj */
 
 #include <math.h>
 #include <stdatomic.h>
@@ -109,6 +110,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->marks.edge_cache_frame = calloc((size_t)w->numedges + 1, sizeof(int));
     r->marks.edge_cache_index = calloc((size_t)w->numedges + 1, sizeof(int));
     r->marks.edge_cache_down = calloc((size_t)w->numedges + 1, 1);
+    r->marks.vert_frame = calloc((size_t)w->numverts + 1, sizeof(int));
+    r->marks.vert_proj = malloc(sizeof(ew_proj) * ((size_t)w->numverts + 1));
     r->el.edges = malloc(sizeof(ew_edge) * r->el.max_edges);
     r->el.row_first = malloc(sizeof(int32_t) * (size_t)(height + 2));
     r->el.by_row = malloc(sizeof(int32_t) * r->el.max_edges);
@@ -134,6 +137,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
         !r->marks.face_frame ||
         !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
         !r->marks.edge_cache_frame || !r->marks.edge_cache_index || !r->marks.edge_cache_down || !r->el.edges ||
+        !r->marks.vert_frame || !r->marks.vert_proj ||
         !r->el.row_first || !r->el.by_row || !r->el.by_row_last || !r->el.surfs || !r->lit.surf_cache ||
         !r->lit.to_build || !r->sched.row_cost ||
         !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi || !r->lit.surf_draw ||
@@ -235,6 +239,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     ew_free_box_surfs(r);
     free(r->marks.face_dlframe), free(r->marks.face_dlbits);
     free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
+    free(r->marks.vert_frame), free(r->marks.vert_proj);
     free(r->el.edges), free(r->el.row_first), free(r->el.by_row), free(r->el.by_row_last);
     free(r->el.surfs), free(r->lit.blocklights);
     free(r->ref.polys);
@@ -395,6 +400,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
         memset(r->marks.leaf_keyframe, 0, sizeof(int) * (size_t)w->numleaves);
         memset(r->marks.face_dlframe, 0, sizeof(int) * (size_t)w->numfaces);
         memset(r->marks.edge_cache_frame, 0, sizeof(int) * (size_t)w->numedges);
+        memset(r->marks.vert_frame, 0, sizeof(int) * (size_t)w->numverts);
         r->marks.framecount = 1;
     }
     memset(&r->stats, 0, sizeof r->stats);

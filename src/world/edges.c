@@ -23,14 +23,26 @@ static inline int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) 
     return ew_edge_link(&r->el, b->v > a->v, s);
 }
 
+/* World vertex vi projected, once a frame: most are corners of three or
+ * four faces. */
+static inline void project_vertex(ew_renderer *r, int vi, proj *out) {
+    if (r->marks.vert_frame[vi] != r->marks.framecount) {
+        project(r, r->world->verts[vi], &r->marks.vert_proj[vi]);
+        r->marks.vert_frame[vi] = r->marks.framecount;
+    }
+    *out = r->marks.vert_proj[vi];
+}
+
 /* Emits (or reuses) world edge `se` (a signed surfedge) between a and b,
- * projecting the ends on demand.  Returns the nearest 1/z it saw. */
-static inline float emit_world_edge(ew_renderer *r, int se, const float *pa, const float *pb,
+ * projecting the ends on demand: world vertices va_i, vb_i (>= 0) through
+ * the frame's cache, else the points pa, pb.  Returns the nearest 1/z it
+ * saw. */
+static inline float emit_world_edge(ew_renderer *r, int se, const float *pa, const float *pb, int va_i, int vb_i,
                                     proj *ja, int *va, proj *jb, int *vb, int s) {
     float zi;
     if (ew_edge_cache_take(r, se, s, &zi)) return zi;
-    if (!*va) project(r, pa, ja), *va = 1;
-    if (!*vb) project(r, pb, jb), *vb = 1;
+    if (!*va) (va_i >= 0 ? project_vertex(r, va_i, ja) : project(r, pa, ja)), *va = 1;
+    if (!*vb) (vb_i >= 0 ? project_vertex(r, vb_i, jb) : project(r, pb, jb)), *vb = 1;
     ew_edge_cache_note(r, se, add_edge(r, ja, jb, s), jb->v > ja->v);
     return ja->zi > jb->zi ? ja->zi : jb->zi;
 }
@@ -64,7 +76,8 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
         int hidden = 1;
         if (m >= 3) {
             for (int i = 0; i < m; i++) {
-                project(r, clipflags ? out[i] : w->verts[ew_face_vertex(w, f, i)], &pj[i]);
+                if (clipflags) project(r, out[i], &pj[i]);
+                else project_vertex(r, ew_face_vertex(w, f, i), &pj[i]);
                 valid[i] = 1;
             }
             ew_occ_box b = ew_occ_box_of(&r->occ, pj, m, r->target.width, r->target.height);
@@ -88,10 +101,8 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
         /* Wholly inside the frustum: every edge is a whole world edge. */
         for (int i = 0; i < n; i++) {
             int j = i + 1 == n ? 0 : i + 1;
-            const float *pa = w->verts[ew_face_vertex(w, f, i)];
-            const float *pb = w->verts[ew_face_vertex(w, f, j)];
-            float zi = emit_world_edge(r, w->surfedges[f->firstedge + i], pa, pb,
-                                       &pj[i], &valid[i], &pj[j], &valid[j], s);
+            float zi = emit_world_edge(r, w->surfedges[f->firstedge + i], NULL, NULL, ew_face_vertex(w, f, i),
+                                       ew_face_vertex(w, f, j), &pj[i], &valid[i], &pj[j], &valid[j], s);
             if (zi > nearzi) nearzi = zi;
         }
     } else {
@@ -99,7 +110,7 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
             int j = i + 1 == m ? 0 : i + 1;
             float zi;
             if (tout[i] >= 0) {
-                zi = emit_world_edge(r, w->surfedges[f->firstedge + tout[i]], out[i], out[j],
+                zi = emit_world_edge(r, w->surfedges[f->firstedge + tout[i]], out[i], out[j], -1, -1,
                                      &pj[i], &valid[i], &pj[j], &valid[j], s);
             } else {
                 if (!valid[i]) project(r, out[i], &pj[i]), valid[i] = 1;

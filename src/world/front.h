@@ -21,6 +21,7 @@ typedef struct ew_marks {
     int *leaf_key, *leaf_keyframe;            /* BSP key of each visited leaf */
     int *face_dlframe; unsigned *face_dlbits; /* dynamic lights on each face */
     int *edge_cache_frame, *edge_cache_index; /* per world edge: shared edges */
+    int *vert_frame; struct ew_proj *vert_proj; /* per world vertex: projected this frame (serial emission) */
     int8_t *edge_cache_down;                  /* +1: +sign traversal goes down */
     int    *vis, nvis, vis_pending;            /* this frame's PVS leaves, not yet marked */
 } ew_marks;
