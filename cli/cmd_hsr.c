@@ -101,7 +101,7 @@ typedef struct hsr_row {
     double overdraw_mean, overdraw_max;
     double agree_mean, agree_min;   /* percent of the frame's pixels */
     int    agree_min_view;
-    double polygons, polygons_max, dropped;   /* ew_stats.surfaces, .dropped per frame */
+    double polygons, polygons_max, dropped;   /* ew_stats.surfaces (+ faces_occluded), .dropped per frame */
     double in_view;        /* polygons in view: the edge list's surfaces, mean per view */
     double mem_mean, mem_max;       /* ew_stats.hsr_bytes */
     double counters[EW_HSR_COUNTERS];  /* mean per frame */
@@ -361,8 +361,11 @@ static void summarize_timing(hsr_row *r, double *frames, const ew_stats *stats) 
         const ew_stats *s = &stats[i];
         sum += frames[i];
         if (frames[i] > r->worst) r->worst = frames[i], r->worst_view = i % r->views;
-        r->polygons += s->surfaces;
-        if (s->surfaces > r->polygons_max) r->polygons_max = s->surfaces;
+        /* the faces handed to the method, also those the edge method found
+         * hidden before it set up their edges */
+        int polys = s->surfaces + s->faces_occluded;
+        r->polygons += polys;
+        if (polys > r->polygons_max) r->polygons_max = polys;
         r->dropped += s->dropped;
         r->mem_mean += (double)s->hsr_bytes;
         if ((double)s->hsr_bytes > r->mem_max) r->mem_max = (double)s->hsr_bytes;
@@ -471,7 +474,8 @@ static int lab_size(const lab_ctx *c, int w, int h, hsr_row *rows) {
         ew_stats st;
         ew_set_hsr(rd, EW_HSR_EDGE);
         if (ew_render(rd, &c->views[v], &st) == 0)
-            for (int m = 0; m < o->nmethods; m++) rows[m].in_view += (double)st.surfaces / c->nviews;
+            for (int m = 0; m < o->nmethods; m++)
+                rows[m].in_view += (double)(st.surfaces + st.faces_occluded) / c->nviews;
         if (ew_render_reference(rd, &c->views[v], NULL, ref_ids, &err) < 0) {
             progress_clear();
             error_line("%s: view %d: %s", c->map, v, err.msg[0] ? err.msg : "cannot render the reference");
