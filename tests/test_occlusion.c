@@ -20,7 +20,7 @@
 #include "edgewise_tools.h"
 #include "renderer.h"
 #include "util.h"
-#include "world/edge_math.h"
+#include "world/occlude.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -5,6 +5,7 @@
  * clipping and projecting it again. */
 #include "renderer.h"
 #include "world/edge_math.h"
+#include "world/occlude.h"
 
 typedef ew_proj proj;
 

@@ -47,8 +47,9 @@ typedef struct ew_occlusion {
     ew_occ_strip  whole;              /* every row: the one-thread emission's */
     ew_occ_strip *strips; int nstrips;/* the parallel front end's */
 } ew_occlusion;
-/* The tiles a face's pixels may fall in (and its points' vertical extent). */
-typedef struct ew_occ_box { int tx0, tx1, ty0, ty1; float vmin, vmax; } ew_occ_box;
+/* The tiles a face's pixels may fall in, its points' vertical extent, and
+ * the tile rows it may cover (ra > rb: it is too small to note). */
+typedef struct ew_occ_box { int tx0, tx1, ty0, ty1; float vmin, vmax; int ra, rb; } ew_occ_box;
 int        ew_occ_init(ew_occlusion *o, int width, int height);
 void       ew_occ_free(ew_occlusion *o);
 /* n strips (at most one a tile row) for the parallel front end; the count. */
@@ -56,10 +57,7 @@ int        ew_occ_strips(ew_occlusion *o, int n);
 /* A frame starts: the map cleared, in use if on (and enabled). */
 void       ew_occ_begin(ew_occlusion *o, int on);
 ew_occ_box ew_occ_box_of(const ew_occlusion *o, const struct ew_proj *p, int n, int width, int height);
-/* The projected face p[0..n) with box b and BSP key `key`, in strip s: 1
- * if faces with smaller keys cover every tile of b in the strip (or b has
- * none there), else 0, its covered tiles noted. */
-int        ew_occ_face(ew_occlusion *o, ew_occ_strip *s, const struct ew_proj *p, int n, ew_occ_box b, int key);
+/* The test of a face itself, ew_occ_face, is in world/occlude.h. */
 
 /* world/pvs.c: lists the leaves visible from the camera's leaf for this
  * frame (marks.vis, pending) and returns the view leaf; ew_pvs_apply marks

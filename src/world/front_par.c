@@ -59,6 +59,7 @@
 #include "renderer.h"
 #include "ew_util.h"
 #include "world/edge_math.h"
+#include "world/occlude.h"
 #include "scene/scene.h"
 
 #include <limits.h>

@@ -24,7 +24,7 @@
  * parallel front end's, world/front_par.c) decides as one strip (the
  * one-thread emission's, world/edges.c) does. */
 #include "renderer.h"
-#include "world/edge_math.h"
+#include "world/occlude.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -100,6 +100,12 @@ void ew_occ_begin(ew_occlusion *o, int on) {
     for (int i = 0; i < o->nstrips; i++) strip_reset(&o->strips[i]);
 }
 
+/* ceil(x) for |x| well inside int range */
+static inline int ceil_int(float x) {
+    int i = (int)x;
+    return i + ((float)i < x);
+}
+
 ew_occ_box ew_occ_box_of(const ew_occlusion *o, const ew_proj *p, int n, int width, int height) {
     float umin = p[0].u, umax = p[0].u, vmin = p[0].v, vmax = p[0].v;
     for (int i = 1; i < n; i++) {
@@ -113,21 +119,20 @@ ew_occ_box ew_occ_box_of(const ew_occlusion *o, const ew_proj *p, int n, int wid
     int x0 = (int)(umin + 1.0f) - 2, x1 = (int)umax + 2, y0 = (int)(vmin + 1.0f) - 2, y1 = (int)vmax + 2;
     x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
     x1 = x1 > width - 1 ? width - 1 : x1, y1 = y1 > height - 1 ? height - 1 : y1;
-    ew_occ_box b = {x0 >> o->shift, x1 >> o->shift, y0 >> o->shift, y1 >> o->shift, vmin, vmax};
-    if (x0 > x1 || y0 > y1) b.ty0 = 1, b.ty1 = 0;  /* no pixel */
-    return b;
-}
-
-/* Bits tx0..tx1 of a row of words: all set? */
-static int row_full(const uint64_t *row, int tx0, int tx1) {
-    int w0 = tx0 >> 6, w1 = tx1 >> 6;
-    for (int w = w0; w <= w1; w++) {
-        uint64_t m = ~0ull;
-        if (w == w0) m &= ~0ull << (tx0 & 63);
-        if (w == w1) m &= ~0ull >> (63 - (tx1 & 63));
-        if ((row[w] & m) != m) return 0;
+    ew_occ_box b = {x0 >> o->shift, x1 >> o->shift, y0 >> o->shift, y1 >> o->shift, vmin, vmax, 0, -1};
+    if (x0 > x1 || y0 > y1) {
+        b.ty0 = 1, b.ty1 = 0;  /* no pixel */
+        return b;
     }
-    return 1;
+    /* The tile rows whose both boundary lines (below) lie within the
+     * points' rows.  Small faces add too little to be worth it: only faces
+     * with at least MIN_ROWS such rows and a box MIN_COLS tiles wider than
+     * its margins are noted (decided on the whole face, so every strip
+     * agrees). */
+    const float inv = 1.0f / (float)(1 << o->shift);
+    int ra = ceil_int((vmin + 0.5f) * inv), rb = (int)((vmax + 0.5f) * inv + 1.0f) - 2;
+    if (ra + MIN_ROWS - 1 <= rb && b.tx1 - b.tx0 >= 1 + MIN_COLS) b.ra = ra, b.rb = rb;
+    return b;
 }
 
 static void row_set(uint64_t *row, int tx0, int tx1) {
@@ -160,12 +165,6 @@ static int note(ew_occ_strip *s, int ty, int tx0, int tx1) {
     return 0;
 }
 
-/* ceil(x) for |x| well inside int range */
-static inline int ceil_int(float x) {
-    int i = (int)x;
-    return i + ((float)i < x);
-}
-
 /* The extents below assume a convex polygon.  A face's projection is one
  * up to float error (vertices in a line bend a little either way), unless
  * a point very near the eye had its depth clamped (ew_project): a face
@@ -184,16 +183,10 @@ static int convex(const ew_proj *p, int n) {
     return 1;
 }
 
-int ew_occ_face(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_occ_box b, int key) {
-    if (key != s->key) {  /* every face with a smaller key is in: their tiles count now */
-        flush(o, s);
-        s->key = key;
-    }
-    int ty0 = b.ty0 > s->ty0 ? b.ty0 : s->ty0, ty1 = b.ty1 < s->ty1 ? b.ty1 : s->ty1;
-    if (ty0 > ty1) return 1;  /* no pixel in this strip */
-    int hidden = s->any && !s->failed;  /* nothing can be hidden before a tile is set */
-    for (int ty = ty0; hidden && ty <= ty1; ty++) hidden = row_full(o->bits + (size_t)ty * (size_t)o->words, b.tx0, b.tx1);
-    if (hidden) return 1;
+void ew_occ_flush(ew_occlusion *o, ew_occ_strip *s) { flush(o, s); }
+
+void ew_occ_note(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_occ_box b) {
+    if (!convex(p, n)) return;
     /* The tiles whose pixel centres all lie inside by the margin.  Tile
      * row k spans the lines from k * t - 1/2 to (k + 1) * t - 1/2 (its
      * pixel centres' rows and half a row more each way); a convex polygon
@@ -202,13 +195,7 @@ int ew_occ_face(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_oc
      * rows above and below it, is all that is needed. */
     const int t = 1 << o->shift;
     const float tf = (float)t, inv = 1.0f / tf;
-    /* Tile rows whose both boundary lines lie within the points' rows.
-     * Small faces add too little to be worth it: only faces with at least
-     * MIN_ROWS such rows and a box MIN_COLS tiles wider than its margins
-     * are noted (decided on the whole face, so every strip agrees). */
-    int ra = ceil_int((b.vmin + 0.5f) * inv), rb = (int)((b.vmax + 0.5f) * inv + 1.0f) - 2;
-    if (ra + MIN_ROWS - 1 > rb || b.tx1 - b.tx0 < 1 + MIN_COLS || !convex(p, n)) return 0;
-    ra = ra > ty0 ? ra : ty0, rb = rb < ty1 ? rb : ty1;
+    int ra = b.ra > s->ty0 ? b.ra : s->ty0, rb = b.rb < s->ty1 ? b.rb : s->ty1;
     for (int r0 = ra; r0 <= rb; r0 += MAX_ROWS) {  /* MAX_ROWS tile rows at a time */
         int nl = (rb - r0 + 1 < MAX_ROWS ? rb - r0 + 1 : MAX_ROWS) + 1;  /* boundary lines */
         float lo[MAX_ROWS + 1], hi[MAX_ROWS + 1];
@@ -241,5 +228,4 @@ int ew_occ_face(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_oc
             if (tx0 <= tx1 && note(s, r0 + k, tx0, tx1) < 0) s->failed = 1;  /* no memory: nothing more hidden */
         }
     }
-    return 0;
 }
