@@ -41,11 +41,12 @@ void json_number(FILE *f, double v);
 /* ---- what is drawn (cli/draw_options.c) --------------------------------------
  * The options that change the picture, the same in render, demo, bench and
  * soak: --no-entities, --alias-raster, --subdiv-threshold, --full-zfill,
- * --no-occlusion, --classic, --wateralpha, --fog, --no-fog, --no-waterwarp, --hsr, --color,
+ * --occlusion, --classic, --wateralpha, --fog, --no-fog, --no-waterwarp, --hsr, --color,
  * --no-lit, --dither, --debug. */
 typedef struct draw_opts {
     int    given;             /* bit per option seen */
-    int    no_entities, full_zfill, no_occlusion, classic, no_waterwarp;
+    int    no_entities, full_zfill, classic, no_waterwarp;
+    int    occlusion;         /* ew_occlusion_mode */
     int    alias_raster;      /* ew_alias_raster */
     double subdiv_threshold;  /* 0: the renderer's (40) */
     double wateralpha;        /* < 0: the map's */

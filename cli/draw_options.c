@@ -20,7 +20,7 @@
 #include <sys/stat.h>
 
 enum {
-    D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_NOOCC, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
+    D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_OCC, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
     D_NOWARP, D_HSR, D_COLOR, D_NOLIT, D_DITHER, D_LIGHTSTYLE, D_GAMMA, D_DEBUG, D_COUNT
 };
 
@@ -39,8 +39,8 @@ static const struct draw_def {
                       "a number of pixels above 0, at most 10000 (default 40)" },
     [D_FULLZ] = { "--full-zfill", NULL, "z-fill under every world span (default: only under moving things)",
                   NULL },
-    [D_NOOCC] = { "--no-occlusion", NULL,
-                  "keep the world faces nearer ones hide in the edge list (the same picture, more work)", NULL },
+    [D_OCC] = { "--occlusion", "MODE", "leave out of the edge list the world faces nearer ones hide (the same picture)",
+                "off, auto (where the PVS lets 500 leaves or more through; the default) or always" },
     [D_CLASSIC] = { "--classic", NULL,
                     "the 1996 look: no see-through surfaces, fog or underwater warp", NULL },
     [D_WATERALPHA] = { "--wateralpha", "A", "opacity of every liquid, whatever the map asks",
@@ -78,6 +78,7 @@ enum { NDEBUG_NAMES = sizeof debug_names / sizeof *debug_names };
 void draw_opts_init(draw_opts *d) {
     memset(d, 0, sizeof *d);
     d->alias_raster = EW_ALIAS_AUTO;
+    d->occlusion = EW_OCCLUSION_AUTO;
     d->wateralpha = -1;
     d->hsr = EW_HSR_EDGE;
 }
@@ -127,6 +128,12 @@ static int set_value(draw_opts *d, int k, const char *v) {
         else if (strcmp(v, "subdiv") == 0) d->alias_raster = EW_ALIAS_SUBDIV;
         else if (strcmp(v, "masks") == 0) d->alias_raster = EW_ALIAS_MASKS;
         else if (strcmp(v, "sprite-cache") == 0) d->alias_raster = EW_ALIAS_SPRITE_CACHE;
+        else return bad_value(k, v);
+        return 0;
+    case D_OCC:
+        if (strcmp(v, "off") == 0) d->occlusion = EW_OCCLUSION_OFF;
+        else if (strcmp(v, "auto") == 0) d->occlusion = EW_OCCLUSION_AUTO;
+        else if (strcmp(v, "always") == 0) d->occlusion = EW_OCCLUSION_ALWAYS;
         else return bad_value(k, v);
         return 0;
     case D_SUBTHRESH:
@@ -256,7 +263,6 @@ int draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i) {
     switch (k) {
     case D_NOENT: d->no_entities = 1; break;
     case D_FULLZ: d->full_zfill = 1; break;
-    case D_NOOCC: d->no_occlusion = 1; break;
     case D_CLASSIC: d->classic = 1; break;
     case D_NOFOG: d->fog_mode = 2; for (int c = 0; c < 4; c++) d->fog[c] = 0; break;
     case D_FOG: d->fog_mode = 1; break;
@@ -270,7 +276,7 @@ int draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i) {
 int draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene) {
     ew_set_alias_raster(r, (ew_alias_raster)d->alias_raster, (float)d->subdiv_threshold);
     ew_set_full_zfill(r, d->full_zfill);
-    ew_set_occlusion_cull(r, !d->no_occlusion);
+    ew_set_occlusion_cull(r, (ew_occlusion_mode)d->occlusion);
     ew_set_classic(r, d->classic);
     ew_set_liquid_alpha(r, (float)d->wateralpha);
     if (d->fog_mode)
@@ -298,8 +304,9 @@ void draw_opts_json(FILE *f, const draw_opts *d) {
     fprintf(f, ",\"entities\":%s,\"alias_raster\":\"%s\",\"subdiv_threshold\":",
             d->no_entities ? "false" : "true", modes[d->alias_raster]);
     json_number(f, d->subdiv_threshold > 0 ? d->subdiv_threshold : 40);
-    fprintf(f, ",\"zfill\":\"%s\",\"occlusion\":%s,\"classic\":%s,\"wateralpha\":", d->full_zfill ? "full" : "deferred",
-            d->no_occlusion ? "false" : "true", d->classic ? "true" : "false");
+    static const char *const occ[] = { "off", "auto", "always" };
+    fprintf(f, ",\"zfill\":\"%s\",\"occlusion\":\"%s\",\"classic\":%s,\"wateralpha\":",
+            d->full_zfill ? "full" : "deferred", occ[d->occlusion], d->classic ? "true" : "false");
     if (d->wateralpha > 0)
         json_number(f, d->wateralpha);
     else

@@ -18,6 +18,7 @@ _edgewise()
     # The values of options.
     case $prev in
         --alias-raster) COMPREPLY=($(compgen -W 'auto affine subdiv masks sprite-cache' -- "$cur")); return 0 ;;
+        --occlusion)    COMPREPLY=($(compgen -W 'off auto always' -- "$cur")); return 0 ;;
         --hsr)          COMPREPLY=($(compgen -W 'edge reference' -- "$cur")); return 0 ;;
         --methods)      COMPREPLY=($(compgen -W 'edge reference' -- "$cur")); return 0 ;;
         --json|--svg)   compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
@@ -40,7 +41,7 @@ _edgewise()
                         return 0 ;;
     esac
 
-    local drawn='--no-entities --alias-raster --subdiv-threshold --full-zfill --no-occlusion --classic
+    local drawn='--no-entities --alias-raster --subdiv-threshold --full-zfill --occlusion --classic
                  --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit --dither
                  --lightstyle --gamma --debug'
     local opts

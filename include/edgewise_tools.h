@@ -51,13 +51,16 @@ EW_API void ew_set_full_zfill(ew_renderer *r, int on);
  * the same either way; 0 exists to check that and to measure the saving. */
 EW_API void ew_set_hide_occluded(ew_renderer *r, int on);
 
-/* World faces that nearer world faces hide: the edge method leaves out of
- * its edge list every face whose pixels, on a coarse map of the screen,
- * faces earlier in BSP order already cover (1, the default;
- * ew_stats.faces_occluded counts them), or keeps them all (0).  The frame
- * is the same either way, on any number of threads; 0 exists to check
- * that and to measure the saving.  The other methods keep every face. */
-EW_API void ew_set_occlusion_cull(ew_renderer *r, int on);
+/* World faces that nearer world faces hide: the edge method can leave out
+ * of its edge list every face whose pixels, on a coarse map of the screen,
+ * faces earlier in BSP order already cover (ew_stats.faces_occluded counts
+ * them).  AUTO, the default, does so in frames whose PVS has at least 500
+ * leaves (a map of many rooms, where it repays its test of every face);
+ * ALWAYS in every frame; OFF never.  The frame is the same in every mode,
+ * on any number of threads: OFF and ALWAYS exist to check that and to
+ * measure the saving.  The other methods keep every face. */
+typedef enum ew_occlusion_mode { EW_OCCLUSION_OFF, EW_OCCLUSION_AUTO, EW_OCCLUSION_ALWAYS } ew_occlusion_mode;
+EW_API void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode);
 
 /* How the renderer cuts a frame for its threads, in two phases with a wait
  * between: with more than one thread, the scan into EW_BANDS_PER_THREAD

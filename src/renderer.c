@@ -290,7 +290,9 @@ const float *ew_frame_zbuffer(ew_renderer *r) {
 
 void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
 void ew_set_hide_occluded(ew_renderer *r, int on) { r->cfg.hide_occluded = on != 0; }
-void ew_set_occlusion_cull(ew_renderer *r, int on) { r->occ.enabled = on != 0; }
+void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode) {
+    r->occ.mode = mode == EW_OCCLUSION_OFF || mode == EW_OCCLUSION_ALWAYS ? mode : EW_OCCLUSION_AUTO;
+}
 const int *ew_frame_face_ids(const ew_renderer *r) { return r->face_ids; }
 
 /* Light styles: each frame's values come from these settings (ew_frame_begin). */
@@ -418,6 +420,8 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->cfg.hsr->begin(r);
     r->see.n = 0;
     r->eye_contents = r->world->leaves[ew_pvs_mark(r)].contents;
+    /* auto: only where the PVS lets many leaves through (world/occlude.c) */
+    if (r->occ.mode == EW_OCCLUSION_AUTO && r->marks.nvis < EW_OCC_AUTO_LEAVES) r->occ.on = 0;
     return 0;
 }
 

@@ -10,13 +10,14 @@
  * placed squares check the cases by hand.
  *
  * Then every view of e1m1, lqdm7, e4m1 and start with their entities: the
- * frame and the z-buffer with the culling on equal those with it off bit
+ * frame and the z-buffer with the culling always on equal those with it off bit
  * for bit, at 320x200 and 640x480 on one thread and on two (in the 1996
  * look and today's), and at 1920x1080 on every third view; the counts add
  * up (surfaces + hidden faces = the surfaces without culling; the spans
  * and the surfaces that won them are the same); lqdm7, a map of many
- * rooms, loses at least a third of its surfaces; and the other methods
- * hide nothing. */
+ * rooms, loses at least a third of its surfaces; the default (auto) hides
+ * nothing where the PVS is small (start) and does hide on lqdm7; and the
+ * other methods hide nothing. */
 #include "edgewise_tools.h"
 #include "renderer.h"
 #include "util.h"
@@ -226,7 +227,8 @@ static void compare(const char *name, const ew_assets *a, ew_scene *sc, const ew
         ew_set_classic(r[k], classic);
         ew_set_scene(r[k], sc);
     }
-    ew_set_occlusion_cull(r[0], 0);
+    ew_set_occlusion_cull(r[0], EW_OCCLUSION_OFF);
+    ew_set_occlusion_cull(r[1], EW_OCCLUSION_ALWAYS);  /* auto would skip the small PVS sets */
     for (int v = 0; v < nv; v += step) {
         ew_stats s[2];
         CHECK(ew_render(r[0], &views[v], &s[0]) == 0 && ew_render(r[1], &views[v], &s[1]) == 0, "%s view %d", name, v);
@@ -248,6 +250,37 @@ static void compare(const char *name, const ew_assets *a, ew_scene *sc, const ew
         t->frames++, t->differ += fd != 0 || zd != 0, t->surfaces += s[0].surfaces, t->occluded += s[1].faces_occluded;
     }
     ew_renderer_destroy(r[0]), ew_renderer_destroy(r[1]);
+}
+
+/* The default, auto: only frames whose PVS has EW_OCC_AUTO_LEAVES leaves
+ * or more; none of start's views has (it hides nothing there), every one
+ * of lqdm7's does. */
+static void check_auto(const char *name, const ew_assets *a, const ew_camera *views, int nv, int want_some) {
+    ew_error err;
+    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette,
+                                                            .colormap = a->colormap, .width = 320, .height = 200,
+                                                            .threads = 1},
+                                        &err);
+    CHECK(r != NULL, "%s", err.msg);
+    if (!r) return;
+    ew_set_classic(r, 1);
+    ew_set_occlusion_cull(r, (ew_occlusion_mode)7);  /* not a mode: auto */
+    long hidden = 0, small = 0;
+    for (int v = 0; v < nv; v++) {
+        ew_stats st;
+        CHECK(ew_render(r, &views[v], &st) == 0, "%s view %d", name, v);
+        hidden += st.faces_occluded;
+        if (r->marks.nvis < EW_OCC_AUTO_LEAVES) {
+            small++;
+            CHECK(st.faces_occluded == 0, "%s view %d: PVS of %d leaves, %d faces hidden in auto", name, v,
+                  r->marks.nvis, st.faces_occluded);
+        }
+    }
+    printf("%s, auto: %ld faces hidden, %ld of %d views with a PVS under %d leaves\n", name, hidden, small, nv,
+           EW_OCC_AUTO_LEAVES);
+    CHECK(want_some ? hidden > 0 && small == 0 : small == nv, "%s in auto: %ld hidden, %ld small PVS", name, hidden,
+          small);
+    ew_renderer_destroy(r);
 }
 
 /* The other methods take every face. */
@@ -293,6 +326,8 @@ int main(void) {
                    t.occluded, t.surfaces);
             /* start is one open hall and a corridor: little hides anything there */
             if (strcmp(maps[m], "start")) CHECK(t.occluded > 0 && small.occluded > 0, "%s: no face hidden", maps[m]);
+            if (!strcmp(maps[m], "lqdm7") || !strcmp(maps[m], "start"))
+                check_auto(maps[m], a, views, nv, !strcmp(maps[m], "lqdm7"));
             if (!strcmp(maps[m], "lqdm7")) {
                 CHECK(small.occluded * 3 >= small.surfaces, "lqdm7: only %ld of %ld surfaces hidden", small.occluded,
                       small.surfaces);

@@ -41,7 +41,7 @@ typedef struct ew_occ_strip {
     int           failed;  /* out of memory: nothing more is hidden in the strip */
 } ew_occ_strip;
 typedef struct ew_occlusion {
-    int           enabled, on;        /* the setting (ew_set_occlusion_cull); in use this frame */
+    int           mode, on;           /* the setting (ew_occlusion_mode); in use this frame */
     int           shift, tw, th, words;  /* tiles of 1 << shift pixels; tw x th of them; words a row */
     uint64_t     *bits;               /* th rows of words: tile covered */
     ew_occ_strip  whole;              /* every row: the one-thread emission's */
@@ -54,7 +54,11 @@ int        ew_occ_init(ew_occlusion *o, int width, int height);
 void       ew_occ_free(ew_occlusion *o);
 /* n strips (at most one a tile row) for the parallel front end; the count. */
 int        ew_occ_strips(ew_occlusion *o, int n);
-/* A frame starts: the map cleared, in use if on (and enabled). */
+/* auto uses the map only where the frame's PVS has at least this many
+ * leaves (measured: below it, the faces the PVS and the frustum let
+ * through are mostly seen, and the test costs more than it saves). */
+#define EW_OCC_AUTO_LEAVES 500
+/* A frame starts: the map cleared, in use if on (and the mode is not off). */
 void       ew_occ_begin(ew_occlusion *o, int on);
 ew_occ_box ew_occ_box_of(const ew_occlusion *o, const struct ew_proj *p, int n, int width, int height);
 /* The test of a face itself, ew_occ_face, is in world/occlude.h. */

@@ -60,7 +60,7 @@ int ew_occ_init(ew_occlusion *o, int width, int height) {
     o->words = (o->tw + 63) / 64;
     o->bits = calloc((size_t)o->th * (size_t)o->words, sizeof(uint64_t));
     o->whole = (ew_occ_strip){.ty0 = 0, .ty1 = o->th - 1, .key = -1};
-    o->enabled = 1;
+    o->mode = EW_OCCLUSION_AUTO;
     return o->bits ? 0 : -1;
 }
 
@@ -93,7 +93,7 @@ int ew_occ_strips(ew_occlusion *o, int n) {
 }
 
 void ew_occ_begin(ew_occlusion *o, int on) {
-    o->on = on && o->enabled && o->bits;
+    o->on = on && o->mode != EW_OCCLUSION_OFF && o->bits;
     if (!o->on) return;
     memset(o->bits, 0, sizeof(uint64_t) * (size_t)o->th * (size_t)o->words);
     strip_reset(&o->whole);
