@@ -416,12 +416,14 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     if (!r->lit.nearest && r->target.bpp == 1 && !r->cfg.classic &&
         (ew_use_rgb_light(r, r->world) || coloured_dlights(r->ents.scene)))
         r->lit.nearest = ew_blend_cube(&r->blend);
-    r->occ.on = 0;  /* until the method's begin says otherwise */
     r->cfg.hsr->begin(r);
     r->see.n = 0;
     r->eye_contents = r->world->leaves[ew_pvs_mark(r)].contents;
-    /* auto: only where the PVS lets many leaves through (world/occlude.c) */
-    if (r->occ.mode == EW_OCCLUSION_AUTO && r->marks.nvis < EW_OCC_AUTO_LEAVES) r->occ.on = 0;
+    /* Faces nearer faces hide are left out of the edge method's list only
+     * (the others it feeds count and draw every face), in auto where the
+     * PVS lets many leaves through (world/occlude.c). */
+    ew_occ_begin(&r->occ, r->cfg.hsr == &ew_hsr_edge &&
+                              (r->occ.mode == EW_OCCLUSION_ALWAYS || r->marks.nvis >= EW_OCC_AUTO_LEAVES));
     return 0;
 }
 

@@ -303,9 +303,6 @@ void ew_edge_begin(ew_renderer *r) {
     el->nedges = 0;
     el->nsurfs = 1;  /* surface 0: the background, behind everything */
     el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->view};
-    /* Only this method's list leaves hidden faces out: the others it
-     * feeds count and draw every face. */
-    ew_occ_begin(&r->occ, r->cfg.hsr == &ew_hsr_edge);
 }
 
 /* A counting sort by first scanline.  Within a row the later edge comes
