@@ -252,16 +252,22 @@ static void compare(const char *name, const ew_assets *a, ew_scene *sc, const ew
     ew_renderer_destroy(r[0]), ew_renderer_destroy(r[1]);
 }
 
-/* The default, auto: only frames whose PVS has EW_OCC_AUTO_LEAVES leaves
- * or more; none of start's views has (it hides nothing there), every one
- * of lqdm7's does. */
-static void check_auto(const char *name, const ew_assets *a, const ew_camera *views, int nv, int want_some) {
+/* A 320x200 renderer on one thread, or NULL after a failed CHECK. */
+static ew_renderer *small_renderer(const ew_assets *a) {
     ew_error err;
     ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette,
                                                             .colormap = a->colormap, .width = 320, .height = 200,
                                                             .threads = 1},
                                         &err);
     CHECK(r != NULL, "%s", err.msg);
+    return r;
+}
+
+/* The default, auto: only frames whose PVS has EW_OCC_AUTO_LEAVES leaves
+ * or more; none of start's views has (it hides nothing there), every one
+ * of lqdm7's does. */
+static void check_auto(const char *name, const ew_assets *a, const ew_camera *views, int nv, int want_some) {
+    ew_renderer *r = small_renderer(a);
     if (!r) return;
     ew_set_classic(r, 1);
     ew_set_occlusion_cull(r, (ew_occlusion_mode)7);  /* not a mode: auto */
@@ -285,12 +291,7 @@ static void check_auto(const char *name, const ew_assets *a, const ew_camera *vi
 
 /* The other methods take every face. */
 static void check_other_methods(const ew_assets *a, const ew_camera *views) {
-    ew_error err;
-    ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette,
-                                                            .colormap = a->colormap, .width = 320, .height = 200,
-                                                            .threads = 1},
-                                        &err);
-    CHECK(r != NULL, "%s", err.msg);
+    ew_renderer *r = small_renderer(a);
     if (!r) return;
     const ew_hsr_method m[] = {EW_HSR_SPANS, EW_HSR_PAINTER, EW_HSR_ZBUFFER, EW_HSR_EDGE_Z};
     for (int k = 0; k < 4; k++) {
