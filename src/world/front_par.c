@@ -567,6 +567,11 @@ static int note_edge(const ew_renderer *r, struct ew_front_par *fp, int face, in
     return atomic_load_explicit(&other->frame, memory_order_acquire) == frame && other->pos < p;
 }
 
+/* Point i of face f: its vertex, or the clip's point if it was clipped. */
+static inline const float *face_point(const ew_world *w, const ew_face *f, float (*cl)[3], int clipped, int i) {
+    return clipped ? cl[i] : w->verts[ew_face_vertex(w, f, i)];
+}
+
 /* What ew_emit_face computes of a face before it touches the list; with
  * may_skip, not the setup of edges the face will take from another. */
 static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int may_skip) {
@@ -594,7 +599,7 @@ static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int ma
     if (fp->occ) {
         /* Every point, for the coverage map (the cull phase), kept. */
         for (int i = 0; i < m; i++) {
-            ew_project(&r->view, pf->clipflags ? cl[i] : w->verts[ew_face_vertex(w, f, i)], &pj[i]);
+            ew_project(&r->view, face_point(w, f, cl, pf->clipflags, i), &pj[i]);
             fp->pts[pf->pe + i] = pj[i];
         }
         memset(valid, 1, (size_t)m);
@@ -613,8 +618,8 @@ static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int ma
             out[i].se = se, out[i].crosses = 0, out[i].skipped = 1;
             continue;
         }
-        if (!valid[i]) ew_project(&r->view, pf->clipflags ? cl[i] : w->verts[ew_face_vertex(w, f, i)], &pj[i]), valid[i] = 1;
-        if (!valid[j]) ew_project(&r->view, pf->clipflags ? cl[j] : w->verts[ew_face_vertex(w, f, j)], &pj[j]), valid[j] = 1;
+        if (!valid[i]) ew_project(&r->view, face_point(w, f, cl, pf->clipflags, i), &pj[i]), valid[i] = 1;
+        if (!valid[j]) ew_project(&r->view, face_point(w, f, cl, pf->clipflags, j), &pj[j]), valid[j] = 1;
         set_pedge(&out[i], &pj[i], &pj[j], se);
     }
     pf->m = m;

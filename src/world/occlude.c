@@ -35,22 +35,6 @@
 #define MIN_ROWS 6
 #define MIN_COLS 6
 
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
 int ew_occ_init(ew_occlusion *o, int width, int height) {
     /* Tiles of 4 pixels up to 1024 wide, 8 up to 2048, then 16: about
      * 128 to 256 tiles across and a few words a row. */
@@ -100,12 +84,6 @@ void ew_occ_begin(ew_occlusion *o, int on) {
     for (int i = 0; i < o->nstrips; i++) strip_reset(&o->strips[i]);
 }
 
-/* ceil(x) for |x| well inside int range */
-static inline int ceil_int(float x) {
-    int i = (int)x;
-    return i + ((float)i < x);
-}
-
 ew_occ_box ew_occ_box_of(const ew_occlusion *o, const ew_proj *p, int n, int width, int height) {
     float umin = p[0].u, umax = p[0].u, vmin = p[0].v, vmax = p[0].v;
     for (int i = 1; i < n; i++) {
@@ -130,22 +108,16 @@ ew_occ_box ew_occ_box_of(const ew_occlusion *o, const ew_proj *p, int n, int wid
      * its margins are noted (decided on the whole face, so every strip
      * agrees). */
     const float inv = 1.0f / (float)(1 << o->shift);
-    int ra = ceil_int((vmin + 0.5f) * inv), rb = (int)((vmax + 0.5f) * inv + 1.0f) - 2;
+    int ra = ew_ceilf_int((vmin + 0.5f) * inv), rb = (int)((vmax + 0.5f) * inv + 1.0f) - 2;
     if (ra + MIN_ROWS - 1 <= rb && b.tx1 - b.tx0 >= 1 + MIN_COLS) b.ra = ra, b.rb = rb;
     return b;
 }
 
 static void row_set(uint64_t *row, int tx0, int tx1) {
-    int w0 = tx0 >> 6, w1 = tx1 >> 6;
-    for (int w = w0; w <= w1; w++) {
-        uint64_t m = ~0ull;
-        if (w == w0) m &= ~0ull << (tx0 & 63);
-        if (w == w1) m &= ~0ull >> (63 - (tx1 & 63));
-        row[w] |= m;
-    }
+    for (int w = tx0 >> 6; w <= tx1 >> 6; w++) row[w] |= ew_occ_mask(w, tx0, tx1);
 }
 
-static void flush(ew_occlusion *o, ew_occ_strip *s) {
+void ew_occ_flush(ew_occlusion *o, ew_occ_strip *s) {
     s->any |= s->npend > 0;
     for (int i = 0; i < s->npend; i++) {
         const ew_occ_range *g = &s->pend[i];
@@ -183,8 +155,6 @@ static int convex(const ew_proj *p, int n) {
     return 1;
 }
 
-void ew_occ_flush(ew_occlusion *o, ew_occ_strip *s) { flush(o, s); }
-
 void ew_occ_note(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_occ_box b) {
     if (!convex(p, n)) return;
     /* The tiles whose pixel centres all lie inside by the margin.  Tile
@@ -209,7 +179,7 @@ void ew_occ_note(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_o
                 const ew_proj *x = a;
                 a = c, c = x;
             }
-            int k0 = ceil_int((a->v - y0) * inv), k1 = ceil_int((c->v - y0) * inv) - 1;
+            int k0 = ew_ceilf_int((a->v - y0) * inv), k1 = ew_ceilf_int((c->v - y0) * inv) - 1;
             k0 = k0 < 0 ? 0 : k0, k1 = k1 > nl - 1 ? nl - 1 : k1;
             if (k0 > k1) continue;
             float slope = (c->u - a->u) / (c->v - a->v);
@@ -223,7 +193,7 @@ void ew_occ_note(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_o
             float xl = (lo[k] > lo[k + 1] ? lo[k] : lo[k + 1]) + MARGIN;
             float xr = (hi[k] < hi[k + 1] ? hi[k] : hi[k + 1]) - MARGIN;
             if (!(xr - xl >= tf - 1)) continue;  /* also a line the face misses (infinities) */
-            int tx0 = ceil_int(xl * inv), tx1 = (int)((xr - (tf - 1)) * inv + 1.0f) - 1;  /* xr - (t - 1) >= xl > -1 */
+            int tx0 = ew_ceilf_int(xl * inv), tx1 = (int)((xr - (tf - 1)) * inv + 1.0f) - 1;  /* xr - (t - 1) >= xl > -1 */
             tx0 = tx0 < 0 ? 0 : tx0, tx1 = tx1 > o->tw - 1 ? o->tw - 1 : tx1;
             if (tx0 <= tx1 && note(s, r0 + k, tx0, tx1) < 0) s->failed = 1;  /* no memory: nothing more hidden */
         }

@@ -13,13 +13,18 @@ void ew_occ_flush(ew_occlusion *o, ew_occ_strip *s);
  * ra..rb), to be set when a larger key comes. */
 void ew_occ_note(ew_occlusion *o, ew_occ_strip *s, const ew_proj *p, int n, ew_occ_box b);
 
+/* The bits of word w of a row that tiles tx0..tx1 take. */
+static inline uint64_t ew_occ_mask(int w, int tx0, int tx1) {
+    uint64_t m = ~0ull;
+    if (w == tx0 >> 6) m &= ~0ull << (tx0 & 63);
+    if (w == tx1 >> 6) m &= ~0ull >> (63 - (tx1 & 63));
+    return m;
+}
+
 /* Bits tx0..tx1 of a row of words: all set? */
 static inline int ew_occ_row_full(const uint64_t *row, int tx0, int tx1) {
-    int w0 = tx0 >> 6, w1 = tx1 >> 6;
-    for (int w = w0; w <= w1; w++) {
-        uint64_t m = ~0ull;
-        if (w == w0) m &= ~0ull << (tx0 & 63);
-        if (w == w1) m &= ~0ull >> (63 - (tx1 & 63));
+    for (int w = tx0 >> 6; w <= tx1 >> 6; w++) {
+        uint64_t m = ew_occ_mask(w, tx0, tx1);
         if ((row[w] & m) != m) return 0;
     }
     return 1;
