@@ -133,6 +133,7 @@ struct ew_world {
     float     (*verts)[3];    int numverts;
     uint32_t  (*edges)[2];    int numedges;
     int        *surfedges;    int numsurfedges;
+    int        *surfverts;    /* per surfedge: the vertex it starts from (ew_face_vertex) */
     ew_texinfo *texinfo;      int numtexinfo;
     ew_texture *textures;     int numtextures;  /* the last one is the placeholder */
     ew_face    *faces;        int numfaces;
@@ -171,11 +172,9 @@ struct ew_world {
 
 /* Vertex index of the i-th corner of face f. */
 static inline int ew_face_vertex(const ew_world *w, const ew_face *f, int i) {
-    /* Indexed by the sign, not branched on (gcc makes a branch of a
-     * ternary here): the signs of a face's sides follow no pattern a
-     * predictor could learn.  m is -1 for a negative surfedge, else 0. */
-    int se = w->surfedges[f->firstedge + i], m = -(se < 0);
-    return (int)w->edges[(se ^ m) - m][m & 1];
+    /* One load: through surfedges and edges it was two, one waiting on the
+     * other, and in the front end's emission both usually missed the cache. */
+    return w->surfverts[f->firstedge + i];
 }
 /* Face f's corners copied into p (room for f->numedges). */
 static inline void ew_face_points(const ew_world *w, const ew_face *f, float (*p)[3]) {

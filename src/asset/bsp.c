@@ -188,6 +188,7 @@ static int load_edges(ctx *c, ew_world *w) {
 static int load_surfedges(ctx *c, ew_world *w) {
     int n = c->count[EW_LUMP_SURFEDGES];
     if (!(w->surfedges = alloc_array(c, EW_LUMP_SURFEDGES, n, sizeof *w->surfedges))) return -1;
+    if (!(w->surfverts = alloc_array(c, EW_LUMP_SURFEDGES, n, sizeof *w->surfverts))) return -1;
     w->numsurfedges = n;
     for (int i = 0; i < n; i++) {
         int32_t se = ew_i32(c->lump[EW_LUMP_SURFEDGES] + 4 * i);
@@ -196,6 +197,7 @@ static int load_surfedges(ctx *c, ew_world *w) {
             return lump_fail(c, EW_LUMP_SURFEDGES, "surfedge %d uses edge %d (only %d)", i,
                              (int)se, w->numedges);
         w->surfedges[i] = se;
+        w->surfverts[i] = (int)(se < 0 ? w->edges[-se][1] : w->edges[se][0]);
     }
     return 0;
 }
@@ -931,6 +933,7 @@ void ew_world_destroy(ew_world *w) {
     free(w->verts);
     free(w->edges);
     free(w->surfedges);
+    free(w->surfverts);
     free(w->texinfo);
     free(w->textures);
     free(w->faces);
