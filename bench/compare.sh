@@ -58,6 +58,15 @@ for a in "$@"; do
     esac
 done
 
+# src_of REV: where REV's sources are (after build REV).
+src_of() {
+    if [ "$1" = WORKTREE ]; then
+        echo "$ROOT"
+    else
+        echo "$CACHE/src-$(git -C "$ROOT" rev-parse --verify --quiet "$1^{commit}" | cut -c1-12)"
+    fi
+}
+
 # build REV: prints the path of an edgewise binary that has `bench`.
 build() {
     rev=$1
@@ -125,8 +134,21 @@ if [ "${INPROC:-0}" = 1 ]; then
     nm --defined-only -g "$LB" | awk 'NF == 3 { print $3, "b_" $3 }' | sort -u >"$IN/syms"
     objcopy --redefine-syms="$IN/syms" "$LB" "$IN/libB.a"
     png=$(pkg-config --libs libpng 2>/dev/null || echo -lpng)
+    # A revision from before ew_set_classic (cde885f) is reached through
+    # bench/inproc_old.c, built against its own header.
+    old_obj=
+    old_def=
+    SA=$(src_of "$OLD")
+    if ! grep -q ew_set_classic "$SA/include/edgewise.h"; then
+        ${CC:-cc} -std=c11 -O2 -I"$SA/include" -I"$ROOT/bench" -c "$ROOT/bench/inproc_old.c" -o "$IN/inproc_old.o" ||
+            { echo "compare: bench/inproc_old.c does not build against $OLD" >&2; exit 1; }
+        old_obj=$IN/inproc_old.o
+        old_def=-DEW_INPROC_OLD
+        echo "compare: $OLD has no ew_set_classic: side A through bench/inproc_old.c, --classic to B only" >&2
+    fi
     # shellcheck disable=SC2086
-    ${CC:-cc} -std=c11 -O2 -I"$ROOT/include" "$ROOT/bench/inproc.c" "$LA" "$IN/libB.a" $png -lz -lm -pthread \
+    ${CC:-cc} -std=c11 -O2 $old_def -I"$ROOT/include" -I"$ROOT/bench" "$ROOT/bench/inproc.c" $old_obj "$LA" \
+        "$IN/libB.a" $png -lz -lm -pthread \
         -o "$IN/inproc" || { echo "compare: bench/inproc.c does not build" >&2; exit 1; }
     echo "compare: in one process, A = $OLD, B = $NEW" >&2
     exec "$IN/inproc" "$@"

@@ -21,10 +21,18 @@
  * renderer's own ew_stats times), so a change to that stage alone is not
  * lost in the frame's noise; --per-view prints each view's two medians.
  *
+ * Built with EW_INPROC_OLD, side A is instead a revision from before these
+ * public calls (cde885f, which Speed II measures against), reached through
+ * bench/inproc_old.c built against that revision's header; --classic then
+ * goes to side B only (the old revision's one look was the classic one).
+ *
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
  *          [--classic] [--no-entities] [--stage S] [--per-view] */
 #define _POSIX_C_SOURCE 200809L  /* clock_gettime */
 #include "edgewise.h"
+#ifdef EW_INPROC_OLD
+#include "inproc_old.h"
+#endif
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,9 +72,13 @@ typedef struct side {
 } side;
 
 static side sides[2] = {
+#ifdef EW_INPROC_OLD
+    {0},  /* side A: inproc_old_* */
+#else
     {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
      ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
      NULL, NULL, NULL},
+#endif
     {b_ew_assets_create, b_ew_assets_destroy, b_ew_scene_create_from_map, b_ew_scene_destroy,
      b_ew_benchmark_views, b_ew_renderer_create, b_ew_renderer_destroy, b_ew_set_classic, b_ew_set_scene,
      b_ew_render, b_ew_frame_pixels, NULL, NULL, NULL},
@@ -109,13 +121,49 @@ static double stage_ms(const ew_stats *st, double wall) {
     }
 }
 
+#ifdef EW_INPROC_OLD
+static inproc_old *old;  /* side A */
+#endif
+
+/* Side s renders view v; what is timed. */
+static double side_frame(int s, const ew_camera *views, int v) {
+    ew_stats st;
+#ifdef EW_INPROC_OLD
+    if (s == 0) {
+        double ms[4];
+        double t0 = now_ms();
+        inproc_old_render(old, v, ms);
+        double wall = now_ms() - t0;
+        return stage == STAGE_FRAME ? wall : ms[stage - STAGE_FRONT];
+    }
+#endif
+    double t0 = now_ms();
+    sides[s].render(sides[s].r, &views[v], &st);
+    return stage_ms(&st, now_ms() - t0);
+}
+
+static const uint8_t *side_pixels(int s) {
+#ifdef EW_INPROC_OLD
+    if (s == 0) return inproc_old_pixels(old);
+#endif
+    return sides[s].pixels(sides[s].r);
+}
+
 /* One map at one size: 0, or -1 with a line on stderr. */
 static int run(const char *map, const char *size, const char *data, int w, int h, int passes, int threads, int classic,
                int entities) {
     ew_error err;
     ew_camera views[EW_MAX_VIEWS];
-    int nv = 0;
-    for (int k = 0; k < 2; k++) {
+    int nv = 0, k0 = 0;
+#ifdef EW_INPROC_OLD
+    char msg[512];
+    if (!(old = inproc_old_open(map, data, w, h, threads, entities, msg, (int)sizeof msg))) {
+        fprintf(stderr, "inproc: side A: %s\n", msg);
+        return -1;
+    }
+    k0 = 1;
+#endif
+    for (int k = k0; k < 2; k++) {
         side *s = &sides[k];
         if (!(s->assets = s->assets_create(map, data, &err))) {
             fprintf(stderr, "inproc: side %c: %s\n", "AB"[k], err.msg);
@@ -139,6 +187,12 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         fprintf(stderr, "inproc: %s: no views\n", map);
         return -1;
     }
+#ifdef EW_INPROC_OLD
+    if (inproc_old_views(old) != nv) {
+        fprintf(stderr, "inproc: %s: side A has %d views, side B %d\n", map, inproc_old_views(old), nv);
+        return -1;
+    }
+#endif
     double *t = malloc(sizeof(double) * 2 * (size_t)nv * (size_t)passes), *col = malloc(sizeof(double) * (size_t)passes);
     double *ratio = malloc(sizeof(double) * (size_t)nv);
     if (!t || !col || !ratio) {
@@ -152,12 +206,10 @@ static int run(const char *map, const char *size, const char *data, int w, int h
             int first = (p + v) & 1;  /* which side goes first swaps every frame */
             for (int k = 0; k < 2; k++) {
                 int s = k ^ first;
-                ew_stats st;
-                double t0 = now_ms();
-                sides[s].render(sides[s].r, &views[v], &st);
-                if (p >= 0) t[((size_t)s * passes + (size_t)p) * nv + v] = stage_ms(&st, now_ms() - t0);
+                double ms = side_frame(s, views, v);
+                if (p >= 0) t[((size_t)s * passes + (size_t)p) * nv + v] = ms;
             }
-            if (p < 0 && memcmp(sides[0].pixels(sides[0].r), sides[1].pixels(sides[1].r), (size_t)w * h)) differ++;
+            if (p < 0 && memcmp(side_pixels(0), side_pixels(1), (size_t)w * h)) differ++;
         }
     double sum[2] = {0, 0};
     for (int v = 0; v < nv; v++) {
@@ -218,6 +270,10 @@ int main(int argc, char **argv) {
             char size[24];
             snprintf(size, sizeof size, "%dx%d", sizes[s][0], sizes[s][1]);
             int rc = run(maps[m], size, data, sizes[s][0], sizes[s][1], passes, threads, classic, entities);
+#ifdef EW_INPROC_OLD
+            inproc_old_close(old);
+            old = NULL;
+#endif
             for (int k = 0; k < 2; k++) {
                 if (sides[k].r) sides[k].renderer_destroy(sides[k].r);
                 if (sides[k].scene) sides[k].scene_destroy(sides[k].scene);
