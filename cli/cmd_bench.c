@@ -414,6 +414,22 @@ static double stage_of(const ew_stats *st, int s) {
          : s == ST_MODELS ? st->ms_models : st->ms_total;
 }
 
+/* The serial time of n frames' stats: its median, mean and parts. */
+static void summarize_serial(row *r, const ew_stats *stats, int n, double *scratch) {
+    for (int i = 0; i < n; i++) scratch[i] = phase_of(&stats[i], PH_OTHER) + phase_of(&stats[i], PH_BEGIN) +
+                                             phase_of(&stats[i], PH_WALK) + phase_of(&stats[i], PH_BRUSH) +
+                                             phase_of(&stats[i], PH_PREPARE) + phase_of(&stats[i], PH_PASSES);
+    r->serial_mean = 0;
+    for (int i = 0; i < n; i++) r->serial_mean += scratch[i] / n;
+    r->serial = median_of(scratch, n);
+    /* The parts as means, so they add up to serial_mean (medians of a
+     * skewed view set would not). */
+    for (int ph = 0; ph < NPHASES; ph++) {
+        r->serial_phase[ph] = 0;
+        for (int i = 0; i < n; i++) r->serial_phase[ph] += phase_of(&stats[i], ph) / n;
+    }
+}
+
 /* Fills r from frames[views * passes] and their stats. */
 static void summarize(row *r, double *frames, const ew_stats *stats, double *scratch) {
     int n = r->views * r->passes;
@@ -458,18 +474,7 @@ static void summarize(row *r, double *frames, const ew_stats *stats, double *scr
         }
         r->stages[s] = median_of(scratch, n);
     }
-    for (int i = 0; i < n; i++) scratch[i] = phase_of(&stats[i], PH_OTHER) + phase_of(&stats[i], PH_BEGIN) +
-                                             phase_of(&stats[i], PH_WALK) + phase_of(&stats[i], PH_BRUSH) +
-                                             phase_of(&stats[i], PH_PREPARE) + phase_of(&stats[i], PH_PASSES);
-    r->serial_mean = 0;
-    for (int i = 0; i < n; i++) r->serial_mean += scratch[i] / n;
-    r->serial = median_of(scratch, n);
-    /* The parts as means, so they add up to serial_mean (medians of a
-     * skewed view set would not). */
-    for (int ph = 0; ph < NPHASES; ph++) {
-        r->serial_phase[ph] = 0;
-        for (int i = 0; i < n; i++) r->serial_phase[ph] += phase_of(&stats[i], ph) / n;
-    }
+    summarize_serial(r, stats, n, scratch);
     for (int c = 0; c < NCOUNTERS; c++) {
         double total = 0;
         for (int i = 0; i < n; i++)
@@ -779,6 +784,7 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
     int rc = -1;
     if (!scan || !imb || !items || ew_set_threads(rd, 1) < 0 || ew_set_row_profile(rd, 1) < 0)
         goto out;
+    ew_set_front_mode(rd, EW_FRONT_PHASES);  /* the front end's items as many threads run them */
     double *simb = imb + (size_t)nviews * o->nbands;
     /* Pass after pass over the view set, so one stall of the machine hits
      * a view's strip in one pass, not in all three. */
@@ -822,6 +828,7 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
     sx->have_profile = 1;
     rc = 0;
 out:
+    ew_set_front_mode(rd, EW_FRONT_AUTO);
     if (ew_set_row_profile(rd, 0) < 0)
         rc = -1;
     free(scan);
@@ -898,6 +905,23 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     else  /* no memory for the interleaved samples: measured on its own */
         r->floor_ms = floor_for(fc, w, h);
     summarize(r, frames, stats, scratch);
+#ifndef EW_BENCH_NO_SERIAL
+    /* One thread walks the front end in one loop, outside the pool: its
+     * serial time would not be a many-thread frame's.  That comes from one
+     * more pass (after a warm-up) with the phases many threads run
+     * (ew_set_front_mode), over this row's faster median below. */
+    if (r->threads == 1) {
+        ew_set_front_mode(rd, EW_FRONT_PHASES);
+        bad = bench_run_views(rd, views, nviews, 1, frames, stats, NULL);
+        ew_set_front_mode(rd, EW_FRONT_AUTO);
+        if (bad) {
+            progress_clear();
+            error_line("%s: view %d: cannot render this camera", r->map, -bad - 1);
+            goto done;
+        }
+        summarize_serial(r, stats, nviews, scratch);
+    }
+#endif
     /* The serial share is of the one-thread frame: this row's if it is
      * one, else the one-thread row of this map and size measured before
      * it, else (none) of this row's own median. */

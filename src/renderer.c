@@ -290,6 +290,7 @@ const float *ew_frame_zbuffer(ew_renderer *r) {
 
 void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
 void ew_set_hide_occluded(ew_renderer *r, int on) { r->cfg.hide_occluded = on != 0; }
+void ew_set_front_mode(ew_renderer *r, ew_front_mode mode) { r->cfg.front_phases = mode == EW_FRONT_PHASES; }
 void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode) {
     r->occ.mode = mode == EW_OCCLUSION_OFF || mode == EW_OCCLUSION_ALWAYS ? mode : EW_OCCLUSION_AUTO;
 }

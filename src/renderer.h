@@ -47,6 +47,7 @@ typedef struct ew_config {
     int   use_lit, dither;           /* coloured light on; 8-bit coloured light dithered */
     const ew_hsr *hsr;          /* hidden-surface method */
     int   hide_occluded;             /* moving things the world hides are left out (raster/models.c) */
+    int   front_phases;              /* one thread too runs the front end's phases (ew_set_front_mode) */
 } ew_config;
 
 /* The draw's own cut of the rows, placed after the scan by what each row
