@@ -14,8 +14,9 @@
  * One warm-up pass, whose frames are also compared byte for byte (a change
  * meant to keep the pixels must show 0 frames differing), then P timed
  * passes.  Per map and size: each side's mean over the views of the
- * view's median frame time, B/A of those, and the median and range of the
- * per-view ratios.
+ * view's median frame time, B/A of those, B/A of the two sides' median
+ * frames (bench's median_ms), and the median and range of the per-view
+ * ratios.
  *
  * --stage front|scan|draw|models times one stage of the frame instead (the
  * renderer's own ew_stats times), so a change to that stage alone is not
@@ -223,9 +224,13 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         if (per_view) printf("  view %2d %9.4f %9.4f %8.4f\n", v, m[0], m[1], ratio[v]);
     }
     qsort(ratio, (size_t)nv, sizeof *ratio, cmp_double);
-    printf("%-10s %9s %3d %9.4f %9.4f %8.4f %8.4f  %.3f-%.3f  %d of %d\n", map, size, threads, sum[0] / nv, sum[1] / nv,
-           sum[1] / sum[0], nv % 2 ? ratio[nv / 2] : (ratio[nv / 2 - 1] + ratio[nv / 2]) / 2, ratio[0],
-           ratio[nv - 1], differ, nv);
+    /* Each side's median frame of all views and passes, as bench's median_ms
+     * (t is sorted by it, but only within each side's own block). */
+    double med[2];
+    for (int s = 0; s < 2; s++) med[s] = median(t + (size_t)s * passes * nv, passes * nv);
+    printf("%-10s %9s %3d %9.4f %9.4f %8.4f %8.4f %8.4f  %.3f-%.3f  %d of %d\n", map, size, threads, sum[0] / nv,
+           sum[1] / nv, sum[1] / sum[0], med[0] > 0 ? med[1] / med[0] : 1,
+           nv % 2 ? ratio[nv / 2] : (ratio[nv / 2 - 1] + ratio[nv / 2]) / 2, ratio[0], ratio[nv - 1], differ, nv);
     free(t), free(col), free(ratio);
     return 0;
 }
@@ -263,8 +268,8 @@ int main(int argc, char **argv) {
     if (!nmaps) return usage("no map");
     if (!nsizes) sizes[0][0] = 640, sizes[0][1] = 480, nsizes = 1;
     if (stage != STAGE_FRAME) printf("timed: the %s stage (ew_stats.ms_%s)\n", stage_names[stage], stage_names[stage]);
-    printf("%-10s %9s %3s %9s %9s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "view_med",
-           "view range", "frames differing");
+    printf("%-10s %9s %3s %9s %9s %8s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "med_B/A",
+           "view_med", "view range", "frames differing");
     for (int m = 0; m < nmaps; m++)
         for (int s = 0; s < nsizes; s++) {
             char size[24];
