@@ -179,7 +179,9 @@ static void check_irregular(ew_assets *a, ew_scene *sc, const ew_camera *views, 
         if (w->faces[i].numedges >= 3) f0 < 0 ? (f0 = i) : (f1 = i);
     if (f1 < 0) return;
     int *se = &w->surfedges[w->faces[f1].firstedge], saved = *se;
+    int *sv = &w->surfverts[w->faces[f1].firstedge], saved_v = *sv;  /* its start vertex with it */
     *se = w->surfedges[w->faces[f0].firstedge];
+    *sv = w->surfverts[w->faces[f0].firstedge];
     ew_renderer *one = make(a, sc, 640, 480, 1, EW_HSR_EDGE), *two = make(a, sc, 640, 480, 2, EW_HSR_EDGE);
     if (one) one->sched.front_serial = 1;
     for (int v = 0; v < nv && one && two; v++) {
@@ -193,7 +195,7 @@ static void check_irregular(ew_assets *a, ew_scene *sc, const ew_camera *views, 
     }
     ew_renderer_destroy(one);
     ew_renderer_destroy(two);
-    *se = saved;
+    *se = saved, *sv = saved_v;
 }
 
 int main(void) {

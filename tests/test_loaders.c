@@ -381,8 +381,11 @@ static void check_invariants(const ew_world *w, const char *name) {
     bad = 0;
     for (int i = 0; i < w->numfaces && !bad; i++) {
         const ew_face *f = &w->faces[i];
-        for (int e = 0; e < f->numedges; e++)
-            if (ew_face_vertex(w, f, e) >= w->numverts) bad = 1;
+        for (int e = 0; e < f->numedges; e++) {
+            /* a corner is where its side starts: edge v[0], or v[1] when the surfedge runs it backwards */
+            int se = w->surfedges[f->firstedge + e], v = ew_face_vertex(w, f, e);
+            if (v < 0 || v >= w->numverts || v != (int)(se < 0 ? w->edges[-se][1] : w->edges[se][0])) bad = 1;
+        }
         if (f->texturemins[0] % 16 || f->texturemins[1] % 16 || f->extents[0] % 16 || f->extents[1] % 16)
             bad = 2;
         if ((f->lightofs < 0) != (f->styles[0] == 255)) bad = 3;

@@ -3,7 +3,9 @@
  * true s and t come from one divide, and the pixels between are stepped
  * affinely.  The segment length is 1 << shift (4 by default; 0 divides at
  * every pixel, for measuring what the approximation costs and changes).
- * Used by the textured and the liquid span drawers. */
+ * Used by the textured and the liquid span drawers; then the texel run
+ * between two such points (ew_texel_run), shared with the item boxes'
+ * rows (raster/zpoly.c). */
 #ifndef EW_SPAN_STEP_H
 #define EW_SPAN_STEP_H
 
@@ -165,8 +167,8 @@ static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4], int narrow) {
  * accepts).  narrow: the surface has at most 65536 texels, so every index
  * fits in 16 bits. */
 _Static_assert(EW_MAX_EXTENT < 32768, "ew_texel_run's 16-bit pairs need surfaces under 32768 texels a side");
-static inline void ew_texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s,
-                             int32_t t, int32_t ds, int32_t dt, int n, int narrow) {
+static inline void ew_texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s, int32_t t,
+                                int32_t ds, int32_t dt, int n, int narrow) {
     int i = 0;
 #if !defined(__SSE2__)
     (void)narrow;
