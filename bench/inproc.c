@@ -225,7 +225,8 @@ static int run(const char *map, const char *size, const char *data, int w, int h
     }
     qsort(ratio, (size_t)nv, sizeof *ratio, cmp_double);
     /* Each side's median frame of all views and passes, as bench's median_ms
-     * (t is sorted by it, but only within each side's own block). */
+     * (it sorts that side's block of t in place; the per-view medians above
+     * are done with it). */
     double med[2];
     for (int s = 0; s < 2; s++) med[s] = median(t + (size_t)s * passes * nv, passes * nv);
     printf("%-10s %9s %3d %9.4f %9.4f %8.4f %8.4f %8.4f  %.3f-%.3f  %d of %d\n", map, size, threads, sum[0] / nv,

@@ -732,11 +732,12 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     ew_pool_wake(r->sched.pool);
     ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
     ser[0] = serial_lap(r, &sc);
-    /* The walk, brush models, then the bands scanned.  The walk, the
-     * faces' clipping and edge setup run on every thread, the scan follows
-     * in the same pool run (world/front_par.c); the serial steps in that run
-     * (its layout and numbering, the brush models, band placement) are
-     * counted in ms_serial by their own clocks. */
+    /* The walk, brush models, then the bands scanned.  On more than one
+     * thread (or with EW_FRONT_PHASES) the walk, the faces' clipping and
+     * edge setup run on every thread, the scan follows in the same pool
+     * run (world/front_par.c); one thread walks in one loop below.  The
+     * serial steps in that run (its layout and numbering, the brush models,
+     * band placement) are counted in ms_serial by their own clocks. */
     front_tail_arg ft = {r, 0, 0};
     double tw = ew_now_ms(), serial_in_run = 0, front_serial[2] = {0, 0};
     if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, front_serial) < 0) {

@@ -72,7 +72,6 @@ typedef struct ew_sched {
     float   *row_cost;                            /* per scanline and one more: what bands, items are placed by */
     int      bands_sized_for;                     /* row_cost valid for this many bands */
     int      profile_rows;                        /* ew_set_row_profile: strips of 8 rows */
-    int      front_serial;                        /* test hook: the one-thread front end (ew_walk_world) */
     _Alignas(64) _Atomic int next_band;           /* work handed out in a phase */
     _Alignas(64) _Atomic int next_build;
     _Alignas(64) _Atomic int next_grad;

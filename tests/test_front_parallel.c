@@ -5,9 +5,9 @@
  * models follow the parallel faces) and of the built-in scene, at 640x480
  * and 1920x1080, on 1, 2, 3 and 8 threads, the edges (position, surfaces,
  * per-scanline lists), the surfaces, the counters, every span and every
- * pixel equal the serial front end's on one thread.  The renderers under
- * test run the phases on one thread too (EW_FRONT_PHASES, as bench does);
- * by default one thread walks in one loop, and that is checked as well.
+ * pixel equal the serial front end's: one thread in the default mode,
+ * which walks the tree in one loop.  The renderers under test run the
+ * phases on one thread too (EW_FRONT_PHASES, as bench does).
  * The methods that share the edge list's front end (spans, painter,
  * drawbuffer) are checked the same way at 640x480. */
 #include "renderer.h"
@@ -110,14 +110,12 @@ static long frames, parallel_faces, fallback_frames;
  * then merges one face at a time, and must drop what the serial one drops. */
 static void check_limited(const char *map, const ew_assets *a, ew_scene *sc, const ew_camera *views, int nv, int w,
                           int h, ew_hsr_method hsr, int max_surfs) {
-    ew_renderer *one = make(a, sc, w, h, 1, hsr), *plain = make(a, sc, w, h, 1, hsr);
-    if (one) one->sched.front_serial = 1;
-    if (plain) ew_set_front_mode(plain, EW_FRONT_AUTO);  /* one thread's own walk */
+    ew_renderer *one = make(a, sc, w, h, 1, hsr);
+    if (one) ew_set_front_mode(one, EW_FRONT_AUTO);  /* the default: one thread's own walk */
     ew_renderer *many[NT];
     for (int t = 0; t < NT; t++) many[t] = make(a, sc, w, h, thread_counts[t], hsr);
     if (max_surfs > 0) {
         if (one) one->el.max_surfs = max_surfs, one->el.max_edges = 6 * max_surfs;
-        if (plain) plain->el.max_surfs = max_surfs, plain->el.max_edges = 6 * max_surfs;
         for (int t = 0; t < NT; t++)
             if (many[t]) many[t]->el.max_surfs = max_surfs, many[t]->el.max_edges = 6 * max_surfs;
     }
@@ -125,15 +123,7 @@ static void check_limited(const char *map, const ew_assets *a, ew_scene *sc, con
         ew_stats st;
         CHECK(ew_render(one, &views[v], &st) == 0, "%s view %d", map, v);
         frame_sig want = sign_frame(one, &st);
-        CHECK(one->fpar == NULL, "the serial front end is taken when asked for");
-        if (plain) {
-            CHECK(ew_render(plain, &views[v], &st) == 0, "%s view %d", map, v);
-            frame_sig got = sign_frame(plain, &st);
-            CHECK(plain->fpar == NULL, "one thread walks in one loop by default");
-            CHECK(got.edges == want.edges && got.surfs == want.surfs && got.spans == want.spans &&
-                      got.pixels == want.pixels && got.dropped == want.dropped,
-                  "%s %dx%d view %d: one thread's default walk differs", map, w, h, v);
-        }
+        CHECK(one->fpar == NULL, "one thread walks in one loop by default");
         for (int t = 0; t < NT; t++) {
             ew_renderer *r = many[t];
             if (!r) continue;
@@ -160,7 +150,6 @@ static void check_limited(const char *map, const ew_assets *a, ew_scene *sc, con
         }
     }
     ew_renderer_destroy(one);
-    ew_renderer_destroy(plain);
     for (int t = 0; t < NT; t++) ew_renderer_destroy(many[t]);
 }
 
@@ -183,7 +172,7 @@ static void check_irregular(ew_assets *a, ew_scene *sc, const ew_camera *views, 
     *se = w->surfedges[w->faces[f0].firstedge];
     *sv = w->surfverts[w->faces[f0].firstedge];
     ew_renderer *one = make(a, sc, 640, 480, 1, EW_HSR_EDGE), *two = make(a, sc, 640, 480, 2, EW_HSR_EDGE);
-    if (one) one->sched.front_serial = 1;
+    if (one) ew_set_front_mode(one, EW_FRONT_AUTO);
     for (int v = 0; v < nv && one && two; v++) {
         ew_stats st;
         CHECK(ew_render(one, &views[v], &st) == 0, "view %d", v);

@@ -1093,7 +1093,7 @@ static void job_front(void *ctx, int thread) {
 int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread),
                            double serial_ms[2]) {
     /* One thread walks the tree in one loop unless the phases are asked for. */
-    if (r->sched.front_serial || (r->sched.nthreads == 1 && !r->cfg.front_phases) ||
+    if ((r->sched.nthreads == 1 && !r->cfg.front_phases) ||
         r->cfg.hsr->face != ew_emit_face || r->cfg.hsr->poly != ew_emit_poly || r->fpar_bad)
         return -1;
     if (!r->fpar && !(r->fpar = front_par_new(r->world))) {
