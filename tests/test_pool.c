@@ -14,9 +14,15 @@
 typedef struct run {
     atomic_int next, items_done, inside, joined;
     int        n;
+    int        wait;  /* the caller's part waits (up to 2 s) for a worker to come in */
 } run;
 
 static atomic_int sink;  /* the items' busy work goes somewhere */
+
+static void nap_us(long us) {
+    struct timespec ts = {0, us * 1000};
+    nanosleep(&ts, NULL);
+}
 
 static void job(void *vp, int index) {
     run *r = vp;
@@ -26,12 +32,8 @@ static void job(void *vp, int index) {
         for (int k = 0; k < 300; k++) atomic_store_explicit(&sink, k, memory_order_relaxed);
         atomic_fetch_add(&r->items_done, 1);
     }
+    for (int ms = 0; index == 0 && r->wait && atomic_load(&r->joined) == 0 && ms < 2000; ms++) nap_us(1000);
     atomic_fetch_sub(&r->inside, 1);
-}
-
-static void nap_us(long us) {
-    struct timespec ts = {0, us * 1000};
-    nanosleep(&ts, NULL);
 }
 
 /* A pool that loses track of its workers can hang instead of failing. */
@@ -72,10 +74,20 @@ int main(void) {
         CHECK(still_inside == 0, "%d threads: %ld runs returned with a worker still in the job", threads,
               still_inside);
         CHECK(too_many == 0, "%d threads: %ld runs had more workers than the pool", threads, too_many);
-        if (threads == 1) CHECK(joined == 0, "a pool of one thread has no workers (%ld joined)", joined);
-        else CHECK(joined > 0, "%d threads: no worker ever took part in %d runs", threads, runs);
-        printf("%d threads: workers took part %ld times in %d runs (at most %ld)\n", threads, joined, runs,
-               (long)runs * (threads - 1));
+        /* Runs this short may all end before a worker is scheduled (another
+         * test busy on the other core): one more run whose caller waits for
+         * a worker shows that they do come in. */
+        run last = {.n = 1, .wait = threads > 1};
+        ew_pool_run(p, job, &last);
+        CHECK(atomic_load(&last.items_done) == 1 && atomic_load(&last.inside) == 0, "%d threads: the waiting run",
+              threads);
+        joined += atomic_load(&last.joined);
+        if (threads == 1)
+            CHECK(joined == 0, "a pool of one thread has no workers (%ld joined)", joined);
+        else
+            CHECK(joined > 0, "%d threads: no worker took part in %d runs nor in one that waited 2 s", threads, runs);
+        printf("%d threads: workers took part %ld times in %d runs (at most %ld)\n", threads, joined, runs + 1,
+               (long)(runs + 1) * (threads - 1));
         ew_pool_free(p);
     }
     /* NULL: the caller alone. */
