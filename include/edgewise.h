@@ -430,7 +430,8 @@ EW_API ew_color_mode   ew_frame_color(const ew_renderer *r);
  * frame, the first time it is asked for. */
 EW_API const float   *ew_frame_zbuffer(ew_renderer *r);
 
-/* Threads that render bands of each frame (0 = one per core, at most 64).
+/* Threads that render bands of each frame (0 = one per processor this
+ * process may run on, its affinity as taskset sets it; at most 64).
  * Returns the count in use, or -1 when out of memory. */
 EW_API int ew_set_threads(ew_renderer *r, int n);
 EW_API int ew_get_threads(const ew_renderer *r);

@@ -12,6 +12,9 @@ typedef struct ew_pool ew_pool;
 ew_pool *ew_pool_create(int threads);
 void     ew_pool_free(ew_pool *p);
 int      ew_pool_threads(const ew_pool *p);
+/* The processors this process may run on (its affinity, as `taskset` or a
+ * container sets it), at least 1: what "one thread per core" means. */
+int      ew_pool_cores(void);
 /* Runs job(ctx, 0) on the caller and job(ctx, i) on each worker i that
  * comes in before the caller's own call returns, and waits for those: a
  * worker asleep or off its core meanwhile is not waited for.  So a job

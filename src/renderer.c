@@ -12,7 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #define EW_MIN_W 320
 #define EW_MIN_H 200
@@ -184,10 +183,7 @@ static void free_bands(ew_renderer *r) {
 }
 
 int ew_set_threads(ew_renderer *r, int n) {
-    if (n <= 0) {
-        long cores = sysconf(_SC_NPROCESSORS_ONLN);
-        n = cores > 0 ? (int)cores : 1;
-    }
+    if (n <= 0) n = ew_pool_cores();
     if (n > EW_MAX_THREADS) n = EW_MAX_THREADS;
     if (r->sched.nbands) ew_zfill_rect(&r->zf, 0, 0, r->target.width, r->target.height);  /* the last frame's, while its spans exist */
     free_bands(r);

@@ -2,10 +2,11 @@
  * exactly once and returns only when every worker that came in has left,
  * with more threads than cores and with workers put to sleep between runs,
  * so that some come late or not at all. */
-#define _POSIX_C_SOURCE 200809L  /* nanosleep */
+#define _GNU_SOURCE  /* nanosleep; sched_getcpu, sched_setaffinity (Linux) */
 #include "util.h"
 #include "pool.h"
 
+#include <sched.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <time.h>
@@ -15,7 +16,16 @@ typedef struct run {
     atomic_int next, items_done, inside, joined;
     int        n;
     int        wait;  /* the caller's part waits (up to 2 s) for a worker to come in */
+    atomic_int worker_cpu, caller_cpu;  /* where a worker and the caller ran the job (Linux), else -1 */
 } run;
+
+static int cpu_now(void) {
+#ifdef __linux__
+    return sched_getcpu();
+#else
+    return -1;
+#endif
+}
 
 static atomic_int sink;  /* the items' busy work goes somewhere */
 
@@ -27,12 +37,13 @@ static void nap_us(long us) {
 static void job(void *vp, int index) {
     run *r = vp;
     atomic_fetch_add(&r->inside, 1);
-    if (index > 0) atomic_fetch_add(&r->joined, 1);
+    if (index > 0) atomic_fetch_add(&r->joined, 1), atomic_store(&r->worker_cpu, cpu_now());
     for (int i; (i = atomic_fetch_add(&r->next, 1)) < r->n;) {
         for (int k = 0; k < 300; k++) atomic_store_explicit(&sink, k, memory_order_relaxed);
         atomic_fetch_add(&r->items_done, 1);
     }
     for (int ms = 0; index == 0 && r->wait && atomic_load(&r->joined) == 0 && ms < 2000; ms++) nap_us(1000);
+    if (index == 0) atomic_store(&r->caller_cpu, cpu_now());
     atomic_fetch_sub(&r->inside, 1);
 }
 
@@ -90,6 +101,43 @@ int main(void) {
                (long)(runs + 1) * (threads - 1));
         ew_pool_free(p);
     }
+#ifdef __linux__
+    /* Frames spaced out, as in the viewer: the workers sleep between them,
+     * and the kernel tends to wake a worker on the processor of the thread
+     * that wakes it (on a virtual machine nearly always).  A worker must
+     * not stay there, polling, while the caller has the frame to run. */
+    if (ew_pool_cores() >= 2) {
+        ew_pool *p = ew_pool_create(2);
+        int frames = 0, apart = 0;
+        for (int k = 0; p && k < 20; k++) {
+            nap_us(20000);  /* past the pool's polling: the worker sleeps */
+            ew_pool_wake(p);
+            run r = {.n = 1, .wait = 1};
+            atomic_store(&r.worker_cpu, -1);
+            ew_pool_run(p, job, &r);
+            int w = atomic_load(&r.worker_cpu), c = atomic_load(&r.caller_cpu);
+            frames += w >= 0 && c >= 0;
+            apart += w >= 0 && c >= 0 && w != c;
+        }
+        CHECK(p && frames >= 15 && apart >= frames * 3 / 4,
+              "a woken worker leaves the caller's processor: apart in %d of %d frames", apart, frames);
+        printf("frames spaced out: the worker ran on another processor than the caller in %d of %d\n", apart,
+               frames);
+        ew_pool_free(p);
+    }
+    /* "One thread per core" counts the processors the process may use. */
+    cpu_set_t was, one;
+    if (sched_getaffinity(0, sizeof was, &was) == 0) {
+        CPU_ZERO(&one);
+        CPU_SET(cpu_now(), &one);
+        if (sched_setaffinity(0, sizeof one, &one) == 0) {
+            CHECK(ew_pool_cores() == 1, "bound to one processor, ew_pool_cores() is %d", ew_pool_cores());
+            sched_setaffinity(0, sizeof was, &was);
+        }
+        CHECK(ew_pool_cores() == CPU_COUNT(&was), "ew_pool_cores() %d, the process's processors %d",
+              ew_pool_cores(), CPU_COUNT(&was));
+    }
+#endif
     /* NULL: the caller alone. */
     run r = {0};
     r.n = 10;
