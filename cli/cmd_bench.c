@@ -2,7 +2,7 @@
  * edgewise bench: the benchmark protocol of ../shared/BENCHMARK.md.
  *
  *   edgewise bench MAP... [--data DIR] [--size WxH]... [--threads N]...
- *                  [--passes P] [--bands N]... [drawing options] [--table]
+ *                  [--passes P] [--gap MS] [--bands N]... [drawing options] [--table]
  *                  [--out FILE.jsonl]
  *   edgewise bench --floor [--size WxH]... [--table] [--out FILE.jsonl]
  *
@@ -61,6 +61,9 @@ static const char bench_usage[] =
     "  --size WxH        frame size; repeat for several (default 640x480)\n"
     "  --threads N       render threads, " THREADS_RULE "; repeat for several (default 1)\n"
     "  --passes P        timed passes over the view set, 1 to 1000 (default 5)\n"
+    "  --gap MS          a pause of MS milliseconds before each frame, 0 to 1000\n"
+    "                    (default 0): frames spaced out as a viewer paces them,\n"
+    "                    the render threads asleep between them\n"
     "  --bands N         also report the imbalance of N bands and the speed-up\n"
     "                    predicted on N cores, N 1 to 256 and at most height/8;\n"
     "                    repeat for several\n"
@@ -89,6 +92,7 @@ typedef struct bench_opts {
     int         bands[MAX_BAND_COUNTS];
     int         nbands;
     int         passes;
+    int         gap_ms;         /* --gap: pause before each frame */
     int         table, floor_only, quiet, per_view;
     draw_opts   draw;           /* what is drawn (cli/draw_options.c) */
 } bench_opts;
@@ -97,9 +101,9 @@ typedef struct bench_opts {
 
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int bench_parse(int argc, char **argv, bench_opts *o) {
-    int passes_given = 0;
+    int passes_given = 0, gap_given = 0;
     static const char *const flags[] = { "--quiet", "--table", "--floor", "--per-view", "--help", "-h", NULL };
-    static const char *const valued[] = { "--data", "--size", "--threads", "--passes", "--out", "--bands", NULL };
+    static const char *const valued[] = { "--data", "--size", "--threads", "--passes", "--out", "--bands", "--gap", NULL };
     cli_args args = { "bench", flags, valued, o->maps, 0, MAX_MAPS, 0, &o->draw };
     for (int i = 2; i < argc; i++) {
         char name[32];
@@ -151,6 +155,9 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
                 return -1;
             }
             o->bands[o->nbands++] = (int)l;
+        } else if (strcmp(name, "--gap") == 0) {
+            if (cli_int_once("bench", name, v, 0, 1000, &gap_given, &o->gap_ms) < 0)
+                return -1;
         } else if (cli_int_once("bench", name, v, 1, MAX_PASSES, &passes_given, &o->passes) < 0) { /* --passes */
             return -1;
         }
@@ -164,7 +171,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
         error_line("bench: missing MAP (a .bsp path, a map name with --data, or 'builtin')");
         return -1;
     }
-    if (o->floor_only && (o->data || o->nthreads || passes_given || o->draw.given || o->quiet || o->nbands)) {
+    if (o->floor_only && (o->data || o->nthreads || passes_given || o->draw.given || o->quiet || o->nbands || gap_given)) {
         error_line("bench: --floor takes only --size, --table and --out");
         return -1;
     }
@@ -378,6 +385,7 @@ typedef struct view_row {
 typedef struct row {
     char   map[256];
     int    w, h, threads, threads_requested, threads_applied, views, passes, entities, max_view;
+    int    gap_ms;        /* --gap: the pause before each frame */
     int    slow_view;     /* the view with the highest median over the passes */
     draw_opts draw;       /* what was drawn */
     double median, mean, p99, max, level, ns_per_pixel, floor_ms, floor_ratio;
@@ -495,9 +503,9 @@ static void print_row_json(FILE *f, const row *r) {
     fputs("{\"map\":", f);
     json_string(f, r->map);
     fprintf(f, ",\"width\":%d,\"height\":%d,\"threads\":%d,\"threads_requested\":%d,"
-               "\"threads_applied\":%s,\"views\":%d,\"passes\":%d",
+               "\"threads_applied\":%s,\"views\":%d,\"passes\":%d,\"gap_ms\":%d",
             r->w, r->h, r->threads, r->threads_requested, r->threads_applied ? "true" : "false",
-            r->views, r->passes);
+            r->views, r->passes, r->gap_ms);
     /* what was drawn: "entities", "alias_raster", "zfill", "classic", ... */
     draw_opts_json(f, &r->draw);
     const char *names[] = { "median_ms", "mean_ms", "p99_ms", "max_ms" };
@@ -697,6 +705,10 @@ typedef struct bench_row_hooks_ctx {
 static void row_before(void *ctx, int pass, int v) {
     const bench_row_hooks_ctx *c = ctx;
     progress(c->r->map, c->r->w, c->r->h, c->r->threads, pass, c->passes, v, c->nviews);
+    if (c->r->gap_ms > 0) {
+        struct timespec ts = { c->r->gap_ms / 1000, (long)(c->r->gap_ms % 1000) * 1000000L };
+        nanosleep(&ts, NULL);
+    }
 }
 
 static void row_after(void *ctx, int pass, int v) {
@@ -853,6 +865,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->entities = scene != NULL;
     r->views = nviews;
     r->passes = o->passes;
+    r->gap_ms = o->gap_ms;
 
     ew_error err = { "" };
     ew_renderer *rd = ew_renderer_create(&(ew_renderer_desc){

@@ -51,7 +51,7 @@ _edgewise()
         demo)   opts="--size --view --fov --time --out --stats --dlight --particles --threads
                       --quiet --help $drawn" ;;
         views|info) opts='--data --quiet --help' ;;
-        bench)  opts="--data --size --threads --passes --bands --table --out --floor --per-view --quiet --help $drawn" ;;
+        bench)  opts="--data --size --threads --passes --gap --bands --table --out --floor --per-view --quiet --help $drawn" ;;
         hsr)    opts="--data --methods --size --threads --repeat --json --heatmap --svg --stress --quiet --help
                       $drawn" ;;
         soak)   opts="--data --frames --size --seed --threads --quiet --help $drawn" ;;

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 static const char *cli;
@@ -46,7 +47,7 @@ static void expect_ok(run_result *r, const char *what, const char *const *args) 
  * consistent with each other. */
 static void check_row(const char *what, const char *line, int w, int h, int views, int passes) {
     static const char *const keys[] = {
-        "width", "height", "threads", "threads_applied", "entities", "views", "passes",
+        "width", "height", "threads", "threads_applied", "entities", "views", "passes", "gap_ms",
         "median_ms", "mean_ms", "p99_ms", "max_ms", "max_view", "level", "ns_per_pixel",
         "floor_ms", "floor_ratio", "front", "scan", "draw", "models", "total", "pixels",
         "pixels_written", "pixels_covered", "edges", "edges_cached", "surfaces", "surfaces_shown", "spans",
@@ -143,6 +144,19 @@ static void test_start(void) {
     check_row("start --no-entities", r->out, 320, 200, 20, 1);
     CHECK(field(r->out, "entities") == 0 && field(r->out, "entities_drawn") == 0 &&
               field(r->out, "alias_tris") == 0, "--no-entities: %s", r->out);
+
+    /* --gap: frames spaced out, the two-thread pool asleep between them;
+     * the pauses (20 views, a warm-up and one pass, 5 ms each) show in the
+     * run's time and the row says so. */
+    struct timespec g0, g1;
+    clock_gettime(CLOCK_MONOTONIC, &g0);
+    expect_ok(r, "start --gap", ARGS("bench", "start", "--data", data, "--size", "320x200", "--passes", "1",
+                                     "--threads", "2", "--gap", "5"));
+    clock_gettime(CLOCK_MONOTONIC, &g1);
+    double gap_s = (double)(g1.tv_sec - g0.tv_sec) + (double)(g1.tv_nsec - g0.tv_nsec) * 1e-9;
+    check_row("start --gap", r->out, 320, 200, 20, 1);
+    CHECK(field(r->out, "gap_ms") == 5 && gap_s >= 0.2, "--gap 5: gap_ms %g, %.3f s for 40 frames: %s",
+          field(r->out, "gap_ms"), gap_s, r->out);
 
     /* --per-view: an entry per view; the slow view's median over the
      * row's median is view_level, and every view drew something. */
@@ -250,6 +264,10 @@ static void test_bad_args(void) {
     expect_fail(ARGS("bench", "builtin", "--table=yes"), "--table");
     expect_fail(ARGS("bench", "builtin", "--floor"), "--floor");
     expect_fail(ARGS("bench", "--floor", "--passes", "2"), "--floor");
+    expect_fail(ARGS("bench", "builtin", "--gap", "-1"), "--gap -1: expected 0 to 1000");
+    expect_fail(ARGS("bench", "builtin", "--gap", "1001"), "--gap 1001: expected 0 to 1000");
+    expect_fail(ARGS("bench", "builtin", "--gap", "x"), "--gap x");
+    expect_fail(ARGS("bench", "--floor", "--gap", "3"), "--floor");
     expect_fail(ARGS("bench", "nosuchmap", "--data", tmpdir), "nosuchmap");
     expect_fail(ARGS("bench", tmp_path(path, "no-such.bsp")), "no-such.bsp");
     expect_fail(ARGS("bench", "builtin", "--out", tmp_path(path, "nodir/x.jsonl")), "nodir");
