@@ -376,6 +376,14 @@ static double phase_of(const ew_stats *st, int ph) {
 }
 static const char *const stage_names[NSTAGES] = { "front", "scan", "draw", "models", "total" };
 
+/* Parts of a frame whose own view_level bench reports (view_level_<part>): the
+ * geometry (walk, clipping, edges, scan), the world's spans, and all the
+ * pixel work, which is what would be left if the geometry took no time. */
+enum { PART_FRONT_SCAN, PART_DRAW, PART_DRAW_MODELS, NPARTS };
+static const char *const part_names[NPARTS] = { "front_scan", "draw", "draw_models" };
+static const unsigned part_stages[NPARTS] = { 1u << ST_FRONT | 1u << ST_SCAN, 1u << ST_DRAW,
+                                              1u << ST_DRAW | 1u << ST_MODELS };
+
 /* --per-view: one view's medians over the passes, and its counts. */
 typedef struct view_row {
     double stages[NSTAGES];
@@ -390,6 +398,7 @@ typedef struct row {
     draw_opts draw;       /* what was drawn */
     double median, mean, p99, max, level, ns_per_pixel, floor_ms, floor_ratio;
     double view_level;    /* slow_view's median / median: level without one-off spikes */
+    double part_levels[NPARTS];  /* view_level of a frame of only these stages (part_names) */
     double stages[NSTAGES];        /* median per frame */
     double counters[NCOUNTERS];    /* mean per frame */
     double serial;                 /* median ms_serial per frame */
@@ -438,6 +447,30 @@ static void summarize_serial(row *r, const ew_stats *stats, int n, double *scrat
     }
 }
 
+static double part_of(const ew_stats *st, int part) {
+    double t = 0;
+    for (int s = 0; s < ST_TOTAL; s++)
+        if (part_stages[part] >> s & 1u) t += stage_of(st, s);
+    return t;
+}
+
+/* The view_level of each part: its slowest view's median over the passes
+ * over its median over every frame, as view_level is the whole frame's. */
+static void summarize_parts(row *r, const ew_stats *stats, double *scratch) {
+    const int n = r->views * r->passes;
+    for (int k = 0; k < NPARTS; k++) {
+        double slowest = 0;
+        for (int v = 0; v < r->views; v++) {
+            for (int p = 0; p < r->passes; p++) scratch[p] = part_of(&stats[(size_t)p * r->views + v], k);
+            double m = median_of(scratch, r->passes);
+            if (m > slowest) slowest = m;
+        }
+        for (int i = 0; i < n; i++) scratch[i] = part_of(&stats[i], k);
+        const double med = median_of(scratch, n);
+        r->part_levels[k] = med > 0 ? slowest / med : NAN;
+    }
+}
+
 /* Fills r from frames[views * passes] and their stats. */
 static void summarize(row *r, double *frames, const ew_stats *stats, double *scratch) {
     int n = r->views * r->passes;
@@ -483,6 +516,7 @@ static void summarize(row *r, double *frames, const ew_stats *stats, double *scr
         r->stages[s] = median_of(scratch, n);
     }
     summarize_serial(r, stats, n, scratch);
+    summarize_parts(r, stats, scratch);
     for (int c = 0; c < NCOUNTERS; c++) {
         double total = 0;
         for (int i = 0; i < n; i++)
@@ -533,6 +567,10 @@ static void print_row_json(FILE *f, const row *r) {
         json_number(f, r->serial_phase[ph]);
     }
     fputc('}', f);
+    for (int k = 0; k < NPARTS; k++) {
+        fprintf(f, ",\"view_level_%s\":", part_names[k]);
+        json_number(f, r->part_levels[k]);
+    }
     for (int b = 0; b < r->nbands; b++) {
         const char *bn[] = { "imbalance", "imbalance_max", "predicted_speedup", "sched_imbalance", "sched_speedup" };
         const double bv[] = { r->imbalance[b], r->imbalance_max[b], r->speedup[b], r->sched_imbalance[b],
@@ -600,6 +638,9 @@ static void print_table_row(const row *r) {
         printf(" %6.3f %6.2f %6.2f", r->imbalance[b], r->speedup[b], r->sched_speedup[b]);
     putchar('\n');
     if (!r->per_view) return;
+    printf("  view_level of the parts alone:");
+    for (int k = 0; k < NPARTS; k++) printf(" %s %.2f", part_names[k], r->part_levels[k]);
+    putchar('\n');
     printf("  %4s %8s %6s %7s %7s %7s %7s %6s %6s %7s %5s %6s\n", "view", "median", "x med", "front", "scan",
            "draw", "models", "surfs", "edges", "spans", "ents", "tris");
     for (int v = 0; v < r->views; v++) {

@@ -53,7 +53,8 @@ static void check_row(const char *what, const char *line, int w, int h, int view
         "pixels_written", "pixels_covered", "edges", "edges_cached", "surfaces", "surfaces_shown", "spans",
         "surfaces_built", "surfaces_cached", "visible_leaves", "dropped", "entities_drawn", "entities_hidden",
         "alias_tris", "particles", "serial_ms", "serial_share", "begin_ms", "walk_ms", "brush_ms",
-        "prepare_ms", "passes_ms", "serial_mean_ms",
+        "prepare_ms", "passes_ms", "serial_mean_ms", "view_level_front_scan", "view_level_draw",
+        "view_level_draw_models",
     };
     CHECK(line[0] == '{' && strstr(line, "\"map\":\"") && strstr(line, "\"stages\":{") &&
               strstr(line, "\"counters\":{"), "%s: %s", what, line);
@@ -175,6 +176,20 @@ static void test_start(void) {
     CHECK(slow && fabs(ew_t_json_num(slow, "median_ms") / field(r->out, "median_ms") - field(r->out, "view_level")) <
                       1e-3 * field(r->out, "view_level"),
           "--per-view: the slow view's entry (%s) does not give view_level: %s", key, r->out);
+    /* The parts' levels: the draw's is its slowest view's draw over the
+     * row's median draw (a median of two passes is their mean, as each
+     * entry's is); each part is finite and positive. */
+    double slow_draw = 0;
+    for (const char *p = r->out; (p = strstr(p, "{\"view\":")); p++) {
+        double d = ew_t_json_num(p, "draw");
+        if (d > slow_draw) slow_draw = d;
+    }
+    const char *stages = strstr(r->out, "\"stages\":{");
+    double draw_level = field(r->out, "view_level_draw");
+    CHECK(stages && fabs(slow_draw / ew_t_json_num(stages, "draw") - draw_level) < 1e-3 * draw_level,
+          "--per-view: view_level_draw %g, slowest view's draw %g: %s", draw_level, slow_draw, r->out);
+    CHECK(field(r->out, "view_level_front_scan") > 0 && field(r->out, "view_level_draw_models") > 0,
+          "--per-view: the parts' levels: %s", r->out);
 
     /* --bands, on one thread and then two: the same imbalances (one
      * profile per map and size), the two-thread row's serial share of the
