@@ -71,7 +71,8 @@ static const char bench_usage[] =
     "  --out FILE.jsonl  write the JSON lines to FILE instead of stdout\n"
     "  --floor           only measure the fill floor for each --size\n"
     "  --per-view        also each view's median time, stages and counts (what\n"
-    "                    makes the slow views slow)\n"
+    "                    makes the slow views slow; with --table also the level\n"
+    "                    of the geometry, the draw and the pixel work alone)\n"
     "  --quiet           no warning lines about the maps' optional data\n"
     "\n"
     "what is drawn (as in edgewise render):\n";
