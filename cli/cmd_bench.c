@@ -448,6 +448,24 @@ static void summarize_serial(row *r, const ew_stats *stats, int n, double *scrat
     }
 }
 
+/* View v's median over the passes of x[pass * views + v] (tmp: passes). */
+static double view_median(const double *x, int views, int passes, int v, double *tmp) {
+    for (int p = 0; p < passes; p++) tmp[p] = x[(size_t)p * views + v];
+    return median_of(tmp, passes);
+}
+
+/* The highest of the views' medians over the passes, and its view: the
+ * numerator of view_level.  A frame the machine interrupted once raises
+ * max_ms but not this, a view that is always slow raises both. */
+static double slowest_view(const double *x, int views, int passes, double *tmp, int *which) {
+    double slowest = -1;
+    for (int v = 0; v < views; v++) {
+        double m = view_median(x, views, passes, v, tmp);
+        if (m > slowest) slowest = m, *which = v;
+    }
+    return slowest;
+}
+
 static double part_of(const ew_stats *st, int part) {
     double t = 0;
     for (int s = 0; s < ST_TOTAL; s++)
@@ -455,19 +473,16 @@ static double part_of(const ew_stats *st, int part) {
     return t;
 }
 
-/* The view_level of each part: its slowest view's median over the passes
- * over its median over every frame, as view_level is the whole frame's. */
+/* The view_level of each part: its slowest view over its median over every
+ * frame, as view_level is the whole frame's. */
 static void summarize_parts(row *r, const ew_stats *stats, double *scratch) {
     const int n = r->views * r->passes;
+    double tmp[MAX_PASSES];
     for (int k = 0; k < NPARTS; k++) {
-        double slowest = 0;
-        for (int v = 0; v < r->views; v++) {
-            for (int p = 0; p < r->passes; p++) scratch[p] = part_of(&stats[(size_t)p * r->views + v], k);
-            double m = median_of(scratch, r->passes);
-            if (m > slowest) slowest = m;
-        }
+        int v;
         for (int i = 0; i < n; i++) scratch[i] = part_of(&stats[i], k);
-        const double med = median_of(scratch, n);
+        const double slowest = slowest_view(scratch, r->views, r->passes, tmp, &v);
+        const double med = median_of(scratch, n);  /* sorts scratch: after the views' medians */
         r->part_levels[k] = med > 0 ? slowest / med : NAN;
     }
 }
@@ -485,24 +500,18 @@ static void summarize(row *r, double *frames, const ew_stats *stats, double *scr
         }
     }
     r->mean = sum / n;
-    /* Each view's median over the passes: a frame the machine interrupted
-     * once raises max_ms but not this, a view that is always slow raises both. */
-    double slowest = -1;
-    for (int v = 0; v < r->views; v++) {
-        for (int p = 0; p < r->passes; p++) scratch[p] = frames[(size_t)p * r->views + v];
-        double m = median_of(scratch, r->passes);
-        if (m > slowest) slowest = m, r->slow_view = v;
-        if (r->per_view) {
-            view_row *pv = &r->per_view[v];
-            for (int s = 0; s < NSTAGES; s++) {
-                for (int p = 0; p < r->passes; p++) scratch[p] = stage_of(&stats[(size_t)p * r->views + v], s);
-                pv->stages[s] = median_of(scratch, r->passes);
-            }
-            pv->stages[ST_TOTAL] = m;  /* the frame as timed around ew_render, like the row's median */
-            const ew_stats *st = &stats[v];  /* the counts are the same every pass */
-            pv->surfaces = st->surfaces, pv->edges = st->edges, pv->spans = st->spans;
-            pv->entities_drawn = st->entities_drawn, pv->alias_tris = st->alias_tris;
+    const double slowest = slowest_view(frames, r->views, r->passes, scratch, &r->slow_view);
+    for (int v = 0; r->per_view && v < r->views; v++) {
+        view_row *pv = &r->per_view[v];
+        for (int s = 0; s < NSTAGES; s++) {
+            for (int p = 0; p < r->passes; p++) scratch[p] = stage_of(&stats[(size_t)p * r->views + v], s);
+            pv->stages[s] = median_of(scratch, r->passes);
         }
+        /* the frame as timed around ew_render, like the row's median */
+        pv->stages[ST_TOTAL] = view_median(frames, r->views, r->passes, v, scratch);
+        const ew_stats *st = &stats[v];  /* the counts are the same every pass */
+        pv->surfaces = st->surfaces, pv->edges = st->edges, pv->spans = st->spans;
+        pv->entities_drawn = st->entities_drawn, pv->alias_tris = st->alias_tris;
     }
     r->median = median_of(frames, n);   /* sorts frames: max_view is found first */
     r->p99 = p99_of_sorted(frames, n);

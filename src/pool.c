@@ -82,7 +82,7 @@ static int this_cpu(void) {
 
 static void leave_caller_cpu(const cpus *c, int caller) {
 #ifdef __linux__
-    if (!c->ok || caller < 0 || caller >= CPU_SETSIZE || sched_getcpu() != caller) return;
+    if (!c->ok || caller < 0 || caller >= CPU_SETSIZE || this_cpu() != caller) return;
     cpu_set_t set = c->start;
     CPU_CLR(caller, &set);
     if (CPU_COUNT(&set) > 0) (void)sched_setaffinity(0, sizeof set, &set);  /* a failure changes nothing */

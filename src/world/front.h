@@ -111,9 +111,9 @@ void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha);
  * the method does not use ew_emit_face and ew_emit_poly, the pool has
  * one thread and ew_set_front_mode did not ask for the phases, the tree
  * is irregular (an edge on more than two faces, a face on two nodes...)
- * or memory runs out: then the serial walk and brush models as before.  serial_ms: the time the
- * calling thread spent in the run's serial steps (not the tail): [0] the
- * walk's, [1] the brush entities' culling. */
+ * or memory runs out: then the serial walk and brush models as before.
+ * serial_ms: the time the calling thread spent in the run's serial steps
+ * (not the tail): [0] the walk's, [1] the brush entities' culling. */
 int  ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread),
                             double serial_ms[2]);
 struct ew_front_par;
