@@ -55,6 +55,7 @@ typedef struct draw_opts {
     int    hsr;               /* ew_hsr_method */
     int    color;             /* ew_color_mode: chosen when the renderer is made */
     int    no_lit, dither;
+    int    lighting;          /* ew_lighting_mode */
     double gamma;             /* 0: 1 */
     struct draw_style {       /* --lightstyle N=V, in order */
         int  style, kind;     /* kind 0: value, 1: pattern, 2: switch on/off */

@@ -21,7 +21,7 @@
 
 enum {
     D_NOENT, D_ARASTER, D_SUBTHRESH, D_FULLZ, D_OCC, D_CLASSIC, D_WATERALPHA, D_FOG, D_NOFOG,
-    D_NOWARP, D_HSR, D_COLOR, D_NOLIT, D_DITHER, D_LIGHTSTYLE, D_GAMMA, D_DEBUG, D_COUNT
+    D_NOWARP, D_HSR, D_COLOR, D_NOLIT, D_DITHER, D_LIGHTING, D_LIGHTSTYLE, D_GAMMA, D_DEBUG, D_COUNT
 };
 
 #define MAX_FOG_DENSITY 100.0
@@ -58,6 +58,9 @@ static const struct draw_def {
     [D_NOLIT] = { "--no-lit", NULL, "ignore coloured light (.lit file, BSPX RGBLIGHTING): white light", NULL },
     [D_DITHER] = { "--dither", NULL, "8-bit frames with coloured light: ordered dither before the nearest colour",
                    NULL },
+    [D_LIGHTING] = { "--lighting", "MODE", "how lit faces get their light",
+                     "cache (light-mapped surfaces built once and kept, the default) or two-pass "
+                     "(texture, then light per pixel: chapter 69's alternative, docs/lighting.md)" },
     [D_LIGHTSTYLE] = { "--lightstyle", "N=V", "one light style instead of its pattern (repeatable)",
                        "a style 0 to 63, '=', then a value 0 to 1024 (264 is normal), a pattern of 1 to 64 "
                        "letters a to z (ten a second), 'on' or 'off'" },
@@ -195,6 +198,11 @@ static int set_value(draw_opts *d, int k, const char *v) {
         d->nstyles++;
         return 0;
     }
+    case D_LIGHTING:
+        if (strcmp(v, "cache") == 0) d->lighting = EW_LIGHTING_CACHE;
+        else if (strcmp(v, "two-pass") == 0) d->lighting = EW_LIGHTING_TWO_PASS;
+        else return bad_value(k, v);
+        return 0;
     case D_GAMMA:
         if (whole_number(v, &x) < 0 || !(x >= 0.5 && x <= 3))
             return bad_value(k, v);
@@ -287,6 +295,7 @@ int draw_opts_apply(const draw_opts *d, ew_renderer *r, const ew_scene *scene) {
     ew_set_hsr(r, (ew_hsr_method)d->hsr);
     ew_set_lit(r, !d->no_lit);
     ew_set_dither(r, d->dither);
+    ew_set_lighting(r, (ew_lighting_mode)d->lighting);
     ew_set_gamma(r, d->gamma > 0 ? (float)d->gamma : 1.0f);
     for (int i = 0; i < 64; i++) ew_reset_lightstyle(r, i);
     for (int i = 0; i < d->nstyles; i++) {
@@ -323,8 +332,10 @@ void draw_opts_json(FILE *f, const draw_opts *d) {
     }
     fprintf(f, ",\"waterwarp\":%s,\"hsr\":\"%s\"", d->no_waterwarp || d->classic ? "false" : "true",
             ew_hsr_name((ew_hsr_method)d->hsr));
-    fprintf(f, ",\"color\":\"%s\",\"lit\":%s,\"dither\":%s,\"gamma\":", d->color == EW_COLOR_TRUE ? "true" : "8bit",
+    fprintf(f, ",\"color\":\"%s\",\"lit\":%s,\"dither\":%s", d->color == EW_COLOR_TRUE ? "true" : "8bit",
             d->no_lit || d->classic ? "false" : "true", d->dither ? "true" : "false");
+    fprintf(f, ",\"lighting\":\"%s\"", d->lighting == EW_LIGHTING_TWO_PASS ? "two-pass" : "cache");
+    fputs(",\"gamma\":", f);
     json_number(f, d->gamma > 0 ? d->gamma : 1.0);
     fputs(",\"lightstyles\":[", f);
     for (int i = 0; i < d->nstyles; i++) {

@@ -24,6 +24,7 @@ _edgewise()
         --json|--svg)   compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         --heatmap)      compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         --color)        COMPREPLY=($(compgen -W '8bit true' -- "$cur")); return 0 ;;
+        --lighting)     COMPREPLY=($(compgen -W 'cache two-pass' -- "$cur")); return 0 ;;
         --debug)        COMPREPLY=($(compgen -W 'spans edges overdraw lighting textures mips builds' -- "$cur"))
                         return 0 ;;
         --lightstyle)   return 0 ;;
@@ -42,7 +43,7 @@ _edgewise()
     esac
 
     local drawn='--no-entities --alias-raster --subdiv-threshold --full-zfill --occlusion --classic
-                 --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit --dither
+                 --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit --dither --lighting
                  --lightstyle --gamma --debug'
     local opts
     case $cmd in

@@ -409,6 +409,9 @@ typedef struct ew_stats {
      * nearer faces were found to cover entirely before their edges were
      * set up (the edge method, ew_set_occlusion_cull): not in `surfaces`. */
     int    faces_occluded;
+    /* Bytes of lit surfaces the surface cache holds after the frame (0 in
+     * two-pass lighting, which keeps none: ew_set_lighting). */
+    long   surface_cache_bytes;
 } ew_stats;
 
 /* Renders one frame of the world into the renderer's 8-bit frame buffer and
@@ -495,6 +498,19 @@ EW_API void ew_set_lit(ew_renderer *r, int on);
  * colour of its RGB; on adds a 4x4 ordered dither before the choice
  * (default off). */
 EW_API void ew_set_dither(ew_renderer *r, int on);
+
+/* How lit faces get their light (docs/lighting.md):
+ *   EW_LIGHTING_CACHE     light-mapped surfaces built once and cached
+ *                         (Quake's surface cache; the default);
+ *   EW_LIGHTING_TWO_PASS  the alternative chapter 69 weighs: each face's
+ *                         texture drawn unlit, then every pixel lit from the
+ *                         light map sampled at it (no surfaces, no cache
+ *                         memory, twice the pixel work).  Also the tests'
+ *                         light oracle: it shares no code with the cache.
+ * Dynamic lights and the debug views are drawn by the cache only. */
+typedef enum ew_lighting_mode { EW_LIGHTING_CACHE = 0, EW_LIGHTING_TWO_PASS = 1 } ew_lighting_mode;
+EW_API void ew_set_lighting(ew_renderer *r, ew_lighting_mode mode);
+EW_API ew_lighting_mode ew_get_lighting(const ew_renderer *r);
 
 /* The hidden-surface method of the next frames; 0, or -1 (the method
  * unchanged) if it is not an available ew_hsr_method. */

@@ -72,6 +72,18 @@ EW_API void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode);
 typedef enum ew_front_mode { EW_FRONT_AUTO, EW_FRONT_PHASES } ew_front_mode;
 EW_API void ew_set_front_mode(ew_renderer *r, ew_front_mode mode);
 
+/* A deliberately wrong surface cache, for the light oracle's controls
+ * (tests/test_light_oracle.c): the light map read one sample to the right
+ * (EW_LIGHT_FAULT_SHIFT) or with s and t swapped (EW_LIGHT_FAULT_SWAP).
+ * EW_LIGHT_FAULT_NONE (the default) is the right one. */
+typedef enum ew_light_fault {
+    EW_LIGHT_FAULT_NONE = 0, EW_LIGHT_FAULT_SHIFT = 1, EW_LIGHT_FAULT_SWAP = 2
+} ew_light_fault;
+EW_API void ew_set_light_fault(ew_renderer *r, ew_light_fault fault);
+/* Every cached lit surface out of date: the next frames build each one they
+ * show again, as the first frame of a new view does (bench/lighting_lab.c). */
+EW_API void ew_flush_surfaces(ew_renderer *r);
+
 /* How the renderer cuts a frame for its threads, in two phases with a wait
  * between: with more than one thread, the scan into EW_BANDS_PER_THREAD
  * bands a thread, placed by the last frame's scan costs, then the draw

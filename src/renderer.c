@@ -227,6 +227,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free_bands(r);
     free(r->lit.surf_cache), free(r->lit.to_build), free(r->sched.row_cost);
     free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
+    free(r->lit.tp_faces), free(r->ref.poly_of);
     free(r->lit.surf_draw), free(r->lit.grad_list), free(r->lit.surf_state), free(r->lit.surf_mip);
     free(r->target.pixels), free(r->target.zbuf), free(r->face_ids);
     free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame), free(r->marks.vis);
@@ -284,6 +285,17 @@ const float *ew_frame_zbuffer(ew_renderer *r) {
     return r->target.zbuf;
 }
 
+void ew_set_lighting(ew_renderer *r, ew_lighting_mode mode) {
+    r->cfg.lighting = mode == EW_LIGHTING_TWO_PASS ? EW_LIGHTING_TWO_PASS : EW_LIGHTING_CACHE;
+}
+ew_lighting_mode ew_get_lighting(const ew_renderer *r) { return (ew_lighting_mode)r->cfg.lighting; }
+void ew_set_light_fault(ew_renderer *r, ew_light_fault fault) {
+    if (r->cfg.light_fault != (int)fault) relight(r);
+    r->cfg.light_fault = fault;
+}
+void ew_flush_surfaces(ew_renderer *r) { relight(r); }
+/* Two-pass lighting wants it for every lit surface of the frame. */
+static int two_pass(const ew_renderer *r) { return r->cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode; }
 void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
 void ew_set_hide_occluded(ew_renderer *r, int on) { r->cfg.hide_occluded = on != 0; }
 void ew_set_front_mode(ew_renderer *r, ew_front_mode mode) { r->cfg.front_phases = mode == EW_FRONT_PHASES; }
@@ -413,6 +425,12 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     if (!r->lit.nearest && r->target.bpp == 1 && !r->cfg.classic &&
         (ew_use_rgb_light(r, r->world) || coloured_dlights(r->ents.scene)))
         r->lit.nearest = ew_blend_cube(&r->blend);
+    /* Two-pass lighting's inputs, and its per-surface room (made on first use). */
+    r->lit.tp = (ew_twopass){w, r->palette, r->colormap, r->cfg.lightstyle, ew_use_rgb_light(r, w),
+                             r->target.bpp, r->cfg.classic};
+    r->draw.tp = &r->lit.tp;
+    if (two_pass(r) && !r->lit.tp_faces) r->lit.tp_faces = malloc(sizeof *r->lit.tp_faces * (size_t)r->el.max_surfs);
+    r->draw.tp_faces = r->lit.tp_faces;
     r->cfg.hsr->begin(r);
     r->see.n = 0;
     r->eye_contents = r->world->leaves[ew_pvs_mark(r)].contents;
@@ -542,6 +560,11 @@ static void job_build(void *ctx, int thread) {
             ew_face_gradients(w, sf->view, &w->faces[sf->face], r->lit.surf_cache[s] ? r->lit.surf_cache[s]->mip : 0,
                               &d->g);
             ew_span_prepare(d);
+            if (d->kind == EW_DRAW_TWOPASS) {
+                const ew_face *f = &w->faces[sf->face];
+                ew_tp_face_setup(&r->lit.tp, sf->view, sf->face, r->lit.surf_mip[s], ew_face_texture(w, f, r->view.time),
+                                 &r->lit.tp_faces[s]);
+            }
         }
     }
 }
@@ -642,7 +665,7 @@ static void job_surf_peek(void *ctx, int thread) {
     (void)thread;
     ew_renderer *r = ctx;
     const ew_world *w = r->world;
-    const int ns = r->el.nsurfs, nb = r->sched.nbands;
+    const int ns = r->el.nsurfs, nb = r->sched.nbands, tp = two_pass(r) && r->lit.tp_faces;
     for (int k; (k = atomic_fetch_add(&r->sched.next_item, SURF_CHUNK)) < ns;) {
         int end = k + SURF_CHUNK < ns ? k + SURF_CHUNK : ns;
         for (int s = k > 0 ? k : 1; s < end; s++) {
@@ -661,6 +684,10 @@ static void job_surf_peek(void *ctx, int thread) {
             }
             int mip = ew_face_mip(&r->view, w, f, sf->nearzi);
             r->lit.surf_mip[s] = (uint8_t)mip;
+            if (tp) {  /* two-pass lighting: no surface to find */
+                r->lit.surf_state[s] = SURF_MISS;
+                continue;
+            }
             const ew_cached_surf *e = r->lit.surf_cache[s] = ew_cache_peek(r, sf->face, mip);
             r->lit.surf_state[s] = e ? SURF_HIT : SURF_MISS;
             if (e) prefetch_texels(r, e);
@@ -688,10 +715,15 @@ static void prepare_surfaces(ew_renderer *r) {
             ew_cache_touch(r, r->lit.surf_cache[s]);
         }
     }
+    int tp = two_pass(r) && r->lit.tp_faces;
     for (int s = 1; s < r->el.nsurfs; s++) {
         int state = r->lit.surf_state[s];
         if (state != SURF_HIT && state != SURF_MISS) continue;
         ew_surf_draw *d = &r->lit.surf_draw[s];
+        if (tp) {  /* set up with the gradients (job_build) */
+            d->kind = EW_DRAW_TWOPASS;
+            continue;
+        }
         ew_cached_surf *e = r->lit.surf_cache[s];
         int build = 0;
         if (state == SURF_MISS)
@@ -803,6 +835,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         models_ms += r->sched.items[i].model_ms;
     }
     if (r->cfg.hsr->memory) st->hsr_bytes = (long)r->cfg.hsr->memory(r);
+    st->surface_cache_bytes = (long)r->lit.cache.bytes;
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
     /* Models are drawn inside the bands' draw step; ms_models is their
      * time summed over bands, per thread (the wall time they took), plus

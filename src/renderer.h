@@ -18,6 +18,7 @@
 
 #include "hsr/hsr.h"
 #include "light/light.h"
+#include "light/twopass.h"
 #include "pool.h"
 #include "raster/blend.h"
 #include "raster/debug.h"
@@ -45,6 +46,8 @@ typedef struct ew_config {
     float fog_density, fog_rgb[3];   /* density < 0: the map's */
     int   waterwarp;
     int   use_lit, dither;           /* coloured light on; 8-bit coloured light dithered */
+    int   lighting;                  /* ew_lighting_mode: the surface cache or two passes */
+    int   light_fault;               /* test hook (ew_set_light_fault): a wrong cache, for controls */
     const ew_hsr *hsr;          /* hidden-surface method */
     int   hide_occluded;             /* moving things the world hides are left out (raster/models.c) */
     int   front_phases;              /* one thread too runs the front end's phases (ew_set_front_mode) */
@@ -93,6 +96,8 @@ typedef struct ew_lit {
     int             *blocklights;                /* building scratch, maxlm * 3 per thread */
     ew_lightcurve    curve;                      /* palette colour x light (light/curve.c) */
     const uint8_t   *nearest;                    /* 8-bit coloured light: RGB cube -> index */
+    ew_twopass       tp;                         /* two-pass lighting: this frame's inputs */
+    ew_tp_face      *tp_faces;                   /* two-pass lighting: per surface (max_surfs) */
 } ew_lit;
 
 /* The scene drawn with the world, and what this frame knows of it. */
@@ -142,6 +147,7 @@ typedef struct ew_ref_poly ew_ref_poly;
 typedef struct ew_ref {
     ew_ref_poly *polys; int npolys, cap;
     int         *ids;                            /* ew_render_reference's face ids, or NULL */
+    int         *poly_of;  size_t npoly_of;      /* two-pass lighting: each pixel's polygon */
 } ew_ref;
 
 struct ew_renderer {

@@ -15,10 +15,19 @@ struct ew_ref_poly {
     ew_zpoly      p;
     ew_zpoly_look look;
     int           face;
+    int           two_pass;  /* lit in two passes per pixel (tp set) */
+    ew_tp_face    tp;
 };
 
 static void ref_begin(ew_renderer *r) {
     r->ref.npolys = 0;
+    /* two-pass lighting: which polygon won each pixel */
+    size_t npx = (size_t)r->target.width * (size_t)r->target.height;
+    if (r->cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.npoly_of < npx) {
+        free(r->ref.poly_of);
+        r->ref.poly_of = malloc(sizeof(int) * npx);
+        r->ref.npoly_of = r->ref.poly_of ? npx : 0;
+    }
     r->el.nedges = 0;
     r->el.nsurfs = 1;  /* no spans: the back end draws nothing of the world */
 }
@@ -44,7 +53,14 @@ static void ref_poly(ew_renderer *r, float (*in)[3], int n, int fi, const ew_vie
     /* exact; a fence's holes are alpha-tested per pixel like the rest */
     rp->look = (ew_zpoly_look){w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0, 0,
                                (f->flags & EW_SURF_FENCE) && !r->cfg.classic ? EW_ZP_FENCE : EW_ZP_OPAQUE, NULL, 256};
-    if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
+    rp->two_pass = 0;
+    if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB)) && r->cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode &&
+        rp->look.mode == EW_ZP_OPAQUE) {
+        /* two-pass lighting: no lit surface; ref_resolve lights its pixels */
+        rp->look.mip = ew_face_mip(&r->view, w, f, rp->p.nearzi);
+        rp->two_pass = 1;
+        ew_tp_face_setup(&r->lit.tp, v, fi, rp->look.mip, rp->look.tex, &rp->tp);
+    } else if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
         int build;
         rp->look.mip = ew_face_mip(&r->view, w, f, rp->p.nearzi);
         ew_cached_surf *e = ew_cache_lookup(r, fi, rp->look.mip, &build);
@@ -65,10 +81,48 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, int key) {
     ref_poly(r, in, f->numedges, fi, &r->view, key);
 }
 
+/* Two-pass lighting: every polygon filled (z, sky, liquids; lit faces get
+ * nothing yet) with its own number per pixel, then the lit faces' pixels
+ * drawn in the two passes, run by run along each row. */
+static void two_pass_resolve(ew_renderer *r, ew_band *b, int *ids) {
+    const ew_target *t = &r->target;
+    int *poly = r->ref.poly_of;
+    b->nspans = 0;
+    b->naet = 0;
+    memset(b->has_spans, 0, (size_t)r->el.nsurfs);
+    for (int y = b->y0; y < b->y1; y++) {
+        uint8_t *row = ew_target_at(t, 0, y);
+        for (int x = 0; x < t->width; x++) ew_put_index(t, row, x, 0);  /* the background: black */
+        float *z = ew_target_z(t, 0, y);
+        for (int x = 0; x < t->width; x++) z[x] = 0;
+        for (int x = 0; x < t->width; x++) poly[(size_t)y * t->width + x] = -1;
+    }
+    for (int i = 0; i < r->ref.npolys; i++) {
+        const ew_ref_poly *rp = &r->ref.polys[i];
+        ew_zpoly_fill(&r->draw, &rp->p, &rp->look, poly, i, b->y0, b->y1);
+    }
+    for (int y = b->y0; y < b->y1; y++) {
+        int *pr = poly + (size_t)y * t->width;
+        uint8_t *row = ew_target_at(t, 0, y);
+        for (int x = 0, x1; x < t->width; x = x1) {
+            int p = pr[x];
+            for (x1 = x + 1; x1 < t->width && pr[x1] == p; x1++) {}
+            if (p >= 0 && r->ref.polys[p].two_pass) ew_tp_run(&r->lit.tp, &r->ref.polys[p].tp, row, y, x, x1);
+        }
+        if (ids)
+            for (int x = 0; x < t->width; x++) ids[(size_t)y * t->width + x] = pr[x] >= 0 ? r->ref.polys[pr[x]].face : -1;
+    }
+}
+
 /* The band's rows: cleared to the background, then every polygon filled. */
 static void ref_resolve(ew_renderer *r, ew_band *b) {
     const ew_target *t = &r->target;
     int *ids = r->ref.ids ? r->ref.ids : r->cfg.face_ids_on ? r->face_ids : NULL;
+    size_t npx = (size_t)t->width * (size_t)t->height;
+    if (r->cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.poly_of && r->ref.npoly_of >= npx) {
+        two_pass_resolve(r, b, ids);
+        return;
+    }
     b->nspans = 0;
     b->naet = 0;
     memset(b->has_spans, 0, (size_t)r->el.nsurfs);

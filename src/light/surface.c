@@ -115,6 +115,28 @@ static int gather(const ew_renderer *r, const ew_world *w, const ew_face *f, con
     return grey;
 }
 
+/* The light oracle's controls (ew_set_light_fault): the samples moved one
+ * to the left (each texel lit by its right-hand neighbour's light), or read
+ * with s and t swapped (held to the map's size). */
+static void light_fault(int fault, int *bl, int smax, int tmax, int nc) {
+    if (smax <= 0 || tmax <= 0) return;
+    if (fault == EW_LIGHT_FAULT_SHIFT) {
+        for (int j = 0; j < tmax; j++)
+            for (int i = 0; i + 1 < smax; i++)
+                for (int k = 0; k < nc; k++) bl[(j * smax + i) * nc + k] = bl[(j * smax + i + 1) * nc + k];
+        return;
+    }
+    /* swap: sample (i, j) takes (j, i); a copy first, in the scratch's spare room (3 channels a sample) */
+    int n = smax * tmax * nc, *old = bl + n;
+    if (nc == 3) return;  /* no spare room: the white light is enough of a control */
+    for (int i = 0; i < n; i++) old[i] = bl[i];
+    for (int j = 0; j < tmax; j++)
+        for (int i = 0; i < smax; i++) {
+            int si = j < smax ? j : smax - 1, sj = i < tmax ? i : tmax - 1;
+            bl[j * smax + i] = old[sj * smax + si];
+        }
+}
+
 /* How texels are made from the palette index and the light. */
 enum { OUT_CMAP, OUT_NEAREST, OUT_RGBA };
 
@@ -279,6 +301,7 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
     int *bl = scratch;
     int grey = gather(r, w, f, &L, light, dlights, rgb ? 3 : 1, rgbsrc, bl);
     int nc = rgb ? 3 : 1;
+    if (r->cfg.light_fault) light_fault(r->cfg.light_fault, bl, L.smax, L.tmax, nc);
     if (rgb && grey) {  /* white after all: one channel, so 8-bit takes the colormap path exactly */
         for (int i = 0, n = L.smax * L.tmax; i < n; i++) bl[i] = bl[i * 3];
         nc = 1;

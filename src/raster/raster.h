@@ -29,7 +29,8 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
 void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]);
 
 /* How one surface's spans are drawn this frame (set before the bands draw). */
-enum { EW_DRAW_BACKGROUND, EW_DRAW_LIT, EW_DRAW_SKY, EW_DRAW_TURB, EW_DRAW_FLAT, EW_DRAW_DEBUG };
+enum { EW_DRAW_BACKGROUND, EW_DRAW_LIT, EW_DRAW_SKY, EW_DRAW_TURB, EW_DRAW_FLAT, EW_DRAW_DEBUG,
+       EW_DRAW_TWOPASS /* lit in two passes per pixel (light/twopass.h) */ };
 typedef struct ew_surf_draw {
     ew_gradients g;           /* screen gradients (mip of its lit surface; 0 for sky and liquids) */
     const uint8_t *pixels;    /* EW_DRAW_LIT: the lit surface, pitch bytes a row */
@@ -85,6 +86,8 @@ typedef struct ew_span_ctx {
     int            turb_phase;     /* the phase turb holds, plus 129 (0: none yet) */
     ew_fog         fog;            /* this frame's fog (table NULL: none) */
     const uint32_t *rgba;          /* true colour: the palette as pixels (sky, liquids) */
+    const struct ew_twopass *tp;   /* two-pass lighting: the frame's inputs, and */
+    const struct ew_tp_face *tp_faces;  /* per surface (EW_DRAW_TWOPASS spans) */
 } ew_span_ctx;
 
 /* raster/span.c, sky.c, turb.c: one span of each kind.  A band draws its

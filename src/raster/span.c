@@ -4,6 +4,7 @@
 #include "raster/span_step.h"
 #include "raster/debug.h"
 #include "raster/zfill.h"
+#include "light/twopass.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -356,6 +357,10 @@ void ew_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_s
             break;
         case EW_DRAW_DEBUG:
             ew_debug_fill_span(c, sp, d->flat);
+            break;
+        case EW_DRAW_TWOPASS:
+            ew_tp_run(c->tp, &c->tp_faces[sp->surf], ew_target_at(c->target, 0, sp->v), sp->v, sp->u,
+                      sp->u + sp->count);
             break;
         default:  /* gaps (nothing covers them), or no memory for the surface: black */
             ew_draw_flat_span(c, sp);
