@@ -417,6 +417,11 @@ static int parse_args(int argc, char **argv, int first, const char *cmd, int all
         error_line("%s: --pos and --angles go together", cmd);
         return -1;
     }
+    if (o->ndlights && o->draw.lighting == EW_LIGHTING_TWO_PASS) {
+        error_line("%s: --dlight is drawn by the surface cache only: it cannot be combined with --lighting two-pass",
+                   cmd);
+        return -1;
+    }
     if ((o->given & O_POS) && (o->given & O_VIEW)) {
         error_line("%s: --view cannot be combined with --pos/--angles", cmd);
         return -1;

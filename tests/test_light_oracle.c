@@ -177,8 +177,9 @@ int main(void) {
         {"ericw", "start_lmscale8", 1},      {"ericw", "start_lmshiftmix", 1},
         {"ericw", "start_decoupled", 1},     {"ericw", "start_decoupled_novanilla", 1},
         {"ericw", "start_bsp2_bspxall", 1},  {"ericw", "dev_plain", 0},
-        {"ericw", "dev_lmscale8", 0},        {"ericw", "dev_lmshiftmix", 0},
-        {"ericw", "dev_decoupled", 0},
+        {"ericw", "dev_bsp2_bspxlit", 0},    {"ericw", "dev_lmscale8", 0},
+        {"ericw", "dev_lmshiftmix", 0},      {"ericw", "dev_decoupled", 0},
+        {"ericw", "dev_decoupled_novanilla", 0}, {"ericw", "dev_bsp2_bspxall", 0},
     };
     enum { NCASES = sizeof cases / sizeof *cases };
     double worst_all = 0, sum_all = 0;
