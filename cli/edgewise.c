@@ -43,7 +43,7 @@ static const char usage_head[] =
     "  render MAP [options]   render one frame of MAP to a PNG\n"
     "  demo [options]         render the built-in scene (needs no game data)\n"
     "  views MAP [--data DIR] list the view set: INDEX X Y Z PITCH YAW ROLL\n"
-    "  info MAP [--data DIR]  BSP version, lumps and counts\n"
+    "  info MAP [--data DIR]  BSP version, lumps, BSPX lumps (used or not), counts\n"
     "  bench MAP... [options] time the view set (see edgewise bench --help)\n"
     "  hsr MAP... [options]   the hidden-surface lab: every method timed and checked\n"
     "  view MAP [options]     walk through MAP in a window (see edgewise view --help)\n"
@@ -715,6 +715,20 @@ static int cmd_info(options *o) {
         const ew_lump_info *l = &info.lumps[i];
         printf("%-14s %10lu %10lu %8d\n", l->name ? l->name : "?", (unsigned long)l->offset,
                (unsigned long)l->length, l->count);
+    }
+    /* BSPX lumps after the standard ones: every one listed, known or not */
+    ew_bspx_lump_info bx;
+    int nbx = 0;
+    while (ew_world_bspx_lump(a->world, nbx, &bx) == 0) nbx++;
+    if (nbx > 0) {
+        static const char *const use[] = {"unused", "used", "ignored", "replaced by .lit"};
+        printf("bspx      %d lump%s\n", nbx, nbx == 1 ? "" : "s");
+        printf("%-24s %10s %10s  %s\n", "bspx lump", "offset", "length", "edgewise");
+        for (int i = 0; ew_world_bspx_lump(a->world, i, &bx) == 0; i++)
+            printf("%-24s %10lu %10lu  %s\n", bx.name, (unsigned long)bx.offset, (unsigned long)bx.length,
+                   (unsigned)bx.use < 4 ? use[bx.use] : "?");
+    } else {
+        printf("bspx      none\n");
     }
     printf("models    %d\n", info.models);
     printf("textures  %d (%d missing)\n", info.textures, info.textures_missing);

@@ -109,6 +109,24 @@ typedef struct ew_world_info {
     int          models, textures, textures_missing, faces, leaves, nodes;
 } ew_world_info;
 EW_API void        ew_world_get_info(const ew_world *w, ew_world_info *info);
+/* The BSPX lumps after the standard ones (`edgewise info`), in the file's
+ * order, any name (a lump edgewise does not know is listed, never an
+ * error).  Fills info for lump i (from 0) and returns 0; -1 past the last
+ * (a map without BSPX, or whose BSPX directory was malformed: a warning,
+ * has none). */
+typedef enum ew_bspx_use {
+    EW_BSPX_UNUSED = 0,  /* not read by edgewise (LIGHTINGDIR, BRUSHLIST, unknown names...) */
+    EW_BSPX_USED,        /* read and used: RGBLIGHTING, LMSHIFT, LMOFFSET, LMSTYLE, DECOUPLED_LM */
+    EW_BSPX_IGNORED,     /* read but left out: malformed (a world warning says why), or
+                          * LMSHIFT/LMOFFSET beside a DECOUPLED_LM that replaces them */
+    EW_BSPX_REPLACED     /* RGBLIGHTING replaced by a .lit (ew_world_attach_lit) */
+} ew_bspx_use;
+typedef struct ew_bspx_lump_info {
+    char        name[25];  /* NUL-terminated */
+    uint32_t    offset, length;
+    ew_bspx_use use;
+} ew_bspx_lump_info;
+EW_API int         ew_world_bspx_lump(const ew_world *w, int i, ew_bspx_lump_info *info);
 /* Warnings met while loading: optional data that was malformed (a
  * worldspawn key, a fence texture without holes) and replaced by a sane
  * default, one line each naming the file and the problem.  i from 0; NULL

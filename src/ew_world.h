@@ -152,6 +152,8 @@ struct ew_world {
      * a .lit file beside the map or the BSPX RGBLIGHTING lump; NULL if none. */
     uint8_t    *rgblight;
     ew_facelm  *facelm;       /* numfaces (BSPX LMSHIFT / DECOUPLED_LM), or NULL: Quake's */
+    ew_bspx_lump_info *bspx;  /* the BSPX directory as read (ew_world_bspx_lump) */
+    int         nbspx;
     uint8_t    *visdata;      int vissize;
     char       *entities;     /* NUL-terminated copy */
     uint64_t    styles_start_off; /* bit s: a light entity starts switchable style s off (asset/light_entities.c) */

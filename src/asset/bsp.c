@@ -946,6 +946,7 @@ void ew_world_destroy(ew_world *w) {
     free(w->lighting);
     free(w->rgblight);
     free(w->facelm);
+    free(w->bspx);
     free(w->visdata);
     free(w->entities);
     free(w->texpixels);
@@ -997,6 +998,12 @@ void ew_world_get_info(const ew_world *w, ew_world_info *info) {
     info->faces = w->numfaces;
     info->leaves = w->numleaves;
     info->nodes = w->numnodes;
+}
+
+int ew_world_bspx_lump(const ew_world *w, int i, ew_bspx_lump_info *info) {
+    if (!w || !info || i < 0 || i >= w->nbspx) return -1;
+    *info = w->bspx[i];
+    return 0;
 }
 
 const char *ew_world_entities(const ew_world *w) { return w->entities; }

@@ -19,7 +19,12 @@
  *    height (samples), int32 offset into the lighting lump (-1 none), then
  *    a 2x4 float matrix (row major) from world point to light-map sample
  *    coordinates: u = row0 . (x, y, z, 1), v = row1 . (x, y, z, 1); sample
- *    (i, j) sits at (u, v) = (i, j).
+ *    (i, j) sits at (u, v) = (i, j).  ericw-tools writes a face with no
+ *    light map as all zeros (0x0 samples, offset -1).
+ *
+ * A face with no light map in any layout (offset -1, no styles, a
+ * DECOUPLED_LM size of 0) gets Quake's grid with offset -1: it is drawn
+ * dark, exactly as the same map without BSPX draws its unlit faces.
  *
  * Which coloured light wins: the RGBLIGHTING lump is read with the map, a
  * .lit attached afterwards replaces it (Quakespasm-Spiked's order: the
@@ -83,6 +88,9 @@ int ew_world_attach_lit(ew_world *w, const uint8_t *data, size_t size, const cha
     memcpy(rgb, data + 8, (size_t)want);
     free(w->rgblight);
     w->rgblight = rgb;
+    for (int i = 0; i < w->nbspx; i++)
+        if (w->bspx[i].use == EW_BSPX_USED && strcmp(w->bspx[i].name, "RGBLIGHTING") == 0)
+            w->bspx[i].use = EW_BSPX_REPLACED;
     return 0;
 }
 
@@ -165,6 +173,25 @@ void ew_bspx_open(ew_bspx *x, const uint8_t *data, size_t size, const ew_lump_in
     }
     x->dir = dir;
     x->n = n;
+    /* The list `edgewise info` shows: every lump, known or not; the
+     * readers below mark the ones they use. */
+    free(w->bspx);
+    w->bspx = NULL, w->nbspx = 0;
+    if (n > 0 && (w->bspx = calloc((size_t)n, sizeof *w->bspx)) != NULL) {
+        for (int i = 0; i < n; i++) {
+            const uint8_t *e = dir + 32 * i;
+            memcpy(w->bspx[i].name, e, 24);  /* NUL within the 24 bytes: checked above */
+            w->bspx[i].offset = (uint32_t)ew_i32(e + 24), w->bspx[i].length = (uint32_t)ew_i32(e + 28);
+            w->bspx[i].use = EW_BSPX_UNUSED;
+        }
+        w->nbspx = n;
+    }
+}
+
+/* Records how the lump of that name was taken (every entry of the name). */
+static void bspx_mark(ew_world *w, const char *name, ew_bspx_use use) {
+    for (int i = 0; i < w->nbspx; i++)
+        if (strcmp(w->bspx[i].name, name) == 0) w->bspx[i].use = use;
 }
 
 const uint8_t *ew_bspx_find(const ew_bspx *x, const char *name, size_t *len) {
@@ -192,6 +219,7 @@ void ew_bspx_rgb(const ew_bspx *x, ew_world *w, const char *file) {
     size_t len;
     const uint8_t *p = ew_bspx_find(x, "RGBLIGHTING", &len);
     if (!p) return;
+    bspx_mark(w, "RGBLIGHTING", EW_BSPX_IGNORED);  /* until it is taken */
     if (w->lightsize == 0 && len > 0 && len % 3 == 0 && len / 3 <= (size_t)INT32_MAX) {
         /* the mono lump may be left out when this one is present */
         int n = (int)(len / 3);
@@ -205,6 +233,7 @@ void ew_bspx_rgb(const ew_bspx *x, ew_world *w, const char *file) {
         memcpy(rgb, p, len);
         free(w->lighting);
         w->lighting = mono, w->lightsize = n, w->rgblight = rgb;
+        bspx_mark(w, "RGBLIGHTING", EW_BSPX_USED);
         return;
     }
     if (len != 3 * (uint64_t)w->lightsize || len == 0) {
@@ -221,6 +250,7 @@ void ew_bspx_rgb(const ew_bspx *x, ew_world *w, const char *file) {
     memcpy(rgb, p, len);
     free(w->rgblight);
     w->rgblight = rgb;
+    bspx_mark(w, "RGBLIGHTING", EW_BSPX_USED);
 }
 
 /* ---- layouts ------------------------------------------------------------------ */
@@ -339,6 +369,9 @@ void ew_bspx_layout(const ew_bspx *x, ew_world *w, const char *file, const uint8
     const uint8_t *style = ew_bspx_find(x, "LMSTYLE", &len_style);
     const uint8_t *dec = ew_bspx_find(x, "DECOUPLED_LM", &len_dec);
     if (!shift && !ofs && !style && !dec) return;
+    /* left out unless the layout below is taken */
+    static const char *const layout_lumps[] = {"LMSHIFT", "LMOFFSET", "LMSTYLE", "DECOUPLED_LM"};
+    for (int k = 0; k < 4; k++) bspx_mark(w, layout_lumps[k], EW_BSPX_IGNORED);
 
     /* per-face counts first: a lump for another face count is dropped */
     if (dec && len_dec != 40 * (uint64_t)nf) {
@@ -378,31 +411,36 @@ void ew_bspx_layout(const ew_bspx *x, ew_world *w, const char *file, const uint8
             memset(styles[i], 255, 4);
             continue;
         }
+        /* styles after the first unused one are unused too */
+        int ns = 0;
+        while (ns < 4 && styles[i][ns] != 255) ns++;
+        for (int k = ns; k < 4; k++) styles[i][k] = 255;
+        const uint8_t *d = dec ? dec + 40 * (size_t)i : NULL;
+        if (d) lightofs = ew_i32(d + 4);
+        /* No light map: an offset of -1, no styles, or (DECOUPLED_LM, which
+         * ericw writes as all zeros: 0x0 samples, offset -1) no samples.
+         * Quake's grid with no samples, so the face is drawn dark as the
+         * same map without BSPX draws it, and nothing reads past the
+         * layout (its matrix is never used: not checked). */
+        if (lightofs == -1 || ns == 0 || (d && (ew_u16(d) == 0 || ew_u16(d + 2) == 0))) {
+            ew_facelm_quake(f, &lm[i]);
+            lm[i].lightofs = -1;
+            memset(styles[i], 255, 4);
+            continue;
+        }
         int rc;
-        if (dec) {
-            const uint8_t *d = dec + 40 * (size_t)i;
+        if (d) {
             float m[2][4];
             for (int k = 0; k < 8; k++) m[k / 4][k % 4] = ew_f32(d + 8 + 4 * k);
             lm[i].width = ew_u16(d), lm[i].height = ew_u16(d + 2);
-            lightofs = ew_i32(d + 4);
             rc = decoupled_layout(w, f, m, &lm[i], why, sizeof why);
-            if (rc == 0 && lightofs != -1 && styles[i][0] != 255 &&
-                (lm[i].width < 1 || lm[i].height < 1 || lm[i].width > MAX_LM_SIDE || lm[i].height > MAX_LM_SIDE)) {
+            if (rc == 0 && (lm[i].width > MAX_LM_SIDE || lm[i].height > MAX_LM_SIDE)) {
                 snprintf(why, sizeof why, "light map of %dx%d samples (1..%d a side)", lm[i].width, lm[i].height,
                          MAX_LM_SIDE);
                 rc = -1;
             }
         } else {
             rc = shift_layout(w, f, shift ? shift[i] : 4, &lm[i], why, sizeof why);
-        }
-        /* styles after the first unused one are unused too */
-        int ns = 0;
-        while (ns < 4 && styles[i][ns] != 255) ns++;
-        for (int k = ns; k < 4; k++) styles[i][k] = 255;
-        if (rc == 0 && (lightofs == -1 || ns == 0)) {
-            lm[i].lightofs = -1;
-            memset(styles[i], 255, 4);
-            continue;
         }
         if (rc == 0) {
             int64_t need = (int64_t)lm[i].width * lm[i].height * ns;
@@ -436,4 +474,10 @@ void ew_bspx_layout(const ew_bspx *x, ew_world *w, const char *file, const uint8
     free(styles);
     free(w->facelm);
     w->facelm = lm;
+    /* DECOUPLED_LM gives its own sizes and offsets: LMSHIFT and LMOFFSET
+     * beside it stay unused */
+    if (dec) bspx_mark(w, "DECOUPLED_LM", EW_BSPX_USED);
+    if (style) bspx_mark(w, "LMSTYLE", EW_BSPX_USED);
+    if (shift && !dec) bspx_mark(w, "LMSHIFT", EW_BSPX_USED);
+    if (ofs && !dec) bspx_mark(w, "LMOFFSET", EW_BSPX_USED);
 }

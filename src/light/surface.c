@@ -56,6 +56,13 @@ static lm_layout face_layout(const ew_world *w, const ew_face *f) {
     lm_layout L = {(f->extents[0] >> 4) + 1, (f->extents[1] >> 4) + 1, f->lightofs, 1, NULL};
     if (!w->facelm) return L;
     const ew_facelm *lm = &w->facelm[f - w->faces];
+    /* No light map (or no samples): Quake's grid, unlit, so the face is
+     * dark as in the same map without BSPX and every sample index is in
+     * the buffer gather fills. */
+    if (lm->lightofs < 0 || lm->width < 1 || lm->height < 1) {
+        L.lightofs = -1;
+        return L;
+    }
     /* A layout equal to Quake's (LMSHIFT 4) takes Quake's path, exactly. */
     const float std[2][3] = {{1.0f / 16, 0, -(float)f->texturemins[0] / 16},
                              {0, 1.0f / 16, -(float)f->texturemins[1] / 16}};
@@ -331,8 +338,9 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
                 float ss = (float)f->texturemins[0] + (float)x * step;
                 float u = L.st_to_lm[0][0] * ss + L.st_to_lm[0][1] * tt + L.st_to_lm[0][2];
                 float v = L.st_to_lm[1][0] * ss + L.st_to_lm[1][1] * tt + L.st_to_lm[1][2];
-                u = u < 0 ? 0 : u > (float)(L.smax - 1) ? (float)(L.smax - 1) : u;
-                v = v < 0 ? 0 : v > (float)(L.tmax - 1) ? (float)(L.tmax - 1) : v;
+                /* clamped into the samples (smax, tmax >= 1: face_layout); NaN to 0 */
+                u = u > 0 ? (u < (float)(L.smax - 1) ? u : (float)(L.smax - 1)) : 0;
+                v = v > 0 ? (v < (float)(L.tmax - 1) ? v : (float)(L.tmax - 1)) : 0;
                 int iu = (int)u, iv = (int)v;
                 int iu1 = iu + 1 < L.smax ? iu + 1 : iu, iv1 = iv + 1 < L.tmax ? iv + 1 : iv;
                 float fu = u - (float)iu, fv = v - (float)iv;
