@@ -142,6 +142,7 @@ typedef struct ew_ref_poly ew_ref_poly;
 typedef struct ew_ref {
     ew_ref_poly *polys; int npolys, cap;
     int         *ids;                            /* ew_render_reference's face ids, or NULL */
+    struct ew_ref_compose *compose;              /* its own compositing (hsr/ref_compose.c) */
 } ew_ref;
 
 struct ew_renderer {

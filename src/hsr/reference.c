@@ -19,6 +19,7 @@ struct ew_ref_poly {
 
 static void ref_begin(ew_renderer *r) {
     r->ref.npolys = 0;
+    ew_ref_compose_begin(r);  /* its per-pixel faces (hsr/ref_compose.c) */
     r->el.nedges = 0;
     r->el.nsurfs = 1;  /* no spans: the back end draws nothing of the world */
 }
@@ -68,7 +69,10 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, int key) {
 /* The band's rows: cleared to the background, then every polygon filled. */
 static void ref_resolve(ew_renderer *r, ew_band *b) {
     const ew_target *t = &r->target;
-    int *ids = r->ref.ids ? r->ref.ids : r->cfg.face_ids_on ? r->face_ids : NULL;
+    int *out = r->ref.ids ? r->ref.ids : r->cfg.face_ids_on ? r->face_ids : NULL;
+    /* The faces go to the compose's buffer (it finds the sky by them), and
+     * from there to the caller's. */
+    int *own = ew_ref_compose_faces(r), *ids = own ? own : out;
     b->nspans = 0;
     b->naet = 0;
     memset(b->has_spans, 0, (size_t)r->el.nsurfs);
@@ -84,12 +88,15 @@ static void ref_resolve(ew_renderer *r, ew_band *b) {
         const ew_ref_poly *rp = &r->ref.polys[i];
         ew_zpoly_fill(&r->draw, &rp->p, &rp->look, ids, rp->face, b->y0, b->y1);
     }
+    if (own) ew_ref_compose_ids_out(r, out, b->y0, b->y1);
 }
 
 static size_t ref_memory(const ew_renderer *r) { return sizeof(ew_ref_poly) * (size_t)r->ref.cap; }
 
-const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve, 1, {NULL}, 0, ref_memory,
-                                  NULL};
+/* Fences go to the see-through list (fences 0) and with the translucent
+ * surfaces and fog to its own compositing (own_compose 1). */
+const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve, 0, {NULL}, 0, ref_memory,
+                                  NULL, 1};
 
 /* Renders the frame with the reference method (the moving things drawn
  * over its z-buffer as over the edge list's), then copies it out. */
