@@ -11,7 +11,8 @@
  * 8x8 blocks; a block disagrees when its mean R, G or B differs by more than
  * 12 levels.  Per method: the mean and worst share of disagreeing blocks
  * over the views, and of exactly equal pixels.  Checked:
- *   1. every method's worst view stays under the block threshold;
+ *   1. every method's worst view stays under the block threshold (8-bit
+ *      frames: a looser one, see MAX_BAD_8BIT), its mean under 0.5%;
  *   2. a control: the edge method with its fog density 1.5 times the
  *      reference's fails it (the comparison sees a fog slightly wrong);
  *   3. the old reference (fences and fog through the shared passes, which
@@ -29,7 +30,16 @@
 #define N (W * H)
 #define BLOCK 8
 #define LEVELS 12.0
-#define MAX_BAD 2.0  /* % of blocks: every method's worst view must stay under it */
+/* % of blocks: every method's worst view must stay under it, and its mean
+ * over the views under MAX_MEAN.  8-bit frames get more: the shared passes
+ * fog a liquid's texel to the nearest palette colour, then blend that over
+ * the fogged floor through a second nearest-colour table, and under a dense
+ * fog the two roundings drift towards blue in the palette's sparse grey
+ * midtones (e4m1's water under fog 0.25: 6.2% of blocks, red -2.5 and
+ * blue +1.6 levels on the frame's mean; true colour: 0%). */
+#define MAX_BAD_TRUE 2.0
+#define MAX_BAD_8BIT 8.0
+#define MAX_MEAN 0.5
 
 static const char *const maps[] = {"e1m1", "e4m1", "start", "lqdm7"};
 enum { NMAPS = sizeof maps / sizeof *maps, VIEW_STEP = 5 };
@@ -73,7 +83,7 @@ static uint8_t ref_rgb[N * 3], px_rgb[N * 3];
 typedef struct loaded {
     ew_assets *a;
     ew_scene *scene;
-    ew_camera views[EW_MAX_VIEWS];
+    ew_camera views[EW_MAX_VIEWS + 1];  /* and a camera of our own */
     int nviews;
 } loaded;
 
@@ -113,6 +123,7 @@ static void add(tally *t, cmp c, const char *map, int view) {
 /* 1 and 2: every method against the reference, one pixel format. */
 static void methods(loaded *ls, ew_color_mode color) {
     const char *fmt = color == EW_COLOR_TRUE ? "true colour" : "8-bit";
+    const double max_bad = color == EW_COLOR_TRUE ? MAX_BAD_TRUE : MAX_BAD_8BIT;
     tally t[EW_HSR_COUNT], ctl;
     memset(t, 0, sizeof t), memset(&ctl, 0, sizeof ctl);
     for (int m = 0; m < NMAPS * NFOGS; m++) {
@@ -151,13 +162,15 @@ static void methods(loaded *ls, ew_color_mode color) {
                "exact pixels: mean %.1f%% worst %.1f%%\n",
                fmt, ew_hsr_name((ew_hsr_method)h), t[h].n, LEVELS, t[h].sum_bad / t[h].n, t[h].worst_bad,
                t[h].worst_at, t[h].sum_exact / t[h].n, t[h].worst_exact);
-        CHECK(t[h].worst_bad <= MAX_BAD, "%s %s: %.2f%% of blocks differ from the reference at %s", fmt,
+        CHECK(t[h].worst_bad <= max_bad, "%s %s: %.2f%% of blocks differ from the reference at %s", fmt,
               ew_hsr_name((ew_hsr_method)h), t[h].worst_bad, t[h].worst_at);
+        CHECK(t[h].sum_bad / t[h].n <= MAX_MEAN, "%s %s: %.2f%% of blocks differ from the reference on the mean",
+              fmt, ew_hsr_name((ew_hsr_method)h), t[h].sum_bad / t[h].n);
     }
     printf("%-11s control: edge with fog density x1.5: blocks off mean %.2f%% worst %.2f%% (%s)\n", fmt,
            ctl.sum_bad / ctl.n, ctl.worst_bad, ctl.worst_at);
     /* failed on the mean of the views, not only at the worst */
-    CHECK(ctl.sum_bad / ctl.n > MAX_BAD, "%s: a fog 1.5 times too dense passes the threshold (mean %.2f%%)", fmt,
+    CHECK(ctl.sum_bad / ctl.n > max_bad, "%s: a fog 1.5 times too dense passes the threshold (mean %.2f%%)", fmt,
           ctl.sum_bad / ctl.n);
 }
 
@@ -201,7 +214,7 @@ static void old_reference(loaded *ls) {
         if (k.bad > worst) worst = k.bad, snprintf(at, sizeof at, "%s view %d", maps[m], best);
         ew_renderer_destroy(r);
     }
-    CHECK(worst > MAX_BAD, "the old reference's sky fog passes against its own compositing (worst %.2f%% %s)",
+    CHECK(worst > MAX_BAD_8BIT, "the old reference's sky fog passes against its own compositing (worst %.2f%% %s)",
           worst, at);
 }
 
@@ -216,7 +229,7 @@ int main(void) {
         if (!(ls[m].a = ew_t_load_map_scene(maps[m], &ls[m].scene, ls[m].views, &ls[m].nviews))) return ew_t_finish();
         /* e4m1: a camera above its water, looking down through it (the
          * water covers most of the frame), as the last view */
-        if (!strcmp(maps[m], "e4m1") && ls[m].nviews < EW_MAX_VIEWS)
+        if (!strcmp(maps[m], "e4m1"))
             ls[m].views[ls[m].nviews++] = (ew_camera){{1162, 1898, -352}, {35, 0, 0}, 90, 0};
     }
     methods(ls, EW_COLOR_8BIT);
