@@ -13,14 +13,16 @@
  *     the reference path covers it (a crack in the edge list), else the
  *     map leaves that view open and the frame is listed under open_views;
  *   - nothing dropped unless a budget (surfaces, edges, spans) is full:
- *     drops with a full budget are reported separately, not as anomalies.
+ *     drops with a full budget are reported separately, not as anomalies;
+ *   - no more fogged pixels than the frame has (each pixel fogged once),
+ *     for every method.
  * The counters are the edge list's world spans: see-through surfaces
  * (fences, translucent liquids and brush entities) are drawn after them and
  * counted apart, so with them on a pixel seen only through one can be left
  * unwritten by the spans; the crack test then compares with the reference
  * path, which diverts the same surfaces.  With --hsr reference there are no
  * spans, and painter, zbuffer and raycast do not promise one write per
- * pixel: only the pixel count and the drops are checked ("checks" in the
+ * pixel: only the pixel count, the fog count and the drops are checked ("checks" in the
  * JSON line says which ran).
  * Prints one JSON line at the end: frames per second, anomalies (frame,
  * camera, what), budget drops, open views and peak memory (ru_maxrss).  Exit 1 if any
@@ -409,6 +411,11 @@ int cmd_soak(int argc, char **argv) {
         in_solid += solid;
         if (st.pixels != (long)o.width * o.height)
             add_finding(&anomalies, i, &cam, "pixels %ld, frame has %ld", st.pixels, (long)o.width * o.height);
+        /* Fog is laid once on each pixel, whatever the method: more fogged
+         * pixels than the frame has is a pixel fogged twice. */
+        if (st.fog_pixels > st.pixels)
+            add_finding(&anomalies, i, &cam, "fog_pixels %ld, frame has %ld (a pixel fogged twice)",
+                        (long)st.fog_pixels, st.pixels);
         if (spans_checked && st.pixels_written != st.pixels_covered)
             add_finding(&anomalies, i, &cam, "overdraw %.9g (%ld written, %ld covered)", st.overdraw,
                         st.pixels_written, st.pixels_covered);
@@ -445,7 +452,7 @@ int cmd_soak(int argc, char **argv) {
     fprintf(out, ",\"view_frames\":%ld,\"random_frames\":%ld,\"in_solid\":%ld,\"open_leaves\":%d",
             view_frames, random_frames, in_solid, nopen);
     draw_opts_json(out, &o.draw);
-    fprintf(out, ",\"checks\":\"%s\"", spans_checked ? "pixels,overdraw,coverage,drops" : "pixels,drops");
+    fprintf(out, ",\"checks\":\"%s\"", spans_checked ? "pixels,overdraw,coverage,drops,fog" : "pixels,drops,fog");
     fprintf(out, ",\"seethrough_frames\":%ld,\"underwater_frames\":%ld,\"fog_frames\":%ld",
             seethrough_frames, underwater_frames, fog_frames);
     fputs(",\"fence_pixels\":", out);

@@ -239,7 +239,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->marks.vert_frame), free(r->marks.vert_proj);
     free(r->el.edges), free(r->el.row_first), free(r->el.by_row), free(r->el.by_row_last);
     free(r->el.surfs), free(r->lit.blocklights);
-    free(r->ref.polys);
+    free(r->ref.polys), ew_ref_compose_free(r->ref.compose);
     ew_spolys_free(r->spolys);
     free(r->see.polys), free(r->see.order), free(r->warp_copy);
     ew_blend_free(&r->blend);

@@ -148,6 +148,7 @@ typedef struct ew_ref {
     ew_ref_poly *polys; int npolys, cap;
     int         *ids;                            /* ew_render_reference's face ids, or NULL */
     int         *poly_of;  size_t npoly_of;      /* two-pass lighting: each pixel's polygon */
+    struct ew_ref_compose *compose;              /* its own compositing (hsr/ref_compose.c) */
 } ew_ref;
 
 struct ew_renderer {

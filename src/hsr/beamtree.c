@@ -416,4 +416,4 @@ static size_t beam_memory(const ew_renderer *r) {
 const ew_hsr ew_hsr_beamtree = {
     "beamtree", beam_begin, ew_spolys_face, ew_spolys_poly, beam_resolve, 0,
     {"beam tree nodes", "fragments drawn", "polygons rejected", "polygons skipped by early out"},
-    1, beam_memory, NULL};
+    1, beam_memory, NULL, 0};

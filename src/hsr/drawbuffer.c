@@ -70,4 +70,4 @@ static size_t db_memory(const ew_renderer *r) { return ew_poly_rows_memory(r); }
 
 const ew_hsr ew_hsr_drawbuffer = {"drawbuffer", ew_edge_begin, ew_emit_face, ew_emit_poly, db_resolve, 0,
                                   {"bits tested", "bytes skipped", "bytes filled", "polygon spans"}, 1,
-                                  db_memory, NULL};
+                                  db_memory, NULL, 0};

@@ -327,4 +327,4 @@ void ew_edge_sort_rows(ew_renderer *r) {
 static void edge_resolve(ew_renderer *r, ew_band *b) { ew_scan_band(&r->el, r->target.width, b); }
 
 const ew_hsr ew_hsr_edge = {"edge", ew_edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0, {NULL}, 1, NULL,
-                            ew_edge_sort_rows};
+                            ew_edge_sort_rows, 0};

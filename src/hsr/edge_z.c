@@ -208,4 +208,4 @@ static size_t z_memory(const ew_renderer *r) {
 const ew_hsr ew_hsr_edge_z = {
     "edge-z", z_begin, z_face, ew_emit_poly, z_resolve, 0,
     {[C_COMPARES] = "1/z comparisons", [C_SPLITS] = "intersections split", [C_TIES] = "abutting ties"},
-    1, z_memory, ew_edge_sort_rows};
+    1, z_memory, ew_edge_sort_rows, 0};

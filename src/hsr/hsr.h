@@ -54,6 +54,11 @@ typedef struct ew_hsr {
     /* The front end is done, no band resolved yet (serial); NULL: nothing
      * to do.  The edge list's scans sort its edges by row here. */
     void (*finish)(ew_renderer *r);
+    /* 1: the method composites fences, translucent surfaces and fog over
+     * its opaque pixels itself (the reference: hsr/ref_compose.c), and the
+     * pass list runs its compose instead of the shared passes
+     * (scene/passes.c); 0: the shared fences, fog and translucent passes. */
+    int own_compose;
 } ew_hsr;
 
 extern const ew_hsr ew_hsr_edge;       /* hsr/edge_scan.c + world/edges.c */
@@ -66,6 +71,19 @@ extern const ew_hsr ew_hsr_painter;    /* hsr/painter.c */
 extern const ew_hsr ew_hsr_drawbuffer; /* hsr/drawbuffer.c */
 extern const ew_hsr ew_hsr_beamtree;   /* hsr/beamtree.c (+ surf_poly.c) */
 extern const ew_hsr ew_hsr_raycast;    /* hsr/raycast.c (+ surf_poly.c) */
+
+/* hsr/ref_compose.c: the reference's own compositing.  begin (serial, a
+ * frame's start) returns the per-pixel buffer of world faces the reference
+ * fills (NULL out of memory: no sky is found); ids_out copies rows [y0, y1) of it to the
+ * caller's face ids; prepare and draw are its pass. */
+typedef struct ew_ref_compose ew_ref_compose;
+struct ew_rows;
+int *ew_ref_compose_begin(ew_renderer *r);
+int *ew_ref_compose_faces(const ew_renderer *r);  /* that buffer, or NULL */
+void ew_ref_compose_ids_out(const ew_renderer *r, int *ids, int y0, int y1);
+int  ew_ref_compose_prepare(ew_renderer *r);
+void ew_ref_compose_draw(ew_renderer *r, const struct ew_rows *rows);
+void ew_ref_compose_free(ew_ref_compose *c);
 
 /* hsr/methods.c: the method for an ew_hsr_method, NULL if not built. */
 const ew_hsr *ew_hsr_get(int method);

@@ -31,4 +31,4 @@ static void painter_resolve(ew_renderer *r, ew_band *b) {
 static size_t painter_memory(const ew_renderer *r) { return ew_poly_rows_memory(r); }
 
 const ew_hsr ew_hsr_painter = {"painter", ew_edge_begin, ew_emit_face, ew_emit_poly, painter_resolve, 0,
-                               {"polygons drawn", "spans drawn", "pixels drawn"}, 0, painter_memory, NULL};
+                               {"polygons drawn", "spans drawn", "pixels drawn"}, 0, painter_memory, NULL, 0};

@@ -246,4 +246,4 @@ static size_t ray_memory(const ew_renderer *r) {
 const ew_hsr ew_hsr_raycast = {
     "raycast", ray_begin, ew_spolys_face, ew_spolys_poly, ray_resolve, 0,
     {"rays cast", "blocks filled", "pixels filled from corners", "rays into solid with no face"},
-    1, ray_memory, NULL};
+    1, ray_memory, NULL, 0};

@@ -21,6 +21,7 @@ struct ew_ref_poly {
 
 static void ref_begin(ew_renderer *r) {
     r->ref.npolys = 0;
+    ew_ref_compose_begin(r);  /* its per-pixel faces (hsr/ref_compose.c) */
     /* two-pass lighting: which polygon won each pixel */
     size_t npx = (size_t)r->target.width * (size_t)r->target.height;
     if (r->cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.npoly_of < npx) {
@@ -117,10 +118,14 @@ static void two_pass_resolve(ew_renderer *r, ew_band *b, int *ids) {
 /* The band's rows: cleared to the background, then every polygon filled. */
 static void ref_resolve(ew_renderer *r, ew_band *b) {
     const ew_target *t = &r->target;
-    int *ids = r->ref.ids ? r->ref.ids : r->cfg.face_ids_on ? r->face_ids : NULL;
+    int *out = r->ref.ids ? r->ref.ids : r->cfg.face_ids_on ? r->face_ids : NULL;
+    /* The faces go to the compose's buffer (it finds the sky by them), and
+     * from there to the caller's. */
+    int *own = ew_ref_compose_faces(r), *ids = own ? own : out;
     size_t npx = (size_t)t->width * (size_t)t->height;
     if (r->cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.poly_of && r->ref.npoly_of >= npx) {
         two_pass_resolve(r, b, ids);
+        if (own) ew_ref_compose_ids_out(r, out, b->y0, b->y1);
         return;
     }
     b->nspans = 0;
@@ -138,12 +143,15 @@ static void ref_resolve(ew_renderer *r, ew_band *b) {
         const ew_ref_poly *rp = &r->ref.polys[i];
         ew_zpoly_fill(&r->draw, &rp->p, &rp->look, ids, rp->face, b->y0, b->y1);
     }
+    if (own) ew_ref_compose_ids_out(r, out, b->y0, b->y1);
 }
 
 static size_t ref_memory(const ew_renderer *r) { return sizeof(ew_ref_poly) * (size_t)r->ref.cap; }
 
-const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve, 1, {NULL}, 0, ref_memory,
-                                  NULL};
+/* Fences go to the see-through list (fences 0) and with the translucent
+ * surfaces and fog to its own compositing (own_compose 1). */
+const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve, 0, {NULL}, 0, ref_memory,
+                                  NULL, 1};
 
 /* Renders the frame with the reference method (the moving things drawn
  * over its z-buffer as over the edge list's), then copies it out. */

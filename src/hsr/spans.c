@@ -80,4 +80,4 @@ static size_t spans_memory(const ew_renderer *r) { return ew_poly_rows_memory(r)
 
 const ew_hsr ew_hsr_spans = {"spans", ew_edge_begin, ew_emit_face, ew_emit_poly, spans_resolve, 0,
                              {"polygon spans", "spans clipped", "spans hidden", "span list entries"}, 1,
-                             spans_memory, NULL};
+                             spans_memory, NULL, 0};

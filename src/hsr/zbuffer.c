@@ -76,4 +76,4 @@ static void zb_resolve(ew_renderer *r, ew_band *b) {
 static size_t zb_memory(const ew_renderer *r) { return ew_poly_rows_memory(r); }
 
 const ew_hsr ew_hsr_zbuffer = {"zbuffer", ew_edge_begin, zb_face, ew_emit_poly, zb_resolve, 0,
-                               {"depth tests", "depth passes", "spans made"}, 0, zb_memory, NULL};
+                               {"depth tests", "depth passes", "spans made"}, 0, zb_memory, NULL, 0};

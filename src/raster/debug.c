@@ -184,8 +184,8 @@ static void draw_overdraw(ew_renderer *r, const ew_band *b, const ew_rows *rows)
         for (int k = 0; k < sp->count; k++) c[k] += c[k] < 255;
     }
     size_t off = (size_t)rows->y0 * t->pitch, bytes = (size_t)(rows->y1 - rows->y0) * t->pitch;
-    for (int p = 0; p < ew_pass_count(); p++) {
-        if (strcmp(ew_pass_name(p), "fog") == 0) continue;
+    for (int p = 0; p < ew_pass_count(r); p++) {
+        if (strcmp(ew_pass_name(r, p), "fog") == 0) continue;
         memcpy(r->dbg.snap + off, t->pixels + off, bytes);
         ew_pass_draw(r, rows, p);
         for (int y = rows->y0; y < rows->y1; y++) {

@@ -6,6 +6,8 @@
 #include "renderer.h"
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
 
 void ew_fog_levels(ew_fog *f) {
     int n = EW_FOG_QSTEPS;
@@ -76,6 +78,30 @@ static long fog_spans(const ew_renderer *r, const ew_fog *fog, const ew_span *sp
     return n;
 }
 
+/* A row whose spans may overlap (a band left unsorted: painter's order, a
+ * z-buffer's runs): each pixel is fogged once, as the surface of the last
+ * span over it (the one drawn on top), found by walking the spans from the
+ * last and skipping pixels already done.  Fogging every span's pixels would
+ * fog a pixel again for each polygon drawn over it. */
+static long fog_unsorted(const ew_renderer *r, const ew_fog *fog, const ew_span *spans, int nspans, uint8_t *done) {
+    long n = 0;
+    int v = spans[0].v;
+    for (int i = nspans - 1; i >= 0; i--) {
+        const ew_span *sp = &spans[i];
+        for (int x = sp->u, end = sp->u + sp->count; x < end;) {
+            while (x < end && done[x]) x++;
+            int x0 = x;
+            while (x < end && !done[x]) done[x++] = 1;
+            if (x > x0) {
+                ew_span one = {x0, v, x - x0, sp->surf};
+                n += fog_spans(r, fog, &one, 1);
+            }
+        }
+    }
+    for (int i = 0; i < nspans; i++) memset(done + spans[i].u, 0, (size_t)spans[i].count);
+    return n;
+}
+
 void ew_draw_fog(ew_renderer *r, const ew_rows *rows) {
     const ew_fog *fog = &r->draw.fog;
     if (!fog->table) return;
@@ -83,13 +109,24 @@ void ew_draw_fog(ew_renderer *r, const ew_rows *rows) {
     ew_zfill_rect(&r->zf, 0, rows->y0, t->width, rows->y1);  /* every pixel's depth */
     long n = 0;
     const ew_zfill *zf = &r->zf;
+    uint8_t *done = NULL;  /* unsorted rows: pixels fogged, allocated on the first */
     for (int y = rows->y0; y < rows->y1; y++) {
         if (zf->row_nspans[y] == 0) {  /* no spans (the reference method): depth everywhere */
             n += fog_run(fog, t->bpp, ew_target_z(t, 0, y), ew_target_at(t, 0, y), 0, t->width);
             continue;
         }
-        const ew_span *spans = zf->bands[zf->row_band[y]].spans + zf->row_span0[y];
-        n += fog_spans(r, fog, spans, zf->row_nspans[y]);
+        const ew_band *b = &zf->bands[zf->row_band[y]];
+        const ew_span *spans = b->spans + zf->row_span0[y];
+        if (b->unsorted) {
+            if (!done && !(done = calloc((size_t)t->width, 1))) {
+                rows->stats->dropped++;
+                break;
+            }
+            n += fog_unsorted(r, fog, spans, zf->row_nspans[y], done);
+        } else {
+            n += fog_spans(r, fog, spans, zf->row_nspans[y]);
+        }
     }
+    free(done);
     rows->stats->fog_pixels += n;
 }

@@ -13,14 +13,35 @@ static const ew_pass passes[] = {
     /* translucent surfaces, far to near, each fogged at its own depth */
     {"translucent", NULL, NULL, ew_draw_translucent},
 };
+/* A method that composites for itself (ew_hsr.own_compose: the reference)
+ * runs the models, then its own fences, translucent surfaces and fog,
+ * per pixel (hsr/ref_compose.c), and none of the shared passes above: it
+ * is what they are checked against. */
+static const ew_pass own_passes[] = {
+    {"models", ew_prepare_entities, ew_models_work, ew_draw_models},
+    {"compose", ew_ref_compose_prepare, NULL, ew_ref_compose_draw},
+};
 /* After the bands: the underwater warp and tint (raster/warp.c, ew_render). */
-enum { NPASSES = sizeof passes / sizeof *passes };
+enum { NPASSES = sizeof passes / sizeof *passes, NOWN = sizeof own_passes / sizeof *own_passes };
 _Static_assert(NPASSES <= sizeof ((ew_sched *)0)->pass_items / sizeof(int), "room for every pass's work");
+_Static_assert(NOWN <= NPASSES, "room for every pass's work");
+
+/* The frame's list: its method's choice. */
+static const ew_pass *pass_list(const ew_renderer *r, int *n) {
+    if (r->cfg.hsr && r->cfg.hsr->own_compose) {
+        *n = NOWN;
+        return own_passes;
+    }
+    *n = NPASSES;
+    return passes;
+}
 
 void ew_passes_prepare(ew_renderer *r) {
     ew_sched *s = &r->sched;
+    int np;
+    const ew_pass *passes = pass_list(r, &np);
     s->npass_items = 0;
-    for (int i = 0; i < NPASSES; i++) {
+    for (int i = 0; i < np; i++) {
         int n = passes[i].prepare ? passes[i].prepare(r) : 0;
         s->pass_items[i] = passes[i].work && n > 0 ? n : 0;
         s->npass_items += s->pass_items[i];
@@ -30,6 +51,9 @@ void ew_passes_prepare(ew_renderer *r) {
 
 void ew_passes_work(ew_renderer *r) {
     ew_sched *s = &r->sched;
+    int np;
+    const ew_pass *passes = pass_list(r, &np);
+    (void)np;
     for (int k; (k = atomic_fetch_add(&s->next_item, 1)) < s->npass_items;) {
         int i = 0;
         while (k >= s->pass_items[i]) k -= s->pass_items[i++];
@@ -37,10 +61,22 @@ void ew_passes_work(ew_renderer *r) {
     }
 }
 
-int ew_pass_count(void) { return NPASSES; }
-const char *ew_pass_name(int i) { return passes[i].name; }
-void ew_pass_draw(ew_renderer *r, const ew_rows *rows, int i) { passes[i].draw(r, rows); }
+int ew_pass_count(const ew_renderer *r) {
+    int np;
+    pass_list(r, &np);
+    return np;
+}
+const char *ew_pass_name(const ew_renderer *r, int i) {
+    int np;
+    return pass_list(r, &np)[i].name;
+}
+void ew_pass_draw(ew_renderer *r, const ew_rows *rows, int i) {
+    int np;
+    pass_list(r, &np)[i].draw(r, rows);
+}
 
 void ew_passes_draw(ew_renderer *r, const ew_rows *rows) {
-    for (int i = 0; i < NPASSES; i++) passes[i].draw(r, rows);
+    int np;
+    const ew_pass *passes = pass_list(r, &np);
+    for (int i = 0; i < np; i++) passes[i].draw(r, rows);
 }

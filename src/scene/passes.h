@@ -1,8 +1,9 @@
 /* What is drawn over the opaque world, in order (internal, scene/passes.c).
  * The world's spans come first and own every pixel once; each pass then
  * draws, band by band, only in its band's rows, z-tested against what is
- * there.  Today: the moving things.  Later passes (fences and translucent
- * surfaces, then fog) go into the one list in scene/passes.c. */
+ * there.  The list is in scene/passes.c: models, fences, fog, translucent
+ * surfaces; or, for a method with its own compositing (the reference),
+ * models then its compose. */
 #ifndef EW_SCENE_PASSES_H
 #define EW_SCENE_PASSES_H
 
@@ -26,8 +27,8 @@ void ew_passes_prepare(ew_renderer *r);
 void ew_passes_work(ew_renderer *r);
 void ew_passes_draw(ew_renderer *r, const ew_rows *rows);
 /* The passes one at a time (the overdraw debug mode counts each). */
-int         ew_pass_count(void);
-const char *ew_pass_name(int i);
+int         ew_pass_count(const ew_renderer *r);
+const char *ew_pass_name(const ew_renderer *r, int i);
 void        ew_pass_draw(ew_renderer *r, const ew_rows *rows, int i);
 
 /* raster/models.c: alias models, sprites, item boxes, then particles,
