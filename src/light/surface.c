@@ -128,9 +128,11 @@ typedef struct emitter {
     int dither;
 } emitter;
 
-/* Coloured light tinted less than 1/NEAR_GREY of its level keeps the
- * colormap's ramps (8-bit frames). */
-#define NEAR_GREY 8
+/* Coloured light tinted less than 1/NEAR_GREY of its level (the channels'
+ * spread over their mean) keeps the colormap's ramps in 8-bit frames: a
+ * mild tint moved to the palette's few pinks and greens shows as blotches
+ * on grey walls, not as the soft glow true colour draws. */
+#define NEAR_GREY 4
 /* Colours mixed by the ordered dither (over the 16 places of its pattern). */
 #define DITHER_N 2
 
