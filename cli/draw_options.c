@@ -56,7 +56,7 @@ static const struct draw_def {
     [D_COLOR] = { "--color", "MODE", "pixel format of the frame",
                   "8bit (palette indices, the software look; the default) or true (32-bit, light in RGB)" },
     [D_NOLIT] = { "--no-lit", NULL, "ignore coloured light (.lit file, BSPX RGBLIGHTING): white light", NULL },
-    [D_DITHER] = { "--dither", NULL, "8-bit frames with coloured light: ordered dither before the nearest colour",
+    [D_DITHER] = { "--dither", NULL, "8-bit frames with coloured light: an ordered dither of two palette colours mixed to the tint",
                    NULL },
     [D_LIGHTING] = { "--lighting", "MODE", "how lit faces get their light",
                      "cache (light-mapped surfaces built once and kept, the default) or two-pass "

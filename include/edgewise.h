@@ -512,9 +512,11 @@ EW_API void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float thre
 /* Coloured light: a map's .lit file or BSPX RGBLIGHTING lump is used when
  * there is one (on, the default); off lights with the monochrome lump. */
 EW_API void ew_set_lit(ew_renderer *r, int on);
-/* 8-bit frames with coloured light: each lit texel is the nearest palette
- * colour of its RGB; on adds a 4x4 ordered dither before the choice
- * (default off). */
+/* 8-bit frames with coloured light: each texel under a tinted light is the
+ * palette colour nearest its RGB (chroma counted twice, so the tint shows);
+ * on mixes two palette colours whose mean comes near the RGB in a 4x4
+ * ordered pattern instead (default off).  Light tinted under a quarter of
+ * its level keeps the colormap's ramps either way. */
 EW_API void ew_set_dither(ew_renderer *r, int on);
 
 /* How lit faces get their light (docs/lighting.md):

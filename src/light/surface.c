@@ -152,11 +152,20 @@ typedef struct emitter {
     int fence;                 /* true colour: index 255 is a hole (alpha 0) */
     const uint8_t *cmap;
     const ew_lightcurve *lc;
-    const ew_blend *cube;      /* OUT_NEAREST: the nearest-colour cube */
+    const ew_blend *cube;      /* OUT_NEAREST: the cubes' steps */
+    const uint8_t *hue;        /* OUT_NEAREST: the cube of nearest colours for coloured light */
     int dither;
 } emitter;
 
-/* 4x4 ordered dither offsets, in 1/16 of a cube step (8 levels of 256). */
+/* Coloured light tinted less than 1/NEAR_GREY of its level (the channels'
+ * spread over their mean) keeps the colormap's ramps in 8-bit frames: a
+ * mild tint moved to the palette's few pinks and greens shows as blotches
+ * on grey walls, not as the soft glow true colour draws. */
+#define NEAR_GREY 4
+/* Colours mixed by the ordered dither (over the 16 places of its pattern). */
+#define DITHER_N 2
+
+/* 4x4 ordered dither offsets, in 1/16. */
 static const int8_t bayer[4][4] = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}};
 
 /* Texel x of a row: palette index c, light rows l[0..nc-1]. */
@@ -177,28 +186,55 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
         out8[x] = c;
         return;
     }
-    /* Two candidates: the colormap's own colour at the channels' mean light
-     * (the texel's ramp, the 8-bit look) and the nearest palette colour of
-     * the RGB.  The ramp's wins unless it is more than twice as far (squared), so a
-     * light that is nearly white stays on the ramps and only a real tint
-     * moves a texel to another colour. */
+    /* The texel's ramp (the colormap's own colour at the channels' mean
+     * light, the 8-bit look) for light that is nearly white; for a tint,
+     * the palette colour nearest the RGB by a distance that counts chroma
+     * twice (EW_HUE_DIST: a colour of the light's hue over a grey one a
+     * little nearer in brightness, so the blue cube reads blue, not
+     * grey-blue), or the ramp's where it is as near. */
     const uint8_t *pal = lc->palette;
-    uint8_t ramp = e->cmap[(((l[0] + l[1] + l[2]) / 3) & 0xFF00) + c];
-    /* The dither spreads half a cube step either way, in proportion to the
-     * value (the cube's steps grow with it). */
-    int d = e->dither ? bayer[dy & 3][dx & 3] - 8 : 0;  /* -8..7 of 16 */
-    int q[3];
-    for (int k = 0; k < 3; k++) {
-        int v = rgb[k] + d * (rgb[k] / 16 + 1) / 16;
-        q[k] = v < 0 ? 0 : v > 255 ? 255 : v;
+    int mean = (l[0] + l[1] + l[2]) / 3;
+    uint8_t ramp = e->cmap[(mean & 0xFF00) + c];
+    /* Light tinted less than 1/NEAR_GREY of its level: the ramp, as white
+     * light would draw it (rows are 64 a light level, level 0 at row 255). */
+    int lo = l[0] < l[1] ? l[0] : l[1], hi = l[0] < l[1] ? l[1] : l[0];
+    lo = lo < l[2] ? lo : l[2], hi = hi > l[2] ? hi : l[2];
+    if ((hi - lo) * NEAR_GREY <= 255 * 64 - mean) {
+        out8[x] = ramp;
+        return;
     }
-    uint8_t near = e->cube->nearest[ew_blend_at(e->cube, q[0], q[1], q[2])];
-    int da = 0, dn = 0;
+    const ew_blend *cb = e->cube;
+    if (e->dither) {
+        /* Pattern dither: DITHER_N palette colours whose mean comes near
+         * the RGB (each the nearest colour of the RGB plus the error the
+         * ones before it left), taken in order of lightness by the texel's
+         * place in the 4x4 pattern: a mix reaches colours between the
+         * palette's (more of the tint, the lightness kept) and a gradient
+         * that falls between two colours shows no contour rings. */
+        int err[3] = {0, 0, 0}, cand[DITHER_N], lum[DITHER_N];
+        for (int i = 0; i < DITHER_N; i++) {
+            int q[3];
+            for (int k = 0; k < 3; k++) {
+                int v = rgb[k] + err[k];
+                q[k] = v < 0 ? 0 : v > 255 ? 255 : v;
+            }
+            int p = cb->nearest[ew_blend_at(cb, q[0], q[1], q[2])];
+            for (int k = 0; k < 3; k++) err[k] += rgb[k] - pal[p * 3 + k];
+            /* insertion by lightness (ties keep their order) */
+            int lp = pal[p * 3] * 2 + pal[p * 3 + 1] * 3 + pal[p * 3 + 2], j = i;
+            for (; j > 0 && lum[j - 1] > lp; j--) cand[j] = cand[j - 1], lum[j] = lum[j - 1];
+            cand[j] = p, lum[j] = lp;
+        }
+        out8[x] = (uint8_t)cand[bayer[dy & 3][dx & 3] * DITHER_N / 16];
+        return;
+    }
+    uint8_t near = e->hue[ew_blend_at(cb, rgb[0], rgb[1], rgb[2])];
+    int da = 0, dn = 0, sa = 0, sn = 0;
     for (int k = 0; k < 3; k++) {
         int a = pal[ramp * 3 + k] - rgb[k], n = pal[near * 3 + k] - rgb[k];
-        da += a * a, dn += n * n;
+        da += a * a, dn += n * n, sa += a, sn += n;
     }
-    out8[x] = da <= dn * 2 ? ramp : near;
+    out8[x] = EW_HUE_DIST(da, sa) <= EW_HUE_DIST(dn, sn) ? ramp : near;
 }
 
 #if defined(__SSE2__)
@@ -314,9 +350,11 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
         nc = 1;
     }
     emitter e = {truecolor ? OUT_RGBA : nc == 3 ? OUT_NEAREST : OUT_CMAP, nc,
-                 (tex->flags & EW_SURF_FENCE) && !r->cfg.classic, r->colormap, &r->lit.curve, NULL, r->cfg.dither};
+                 (tex->flags & EW_SURF_FENCE) && !r->cfg.classic, r->colormap, &r->lit.curve, NULL, NULL,
+                 r->cfg.dither};
     if (e.mode == OUT_NEAREST && !r->lit.nearest) e.mode = OUT_CMAP;  /* no table: white */
     e.cube = &r->blend;
+    e.hue = r->blend.hue ? r->blend.hue : r->lit.nearest;  /* no memory for the hue cube: plain nearest */
 
     int tw = tex->width >> mip, th = tex->height >> mip;
     const uint8_t *tp = tex->mip[mip];

@@ -1,6 +1,7 @@
 /* Blend, fog and tint tables for 8-bit frames (raster/blend.h). */
 #include "raster/blend.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,44 +28,59 @@ int ew_blend_init(ew_blend *b, const uint8_t palette[768]) {
 
 void ew_blend_free(ew_blend *b) {
     free(b->nearest);
+    free(b->hue);
     for (int i = 0; i <= EW_BLEND_LEVELS; i++) free(b->alpha[i]);
     free(b->fog);
     memset(b, 0, sizeof *b);
 }
 
-/* The RGB cube (5 bits a channel), filled from the exact search at each
- * cell's centre: blends then cost three shifts and one lookup to map back. */
-static int build_cube(ew_blend *b) {
-    if (b->nearest) return 0;
-    uint8_t *c = malloc(64 * 64 * 64);
-    if (!c) return -1;
+/* The RGB cubes (64 steps a channel), filled from the exact search at each
+ * cell's centre: blends then cost three shifts and one lookup to map back.
+ * with_hue also fills the cube for coloured light (EW_HUE_DIST); without
+ * memory for it, that one stays NULL and the plain cube serves. */
+static int build_cube(ew_blend *b, int with_hue) {
+    int need_c = !b->nearest, need_h = with_hue && !b->hue;
+    if (!need_c && !need_h) return 0;
+    uint8_t *c = need_c ? malloc(64 * 64 * 64) : NULL, *h = need_h ? malloc(64 * 64 * 64) : NULL;
+    if (need_c && !c) {
+        free(h);
+        return -1;
+    }
+    if (!c && !h) return 0;
     int centre[64];
     for (int k = 0; k < 64; k++) centre[k] = (int)lrint(255.0 * (k / 63.0) * (k / 63.0));
     for (int v = 0; v < 256; v++) b->q[v] = (uint8_t)lrint(63.0 * sqrt(v / 255.0));
-    /* 262144 searches: the red and green terms of each colour's distance
-     * are summed once per (r, g) and the blue loop only adds its own. */
+    /* 262144 searches a cube: the red and green terms of each colour's
+     * distance are summed once per (r, g) and the blue loop only adds its own. */
     const uint8_t *p = b->palette;
-    int drg[CHOICES];
+    int drg[CHOICES], srg[CHOICES];
     for (int r = 0; r < 64; r++)
         for (int g = 0; g < 64; g++) {
             for (int i = 0; i < CHOICES; i++) {
                 int dr = p[i * 3] - centre[r], dg = p[i * 3 + 1] - centre[g];
-                drg[i] = dr * dr + dg * dg;
+                drg[i] = dr * dr + dg * dg, srg[i] = dr + dg;
             }
             for (int bl = 0; bl < 64; bl++) {
-                int best = 0, bestd = 1 << 30;
+                int best = 0, bestd = INT_MAX, besth = 0, bestdh = INT_MAX;
                 for (int i = 0; i < CHOICES; i++) {
                     int db = p[i * 3 + 2] - centre[bl], d = drg[i] + db * db;
-                    if (d < bestd) bestd = d, best = i;
+                    if (c && d < bestd) bestd = d, best = i;
+                    if (h) {
+                        int s = srg[i] + db, dh = EW_HUE_DIST(d, s);
+                        if (dh < bestdh) bestdh = dh, besth = i;
+                    }
                 }
-                c[(r << 12) | (g << 6) | bl] = (uint8_t)best;
+                int at = (r << 12) | (g << 6) | bl;
+                if (c) c[at] = (uint8_t)best;
+                if (h) h[at] = (uint8_t)besth;
             }
         }
-    b->nearest = c;
+    if (c) b->nearest = c;
+    if (h) b->hue = h;
     return 0;
 }
 
-const uint8_t *ew_blend_cube(ew_blend *b) { return build_cube(b) < 0 ? NULL : b->nearest; }
+const uint8_t *ew_blend_cube(ew_blend *b) { return build_cube(b, 1) < 0 ? NULL : b->nearest; }
 
 uint8_t ew_blend_nearest(const ew_blend *b, int r, int g, int bl) {
     return (uint8_t)nearest_exact(b->palette, r, g, bl);
@@ -79,7 +95,7 @@ const uint8_t *ew_blend_alpha(ew_blend *b, int level) {
     if (level < 1) level = 1;
     if (level > EW_BLEND_LEVELS) level = EW_BLEND_LEVELS;
     if (b->alpha[level]) return b->alpha[level];
-    if (build_cube(b) < 0) return NULL;
+    if (build_cube(b, 0) < 0) return NULL;
     uint8_t *t = malloc(256 * 256);
     if (!t) return NULL;
     const uint8_t *p = b->palette;

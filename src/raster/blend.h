@@ -16,6 +16,7 @@
 typedef struct ew_blend {
     const uint8_t *palette;                  /* the palette the tables are for */
     uint8_t  *nearest;                       /* 64x64x64 RGB cube -> palette index */
+    uint8_t  *hue;                           /* the same cube, nearest by ew_blend_hue_dist */
     uint8_t   q[256];                        /* channel value -> cube step: finer in the darks */
     uint8_t  *alpha[EW_BLEND_LEVELS + 1];    /* [level][src * 256 + dst], built on first use */
     uint8_t  *fog;                           /* [level * 256 + colour] for fog_rgb */
@@ -27,14 +28,27 @@ typedef struct ew_blend {
 /* Starts empty (tables are built on first use); 0, or -1 out of memory. */
 int  ew_blend_init(ew_blend *b, const uint8_t palette[768]);
 void ew_blend_free(ew_blend *b);
-/* The 64x64x64 cube of nearest colours: built on first use (serial); NULL
- * out of memory.  Its steps follow the square root of the value (fine in
- * the darks, where the palette is sparse and a coarse step shows as colour
- * specks): the colour (r, g, b) is at ew_blend_at(b, r, g, b). */
+/* The 64x64x64 cube of nearest colours, and beside it (b->hue) the cube of
+ * the colours nearest by EW_HUE_DIST, for coloured light: built on first
+ * use (serial); NULL out of memory (b->hue may be NULL alone).  Their steps
+ * follow the square root of the value (fine in the darks, where the palette
+ * is sparse and a coarse step shows as colour specks): the colour (r, g, b)
+ * is at ew_blend_at(b, r, g, b). */
 const uint8_t *ew_blend_cube(ew_blend *b);
 static inline int ew_blend_at(const ew_blend *b, int r, int g, int bl) {
     return (b->q[r] << 12) | (b->q[g] << 6) | b->q[bl];
 }
+/* The distance of coloured light's texels: the squared RGB difference with
+ * its chroma part (the difference less its grey part) counted
+ * EW_HUE_WEIGHT times, its grey part once.  A tinted light then picks a
+ * palette colour of its hue and chroma over a grey one a little nearer in
+ * brightness.  (More weight buys more chroma from this palette, whose dark
+ * blues and greens are greyish, at the price of lightness and of texture
+ * detail: neighbouring texels fall on one colour.)  Arguments: the squared
+ * RGB distance and the sum of the three differences; the result is three
+ * times the weighted distance, in integers. */
+#define EW_HUE_WEIGHT 2
+#define EW_HUE_DIST(d2, sum) (3 * EW_HUE_WEIGHT * (d2) - (EW_HUE_WEIGHT - 1) * (sum) * (sum))
 /* The nearest non-fullbright palette colour to (r, g, b), 0..255 each. */
 uint8_t ew_blend_nearest(const ew_blend *b, int r, int g, int bl);
 /* The alpha level of an opacity in (0, 1]: 1..EW_BLEND_LEVELS. */
