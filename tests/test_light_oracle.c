@@ -25,8 +25,8 @@
  * texture inside a texel (fixed point from the right-hand sample against
  * floating point per pixel), which moves a texel edge or a light level by
  * one now and then, never a block's mean by 12. */
-#define VIEW_LIMIT 0.04
-#define MEAN_LIMIT 0.01
+#define VIEW_LIMIT 0.03
+#define MEAN_LIMIT 0.005
 
 #if defined(__SANITIZE_ADDRESS__)
 #define VIEW_STEP 4  /* every fourth view under the sanitizers: the same checks, a quarter of the time */

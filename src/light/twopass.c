@@ -168,18 +168,25 @@ uint32_t ew_tp_shade(const ew_twopass *tp, const ew_tp_face *pf, uint8_t c, cons
     int grey = row[0] == row[1] && row[1] == row[2];
     if (tp->bpp == 1) {
         if (grey || fullbright(tp, c)) return tp->colormap[(row[0] >> 8) * 256 + c];
-        /* Tinted light in 8 bits: the nearest palette colour (not a
-         * fullbright, not the key colour) of the lit RGB. */
+        /* Tinted light in 8 bits (the rule docs/lighting.md states):
+         * light whose channels spread less than a quarter of its level
+         * keeps the colormap's ramp at the mean row; a real tint takes
+         * the palette colour (not a fullbright, not the key colour)
+         * nearest the lit RGB by a distance that weighs the difference's
+         * chroma (what is left once its grey part, the channels' mean, is
+         * taken away) twice and its grey part once. */
+        int mean = (row[0] + row[1] + row[2]) / 3;
+        int lo = row[0], hi = row[0];
+        for (int ch = 1; ch < 3; ch++) lo = row[ch] < lo ? row[ch] : lo, hi = row[ch] > hi ? row[ch] : hi;
+        if ((hi - lo) * 4 <= 255 * 64 - mean) return tp->colormap[(mean >> 8) * 256 + c];
         double rgb[3];
-        for (int ch = 0; ch < 3; ch++) rgb[ch] = row_rgb(tp, c, row[ch], ch);
+        for (int ch = 0; ch < 3; ch++) rgb[ch] = (int)row_rgb(tp, c, row[ch], ch);
         int best = 0;
         double bd = 1e30;
         for (int i = 0; i < 224; i++) {
-            double d = 0;
-            for (int ch = 0; ch < 3; ch++) {
-                double e = tp->palette[i * 3 + ch] - rgb[ch];
-                d += e * e;
-            }
+            double e[3], g = 0, d = 0;
+            for (int ch = 0; ch < 3; ch++) e[ch] = tp->palette[i * 3 + ch] - rgb[ch], g += e[ch] / 3;
+            for (int ch = 0; ch < 3; ch++) d += 2 * (e[ch] - g) * (e[ch] - g) + g * g;
             if (d < bd) bd = d, best = i;
         }
         return (uint32_t)best;
