@@ -3,7 +3,9 @@
  *
  *     ./build/lighting_lab [DATA_DIR [STEP]]   (default ../shared/data/librequake, every view)
  *
- * and read; nothing here fails on a time.  One thread, world only, no fog.
+ * and read; nothing here fails on a time.  One thread, world only, no fog,
+ * white light (the book's case; two-pass lighting's tinted 8-bit texels
+ * search the whole palette per pixel, the oracle's way, and are timed apart).
  * For e1m1, e4m1, lqdm7 and start at 320x200, 1920x1080 and 3840x2160, in
  * 8-bit and true colour, over every STEP-th view:
  *   - cache, warm: each view's frame after the same view was drawn (the
@@ -16,8 +18,8 @@
  *     keeps nothing);
  *   - the draw stage alone (ms_draw: the world's pixel work) of two-pass
  *     against the warm cache: the book's "twice the pixel work";
- *   - memory: the cache's bytes after the pass over the views, and the
- *     largest a single view needs, against two-pass's none. */
+ *   - memory: the cache's bytes after a pass over the views (the surfaces
+ *     the view set needs), against two-pass's none. */
 #define _POSIX_C_SOURCE 200809L
 #include "edgewise_tools.h"
 
@@ -62,9 +64,9 @@ int main(int argc, char **argv) {
     if (step < 1) step = 1;
     static const char *maps[] = {"e1m1", "e4m1", "lqdm7", "start"};
     static const int sizes[][2] = {{320, 200}, {1920, 1080}, {3840, 2160}};
-    printf("%-6s %-9s %-5s %5s | %8s %8s | %8s %8s %6s %9s | %8s %8s | %6s %7s | %8s %8s\n", "map", "size", "color",
+    printf("%-6s %-9s %-5s %5s | %8s %8s | %8s %8s %6s %9s | %8s %8s | %6s %7s | %8s\n", "map", "size", "color",
            "views", "warm med", "worst", "cold med", "worst", "built", "builds/s", "2pass med", "worst", "level",
-           "draw x", "cache MB", "view MB");
+           "draw x", "cache MB");
     for (int mi = 0; mi < 4; mi++) {
         char path[1024];
         snprintf(path, sizeof path, "%s/maps/%s.bsp", data, maps[mi]);
@@ -88,8 +90,9 @@ int main(int argc, char **argv) {
                     return 1;
                 }
                 ew_set_fog(r, 0, 0, 0, 0);
+                ew_set_lit(r, 0);  /* white light, as the book's: coloured 8-bit two-pass searches the palette */
                 double warm[EW_MAX_VIEWS], cold[EW_MAX_VIEWS], two[EW_MAX_VIEWS], dw[EW_MAX_VIEWS], d2[EW_MAX_VIEWS];
-                double built = 0, build_ms = 0, view_mb = 0;
+                double built = 0, build_ms = 0;
                 int n = 0;
                 long cache_bytes = 0;
                 for (int v = 0; v < nv; v += step, n++) {
@@ -100,11 +103,6 @@ int main(int argc, char **argv) {
                     dw[n] = sw.ms_draw;
                     built += sc.surfaces_built;
                     if (cold[n] > warm[n]) build_ms += cold[n] - warm[n];
-                    /* this view alone: its surfaces after a flush and one frame */
-                    ew_flush_surfaces(r);
-                    ew_render(r, &views[v], &sc);
-                    double mb = sc.surface_cache_bytes / 1048576.0;
-                    if (mb > view_mb) view_mb = mb;
                     ew_set_lighting(r, EW_LIGHTING_TWO_PASS);
                     two[n] = frame(r, &views[v], 0, &s2);
                     d2[n] = s2.ms_draw;
@@ -122,10 +120,10 @@ int main(int argc, char **argv) {
                 char size[16];
                 snprintf(size, sizeof size, "%dx%d", sizes[si][0], sizes[si][1]);
                 printf("%-6s %-9s %-5s %5d | %8.2f %8.2f | %8.2f %8.2f %6.0f %9.0f | %8.2f %8.2f | %6.2f %7.2f | "
-                       "%8.2f %8.2f\n",
+                       "%8.2f\n",
                        maps[mi], size, c ? "true" : "8bit", n, wmed, wworst, cmed, cworst, built / n,
                        build_ms > 0 ? built / (build_ms / 1000) : 0, tmed, tworst, tworst / tmed,
-                       dmed > 0 ? d2med / dmed : 0, cache_bytes / 1048576.0, view_mb);
+                       dmed > 0 ? d2med / dmed : 0, cache_bytes / 1048576.0);
                 fflush(stdout);
                 ew_renderer_destroy(r);
             }

@@ -426,8 +426,8 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
         (ew_use_rgb_light(r, r->world) || coloured_dlights(r->ents.scene)))
         r->lit.nearest = ew_blend_cube(&r->blend);
     /* Two-pass lighting's inputs, and its per-surface room (made on first use). */
-    r->lit.tp = (ew_twopass){w, r->palette, r->colormap, r->cfg.lightstyle, ew_use_rgb_light(r, w),
-                             r->target.bpp, r->cfg.classic};
+    ew_tp_begin(&r->lit.tp, w, r->palette, r->colormap, r->cfg.lightstyle, ew_use_rgb_light(r, w), r->target.bpp,
+                r->cfg.classic);
     r->draw.tp = &r->lit.tp;
     if (two_pass(r) && !r->lit.tp_faces) r->lit.tp_faces = malloc(sizeof *r->lit.tp_faces * (size_t)r->el.max_surfs);
     r->draw.tp_faces = r->lit.tp_faces;

@@ -82,28 +82,14 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, int key) {
     ref_poly(r, in, f->numedges, fi, &r->view, key);
 }
 
-/* Two-pass lighting: every polygon filled (z, sky, liquids; lit faces get
- * nothing yet) with its own number per pixel, then the lit faces' pixels
- * drawn in the two passes, run by run along each row. */
-static void two_pass_resolve(ew_renderer *r, ew_band *b, int *ids) {
+/* Two-pass lighting, once every polygon is filled (z, sky, liquids; lit
+ * faces get nothing yet) with its own number per pixel: the lit faces'
+ * pixels drawn in the two passes, run by run along each row, and the
+ * numbers turned into faces for ids. */
+static void two_pass_rows(ew_renderer *r, const ew_band *b, int *ids) {
     const ew_target *t = &r->target;
-    int *poly = r->ref.poly_of;
-    b->nspans = 0;
-    b->naet = 0;
-    memset(b->has_spans, 0, (size_t)r->el.nsurfs);
     for (int y = b->y0; y < b->y1; y++) {
-        uint8_t *row = ew_target_at(t, 0, y);
-        for (int x = 0; x < t->width; x++) ew_put_index(t, row, x, 0);  /* the background: black */
-        float *z = ew_target_z(t, 0, y);
-        for (int x = 0; x < t->width; x++) z[x] = 0;
-        for (int x = 0; x < t->width; x++) poly[(size_t)y * t->width + x] = -1;
-    }
-    for (int i = 0; i < r->ref.npolys; i++) {
-        const ew_ref_poly *rp = &r->ref.polys[i];
-        ew_zpoly_fill(&r->draw, &rp->p, &rp->look, poly, i, b->y0, b->y1);
-    }
-    for (int y = b->y0; y < b->y1; y++) {
-        int *pr = poly + (size_t)y * t->width;
+        const int *pr = r->ref.poly_of + (size_t)y * t->width;
         uint8_t *row = ew_target_at(t, 0, y);
         for (int x = 0, x1; x < t->width; x = x1) {
             int p = pr[x];
@@ -123,11 +109,8 @@ static void ref_resolve(ew_renderer *r, ew_band *b) {
      * from there to the caller's. */
     int *own = ew_ref_compose_faces(r), *ids = own ? own : out;
     size_t npx = (size_t)t->width * (size_t)t->height;
-    if (r->cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.poly_of && r->ref.npoly_of >= npx) {
-        two_pass_resolve(r, b, ids);
-        if (own) ew_ref_compose_ids_out(r, out, b->y0, b->y1);
-        return;
-    }
+    int two = r->cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.poly_of && r->ref.npoly_of >= npx;
+    int *fill = two ? r->ref.poly_of : ids;  /* two-pass: each pixel's polygon first */
     b->nspans = 0;
     b->naet = 0;
     memset(b->has_spans, 0, (size_t)r->el.nsurfs);
@@ -136,13 +119,14 @@ static void ref_resolve(ew_renderer *r, ew_band *b) {
         for (int x = 0; x < t->width; x++) ew_put_index(t, row, x, 0);  /* the background: black */
         float *z = ew_target_z(t, 0, y);
         for (int x = 0; x < t->width; x++) z[x] = 0;
-        if (ids)
-            for (int x = 0; x < t->width; x++) ids[(size_t)y * t->width + x] = -1;
+        if (fill)
+            for (int x = 0; x < t->width; x++) fill[(size_t)y * t->width + x] = -1;
     }
     for (int i = 0; i < r->ref.npolys; i++) {
         const ew_ref_poly *rp = &r->ref.polys[i];
-        ew_zpoly_fill(&r->draw, &rp->p, &rp->look, ids, rp->face, b->y0, b->y1);
+        ew_zpoly_fill(&r->draw, &rp->p, &rp->look, fill, two ? i : rp->face, b->y0, b->y1);
     }
+    if (two) two_pass_rows(r, b, ids);
     if (own) ew_ref_compose_ids_out(r, out, b->y0, b->y1);
 }
 

@@ -156,10 +156,17 @@ static double row_rgb(const ew_twopass *tp, int c, int row, int ch) {
     return a + (b - a) * f;
 }
 
-static int fullbright(const ew_twopass *tp, int c) {
-    for (int r = 0; r < 64; r++)
-        if (tp->colormap[r * 256 + c] != c) return 0;
-    return 1;
+void ew_tp_begin(ew_twopass *tp, const ew_world *w, const uint8_t *palette, const uint8_t *colormap,
+                 const int *style, int rgb, int bpp, int classic) {
+    tp->world = w, tp->palette = palette, tp->colormap = colormap, tp->style = style;
+    tp->rgb = rgb, tp->bpp = bpp, tp->classic = classic;
+    if (tp->fullbright_of == colormap) return;
+    for (int c = 0; c < 256; c++) {
+        int same = 1;
+        for (int r = 0; r < 64 && same; r++) same = colormap[r * 256 + c] == c;
+        tp->fullbright[c] = (uint8_t)same;
+    }
+    tp->fullbright_of = colormap;
 }
 
 uint32_t ew_tp_shade(const ew_twopass *tp, const ew_tp_face *pf, uint8_t c, const int light[3]) {
@@ -167,7 +174,7 @@ uint32_t ew_tp_shade(const ew_twopass *tp, const ew_tp_face *pf, uint8_t c, cons
     for (int ch = 0; ch < 3; ch++) row[ch] = light_to_row(light[ch]);
     int grey = row[0] == row[1] && row[1] == row[2];
     if (tp->bpp == 1) {
-        if (grey || fullbright(tp, c)) return tp->colormap[(row[0] >> 8) * 256 + c];
+        if (grey || tp->fullbright[c]) return tp->colormap[(row[0] >> 8) * 256 + c];
         /* Tinted light in 8 bits (the rule docs/lighting.md states):
          * light whose channels spread less than a quarter of its level
          * keeps the colormap's ramp at the mean row; a real tint takes

@@ -34,7 +34,14 @@ typedef struct ew_twopass {
     int             rgb;       /* light from the world's RGB light */
     int             bpp;       /* 1 or 4 */
     int             classic;   /* fences drawn with their key colour */
+    const uint8_t  *fullbright_of;      /* the colormap fullbright[] was made for */
+    uint8_t         fullbright[256];    /* 1: a colour every row leaves as it is */
 } ew_twopass;
+
+/* Sets the frame's inputs (the fullbright colours found again only when
+ * the colormap changes). */
+void ew_tp_begin(ew_twopass *tp, const ew_world *w, const uint8_t *palette, const uint8_t *colormap,
+                 const int *style, int rgb, int bpp, int classic);
 
 /* One face seen by one camera (the camera in the face's own space). */
 typedef struct ew_tp_face {
