@@ -41,6 +41,18 @@ static inline int ew_floor_int(double x) {
     return (int)floor(x);
 }
 
+/* The one checked float-to-int conversion for numbers a file or a caller
+ * can make anything (entity and worldspawn values, light levels, radii,
+ * times): x truncated toward zero and held to [lo, hi], NaN gives
+ * fallback.  A bare (int) cast of NaN or of a value beyond int's range is
+ * undefined behaviour (UBSan reports it; x86 gives INT_MIN). */
+static inline int ew_int_checked(double x, int lo, int hi, int fallback) {
+    if (x >= (double)lo && x <= (double)hi) return (int)x;
+    if (x < (double)lo) return lo;
+    if (x > (double)hi) return hi;
+    return fallback;
+}
+
 /* Formats one error line into err (if non-NULL); always returns -1. */
 int ew_fail(ew_error *err, const char *fmt, ...) EW_PRINTF(2, 3);
 

@@ -9,6 +9,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "util.h"
 #include "fuzz_targets.h"
+#include "ew_util.h"
 
 #include <dirent.h>
 #include <stdlib.h>
@@ -89,5 +90,36 @@ int main(void) {
     }
     free_list(targets, ntargets);
     printf("%d regression inputs\n", total);
+
+    /* The dlight NaN (render/dlight_nan_plane.bin): plane 0's normal is
+     * (2.4e21, -1.4e37, 1), finite but not a direction, and the dynamic
+     * light's distances overflowed to NaN before an int conversion.  The
+     * loader now refuses such a plane by name. */
+    {
+        char path[1100];
+        snprintf(path, sizeof path, "%s/render/dlight_nan_plane.bin", root);
+        uint8_t *data;
+        size_t size;
+        ew_error err = {""};
+        if (ew_read_file(path, &data, &size, &err) != 0) {
+            CHECK(0, "%s", err.msg);
+        } else {
+            ew_world *w = ew_world_create(data, size, "dlight_nan_plane.bin", &err);
+            CHECK(w == NULL && strstr(err.msg, "plane 0: normal of length"),
+                  "a plane normal of length 1.4e37 is refused by name (got \"%s\")", w ? "loaded" : err.msg);
+            ew_world_destroy(w);
+            free(data);
+        }
+    }
+    /* The one checked float-to-int conversion: NaN is the fallback, the
+     * rest truncates toward zero inside [lo, hi] and is held to it. */
+    CHECK(ew_int_checked(NAN, -5, 5, 7) == 7, "NaN gives the fallback");
+    CHECK(ew_int_checked(INFINITY, -5, 5, 7) == 5 && ew_int_checked(-1e300, -5, 5, 7) == -5,
+          "beyond the range is held to it");
+    CHECK(ew_int_checked(3.9, -5, 5, 7) == 3 && ew_int_checked(-3.9, -5, 5, 7) == -3,
+          "inside the range truncates toward zero");
+    CHECK(ew_int_checked(2147483647.9, 0, 2147483647, 0) == 2147483647 &&
+          ew_int_checked(-2147483648.5, -2147483647 - 1, 0, 0) == -2147483647 - 1,
+          "int's own ends");
     return ew_t_finish();
 }

@@ -145,6 +145,15 @@ static int load_planes(ctx *c, ew_world *w) {
         pl->type = ew_i32(p + 16);
         if (!finite3(pl->normal) || !isfinite(pl->dist))
             return lump_fail(c, EW_LUMP_PLANES, "plane %d is not finite", i);
+        /* Every reader takes normal . p - dist as a distance: a normal longer
+         * than a unit (a finite 1e37 overflows those products to inf and
+         * NaN) is not a plane a compiler writes.  Shorter ones are: real
+         * maps hold all-zero planes (LibreQuake's b_exbox2, on a node and a
+         * face), every point on them at distance 0. */
+        double len2 = (double)pl->normal[0] * pl->normal[0] + (double)pl->normal[1] * pl->normal[1] +
+                      (double)pl->normal[2] * pl->normal[2];
+        if (!(len2 < 1.02))
+            return lump_fail(c, EW_LUMP_PLANES, "plane %d: normal of length %g (at most 1)", i, sqrt(len2));
         if (pl->type < 0 || pl->type > 5)
             return lump_fail(c, EW_LUMP_PLANES, "plane %d has type %d (expected 0..5)", i, pl->type);
     }

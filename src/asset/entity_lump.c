@@ -219,7 +219,7 @@ int ew_entity_int(const ew_entity *e, const char *key, int fallback) {
     double d;
     if (!s || ew_entity_number(s, &s, INT_MIN, INT_MAX, &d) != 1)
         return fallback;
-    return (int)d;
+    return ew_int_checked(d, INT_MIN, INT_MAX, fallback);
 }
 
 int ew_entity_submodel(const ew_entity *e) {
@@ -228,5 +228,5 @@ int ew_entity_submodel(const ew_entity *e) {
     if (!s || s[0] != '*' || ew_entity_number(s + 1, &s, 1, INT_MAX, &d) != 1 || *s ||
         d != floor(d))
         return -1;
-    return (int)d;
+    return ew_int_checked(d, 1, INT_MAX, -1);
 }

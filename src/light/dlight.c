@@ -5,9 +5,14 @@
  * more when the light has gone.  Faces the light does not reach keep their
  * cached surfaces. */
 #include "renderer.h"
+#include "ew_util.h"
 #include "scene/scene.h"
 
 #include <math.h>
+
+/* One light's most at a sample: a radius of 1e5 (ew_scene_add_dlight's
+ * limit) times 256, so 32 lights on a sample stay inside int. */
+#define EW_DLIGHT_MAX_ADD 25600000
 
 static void mark(ew_renderer *r, const float p[3], float radius, int bit, int node, int depth) {
     const ew_world *w = r->world;
@@ -94,7 +99,7 @@ void ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *
          * place them. */
         float dist = o[0] * pl->normal[0] + o[1] * pl->normal[1] + o[2] * pl->normal[2] - pl->dist;
         float rad = dl->radius - fabsf(dist);
-        if (rad <= 0) continue;
+        if (!(rad > 0)) continue;  /* NaN too */
         float imp[3];
         for (int k = 0; k < 3; k++) imp[k] = o[k] - pl->normal[k] * dist;
         float is = imp[0] * ti->vecs[0][0] + imp[1] * ti->vecs[0][1] + imp[2] * ti->vecs[0][2] + ti->vecs[0][3] - f->texturemins[0];
@@ -111,12 +116,14 @@ void ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *
                 }
                 float d = sqrtf(ds * ds + dt * dt);
                 if (d >= rad) continue;
-                int add = (int)((rad - d) * 256);
+                /* d is NaN where the face's numbers overflow (a plane or
+                 * texture axis of 1e37 is finite): no light, not UB */
+                int add = ew_int_checked((rad - d) * 256, 0, EW_DLIGHT_MAX_ADD, 0);
                 if (nc == 1) {
                     bl[t * smax + s] += add;
                 } else {
                     int *p = &bl[(t * smax + s) * 3];
-                    for (int k = 0; k < 3; k++) p[k] += (int)((float)add * col[k]);
+                    for (int k = 0; k < 3; k++) p[k] += ew_int_checked((float)add * col[k], 0, add, 0);
                 }
             }
         }

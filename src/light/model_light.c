@@ -1,5 +1,6 @@
 /* The light an alias model is drawn with (see light/lightpoint.c). */
 #include "renderer.h"
+#include "ew_util.h"
 #include "scene/scene.h"
 
 #include <math.h>
@@ -13,7 +14,7 @@ void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, i
         const ew_dlight *d = &sc->dlights[i];
         float dx = origin[0] - d->origin[0], dy = origin[1] - d->origin[1], dz = origin[2] - d->origin[2];
         float add = d->radius - sqrtf(dx * dx + dy * dy + dz * dz);
-        if (add > 0) l += (int)add;
+        if (add > 0) l += ew_int_checked(add, 0, 1 << 20, 0);  /* the most shows as 192 */
     }
     int a = l < 24 ? 24 : l > 128 ? 128 : l, s = l < 24 ? 24 : l;
     if (a + s > 192) s = 192 - a;

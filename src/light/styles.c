@@ -11,6 +11,7 @@
  * switchable styles the light compiler gives to targeted lights: on ("m")
  * unless a light entity using the style starts off ("a"). */
 #include "light/light.h"
+#include "ew_util.h"
 
 #include <math.h>
 #include <string.h>
@@ -51,8 +52,7 @@ static int pattern_value(const char *p, double tick) {
     double n = (double)strlen(p);
     double i = fmod(tick, n);
     if (i < 0) i += n;
-    int k = (int)i;
-    return ew_style_letter_value(p[k < (int)n ? k : 0]);
+    return ew_style_letter_value(p[ew_int_checked(i, 0, (int)n - 1, 0)]);
 }
 
 void ew_styles_frame(int out[64], const ew_style_setting set[64], uint64_t starts_off, int classic,

@@ -10,6 +10,7 @@
 #include "world/edge_math.h"  /* ew_project */
 #include "scene/scene.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -325,7 +326,7 @@ static ew_model_pose entity_pose(const ew_renderer *r, const ew_scene_entity *e,
          * (frame groups animate by their own intervals too). */
         const ew_mdl *mdl = m->data;
         if (r->view.time > 0 && mdl->numframes > 1)
-            pose.frame = (int)(((long long)(r->view.time * 10) + e->frame) % mdl->numframes);
+            pose.frame = (int)(((long long)ew_int_checked(r->view.time * 10, 0, INT_MAX, 0) + e->frame) % mdl->numframes);
     }
     return pose;
 }
