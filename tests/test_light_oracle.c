@@ -27,6 +27,10 @@
  * one now and then, never a block's mean by 12. */
 #define VIEW_LIMIT 0.03
 #define MEAN_LIMIT 0.005
+/* ... and the pixels of exactly the same colour, over a map's views: the
+ * two texture and light steppings part by a level or a texel in places,
+ * far less than half the frame. */
+#define EXACT_LIMIT 0.6
 
 #if defined(__SANITIZE_ADDRESS__)
 #define VIEW_STEP 4  /* every fourth view under the sanitizers: the same checks, a quarter of the time */
@@ -78,6 +82,9 @@ typedef struct summary { double mean_bad, worst_bad, mean_exact, worst_exact; in
 static void compare_views(const map_case *mc, const ew_assets *a, ew_color_mode color, int lit, ew_light_fault fault,
                           summary *s);
 
+/* The edge list's own lighting: the cache (0), or its two-pass mode (1). */
+static int edge_two_pass;
+
 static int run_map(const map_case *mc, ew_color_mode color, int lit, ew_light_fault fault, summary *s) {
     char path[512], data[512];
     snprintf(path, sizeof path, "data/%s/maps/%s.bsp", mc->dir, mc->name);
@@ -122,6 +129,7 @@ static void compare_views(const map_case *mc, const ew_assets *a, ew_color_mode 
     }
     if (edge && ref) {
         ew_set_lighting(ref, EW_LIGHTING_TWO_PASS);
+        ew_set_lighting(edge, edge_two_pass ? EW_LIGHTING_TWO_PASS : EW_LIGHTING_CACHE);
         ew_set_light_fault(edge, fault);
     }
     for (int v = 0; edge && ref && v < nv; v++) {
@@ -199,6 +207,8 @@ int main(void) {
                    color_name(color), "lit", s.views, 100 * s.mean_bad, 100 * s.worst_bad, 100 * s.mean_exact,
                    100 * s.worst_exact, s.worst_view);
             CHECK(s.views > 0, "%s: no view compared", cases[i].name);
+            CHECK(s.mean_exact >= EXACT_LIMIT, "%s %s: %.1f%% of pixels exactly equal (limit %.0f%%)", cases[i].name,
+                  color_name(color), 100 * s.mean_exact, 100 * EXACT_LIMIT);
             CHECK(s.worst_bad <= VIEW_LIMIT, "%s %s: view %d has %.2f%% of its blocks off (limit %.1f%%)",
                   cases[i].name, color_name(color), s.worst_view, 100 * s.worst_bad, 100 * VIEW_LIMIT);
             CHECK(s.mean_bad <= MEAN_LIMIT, "%s %s: %.3f%% of blocks off over the views (limit %.1f%%)",
@@ -230,6 +240,24 @@ int main(void) {
         }
     printf("light oracle: %d map x colour cases, mean %.3f%% of blocks off, worst view %.3f%%\n", n_all,
            n_all ? 100 * sum_all / n_all : 0, 100 * worst_all);
+
+    /* The renderer's own two-pass mode (a ray every 16 pixels, light in
+     * fixed point) against the exact one. */
+    static const map_case own[] = {{"librequake", "e1m1", 0}, {"librequake", "lqdm7", 0}, {"ericw", "start_plain", 1},
+                                   {"ericw", "dev_lmshiftmix", 0}};
+    edge_two_pass = 1;
+    for (int i = 0; i < (int)(sizeof own / sizeof *own); i++)
+        for (int c = 0; c < 2; c++) {
+            ew_color_mode color = c ? EW_COLOR_TRUE : EW_COLOR_8BIT;
+            summary s;
+            if (run_map(&own[i], color, 1, EW_LIGHT_FAULT_NONE, &s) < 0) continue;
+            printf("two-pass renderer %-20s %-5s: bad mean %.3f%% worst %.3f%%, exact mean %.2f%%\n", own[i].name,
+                   color_name(color), 100 * s.mean_bad, 100 * s.worst_bad, 100 * s.mean_exact);
+            CHECK(s.views > 0 && s.worst_bad <= VIEW_LIMIT && s.mean_bad <= MEAN_LIMIT,
+                  "two-pass renderer %s %s: %.3f%% of blocks off, %.2f%% in view %d", own[i].name, color_name(color),
+                  100 * s.mean_bad, 100 * s.worst_bad, s.worst_view);
+        }
+    edge_two_pass = 0;
 
     /* Controls: a cache that reads its light map wrongly must fail. */
     static const map_case controls[] = {{"librequake", "e1m1", 0}, {"librequake", "start", 0}, {"librequake", "lqdm7", 0}};

@@ -243,3 +243,102 @@ void ew_tp_run(const ew_twopass *tp, const ew_tp_face *pf, uint8_t *row, int y, 
         }
     }
 }
+
+/* ---- the renderer's two passes (ew_tp_span) ---- */
+
+/* The texture point of pixel (x, y) in 16.16 texels of the mip, from
+ * texturemins, held to the face. */
+static void st_fixed(const ew_tp_face *pf, int x, int y, int32_t out[2]) {
+    double den = pf->d0 + pf->dx * x + pf->dy * y;
+    for (int a = 0; a < 2; a++) {
+        double s = den != 0 ? tex_coord(pf, a, x, y, den) : 0;
+        double v = s / (double)(1 << pf->mip) - pf->mins[a];
+        double hi = (double)pf->size[a] - 1.0 / 65536;
+        if (!(v > 0)) v = 0;  /* NaN too */
+        if (v > hi) v = hi;
+        out[a] = (int32_t)(v * 65536.0);
+    }
+}
+
+static inline int wrap_to(int x, int n, int mask) { return mask >= 0 ? x & mask : x % n; }
+
+/* Light at texel (X, Y) on Quake's grid, in fixed point: the four samples
+ * around the texel's corner weighted in 1/256. */
+static void grid_light(const ew_twopass *tp, const ew_tp_face *pf, int X, int Y, int light[3]) {
+    const ew_world *w = tp->world;
+    int u16 = X << (pf->mip + 12), v16 = Y << (pf->mip + 12);  /* 16.16 samples */
+    int iu = u16 >> 16, iv = v16 >> 16, fu = (u16 >> 8) & 255, fv = (v16 >> 8) & 255;
+    if (iu > pf->smax - 1) iu = pf->smax - 1, fu = 0;
+    if (iv > pf->tmax - 1) iv = pf->tmax - 1, fv = 0;
+    int iu1 = iu + 1 < pf->smax ? iu + 1 : iu, iv1 = iv + 1 < pf->tmax ? iv + 1 : iv;
+    int at[4] = {iv * pf->smax + iu, iv * pf->smax + iu1, iv1 * pf->smax + iu, iv1 * pf->smax + iu1};
+    int wt[4] = {(256 - fu) * (256 - fv), fu * (256 - fv), (256 - fu) * fv, fu * fv};
+    int size = pf->smax * pf->tmax, nc = tp->rgb ? 3 : 1;
+    int sum[3] = {0, 0, 0};
+    for (int k = 0; k < 4 && pf->f->styles[k] != 255; k++) {
+        int value = tp->style[pf->f->styles[k]];
+        size_t base = (size_t)pf->lightofs + (size_t)k * (size_t)size;
+        const uint8_t *lm = nc == 3 ? w->rgblight + base * 3 : w->lighting + base;
+        for (int ch = 0; ch < nc; ch++) {
+            int b = 0;
+            for (int c = 0; c < 4; c++) b += lm[at[c] * nc + ch] * wt[c];
+            sum[ch] += (b >> 8) * value;  /* 8.8 sample times the style's value */
+        }
+    }
+    for (int ch = 0; ch < 3; ch++) light[ch] = sum[nc == 3 ? ch : 0] >> 8;
+}
+
+void ew_tp_span(const ew_twopass *tp, const ew_tp_face *pf, uint8_t *row, int y, int x0, int x1) {
+    enum { SEG = 16 };
+    const int mw = (pf->tw & (pf->tw - 1)) == 0 ? pf->tw - 1 : -1, mh = (pf->th & (pf->th - 1)) == 0 ? pf->th - 1 : -1;
+    const int bs = wrap(pf->mins[0], pf->tw), bt = wrap(pf->mins[1], pf->th);
+    const uint8_t *tex = pf->tex->mip[pf->mip];
+    const int grid = pf->lightofs >= 0 && !tp->world->facelm && tp->world->lighting;
+    for (int a = x0; a < x1; a += SEG) {
+        int n = a + SEG < x1 ? SEG : x1 - a;
+        int32_t st0[2], st1[2];
+        st_fixed(pf, a, y, st0);
+        st_fixed(pf, a + n, y, st1);
+        int32_t ds = (st1[0] - st0[0]) / n, dt = (st1[1] - st0[1]) / n;
+        uint8_t idx[SEG];
+        /* Pass one: the unlit texture. */
+        int32_t s = st0[0], t = st0[1];
+        for (int i = 0; i < n; i++, s += ds, t += dt) {
+            int col = wrap_to(bs + (s >> 16), pf->tw, mw), rw = wrap_to(bt + (t >> 16), pf->th, mh);
+            uint8_t c = idx[i] = tex[rw * pf->tw + col];
+            if (pf->fence && c == 255) continue;
+            if (tp->bpp == 1) {
+                row[a + i] = c;
+            } else {
+                uint8_t px[4] = {tp->palette[c * 3], tp->palette[c * 3 + 1], tp->palette[c * 3 + 2], 255};
+                memcpy(row + (size_t)(a + i) * 4, px, 4);
+            }
+        }
+        /* Pass two: the light map's coordinates stepped again, each pixel lit. */
+        s = st0[0], t = st0[1];
+        for (int i = 0; i < n; i++, s += ds, t += dt) {
+            uint8_t c = idx[i];
+            if (pf->fence && c == 255) continue;
+            int X = s >> 16, Y = t >> 16, light[3];
+            if (grid)
+                grid_light(tp, pf, X, Y, light);
+            else
+                ew_tp_light(tp, pf, X, Y, light);
+            if (tp->bpp == 1) {
+                int r0 = light_to_row(light[0]);
+                if ((light[0] == light[1] && light[1] == light[2]) || tp->fullbright[c])
+                    row[a + i] = tp->colormap[(r0 >> 8) * 256 + row[a + i]];
+                else
+                    row[a + i] = (uint8_t)ew_tp_shade(tp, pf, c, light);
+                continue;
+            }
+            uint8_t px[4] = {0, 0, 0, 255};
+            for (int ch = 0; ch < 3; ch++) {
+                int rr = light_to_row(light[ch]), r0 = rr >> 8, r1 = r0 + 1 < 64 ? r0 + 1 : 63, f = rr & 255;
+                int lo = tp->palette[tp->colormap[r0 * 256 + c] * 3 + ch], up = tp->palette[tp->colormap[r1 * 256 + c] * 3 + ch];
+                px[ch] = (uint8_t)(lo + (((up - lo) * f) >> 8));
+            }
+            memcpy(row + (size_t)(a + i) * 4, px, 4);
+        }
+    }
+}

@@ -73,7 +73,14 @@ void ew_tp_light(const ew_twopass *tp, const ew_tp_face *pf, int X, int Y, int l
  * (bpp 4, alpha 0 for a fence's hole). */
 uint32_t ew_tp_shade(const ew_twopass *tp, const ew_tp_face *pf, uint8_t c, const int light[3]);
 /* Pixels [x0, x1) of row y (row: the target's row) in the two passes: the
- * unlit texels first, then each lit.  Fence holes are left as they were. */
+ * unlit texels first, then each lit.  Fence holes are left as they were.
+ * Exact: every pixel's own ray and the light in floating point (the
+ * reference's, the oracle). */
 void ew_tp_run(const ew_twopass *tp, const ew_tp_face *pf, uint8_t *row, int y, int x0, int x1);
+/* The same as a software renderer would draw it (the renderer's
+ * --lighting two-pass): a pixel's ray every 16 pixels and the texture
+ * point stepped in between, the light map's samples interpolated in fixed
+ * point (faces on Quake's grid; other layouts take ew_tp_light). */
+void ew_tp_span(const ew_twopass *tp, const ew_tp_face *pf, uint8_t *row, int y, int x0, int x1);
 
 #endif

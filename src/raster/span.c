@@ -359,7 +359,7 @@ void ew_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_s
             ew_debug_fill_span(c, sp, d->flat);
             break;
         case EW_DRAW_TWOPASS:
-            ew_tp_run(c->tp, &c->tp_faces[sp->surf], ew_target_at(c->target, 0, sp->v), sp->v, sp->u,
+            ew_tp_span(c->tp, &c->tp_faces[sp->surf], ew_target_at(c->target, 0, sp->v), sp->v, sp->u,
                       sp->u + sp->count);
             break;
         default:  /* gaps (nothing covers them), or no memory for the surface: black */
