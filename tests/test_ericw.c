@@ -258,18 +258,24 @@ static void test_containers(map maps[NSUF], const char *base) {
 
 /* ---- 2: faces with no light map are dark ------------------------------------ */
 
-/* The file's DECOUPLED_LM lump, read here from the BSPX directory (after
- * the last standard lump, 4-byte aligned); NULL if none. */
-static const uint8_t *decoupled_lump(const map *m, size_t *len) {
-    const uint8_t *d = m->bsp;
-    if (m->size < 124) return NULL;
+/* Where a BSP image's BSPX directory starts: after the last of its 15
+ * standard lumps, 4-byte aligned. */
+static uint64_t bspx_pos(const uint8_t *d) {
     uint64_t end = 0;
     for (int i = 0; i < 15; i++) {
         uint32_t o, l;
         memcpy(&o, d + 4 + 8 * i, 4), memcpy(&l, d + 8 + 8 * i, 4);
         if ((uint64_t)o + l > end) end = (uint64_t)o + l;
     }
-    uint64_t pos = (end + 3) & ~(uint64_t)3;
+    return (end + 3) & ~(uint64_t)3;
+}
+
+/* The file's DECOUPLED_LM lump, read here from the BSPX directory (after
+ * the last standard lump, 4-byte aligned); NULL if none. */
+static const uint8_t *decoupled_lump(const map *m, size_t *len) {
+    const uint8_t *d = m->bsp;
+    if (m->size < 124) return NULL;
+    uint64_t pos = bspx_pos(d);
     if (pos + 8 > m->size || memcmp(d + pos, "BSPX", 4) != 0) return NULL;
     int32_t n;
     memcpy(&n, d + pos + 4, 4);
@@ -470,13 +476,7 @@ static void test_unknown_lump(const map *m) {
      * directory grows by 32 bytes (the lumps after it move along), the new
      * lump's 4 bytes go at the end */
     const uint8_t *d = m->bsp;
-    uint64_t end = 0;
-    for (int i = 0; i < 15; i++) {
-        uint32_t o, l;
-        memcpy(&o, d + 4 + 8 * i, 4), memcpy(&l, d + 8 + 8 * i, 4);
-        if ((uint64_t)o + l > end) end = (uint64_t)o + l;
-    }
-    uint64_t pos = (end + 3) & ~(uint64_t)3;
+    uint64_t pos = bspx_pos(d);
     int32_t n;
     memcpy(&n, d + pos + 4, 4);
     size_t dir_end = (size_t)pos + 8 + 32 * (size_t)n;

@@ -210,6 +210,21 @@ static ew_world *mono_lit_world(const char *name, int tint_blue) {
     return w;
 }
 
+/* An ericw map of the cases with its light, and its entities in *scene
+ * (the cubes are brush entities); NULL after a failed CHECK. */
+static ew_assets *load_case(const map_case *mc, ew_scene **scene) {
+    char rel[256];
+    snprintf(rel, sizeof rel, "data/ericw/maps/%s.bsp", mc->name);
+    ew_error err = {""};
+    *scene = NULL;
+    ew_assets *a = ew_assets_create(ew_t_shared(rel), NULL, &err);
+    CHECK(a != NULL, "%s: %s", mc->name, err.msg);
+    if (!a) return NULL;
+    *scene = ew_scene_create_from_map(a->world, ew_t_shared(rel), NULL, &err);
+    CHECK(*scene != NULL, "%s: scene: %s", mc->name, err.msg);
+    return a;
+}
+
 /* ---- 1. hue and chroma of tinted light ------------------------------------------ */
 
 static void test_hue(void) {
@@ -218,19 +233,13 @@ static void test_hue(void) {
     int *ids = malloc(sizeof(int) * NPX);
     for (size_t mi = 0; mi < sizeof cases / sizeof cases[0]; mi++) {
         const map_case *mc = &cases[mi];
-        char rel[256];
-        snprintf(rel, sizeof rel, "data/ericw/maps/%s.bsp", mc->name);
-        ew_error err = {""};
-        ew_assets *a = ew_assets_create(ew_t_shared(rel), NULL, &err);
-        CHECK(a != NULL, "%s: %s", mc->name, err.msg);
+        ew_scene *scene;
+        ew_assets *a = load_case(mc, &scene);
         if (!a) continue;
         CHECK(a->world->rgblight != NULL, "%s: no coloured light", mc->name);
         int ntinted, nblue;
         uint8_t *tf = tinted_faces(a->world, &ntinted, &nblue);
         ew_renderer *rt = make(a, a->world, EW_COLOR_TRUE), *r8 = make(a, a->world, EW_COLOR_8BIT);
-        /* the cubes are brush entities */
-        ew_scene *scene = ew_scene_create_from_map(a->world, ew_t_shared(rel), NULL, &err);
-        CHECK(scene != NULL, "%s: scene: %s", mc->name, err.msg);
         if (!rt || !r8 || !tf || !scene) goto next;
         ew_set_scene(rt, scene), ew_set_scene(r8, scene);
         ew_enable_face_ids(rt, 1);
@@ -293,18 +302,13 @@ static void test_white(void) {
     uint8_t *white = malloc(NPX);
     for (size_t mi = 0; mi < 2; mi++) {
         const map_case *mc = &cases[mi];
-        char rel[256];
-        snprintf(rel, sizeof rel, "data/ericw/maps/%s.bsp", mc->name);
-        ew_error err = {""};
-        ew_assets *a = ew_assets_create(ew_t_shared(rel), NULL, &err);
-        CHECK(a != NULL, "%s: %s", mc->name, err.msg);
+        ew_scene *scene;
+        ew_assets *a = load_case(mc, &scene);
         if (!a) continue;
         ew_world *wg = mono_lit_world(mc->name, 0), *wn = mono_lit_world(mc->name, 1);
         ew_renderer *r0 = make(a, a->world, EW_COLOR_8BIT), *rg = wg ? make(a, wg, EW_COLOR_8BIT) : NULL;
         ew_renderer *rn = wn ? make(a, wn, EW_COLOR_8BIT) : NULL, *rc = make(a, a->world, EW_COLOR_8BIT);
         ew_renderer *rc0 = make(a, a->world, EW_COLOR_8BIT);
-        ew_scene *scene = ew_scene_create_from_map(a->world, ew_t_shared(rel), NULL, &err);
-        CHECK(scene != NULL, "%s: scene: %s", mc->name, err.msg);
         if (r0 && rg && rn && rc && rc0 && scene) {
             ew_renderer *all[] = {r0, rg, rn, rc, rc0};
             for (int k = 0; k < 5; k++) ew_set_scene(all[k], scene);
