@@ -296,7 +296,8 @@ static int shift_layout(const ew_world *w, const ew_face *f, int shift, ew_facel
             snprintf(why, nwhy, "light map of %.0f samples a side (LMSHIFT %d; limit %d)", side, shift, MAX_LM_SIDE);
             return -1;
         }
-        if (j == 0) lm->width = ew_int_checked(side, 1, MAX_LM_SIDE, 1); else lm->height = ew_int_checked(side, 1, MAX_LM_SIDE, 1);
+        int n = ew_int_checked(side, 1, MAX_LM_SIDE, 1);
+        if (j == 0) lm->width = n; else lm->height = n;
         lm->st_to_lm[j][0] = j == 0 ? 1.0f / step : 0;
         lm->st_to_lm[j][1] = j == 1 ? 1.0f / step : 0;
         lm->st_to_lm[j][2] = (float)-bmin;
