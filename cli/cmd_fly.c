@@ -43,8 +43,10 @@ static const char fly_usage[] =
     "                  with a single origin, a slow full turn in place.  The path\n"
     "                  goes straight between views and may pass through walls\n"
     "  --path FILE     a camera path as the viewer's --record writes it, lines\n"
-    "                  'time x y z pitch yaw roll', sampled every 1/F seconds\n"
-    "                  from its first time to its last (linear in between)\n"
+    "                  'time x y z pitch yaw roll' (decimal numbers, # comments),\n"
+    "                  sampled every 1/F seconds from its first time to its last\n"
+    "                  (linear in between); times not going back, spanning at\n"
+    "                  most 3600 s; positions and angles within +-1000000\n"
     "  --seconds S     the video's length, more than 0 up to 3600 (default: 2 s\n"
     "                  per path segment, 8 s for a turn; --path FILE: its span)\n"
     "  --fps F         frames a second, 1 to 240 (default 30)\n"
@@ -58,7 +60,9 @@ static const char fly_usage[] =
     "                  --time T draws the same frame)\n"
     "  --quiet         no warning lines about the map's optional data\n"
     "\n"
-    "Progress goes to stderr on a terminal, else one summary line.\n"
+    "Progress goes to stderr on a terminal, else one summary line.  The output is\n"
+    "written as FILE.PID.part and renamed when complete: a failed or interrupted\n"
+    "run leaves no partial file (a PNG sequence's frames are removed).\n"
     "\n"
     "what is drawn (as in edgewise render):\n";
 

@@ -81,6 +81,8 @@ static const char usage_tail[] =
     "demo options: --size, --view, --fov, --time, --out (default demo.png), --stats,\n"
     "  --quiet, the light, particle and thread options of render and what is drawn\n"
     "\n"
+    "Numbers are decimal (12, -0.5, .25, 1e3): no hex, inf or nan, no blanks.\n"
+    "\n"
     "Warnings about a map's optional data (a malformed worldspawn key, ...) go to\n"
     "stderr as 'edgewise: warning: ...' lines in every command that loads a map.\n"
     "\n"
