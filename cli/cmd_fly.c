@@ -530,9 +530,14 @@ int cmd_fly(int argc, char **argv) {
         error_line("--out %s: writing .mp4 needs ffmpeg, which is not on PATH (write .y4m instead)", o.out);
         return 1;
     }
+    /* Said now, not after the whole video went to a temporary file. */
     struct stat st;
     if (o.kind != OUT_PNG && stat(o.out, &st) == 0 && S_ISDIR(st.st_mode)) {
         error_line("--out %s: is a directory", o.out);
+        return 1;
+    }
+    if (o.cameras && stat(o.cameras, &st) == 0 && S_ISDIR(st.st_mode)) {
+        error_line("--cameras %s: is a directory", o.cameras);
         return 1;
     }
     key *keys = NULL;
@@ -588,6 +593,10 @@ int cmd_fly(int argc, char **argv) {
         error_line("out of memory");
         goto done;
     }
+    /* Ctrl-C or a kill: the loop stops and the partial files are removed. */
+    signal(SIGINT, on_stop);
+    signal(SIGTERM, on_stop);
+    signal(SIGHUP, on_stop);
     if (o.cameras) {
         part_name(cams_part, sizeof cams_part, o.cameras);
         if (!(cams = fopen(cams_part, "w"))) {
@@ -610,10 +619,6 @@ int cmd_fly(int argc, char **argv) {
         }
     }
     if (video) fprintf(video, "YUV4MPEG2 W%d H%d F%d:1 Ip A1:1 C420jpeg\n", o.width, o.height, o.fps);
-    /* Ctrl-C or a kill: the loop stops and the partial files are removed. */
-    signal(SIGINT, on_stop);
-    signal(SIGTERM, on_stop);
-    signal(SIGHUP, on_stop);
 
     int tty = isatty(2);
     double start = ew_now_ms(), last = 0;

@@ -173,6 +173,10 @@ static void hardening(void) {
     mkdir(p, 0755);
     check_usage((const char *const[]){"fly", "builtin", "--size", "320x200", "--out", "dir.y4m", NULL}, 1,
                 "--out a folder");
+    check_usage((const char *const[]){"fly", "builtin", "--size", "320x200", "--out", "c.y4m", "--cameras", "dir.y4m",
+                                      NULL},
+                1, "--cameras a folder");
+    CHECK(!file_exists("c.y4m") && !part_files(), "--cameras a folder: nothing written");
 
     /* ---- a PNG frame that cannot be written: the frames before it go ---- */
     snprintf(p, sizeof p, "%s/fail_003.png", tmpdir);
