@@ -34,7 +34,16 @@ int  parse_size(const char *s, int *w, int *h);
 int  is_builtin(const char *map);
 /* "maps/e1m1.bsp" -> "e1m1". */
 void map_basename(const char *map, char *out, size_t size);
-/* A JSON string / number (null for inf and nan). */
+/* A finite decimal number at the start of s ([+-] digits [. digits]
+ * [e [+-] digits]; no blanks, hex, inf or nan), *end just past it: 0, or
+ * -1 (nothing printed).  Every number the command reads goes through it. */
+int  parse_decimal(const char *s, const char **end, double *out);
+/* The JSON text of the character at *p, moving *p past it: a whole valid
+ * UTF-8 sequence as it is; '"' and '\\' escaped; control bytes, DEL and
+ * every byte that is not part of valid UTF-8 as \u00XX (so the output is
+ * always UTF-8).  Returns strlen(out) (at most 6).  Every JSON writer uses it. */
+size_t json_char(const unsigned char **p, char out[8]);
+/* A JSON string (by json_char) / number (null for inf and nan). */
 void json_string(FILE *f, const char *s);
 void json_number(FILE *f, double v);
 

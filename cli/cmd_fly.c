@@ -43,8 +43,10 @@ static const char fly_usage[] =
     "                  with a single origin, a slow full turn in place.  The path\n"
     "                  goes straight between views and may pass through walls\n"
     "  --path FILE     a camera path as the viewer's --record writes it, lines\n"
-    "                  'time x y z pitch yaw roll', sampled every 1/F seconds\n"
-    "                  from its first time to its last (linear in between)\n"
+    "                  'time x y z pitch yaw roll' (decimal numbers, # comments),\n"
+    "                  sampled every 1/F seconds from its first time to its last\n"
+    "                  (linear in between); times not going back, spanning at\n"
+    "                  most 3600 s; positions and angles within +-1000000\n"
     "  --seconds S     the video's length, more than 0 up to 3600 (default: 2 s\n"
     "                  per path segment, 8 s for a turn; --path FILE: its span)\n"
     "  --fps F         frames a second, 1 to 240 (default 30)\n"
@@ -58,7 +60,9 @@ static const char fly_usage[] =
     "                  --time T draws the same frame)\n"
     "  --quiet         no warning lines about the map's optional data\n"
     "\n"
-    "Progress goes to stderr on a terminal, else one summary line.\n"
+    "Progress goes to stderr on a terminal, else one summary line.  The output is\n"
+    "written as FILE.PID.part and renamed when complete: a failed or interrupted\n"
+    "run leaves no partial file (a PNG sequence's frames are removed).\n"
     "\n"
     "what is drawn (as in edgewise render):\n";
 
@@ -102,13 +106,8 @@ static int png_pattern_ok(const char *s) {
 }
 
 static int parse_number(const char *s, double *out) {
-    char *end;
-    if (!*s) return -1;
-    errno = 0;
-    double d = strtod(s, &end);
-    if (*end || errno || !isfinite(d)) return -1;
-    *out = d;
-    return 0;
+    const char *end;
+    return parse_decimal(s, &end, out) == 0 && !*end ? 0 : -1;
 }
 
 /* 0, 1 after --help, -1 (error printed). */
@@ -299,7 +298,36 @@ static void views_camera(const key *k, int n, double f, ew_camera *cam) {
     }
 }
 
-/* A recorded path: keys with times (unwrapped angles); count, -1 (error printed). */
+/* Lines longer than this are refused as such (comments of any length are
+ * skipped); a camera line is seven numbers. */
+#define PATH_LINE_MAX 4096
+/* The camera values --pos and --angles accept (the renderer's limit). */
+#define PATH_COORD_MAX 1e6
+
+static int is_blank(int c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+/* One line of f, of any length, without its '\n': the first size - 1 bytes
+ * in buf, the rest read and dropped (*longer set).  *nul: it holds a NUL
+ * byte.  0 at the end of the file, 1, or -1 on a read error. */
+static int read_line(FILE *f, char *buf, size_t size, int *longer, int *nul) {
+    size_t n = 0;
+    int c, any = 0;
+    *longer = *nul = 0;
+    while ((c = getc(f)) != EOF) {
+        any = 1;
+        if (c == '\n') break;
+        if (c == '\0') *nul = 1;
+        if (n + 1 < size) buf[n++] = (char)c;
+        else *longer = 1;
+    }
+    buf[n] = '\0';
+    if (ferror(f)) return -1;
+    return any;
+}
+
+/* A recorded path: keys with times from the first line's (0) and unwrapped
+ * angles; the times span at most MAX_SECONDS, like --seconds.  The count,
+ * or -1 (one error line naming the file and the line). */
 static int read_path(const char *file, key **out) {
     FILE *f = fopen(file, "r");
     if (!f) {
@@ -307,35 +335,80 @@ static int read_path(const char *file, key **out) {
         return -1;
     }
     key *k = NULL;
-    int n = 0, cap = 0, lineno = 0;
-    char line[512];
-    while (fgets(line, sizeof line, f)) {
+    int n = 0, cap = 0, lineno = 0, got, longer, nul;
+    double t0 = 0;
+    char *line = malloc(PATH_LINE_MAX);
+    if (!line) {
+        error_line("--path %s: out of memory", file);
+        fclose(f);
+        return -1;
+    }
+    while ((got = read_line(f, line, PATH_LINE_MAX, &longer, &nul)) > 0) {
         lineno++;
-        char *p = line;
-        while (*p == ' ' || *p == '\t') p++;
-        if (*p == '\n' || *p == '\0' || *p == '#') continue;
-        key kk;
-        char extra;
-        if (sscanf(p, "%lf %lf %lf %lf %lf %lf %lf %c", &kk.t, &kk.pos[0], &kk.pos[1], &kk.pos[2], &kk.ang[0],
-                   &kk.ang[1], &kk.ang[2], &extra) != 7 || !isfinite(kk.t) || kk.t < 0 ||
-            (n && kk.t < k[n - 1].t)) {
-            error_line("--path %s:%d: expected 'time x y z pitch yaw roll' with times not going back", file,
-                       lineno);
-            free(k), fclose(f);
-            return -1;
+        if (nul) {
+            error_line("--path %s:%d: a NUL byte (not a text file)", file, lineno);
+            goto fail;
         }
+        const char *p = line;
+        while (is_blank(*p)) p++;
+        if (*p == '#') continue;  /* a comment, however long */
+        if (longer) {
+            error_line("--path %s:%d: line longer than %d bytes", file, lineno, PATH_LINE_MAX - 1);
+            goto fail;
+        }
+        if (*p == '\0') continue;
+        double v[7];
+        int fields = 0;
+        const char *end = p;
+        while (fields < 7 && parse_decimal(p, &end, &v[fields]) == 0 && (is_blank(*end) || !*end)) {
+            fields++;
+            for (p = end; is_blank(*p); p++) {}
+        }
+        if (fields < 7 || *p) {
+            error_line("--path %s:%d: expected 'time x y z pitch yaw roll', seven decimal numbers", file, lineno);
+            goto fail;
+        }
+        key kk = {v[0], {v[1], v[2], v[3]}, {v[4], v[5], v[6]}};
+        if (kk.t < 0) {
+            error_line("--path %s:%d: time %g is negative", file, lineno, kk.t);
+            goto fail;
+        }
+        if (!n) t0 = kk.t;
+        if (n && kk.t < t0 + k[n - 1].t) {
+            error_line("--path %s:%d: time %g goes back (the line before has %g)", file, lineno, kk.t,
+                       t0 + k[n - 1].t);
+            goto fail;
+        }
+        /* As long as --seconds allows: a later time would ask for more
+         * frames than any video fly writes (or overflow their count). */
+        if (kk.t - t0 > MAX_SECONDS) {
+            error_line("--path %s:%d: time %g is %g s after the first line's; a path spans at most %g s (as "
+                       "--seconds)", file, lineno, kk.t, kk.t - t0, MAX_SECONDS);
+            goto fail;
+        }
+        for (int c = 0; c < 3; c++)
+            if (fabs(kk.pos[c]) > PATH_COORD_MAX || fabs(kk.ang[c]) > PATH_COORD_MAX) {
+                error_line("--path %s:%d: position and angles must be from -%.0f to %.0f (as --pos and --angles)",
+                           file, lineno, PATH_COORD_MAX, PATH_COORD_MAX);
+                goto fail;
+            }
+        kk.t -= t0;  /* times from 0: no precision lost adding small steps to a large t0 */
         if (n == cap) {
             cap = cap ? cap * 2 : 64;
             key *q = realloc(k, sizeof *q * (size_t)cap);
             if (!q) {
                 error_line("--path %s: out of memory", file);
-                free(k), fclose(f);
-                return -1;
+                goto fail;
             }
             k = q;
         }
         k[n++] = kk;
     }
+    if (got < 0) {
+        error_line("--path %s: %s", file, strerror(errno));
+        goto fail;
+    }
+    free(line);
     fclose(f);
     if (!n) {
         error_line("--path %s: no camera lines", file);
@@ -345,6 +418,11 @@ static int read_path(const char *file, key **out) {
     unwrap_angles(k, n);
     *out = k;
     return n;
+fail:
+    free(line);
+    free(k);
+    fclose(f);
+    return -1;
 }
 
 /* The recorded path's camera at time t (linear between lines; the last
@@ -413,11 +491,13 @@ static FILE *start_ffmpeg(const char *out, pid_t *pid) {
         dup2(fds[0], 0);
         close(fds[0]), close(fds[1]);
         execlp("ffmpeg", "ffmpeg", "-y", "-loglevel", "error", "-f", "yuv4mpegpipe", "-i", "-", "-c:v",
-               "libx264", "-pix_fmt", "yuv420p", out, (char *)NULL);
+               "libx264", "-pix_fmt", "yuv420p", "-f", "mp4", out, (char *)NULL);  /* out: a temporary name */
         _exit(127);
     }
     close(fds[0]);
-    return fdopen(fds[1], "wb");
+    FILE *f = fdopen(fds[1], "wb");
+    if (!f) close(fds[1]);
+    return f;
 }
 
 static void fmt_time(char *out, size_t size, double s) {
@@ -426,6 +506,18 @@ static void fmt_time(char *out, size_t size, double s) {
 }
 
 /* ---- the command -------------------------------------------------------------- */
+
+/* Every file fly writes goes first under a temporary name beside its own
+ * (FILE.PID.part) and is renamed into place once the whole video is
+ * written: a failed or interrupted run leaves no partial file and keeps an
+ * older one intact.  A PNG sequence is written in place, and the frames of
+ * a failed run are removed. */
+static void part_name(char *out, size_t size, const char *file) {
+    snprintf(out, size, "%s.%ld.part", file, (long)getpid());
+}
+
+static volatile sig_atomic_t stop_signal;
+static void on_stop(int sig) { stop_signal = sig; }
 
 int cmd_fly(int argc, char **argv) {
     fly_opts o;
@@ -436,6 +528,16 @@ int cmd_fly(int argc, char **argv) {
     if (pr) return pr > 0 ? 0 : 2;
     if (o.kind == OUT_MP4 && !on_path("ffmpeg")) {
         error_line("--out %s: writing .mp4 needs ffmpeg, which is not on PATH (write .y4m instead)", o.out);
+        return 1;
+    }
+    /* Said now, not after the whole video went to a temporary file. */
+    struct stat st;
+    if (o.kind != OUT_PNG && stat(o.out, &st) == 0 && S_ISDIR(st.st_mode)) {
+        error_line("--out %s: is a directory", o.out);
+        return 1;
+    }
+    if (o.cameras && stat(o.cameras, &st) == 0 && S_ISDIR(st.st_mode)) {
+        error_line("--cameras %s: is a directory", o.cameras);
         return 1;
     }
     key *keys = NULL;
@@ -450,8 +552,10 @@ int cmd_fly(int argc, char **argv) {
     pid_t ff = -1;
     uint8_t *rgb = NULL, *yuv = NULL;
     ew_error err = {""};
+    char out_part[4200] = "", cams_part[4200] = "";
+    long written = 0;  /* PNG frames written */
     if (!a) goto done;
-    double seconds, t0 = 0;
+    double seconds;
     if (!from_file) {
         keys = malloc(sizeof *keys * EW_MAX_VIEWS);
         if (!keys) goto done;
@@ -462,10 +566,16 @@ int cmd_fly(int argc, char **argv) {
         }
         seconds = o.seconds > 0 ? o.seconds : nkeys == 1 ? TURN_SECONDS : SECONDS_PER_SEGMENT * (nkeys - 1);
     } else {
-        t0 = keys[0].t;
-        seconds = o.seconds > 0 ? o.seconds : keys[nkeys - 1].t - t0 + 1.0 / o.fps;
+        seconds = o.seconds > 0 ? o.seconds : keys[nkeys - 1].t + 1.0 / o.fps;
     }
-    long frames = lround(seconds * o.fps);
+    /* At most MAX_SECONDS (a path: its span, checked by read_path, and one
+     * frame more) at MAX_FPS: checked before lround can overflow. */
+    double nframes = seconds * o.fps;
+    if (!(nframes <= MAX_SECONDS * MAX_FPS + 1.5)) {
+        error_line("fly: %.6g frames asked for; at most %g s at %d fps", nframes, MAX_SECONDS, MAX_FPS);
+        goto done;
+    }
+    long frames = lround(nframes);
     if (frames < 1) frames = 1;
 
     if (draw_opts_scene(&o.draw, a, o.map, o.data, 0, o.quiet, &scene) < 0) goto done;
@@ -483,17 +593,27 @@ int cmd_fly(int argc, char **argv) {
         error_line("out of memory");
         goto done;
     }
-    if (o.cameras && !(cams = fopen(o.cameras, "w"))) {
-        error_line("--cameras %s: %s", o.cameras, strerror(errno));
-        goto done;
+    /* Ctrl-C or a kill: the loop stops and the partial files are removed. */
+    signal(SIGINT, on_stop);
+    signal(SIGTERM, on_stop);
+    signal(SIGHUP, on_stop);
+    if (o.cameras) {
+        part_name(cams_part, sizeof cams_part, o.cameras);
+        if (!(cams = fopen(cams_part, "w"))) {
+            cams_part[0] = '\0';
+            error_line("--cameras %s: %s", o.cameras, strerror(errno));
+            goto done;
+        }
     }
-    if (o.kind == OUT_Y4M && !(video = fopen(o.out, "wb"))) {
+    if (o.kind != OUT_PNG) part_name(out_part, sizeof out_part, o.out);
+    if (o.kind == OUT_Y4M && !(video = fopen(out_part, "wb"))) {
+        out_part[0] = '\0';
         error_line("--out %s: %s", o.out, strerror(errno));
         goto done;
     }
     if (o.kind == OUT_MP4) {
         signal(SIGPIPE, SIG_IGN);
-        if (!(video = start_ffmpeg(o.out, &ff))) {
+        if (!(video = start_ffmpeg(out_part, &ff))) {
             error_line("--out %s: cannot start ffmpeg: %s", o.out, strerror(errno));
             goto done;
         }
@@ -503,10 +623,15 @@ int cmd_fly(int argc, char **argv) {
     int tty = isatty(2);
     double start = ew_now_ms(), last = 0;
     for (long k = 0; k < frames; k++) {
+        if (stop_signal) {
+            error_line("fly: stopped by signal %d after %ld of %ld frames; nothing written", (int)stop_signal, k,
+                       frames);
+            goto done;
+        }
         ew_camera cam;
         memset(&cam, 0, sizeof cam);
         double t = (double)k / o.fps;
-        if (from_file) file_camera(keys, nkeys, t0 + t, &cam);
+        if (from_file) file_camera(keys, nkeys, t, &cam);
         else views_camera(keys, nkeys, t / seconds, &cam);
         cam.fov = 90;
         cam.time = t;
@@ -525,6 +650,7 @@ int cmd_fly(int argc, char **argv) {
                 error_line("%s", err.msg);
                 goto done;
             }
+            written = k + 1;
         } else {
             frame_rgb(r, rgb, npx);
             rgb_to_yuv420(rgb, o.width, o.height, yuv);
@@ -545,13 +671,12 @@ int cmd_fly(int argc, char **argv) {
         }
     }
     if (tty) fputc('\n', stderr);
-    rc = 0;
     if (video) {
         FILE *v = video;
         video = NULL;
         if (fclose(v) != 0) {
             error_line("--out %s: %s", o.out, strerror(errno));
-            rc = 1;
+            goto done;
         }
     }
     if (ff > 0) {
@@ -560,22 +685,53 @@ int cmd_fly(int argc, char **argv) {
         ff = -1;
         if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
             error_line("--out %s: ffmpeg failed (exit status %d)", o.out, WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-            rc = 1;
+            goto done;
         }
     }
-    if (rc == 0) {
-        double secs = (ew_now_ms() - start) / 1000;
-        fprintf(stderr, "fly: %ld frames %dx%d at %d fps (%.2f s of video) written to %s in %.1f s (%.1f frames/s)\n",
-                frames, o.width, o.height, o.fps, (double)frames / o.fps, o.out, secs,
-                secs > 0 ? (double)frames / secs : 0);
+    if (cams) {
+        FILE *c = cams;
+        cams = NULL;
+        if (fclose(c) != 0) {
+            error_line("--cameras %s: %s", o.cameras, strerror(errno));
+            goto done;
+        }
     }
+    /* Everything is written: into place. */
+    if (out_part[0]) {
+        if (rename(out_part, o.out) != 0) {
+            error_line("--out %s: %s", o.out, strerror(errno));
+            goto done;
+        }
+        out_part[0] = '\0';
+    }
+    if (cams_part[0]) {
+        if (rename(cams_part, o.cameras) != 0) {
+            error_line("--cameras %s: %s", o.cameras, strerror(errno));
+            goto done;
+        }
+        cams_part[0] = '\0';
+    }
+    rc = 0;
+    written = 0;
+    double secs = (ew_now_ms() - start) / 1000;
+    fprintf(stderr, "fly: %ld frames %dx%d at %d fps (%.2f s of video) written to %s in %.1f s (%.1f frames/s)\n",
+            frames, o.width, o.height, o.fps, (double)frames / o.fps, o.out, secs,
+            secs > 0 ? (double)frames / secs : 0);
 done:
     if (video) fclose(video);
     if (ff > 0) waitpid(ff, NULL, 0);
-    if (cams && fclose(cams) != 0 && rc == 0) {
-        error_line("--cameras %s: %s", o.cameras, strerror(errno));
-        rc = 1;
+    if (cams) fclose(cams);
+    /* A failed run: what it wrote goes. */
+    if (out_part[0]) unlink(out_part);
+    if (cams_part[0]) unlink(cams_part);
+    for (long k = 0; k < written; k++) {
+        char file[4200];
+        snprintf(file, sizeof file, o.out, (int)k);
+        unlink(file);
     }
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+    signal(SIGHUP, SIG_DFL);
     free(rgb);
     free(yuv);
     free(keys);

@@ -58,13 +58,9 @@ static double ms_now(void) {
 }
 
 int parse_polyhedra_time(const char *v, double *t) {
-    char *end = NULL;
+    const char *end = v;
     double d = 0;
-    int ok = *v && !isspace((unsigned char)*v);
-    if (ok) {
-        d = strtod(v, &end);
-        ok = end != v && !*end && d >= 0 && d <= 1e6;  /* NaN fails too */
-    }
+    int ok = parse_decimal(v, &end, &d) == 0 && !*end && d >= 0 && d <= 1e6;
     if (!ok) {
         error_line("--time %s: must be a number of seconds from 0 to 1000000", v);
         return -1;

@@ -546,10 +546,10 @@ static void lb_add(line_buf *b, const char *fmt, ...) {
 
 static void lb_str(line_buf *b, const char *s) {
     lb_add(b, "\"");
-    for (const unsigned char *p = (const unsigned char *)s; *p && b->n < LINE_MAX_BYTES - 8; p++) {
-        if (*p == '"' || *p == '\\') lb_add(b, "\\%c", *p);
-        else if (*p < 0x20 || *p == 0x7f) lb_add(b, "\\u%04x", *p);
-        else lb_add(b, "%c", *p);
+    for (const unsigned char *p = (const unsigned char *)s; *p && b->n < LINE_MAX_BYTES - 8;) {
+        char c[8];
+        json_char(&p, c);  /* the escaping of every JSON writer (cli/edgewise.c) */
+        lb_add(b, "%s", c);
     }
     lb_add(b, "\"");
 }

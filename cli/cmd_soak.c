@@ -148,7 +148,7 @@ static int parse(int argc, char **argv, soak_opts *o) {
             char *end;
             errno = 0;
             unsigned long long s = strtoull(v, &end, 10);
-            if (!*v || *v == '-' || *v == '+' || *end || errno == ERANGE) {
+            if (!*v || *v < '0' || *v > '9' || *end || errno == ERANGE) {  /* no sign, no blank */
                 error_line("--seed %s: expected a whole number from 0 to %llu", v, ULLONG_MAX);
                 return -1;
             }

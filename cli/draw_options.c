@@ -103,18 +103,9 @@ static int bad_value(int k, const char *v) {
     return -1;
 }
 
-/* A finite number, no blanks, nothing after it. */
+/* A finite decimal number (parse_decimal), *end_out just past it. */
 static int number(const char *s, const char **end_out, double *out) {
-    if (!*s || isspace((unsigned char)*s))
-        return -1;
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || !isfinite(v))
-        return -1;
-    *out = v;
-    *end_out = end;
-    return 0;
+    return parse_decimal(s, end_out, out);
 }
 
 static int whole_number(const char *s, double *out) {

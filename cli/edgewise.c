@@ -81,6 +81,8 @@ static const char usage_tail[] =
     "demo options: --size, --view, --fov, --time, --out (default demo.png), --stats,\n"
     "  --quiet, the light, particle and thread options of render and what is drawn\n"
     "\n"
+    "Numbers are decimal (12, -0.5, .25, 1e3): no hex, inf or nan, no blanks.\n"
+    "\n"
     "Warnings about a map's optional data (a malformed worldspawn key, ...) go to\n"
     "stderr as 'edgewise: warning: ...' lines in every command that loads a map.\n"
     "\n"
@@ -147,7 +149,7 @@ typedef struct options {
     draw_opts   draw;         /* what is drawn (cli/draw_options.c) */
 } options;
 
-/* strtol/strtod accept leading blanks; a command-line number should not. */
+/* strtol accepts leading blanks; a command-line number should not. */
 static int starts_number(const char *s) {
     return *s && !isspace((unsigned char)*s);
 }
@@ -164,27 +166,48 @@ int parse_long(const char *s, long *out) {
     return 0;
 }
 
-static int parse_double(const char *s, double *out) {
-    if (!starts_number(s))
-        return -1;
-    char *end;
+/* The one number syntax of the command line: [+-] digits [. digits] [e [+-]
+ * digits], a digit before or after the point.  strtod alone also takes hex
+ * floats (0x10), "inf", "nan" and leading blanks, which help never promises. */
+int parse_decimal(const char *s, const char **end, double *out) {
+    const char *p = s;
+    if (*p == '+' || *p == '-') p++;
+    int digits = 0;
+    while (*p >= '0' && *p <= '9') p++, digits++;
+    if (*p == '.') {
+        p++;
+        while (*p >= '0' && *p <= '9') p++, digits++;
+    }
+    if (!digits) return -1;
+    if (*p == 'e' || *p == 'E') {
+        const char *q = p + 1;
+        if (*q == '+' || *q == '-') q++;
+        if (*q >= '0' && *q <= '9') {
+            while (*q >= '0' && *q <= '9') q++;
+            p = q;
+        }
+    }
+    char *stop;
     errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end || !isfinite(v))
-        return -1;
+    double v = strtod(s, &stop);
+    if (stop != p || !isfinite(v)) return -1;  /* strtod read something else; or out of range */
     *out = v;
+    *end = p;
     return 0;
+}
+
+static int parse_double(const char *s, double *out) {
+    const char *end;
+    return parse_decimal(s, &end, out) == 0 && *end == '\0' ? 0 : -1;
 }
 
 /* "X,Y,Z": exactly three finite numbers within +-MAX_COORD; one rule, one message. */
 static int parse_vec3(const char *opt, const char *s, float v[3]) {
     const char *p = s;
     for (int i = 0; i < 3; i++) {
-        char *end;
-        if (!starts_number(p))
-            goto bad;
-        double d = strtod(p, &end);
-        if (end == p || !isfinite(d) || fabs(d) > MAX_COORD || *end != (i < 2 ? ',' : '\0'))
+        const char *end;
+        double d;
+        if (parse_decimal(p, &end, &d) < 0 || fabs(d) > MAX_COORD || *end != (i < 2 ? ',' : '\0'))
             goto bad;
         v[i] = (float)d;
         p = end + 1;
@@ -298,13 +321,9 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
         /* X,Y,Z,R or X,Y,Z,R,r,g,b: split at the commas, each a number. */
         double f[7];
         int n = 0;
-        const char *p = v;
-        char *end;
+        const char *p = v, *end = v;
         while (n < 7) {
-            if (!*p || isspace((unsigned char)*p)) break;
-            errno = 0;
-            f[n] = strtod(p, &end);
-            if (end == p || !isfinite(f[n])) break;
+            if (parse_decimal(p, &end, &f[n]) < 0) break;
             n++;
             if (*end == ',') p = end + 1;
             else break;
@@ -449,16 +468,49 @@ void map_basename(const char *map, char *out, size_t size) {
 
 static ew_assets *load(const options *o) { return load_map(o->map, o->data, !!(o->given & O_QUIET)); }
 
-/* Writes s as a JSON string. */
+/* Valid UTF-8 (RFC 3629: shortest forms, no surrogates, at most U+10FFFF):
+ * the length of the sequence at p, 0 if p does not start one. */
+static int utf8_length(const unsigned char *p) {
+    unsigned char c = p[0];
+    int n;
+    unsigned char lo = 0x80, hi = 0xbf;  /* the second byte's range */
+    if (c < 0x80) return 1;
+    if (c >= 0xc2 && c <= 0xdf) n = 2;
+    else if (c >= 0xe0 && c <= 0xef) n = 3, lo = c == 0xe0 ? 0xa0 : 0x80, hi = c == 0xed ? 0x9f : 0xbf;
+    else if (c >= 0xf0 && c <= 0xf4) n = 4, lo = c == 0xf0 ? 0x90 : 0x80, hi = c == 0xf4 ? 0x8f : 0xbf;
+    else return 0;
+    if (p[1] < lo || p[1] > hi) return 0;
+    for (int i = 2; i < n; i++)
+        if (p[i] < 0x80 || p[i] > 0xbf) return 0;  /* a NUL ends the check too */
+    return n;
+}
+
+size_t json_char(const unsigned char **p, char out[8]) {
+    const unsigned char *s = *p;
+    int n = utf8_length(s);
+    if (n == 1 && (*s == '"' || *s == '\\')) {
+        out[0] = '\\', out[1] = (char)*s, out[2] = '\0';
+        n = 1;
+    } else if (n == 1 && *s >= 0x20 && *s != 0x7f) {
+        out[0] = (char)*s, out[1] = '\0';
+    } else if (n > 1) {
+        memcpy(out, s, (size_t)n);
+        out[n] = '\0';
+    } else {
+        /* a control byte, DEL, or a byte outside valid UTF-8: its Latin-1 reading */
+        snprintf(out, 8, "\\u%04x", *s);
+        n = 1;
+    }
+    *p = s + n;
+    return strlen(out);
+}
+
 void json_string(FILE *f, const char *s) {
     fputc('"', f);
-    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
-        if (*p == '"' || *p == '\\')
-            fprintf(f, "\\%c", *p);
-        else if (*p < 0x20)
-            fprintf(f, "\\u%04x", *p);
-        else
-            fputc(*p, f);
+    for (const unsigned char *p = (const unsigned char *)s; *p;) {
+        char c[8];
+        json_char(&p, c);
+        fputs(c, f);
     }
     fputc('"', f);
 }

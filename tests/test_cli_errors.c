@@ -252,6 +252,56 @@ static void dark(void) {
     CHECK(r->status == 0 && ew_t_json_num(r->out, "dark") == 0, "demo: dark %g", ew_t_json_num(r->out, "dark"));
 }
 
+/* Numbers are decimal, as help says (issue 36): strtod's hex floats, inf,
+ * nan and leading blanks are refused by every option that reads a number
+ * (one usage line naming the option and the value), and the decimal
+ * spellings help allows are taken. */
+static void decimal_only(void) {
+    const char *bad[] = {"0x10", "0X1p4", "inf", "nan", "-Infinity", " 16", "16 ", "1e999", "1e", ".", "+-1", ""};
+    for (size_t b = 0; b < sizeof bad / sizeof *bad; b++) {
+        const char *x = bad[b];
+        char v3[64], v4[64], fog[64], style[64];
+        snprintf(v3, sizeof v3, "%s,0,0", x);
+        snprintf(v4, sizeof v4, "0,0,0,%s", x);
+        snprintf(fog, sizeof fog, "%s,1,1,1", x);
+        snprintf(style, sizeof style, "0=%s", x);
+        struct {
+            const char *opt, *val;
+            const char *const *args;
+        } cases[] = {
+            {"--pos", v3, ARGS("render", "builtin", "--pos", v3, "--angles", "0,0,0")},
+            {"--angles", v3, ARGS("render", "builtin", "--pos", "0,0,0", "--angles", v3)},
+            {"--fov", x, ARGS("render", "builtin", "--fov", x)},
+            {"--time", x, ARGS("render", "builtin", "--time", x)},
+            {"--dlight", v4, ARGS("render", "builtin", "--dlight", v4)},
+            {"--fog", fog, ARGS("render", "builtin", "--fog", fog)},
+            {"--wateralpha", x, ARGS("render", "builtin", "--wateralpha", x)},
+            {"--subdiv-threshold", x, ARGS("render", "builtin", "--subdiv-threshold", x)},
+            {"--gamma", x, ARGS("render", "builtin", "--color", "true", "--gamma", x)},
+            {"--lightstyle", style, ARGS("render", "builtin", "--lightstyle", style)},
+            {"--time", x, ARGS("render", "builtin:polyhedra", "--time", x)},
+            {"--seconds", x, ARGS("fly", "builtin", "--seconds", x, "--out", "a.y4m")},
+        };
+        for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+            if (!strcmp(cases[i].opt, "--lightstyle") && strspn(x, "abcdefghijklmnopqrstuvwxyz") == strlen(x))
+                continue;  /* "inf", "nan": light style patterns, letters a to z */
+            ew_t_run *r = run(cases[i].args);
+            char head[200];
+            snprintf(head, sizeof head, "edgewise: %s %s", cases[i].opt, cases[i].val);
+            int ok = r->status == 2 && ew_t_count_lines(r->err) == 1;
+            /* an empty value is refused before its rule: the line names the option */
+            ok = ok && (*x ? strncmp(r->err, head, strlen(head)) == 0 : strstr(r->err, cases[i].opt) != NULL);
+            CHECK(ok, "%s '%s': want exit 2 and one line '%s...', got %d: %s", cases[i].opt, cases[i].val, head,
+                  r->status, r->err);
+        }
+    }
+    /* What help allows: signs, a point with digits on one side, exponents. */
+    ew_t_run *r = run(ARGS("render", "builtin", "--size", "320x200", "--pos", "+1.,-.5,1E2", "--angles",
+                           "0,-9e1,0.0", "--fov", "9.e1", "--time", "1e-3", "--dlight", "0,0,40,2.5e2,1,.5,0",
+                           "--out", "dec.png"));
+    CHECK(r->status == 0, "decimal spellings: exit %d: %s", r->status, r->err);
+}
+
 int main(void) {
     if (!getenv("EW_CLI")) {
         fprintf(stderr, "EW_CLI not set\n");
@@ -268,6 +318,7 @@ int main(void) {
         data = abs_data;
     }
     rules();
+    decimal_only();
     not_maps();
     if (data) {
         missing_models();

@@ -2,16 +2,25 @@
  * edgewise fly: the y4m it writes (header, frame count and size, frames that
  * move), frame 4 against `edgewise render` of the camera --cameras gives for
  * it (converted to YCbCr here with the same BT.601 full-range formula), a PNG
- * sequence, a recorded --path FILE, and the usage errors.
+ * sequence, a recorded --path FILE, and the usage errors.  Issue 36: a path
+ * file is held to --seconds' limit and read by whole lines, and a failed or
+ * interrupted run leaves no partial output (y4m, mp4 through a stand-in
+ * ffmpeg, PNG frames) and an older file intact.
  */
 #define _DEFAULT_SOURCE
 #include "util.h"
 #include "edgewise_tools.h"
 
+#include <dirent.h>
+#include <fcntl.h>
 #include <math.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 static char tmpdir[256];
@@ -44,6 +53,206 @@ static void check_usage(const char *const *args, int status, const char *what) {
     CHECK(run_r->status == status, "%s: exit %d, want %d (%s)", what, run_r->status, status, run_r->err);
     CHECK(ew_t_count_lines(run_r->err) == 1, "%s: one error line, got: %s", what, run_r->err);
     CHECK(strstr(run_r->err, "edgewise: ") == run_r->err, "%s: %s", what, run_r->err);
+}
+
+static void write_text(const char *rel, const char *text, size_t n) {
+    char p[512];
+    snprintf(p, sizeof p, "%s/%s", tmpdir, rel);
+    FILE *f = fopen(p, "wb");
+    if (f) {
+        fwrite(text, 1, n, f);
+        fclose(f);
+    }
+}
+
+/* Files in tmpdir whose names end in ".part" (fly's temporary names). */
+static int part_files(void) {
+    DIR *d = opendir(tmpdir);
+    int n = 0;
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        size_t l = strlen(e->d_name);
+        n += l > 5 && !strcmp(e->d_name + l - 5, ".part");
+    }
+    if (d) closedir(d);
+    return n;
+}
+
+/* A path file refused: exit 1, one line naming FILE:LINE, nothing written. */
+static void path_refused(const char *what, const char *text, size_t n, int line, const char *needle) {
+    write_text("bad_path.txt", text, n);
+    char at[64];
+    snprintf(at, sizeof at, "--path bad_path.txt:%d: ", line);
+    run((const char *const[]){"fly", "builtin", "--size", "320x200", "--fps", "2", "--path", "bad_path.txt",
+                              "--out", "bad.y4m", "--cameras", "bad_cams.txt", NULL});
+    CHECK(run_r->status == 1 && ew_t_count_lines(run_r->err) == 1 && strstr(run_r->err, at) &&
+              strstr(run_r->err, needle),
+          "%s: want exit 1 and one line with '%s' and '%s', got %d: %s", what, at, needle, run_r->status,
+          run_r->err);
+    CHECK(!file_exists("bad.y4m") && !file_exists("bad_cams.txt") && !part_files(), "%s: no file left", what);
+}
+
+/* fly running in tmpdir in the background (output to /dev/null); its pid. */
+static pid_t spawn_fly(const char *const *args) {
+    pid_t pid = fork();
+    if (pid == 0) {
+        int fd = open("/dev/null", O_WRONLY);
+        if (fd >= 0) dup2(fd, 1), dup2(fd, 2);
+        if (chdir(tmpdir) != 0) _exit(126);
+        const char *argv[32] = {getenv("EW_CLI")};
+        for (int i = 0; args[i] && i < 30; i++) argv[i + 1] = args[i];
+        execv(argv[0], (char *const *)argv);
+        _exit(127);
+    }
+    return pid;
+}
+
+static void sleep_ms(long ms) {
+    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
+    nanosleep(&ts, NULL);
+}
+
+/* Issue 36: limits, long lines, and what a failed run leaves. */
+static void hardening(void) {
+    /* ---- a path file's span is held to --seconds' 3600 s ---- */
+    const char span[] = "0 0 0 0 0 0 0\n1e9 0 0 0 0 0 0\n";
+    path_refused("times 0 and 1e9", span, strlen(span), 2, "spans at most 3600 s");
+    /* the frame count overflowed lround: a one-frame video and exit 0 before */
+    const char huge[] = "1e30 0 0 0 0 0 0\n1.0000001e30 0 0 0 0 0 0\n";
+    path_refused("times 1e30 and 1.0000001e30", huge, strlen(huge), 2, "spans at most 3600 s");
+    const char over[] = "# a comment\n5 0 0 0 0 0 0\n3605.001 0 0 0 0 0 0\n";
+    path_refused("a span of 3600.001 s", over, strlen(over), 3, "spans at most 3600 s");
+    const char edge[] = "5 0 0 0 0 0 0\n3605 0 0 0 0 0 0\n";
+    write_text("edge.txt", edge, strlen(edge));
+    run((const char *const[]){"fly", "builtin", "--size", "320x200", "--fps", "1", "--seconds", "1", "--path",
+                              "edge.txt", "--out", "edge.y4m", NULL});
+    CHECK(run_r->status == 0 && strstr(run_r->err, " 1 frames"), "a span of 3600 s is taken: %d %s", run_r->status,
+          run_r->err);
+    /* numbers as on the command line: decimal only */
+    const char hex[] = "0 0 0 0 0 0 0\n0x10 0 0 0 0 0 0\n";
+    path_refused("a hex time", hex, strlen(hex), 2, "seven decimal numbers");
+    const char nan[] = "0 0 0 0 0 nan 0\n";
+    path_refused("a nan angle", nan, strlen(nan), 1, "seven decimal numbers");
+    const char eight[] = "0 0 0 0 0 0 0 0\n";
+    path_refused("eight numbers", eight, strlen(eight), 1, "seven decimal numbers");
+    const char back[] = "1 0 0 0 0 0 0\n0.5 0 0 0 0 0 0\n";
+    path_refused("a time going back", back, strlen(back), 2, "goes back");
+    /* frame 0 could not be drawn: a 43-byte header-only y4m and exit 1 before */
+    const char far[] = "0 1e30 0 0 0 0 0\n";
+    path_refused("a position of 1e30", far, strlen(far), 1, "from -1000000 to 1000000");
+    const char nul[] = "0 0 0 0 0 0 0\n1 0 0\0 0 0 0 0\n";
+    path_refused("a NUL byte", nul, sizeof nul - 1, 2, "NUL");
+
+    /* ---- lines of any length: a 600-character comment first, a 100000-character one later ---- */
+    size_t big = 100000;
+    char *text = malloc(big + 6000);  /* the long lines and a few short ones */
+    if (text) {
+        size_t n = 0;
+        text[n++] = '#';
+        for (int i = 0; i < 600; i++) text[n++] = 'c';
+        n += (size_t)sprintf(text + n, "\n0 230 290 110 0 350 0\n#");
+        for (size_t i = 0; i < big; i++) text[n++] = i % 80 ? 'c' : ' ';
+        n += (size_t)sprintf(text + n, "\n1 200 250 120 0 10 0\n");
+        write_text("long.txt", text, n);
+        run((const char *const[]){"fly", "builtin", "--size", "320x200", "--fps", "2", "--path", "long.txt", "--out",
+                                  "long.y4m", NULL});
+        CHECK(run_r->status == 0 && strstr(run_r->err, " 3 frames"), "long comment lines: exit %d: %s",
+              run_r->status, run_r->err);
+        /* a camera line over 4095 bytes is refused as such */
+        n = 0;
+        n += (size_t)sprintf(text + n, "0 0 0 0 0 0 0\n1 ");
+        for (int i = 0; i < 5000; i++) text[n++] = '0';
+        n += (size_t)sprintf(text + n, "1 0 0 0 0 0\n");
+        path_refused("a 5000-byte camera line", text, n, 2, "longer than 4095 bytes");
+        free(text);
+    }
+
+    /* ---- --out an existing folder: said before any frame ---- */
+    char p[512];
+    snprintf(p, sizeof p, "%s/dir.y4m", tmpdir);
+    mkdir(p, 0755);
+    check_usage((const char *const[]){"fly", "builtin", "--size", "320x200", "--out", "dir.y4m", NULL}, 1,
+                "--out a folder");
+    check_usage((const char *const[]){"fly", "builtin", "--size", "320x200", "--out", "c.y4m", "--cameras", "dir.y4m",
+                                      NULL},
+                1, "--cameras a folder");
+    CHECK(!file_exists("c.y4m") && !part_files(), "--cameras a folder: nothing written");
+
+    /* ---- a PNG frame that cannot be written: the frames before it go ---- */
+    snprintf(p, sizeof p, "%s/fail_003.png", tmpdir);
+    mkdir(p, 0755);
+    run((const char *const[]){"fly", "builtin", "--size", "320x200", "--seconds", "1", "--fps", "6", "--out",
+                              "fail_%03d.png", NULL});
+    CHECK(run_r->status == 1 && ew_t_count_lines(run_r->err) == 1, "png frame 3 unwritable: exit %d: %s",
+          run_r->status, run_r->err);
+    CHECK(!file_exists("fail_000.png") && !file_exists("fail_002.png") && file_exists("fail_003.png"),
+          "png frame 3 unwritable: frames 0 to 2 removed, the folder left");
+
+    /* ---- killed mid-video: no partial file, the older video intact ---- */
+    write_text("keep.y4m", "old", 3);
+    write_text("keep_cams.txt", "old", 3);
+    pid_t pid = spawn_fly((const char *const[]){"fly", "builtin", "--size", "320x200", "--seconds", "600", "--out",
+                                                "keep.y4m", "--cameras", "keep_cams.txt", NULL});
+    int started = 0;
+    for (int i = 0; i < 200 && !started; i++) {
+        sleep_ms(50);
+        started = part_files() == 2;
+    }
+    CHECK(started, "fly writes keep.y4m and keep_cams.txt under temporary names");
+    sleep_ms(200);
+    kill(pid, SIGTERM);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 1, "SIGTERM: exit 1 after cleaning up (status 0x%x)", status);
+    char old[16];
+    snprintf(p, sizeof p, "%s/keep.y4m", tmpdir);
+    ew_t_slurp(p, old, sizeof old);
+    CHECK(!strcmp(old, "old"), "an interrupted run keeps the older keep.y4m");
+    snprintf(p, sizeof p, "%s/keep_cams.txt", tmpdir);
+    ew_t_slurp(p, old, sizeof old);
+    CHECK(!strcmp(old, "old"), "an interrupted run keeps the older keep_cams.txt");
+    CHECK(!part_files(), "an interrupted run leaves no temporary file");
+
+    /* ---- .mp4 through a stand-in ffmpeg that copies its input, then one that fails ---- */
+    char bin[300], script[400];
+    snprintf(bin, sizeof bin, "%s/bin", tmpdir);
+    mkdir(bin, 0755);
+    snprintf(script, sizeof script, "%s/ffmpeg", bin);
+    const char *old_path = getenv("PATH");
+    char *saved = old_path ? strdup(old_path) : NULL, newpath[4096];
+    snprintf(newpath, sizeof newpath, "%s:%s", bin, old_path ? old_path : "/usr/bin:/bin");
+    setenv("PATH", newpath, 1);
+    for (int fail = 0; fail < 2; fail++) {
+        FILE *f = fopen(script, "w");
+        if (f) {
+            fprintf(f, "#!/bin/sh\nfor a in \"$@\"; do last=\"$a\"; done\n%s\n",
+                    fail ? "head -c 100 > \"$last\"; exit 1" : "cat > \"$last\"");
+            fclose(f);
+            chmod(script, 0755);
+        }
+        run((const char *const[]){"fly", "builtin", "--size", "320x200", "--seconds", "1", "--fps", "5", "--out",
+                                  "v.mp4", NULL});
+        if (!fail) {
+            snprintf(p, sizeof p, "%s/v.mp4", tmpdir);
+            size_t vs = 0;
+            unsigned char *v = slurp_bin(p, &vs);
+            CHECK(run_r->status == 0 && v && vs == strlen("YUV4MPEG2 W320 H200 F5:1 Ip A1:1 C420jpeg\n") +
+                                                       5 * (6 + 320 * 200 * 3 / 2),
+                  "mp4: ffmpeg's output moved into place (%zu bytes): %s", vs, run_r->err);
+            free(v);
+        } else {
+            CHECK(run_r->status == 1 && ew_t_count_lines(run_r->err) == 1 && strstr(run_r->err, "ffmpeg"),
+                  "mp4: a failing ffmpeg: exit %d: %s", run_r->status, run_r->err);
+        }
+        CHECK(!part_files(), "mp4 (ffmpeg %s): no temporary file left", fail ? "failing" : "working");
+    }
+    snprintf(p, sizeof p, "%s/v.mp4", tmpdir);
+    size_t vs = 0;
+    unsigned char *v = slurp_bin(p, &vs);
+    CHECK(v && vs > 100, "mp4: a failed run keeps the older v.mp4 (%zu bytes)", vs);
+    free(v);
+    if (saved) setenv("PATH", saved, 1);
+    free(saved);
 }
 
 int main(void) {
@@ -185,6 +394,8 @@ int main(void) {
     free(saved);
     check_usage((const char *const[]){"fly", "builtin", "--path", "nope.txt", "--out", "a.y4m", NULL}, 1,
                 "missing path file");
+
+    hardening();
 
     run((const char *const[]){"fly", "--help", NULL});
     CHECK(run_r->status == 0 && strstr(run_r->out, "--cameras") && strstr(run_r->out, "walls"), "fly --help");

@@ -5,6 +5,12 @@
  * accepted or rejected with a message; under `make test-asan` ASan and
  * UBSan catch anything subtler.  New findings go in as small files
  * (libFuzzer's -minimize_crash=1) named after what they broke.
+ *
+ * tests/regress/fly_path holds the odd `edgewise fly --path` files of the
+ * robustness campaigns (issue 36), run through the command (EW_CLI): each
+ * says on a "# expect:" line whether it is accepted or refused at which
+ * line; refused is one error line naming FILE:LINE, exit 1, and no output
+ * file left.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "util.h"
@@ -14,6 +20,7 @@
 #include <dirent.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static int by_name(const void *a, const void *b) {
     return strcmp(*(char *const *)a, *(char *const *)b);
@@ -47,6 +54,47 @@ static void free_list(char **names, int n) {
     free(names);
 }
 
+/* Every file of DIR through `edgewise fly builtin --path FILE`; the count. */
+static int fly_paths(const char *dir) {
+    char tmp[] = "/tmp/ew_regress_XXXXXX";
+    if (!getenv("EW_CLI") || !mkdtemp(tmp)) {
+        CHECK(0, "fly_path: no EW_CLI or no temporary folder");
+        return 0;
+    }
+    ew_t_run *r = malloc(sizeof *r);
+    int n, accepted = 0;
+    char **files = list_dir(dir, &n);
+    for (int i = 0; r && i < n; i++) {
+        char path[2600], text[256], out[2700];
+        snprintf(path, sizeof path, "%s/%s", dir, files[i]);
+        ew_t_slurp(path, text, sizeof text);
+        const char *e = strstr(text, "# expect: ");
+        int line = 0, accept = e && !strncmp(e + 10, "accepted", 8);
+        CHECK(accept || (e && sscanf(e + 10, "refused at line %d", &line) == 1),
+              "%s: no '# expect: accepted' or '# expect: refused at line N' line", path);
+        ew_t_run_cli(r, tmp, (const char *const[]){"fly", "builtin", "--size", "320x200", "--fps", "4", "--path",
+                                                   path, "--out", "out.y4m", NULL});
+        snprintf(out, sizeof out, "%s/out.y4m", tmp);
+        int made = access(out, F_OK) == 0;
+        unlink(out);
+        if (accept) {
+            CHECK(r->status == 0 && made, "%s: want it accepted, got exit %d: %s", path, r->status, r->err);
+            accepted++;
+        } else {
+            char at[2700];
+            snprintf(at, sizeof at, "edgewise: --path %s:%d: ", path, line);
+            CHECK(r->status == 1 && ew_t_count_lines(r->err) == 1 && !strncmp(r->err, at, strlen(at)) && !made,
+                  "%s: want exit 1, one line '%s...' and no output, got %d%s: %s", path, at, r->status,
+                  made ? " and out.y4m" : "", r->err);
+        }
+    }
+    printf("%-8s %3d inputs replayed cleanly (%d accepted, %d refused)\n", "fly_path", n, accepted, n - accepted);
+    free_list(files, n);
+    free(r);
+    rmdir(tmp);
+    return n;
+}
+
 int main(void) {
     const char *src = getenv("EW_SOURCE");
     char root[1024];
@@ -56,6 +104,12 @@ int main(void) {
     CHECK(targets != NULL || ntargets == 0, "cannot read %s", root);
 
     for (int t = 0; t < ntargets; t++) {
+        if (!strcmp(targets[t], "fly_path")) {  /* through the command, not a fuzz target */
+            char dir[1300];
+            snprintf(dir, sizeof dir, "%s/%s", root, targets[t]);
+            total += fly_paths(dir);
+            continue;
+        }
         ew_fuzz_fn fn = ew_fuzz_target(targets[t]);
         CHECK(fn != NULL, "%s/%s: no fuzz target of that name", root, targets[t]);
         if (!fn) continue;
