@@ -100,7 +100,7 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
             }
             const char *v = argv[++i];
             long l;
-            char *end;
+            const char *dend;
             switch (k) {
             case 0: o->data = v; break;
             case 1:
@@ -122,8 +122,7 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
                 o->threads = (int)l;
                 break;
             case 4:
-                o->fov = strtod(v, &end);
-                if (end == v || *end || !(o->fov > 1 && o->fov < 179)) {
+                if (parse_decimal(v, &dend, &o->fov) < 0 || *dend || !(o->fov > 1 && o->fov < 179)) {
                     error_line("--fov %s: must be " FOV_RULE, v);
                     return -1;
                 }
