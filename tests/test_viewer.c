@@ -605,6 +605,12 @@ int main(void) {
     CHECK(r.status == 2 && strstr(r.err, "--present bogus") && ew_t_count_lines(r.err) == 1, "--present bogus: %d %s",
           r.status, r.err);
 
+    /* Numbers are decimal, as everywhere in the command (issue 36). */
+    const char *argsf[] = { "view", "builtin", "--fov", "0x10", NULL };
+    ew_t_run_cli(&r, tmpdir, argsf);
+    CHECK(r.status == 2 && strstr(r.err, "--fov 0x10") && ew_t_count_lines(r.err) == 1, "--fov 0x10: %d %s",
+          r.status, r.err);
+
     if (!have_tool("Xvfb")) {
         printf("skip: no Xvfb\n");
         return ew_t_finish();
