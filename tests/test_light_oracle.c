@@ -259,6 +259,32 @@ int main(void) {
         }
     edge_two_pass = 0;
 
+    /* Two threads draw the same two-pass frames as one (bands of one frame). */
+    {
+        ew_error err;
+        ew_assets *a = ew_t_load_map("lqdm7");
+        ew_camera views[EW_MAX_VIEWS];
+        int nv = a ? ew_benchmark_views(a->world, views) : 0, same = 0, n = 0;
+        for (int hsr = 0; hsr < 2 && a; hsr++) {
+            ew_renderer *r[2];
+            for (int k = 0; k < 2; k++) {
+                r[k] = ew_renderer_create(&(ew_renderer_desc){.world = a->world, .palette = a->palette,
+                                                              .colormap = a->colormap, .width = W, .height = H,
+                                                              .threads = k + 1, .color = EW_COLOR_TRUE,
+                                                              .hsr = hsr ? EW_HSR_REFERENCE : EW_HSR_EDGE}, &err);
+                if (r[k]) ew_set_lighting(r[k], EW_LIGHTING_TWO_PASS);
+            }
+            for (int v = 0; r[0] && r[1] && v < nv; v += 4) {
+                ew_render(r[0], &views[v], NULL), ew_render(r[1], &views[v], NULL);
+                same += memcmp(ew_frame_rgba(r[0]), ew_frame_rgba(r[1]), (size_t)W * H * 4) == 0, n++;
+            }
+            ew_renderer_destroy(r[0]), ew_renderer_destroy(r[1]);
+        }
+        printf("two-pass on 1 and 2 threads: %d of %d frames identical\n", same, n);
+        CHECK(n > 0 && same == n, "two-pass: %d of %d frames differ between 1 and 2 threads", n - same, n);
+        ew_assets_destroy(a);
+    }
+
     /* Controls: a cache that reads its light map wrongly must fail. */
     static const map_case controls[] = {{"librequake", "e1m1", 0}, {"librequake", "start", 0}, {"librequake", "lqdm7", 0}};
     for (int i = 0; i < (int)(sizeof controls / sizeof *controls); i++)
