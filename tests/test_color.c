@@ -27,16 +27,7 @@
 #define H 200
 #define NPX (W * H)
 
-#if defined(__SANITIZE_ADDRESS__)
-#define VIEW_STEP 2
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define VIEW_STEP 2
-#endif
-#endif
-#ifndef VIEW_STEP
-#define VIEW_STEP 1
-#endif
+#define VIEW_STEP (EW_T_SANITIZED ? 2 : 1)
 
 static ew_renderer *make(const ew_world *w, const uint8_t *pal, const uint8_t *cmap, ew_color_mode c) {
     ew_error err = {""};

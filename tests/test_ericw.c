@@ -36,16 +36,7 @@
 
 /* Under AddressSanitizer every second camera of the view set (the cube
  * cameras always): every map is still drawn, in half the time. */
-#if defined(__SANITIZE_ADDRESS__)
-#define VIEW_STEP 2
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define VIEW_STEP 2
-#endif
-#endif
-#ifndef VIEW_STEP
-#define VIEW_STEP 1
-#endif
+#define VIEW_STEP (EW_T_SANITIZED ? 2 : 1)
 
 static const char *const suffixes[] = {"_plain",     "_bsp2_bspxlit", "_lmscale8",          "_lmshiftmix",
                                        "_decoupled", "_decoupled_novanilla", "_bsp2_bspxall"};

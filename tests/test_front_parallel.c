@@ -23,16 +23,7 @@ static const int thread_counts[] = {1, 2, 3, 8};
 #define NT ((int)(sizeof thread_counts / sizeof *thread_counts))
 /* Under the sanitizers (ten times slower) the other methods are checked on
  * the first map and the built-in scene only. */
-#if defined(__SANITIZE_ADDRESS__)
-#define SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SANITIZED 1
-#endif
-#endif
-#ifndef SANITIZED
-#define SANITIZED 0
-#endif
+#define SANITIZED EW_T_SANITIZED
 
 typedef struct fnv { uint64_t h; } fnv;
 static void mix(fnv *f, const void *p, size_t n) {

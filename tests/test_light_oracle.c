@@ -32,11 +32,8 @@
  * far less than half the frame. */
 #define EXACT_LIMIT 0.6
 
-#if defined(__SANITIZE_ADDRESS__)
-#define VIEW_STEP 4  /* every fourth view under the sanitizers: the same checks, a quarter of the time */
-#else
-#define VIEW_STEP 1
-#endif
+/* every fourth view under the sanitizers: the same checks, a quarter of the time */
+#define VIEW_STEP (EW_T_SANITIZED ? 4 : 1)
 
 typedef struct result {
     double bad, exact;   /* share of bad blocks, share of exact pixels */

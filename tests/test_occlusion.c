@@ -37,16 +37,7 @@
 #define MH 200
 #define NPOLY 400
 /* Under the sanitizers (ten times slower) fewer rounds of random faces. */
-#if defined(__SANITIZE_ADDRESS__)
-#define ROUNDS 6
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ROUNDS 6
-#endif
-#endif
-#ifndef ROUNDS
-#define ROUNDS 20
-#endif
+#define ROUNDS (EW_T_SANITIZED ? 6 : 20)
 
 typedef struct poly {
     ew_proj p[8];

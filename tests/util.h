@@ -7,6 +7,19 @@
 
 extern int ew_t_passed, ew_t_failed;
 
+/* EW_T_SANITIZED: 1 in a build under AddressSanitizer (gcc or clang), where
+ * the slow tests check fewer views or rounds in the same way. */
+#if defined(__SANITIZE_ADDRESS__)
+#define EW_T_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define EW_T_SANITIZED 1
+#endif
+#endif
+#ifndef EW_T_SANITIZED
+#define EW_T_SANITIZED 0
+#endif
+
 /* CHECK(cond, fmt, ...): counts a pass, or prints the failure with its line. */
 #define CHECK(cond, ...)                                                   \
     do {                                                                   \
