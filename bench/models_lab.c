@@ -66,17 +66,17 @@ static void place(ew_model_pose *p, const ew_view *v, float dist, uint32_t s0) {
 }
 
 static void clear_target(void) {
-    size_t n = (size_t)R->target.width * R->target.height;
-    memset(R->target.zbuf, 0, n * sizeof(float));
-    memset(R->target.pixels, 0, n * (size_t)R->target.bpp);
-    memset(&R->stats, 0, sizeof R->stats);
+    size_t n = (size_t)R->f.target.width * R->f.target.height;
+    memset(R->f.target.zbuf, 0, n * sizeof(float));
+    memset(R->f.target.pixels, 0, n * (size_t)R->f.target.bpp);
+    memset(&R->f.stats, 0, sizeof R->f.stats);
 }
 
-static ew_rows all_rows(void) { return (ew_rows){0, R->target.height, &R->stats, 1}; }
+static ew_rows all_rows(void) { return (ew_rows){0, R->f.target.height, &R->f.stats, 1}; }
 
 /* Draws the N models in mode (sprite-cache through the slots). */
 static void draw_all(const ew_model_pose *p, int mode) {
-    R->cfg.alias_raster = mode;
+    R->f.cfg.alias_raster = mode;
     ew_rows rows = all_rows();
     for (int i = 0; i < N; i++) {
         ew_alias_xf *xf = &XF[i];
@@ -159,20 +159,20 @@ typedef struct cover {
 } cover;
 
 static void take(cover *c) {
-    size_t n = (size_t)R->target.width * R->target.height;
+    size_t n = (size_t)R->f.target.width * R->f.target.height;
     c->covered = 0;
     for (size_t i = 0; i < n; i++) {
-        c->in[i] = R->target.zbuf[i] != 0;
+        c->in[i] = R->f.target.zbuf[i] != 0;
         c->covered += c->in[i];
     }
-    memcpy(c->pix, R->target.pixels, n);
-    c->writes = R->stats.alias_pixels;
+    memcpy(c->pix, R->f.target.pixels, n);
+    c->writes = R->f.stats.alias_pixels;
 }
 
 static void tables_1_2(const ew_view *v, float units_tall) {
     static const char *names[4] = {"affine", "subdiv", "masks", "sprite-cache"};
     static const int modes[4] = {EW_ALIAS_AFFINE, EW_ALIAS_SUBDIV, EW_ALIAS_MASKS, EW_ALIAS_SPRITE_CACHE};
-    size_t n = (size_t)R->target.width * R->target.height;
+    size_t n = (size_t)R->f.target.width * R->f.target.height;
     cover cv[4];
     for (int k = 0; k < 4; k++) cv[k].in = malloc(n), cv[k].pix = malloc(n);
     ew_model_pose p[N];
@@ -190,7 +190,7 @@ static void tables_1_2(const ew_view *v, float units_tall) {
         double tx = t[0], us[3] = {t[1], t[2], t[3]}, miss = t[4], hit = t[5];
         clear_target();
         draw_all(p, EW_ALIAS_AFFINE);
-        int tris = R->stats.alias_tris;
+        int tris = R->f.stats.alias_tris;
         printf("| %.0f | %.0f | %.0f%% | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n",
                bucket_px[b], (double)tris / N, share * 100, tx, us[0], us[1], us[2], miss, hit,
                (miss + 3 * hit) / 4, us[2] / us[0], hit / us[0]);
@@ -254,14 +254,14 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
     };
     enum { FRAMES = 60 };
     const float fps = 30;
-    size_t n = (size_t)R->target.width * R->target.height;
+    size_t n = (size_t)R->f.target.width * R->f.target.height;
     cover ex = {malloc(n), malloc(n), 0, 0}, sc = {malloc(n), malloc(n), 0, 0};
     printf("\n## 3. sprite-cache against exact drawing along camera paths (200 soldiers 20-40 px, %d frames at "
            "%.0f fps)\n\n", FRAMES, fps);
     printf("| path | angle, scale, light, reuse | hits | holes %% | extra %% | wrong colour %% | worst frame "
            "holes+extra %% |\n|---|---|---|---|---|---|---|\n");
     ew_view v0;
-    ew_view_setup(&v0, start, R->target.width, R->target.height);
+    ew_view_setup(&v0, start, R->f.target.width, R->f.target.height);
     ew_model_pose base[N], p[N];
     /* test_models' 200-soldier scene: 450..900 units ahead (40..20 px tall). */
     seed = 99;
@@ -277,7 +277,7 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
         base[i].ambient = 100, base[i].shade = 80;
     }
     (void)units_tall;
-    R->cfg.alias_threshold = 40;
+    R->f.cfg.alias_threshold = 40;
     for (int i = 0; i < N; i++) ew_sprite_cache_slot_free(&SLOT[i]);  /* table 1's images were larger */
     for (size_t pi = 0; pi < sizeof paths / sizeof *paths; pi++)
         for (size_t ti = 0; ti < sizeof tols / sizeof *tols; ti++) {
@@ -290,7 +290,7 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
                 ew_camera cam = *start;
                 cam.angles[1] += paths[pi].turn * t;
                 for (int k = 0; k < 3; k++) cam.origin[k] += v0.right[k] * paths[pi].speed * t;
-                ew_view_setup(&R->view, &cam, R->target.width, R->target.height);
+                ew_view_setup(&R->f.view, &cam, R->f.target.width, R->f.target.height);
                 for (int i = 0; i < N; i++) {
                     p[i] = base[i];
                     if (paths[pi].animate) p[i].frame = (base[i].frame + (int)(t * 10)) % M->numframes;
@@ -344,7 +344,7 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
             ew_camera cam = *start;
             cam.angles[1] += 10 * t;
             for (int k = 0; k < 3; k++) cam.origin[k] += v0.right[k] * 100 * t;
-            ew_view_setup(&R->view, &cam, R->target.width, R->target.height);
+            ew_view_setup(&R->f.view, &cam, R->f.target.width, R->f.target.height);
             for (int i = 0; i < N; i++) p[i] = base[i], p[i].frame = (base[i].frame + (int)(t * 10)) % M->numframes;
             clear_target();
             draw_all(p, EW_ALIAS_AFFINE);
@@ -354,7 +354,7 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
             take(&sc);
         }
         enum { CW = 240, CH = 180, Z = 2 };
-        int W = R->target.width, H = R->target.height, cx0 = (W - CW) / 2, cy0 = (H - CH) / 2;
+        int W = R->f.target.width, H = R->f.target.height, cx0 = (W - CW) / 2, cy0 = (H - CH) / 2;
         int ow = 3 * CW * Z + 2 * 4, oh = CH * Z;
         uint8_t *out = calloc((size_t)ow * oh, 1);
         for (int y = 0; y < oh; y++)
@@ -420,8 +420,8 @@ static inline void lab_vert(const ew_alias_xf *xf, const ew_mdl_pose *pose, cons
     o->sback = sb < xf->smax ? sb : xf->smax;
     float zi = 1.0f / q[2];
     o->sv.zi = zi;
-    o->sv.x = snap_px(R->view.xcenter + R->view.xscale * q[0] * zi, R->target.width - 1);
-    o->sv.y = snap_px(R->view.ycenter - R->view.yscale * q[1] * zi, R->target.height - 1);
+    o->sv.x = snap_px(R->f.view.xcenter + R->f.view.xscale * q[0] * zi, R->f.target.width - 1);
+    o->sv.y = snap_px(R->f.view.ycenter - R->f.view.yscale * q[1] * zi, R->f.target.height - 1);
 }
 
 static inline void lab_tri(ew_araster *ra, const ew_mdl_tri *t, const lab_v *a, const lab_v *b, const lab_v *c) {
@@ -433,12 +433,12 @@ static inline void lab_tri(ew_araster *ra, const ew_mdl_tri *t, const lab_v *a, 
 
 static void lab_raster(ew_araster *ra, const ew_alias_xf *xf) {
     memset(ra, 0, sizeof *ra);
-    ra->target = &R->target;
-    ra->rgba = R->target.rgba;
-    ra->x0 = 0, ra->y0 = 0, ra->x1 = R->target.width, ra->y1 = R->target.height;
+    ra->target = &R->f.target;
+    ra->rgba = R->f.target.rgba;
+    ra->x0 = 0, ra->y0 = 0, ra->x1 = R->f.target.width, ra->y1 = R->f.target.height;
     ra->skin = M->skinpixels + (size_t)xf->image * M->skinwidth * M->skinheight;
     ra->skinw = M->skinwidth, ra->skinh = M->skinheight;
-    ra->colormap = R->colormap;
+    ra->colormap = R->f.colormap;
 }
 
 static void draw_pool(const ew_model_pose *p, const ew_mdl_tri *tris, lab_v *pool) {
@@ -552,16 +552,16 @@ static void table_5(const ew_view *v, float units_tall) {
                 if (t < us[k]) us[k] = t;
             }
         /* The same pixels either way (the order of equal depths aside). */
-        size_t n = (size_t)R->target.width * R->target.height;
+        size_t n = (size_t)R->f.target.width * R->f.target.height;
         float *z0 = malloc(n * sizeof *z0);
         clear_target();
         draw_pool(p, M->tris, pool);
-        memcpy(z0, R->target.zbuf, n * sizeof *z0);
-        long px = R->stats.alias_pixels;
+        memcpy(z0, R->f.target.zbuf, n * sizeof *z0);
+        long px = R->f.stats.alias_pixels;
         clear_target();
         draw_stack(p, &st[1]);
         long differ = 0;
-        for (size_t i = 0; i < n; i++) differ += (z0[i] != 0) != (R->target.zbuf[i] != 0);
+        for (size_t i = 0; i < n; i++) differ += (z0[i] != 0) != (R->f.target.zbuf[i] != 0);
         free(z0);
         (void)px;
         printf("| %.0f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %ld |\n", bucket_px[b], us[0], us[1], us[2], us[3],
@@ -597,12 +597,12 @@ static void table_4(ew_assets *a, const char *data) {
     for (int i = 0; i < nv; i++) {
         ew_set_alias_raster(r, EW_ALIAS_AFFINE, 40);
         ew_render(r, &views[i], NULL);
-        if (r->stats.alias_tris > 0) sel[ns++] = i;
-        if (r->stats.alias_tris > most_models) most_models = r->stats.alias_tris, most = i;
+        if (r->f.stats.alias_tris > 0) sel[ns++] = i;
+        if (r->f.stats.alias_tris > most_models) most_models = r->f.stats.alias_tris, most = i;
     }
     static const char *names[4] = {"affine", "subdiv", "masks", "sprite-cache"};
     static const int modes[4] = {EW_ALIAS_AFFINE, EW_ALIAS_SUBDIV, EW_ALIAS_MASKS, EW_ALIAS_SPRITE_CACHE};
-    size_t n = (size_t)r->target.width * r->target.height;
+    size_t n = (size_t)r->f.target.width * r->f.target.height;
     uint8_t *ref = malloc(n * (size_t)ns);
     printf("\n## 4. e1m1 with its monsters, 640x480, one thread: the %d views that show models\n\n", ns);
     printf("Per view, best of 9 renders of each mode, interleaved; sprite-cache's first render of a view draws the "
@@ -619,15 +619,15 @@ static void table_4(ew_assets *a, const char *data) {
                 double t0 = cpu_ms();
                 ew_render(r, &views[sel[s]], NULL);
                 double t = cpu_ms() - t0;
-                if (r->stats.ms_models < bm[k]) bm[k] = r->stats.ms_models;
+                if (r->f.stats.ms_models < bm[k]) bm[k] = r->f.stats.ms_models;
                 if (t < bt[k]) bt[k] = t;
                 if (rep == 0) {
-                    tris[k] += r->stats.alias_tris, px[k] += r->stats.alias_pixels;
-                    drawn[k] += r->stats.entities_drawn;
-                    if (k == 0) memcpy(ref + n * (size_t)s, r->target.pixels, n);
-                    for (size_t i = 0; i < n; i++) diff[k] += r->target.pixels[i] != ref[n * (size_t)s + i];
+                    tris[k] += r->f.stats.alias_tris, px[k] += r->f.stats.alias_pixels;
+                    drawn[k] += r->f.stats.entities_drawn;
+                    if (k == 0) memcpy(ref + n * (size_t)s, r->f.target.pixels, n);
+                    for (size_t i = 0; i < n; i++) diff[k] += r->f.target.pixels[i] != ref[n * (size_t)s + i];
                 }
-                hits[k] += r->stats.alias_sprite_hits, misses[k] += r->stats.alias_sprite_misses;
+                hits[k] += r->f.stats.alias_sprite_hits, misses[k] += r->f.stats.alias_sprite_misses;
             }
         for (int k = 0; k < 4; k++) ms_models[k] += bm[k], ms_total[k] += bt[k];
     }
@@ -651,13 +651,13 @@ static void table_4(ew_assets *a, const char *data) {
             for (int k = 0; k < 3; k++) cam.origin[k] += v0.right[k] * 100 * t;
             ew_set_alias_raster(r, EW_ALIAS_AFFINE, 40);
             ew_render(r, &cam, NULL);
-            memcpy(exact, r->target.pixels, n);
-            model_px += r->stats.alias_pixels;
+            memcpy(exact, r->f.target.pixels, n);
+            model_px += r->f.stats.alias_pixels;
             ew_set_alias_raster(r, EW_ALIAS_SPRITE_CACHE, 40);
             ew_render(r, &cam, NULL);
-            hits += r->stats.alias_sprite_hits, misses += r->stats.alias_sprite_misses;
+            hits += r->f.stats.alias_sprite_hits, misses += r->f.stats.alias_sprite_misses;
             long d = 0;
-            for (size_t i = 0; i < n; i++) d += r->target.pixels[i] != exact[i];
+            for (size_t i = 0; i < n; i++) d += r->f.target.pixels[i] != exact[i];
             diff += d;
             if (d > worst) worst = d;
         }
@@ -710,16 +710,16 @@ int main(int argc, char **argv) {
            EW_MASK_BOX);
     ew_camera views[EW_MAX_VIEWS];
     ew_benchmark_views(a->world, views);
-    ew_view_setup(&R->view, &views[0], R->target.width, R->target.height);
+    ew_view_setup(&R->f.view, &views[0], R->f.target.width, R->f.target.height);
     /* Models only: the world's z-fill is off (nothing to fill from). */
     R->zf.all = 1;
-    R->cfg.alias_threshold = 1000;  /* table 1: every size goes through the cache */
+    R->f.cfg.alias_threshold = 1000;  /* table 1: every size goes through the cache */
     ew_sc_tol tol = ew_sprite_cache_tol_default();
     ew_sprite_cache_set_tol(R, &tol);  /* the tolerances live in the renderer */
-    tables_1_2(&R->view, units_tall);
+    tables_1_2(&R->f.view, units_tall);
     table_3(&views[0], units_tall, argc > 2 ? argv[2] : NULL, a->palette);
-    ew_view_setup(&R->view, &views[0], R->target.width, R->target.height);
-    if (!getenv("MODELS_LAB_SKIP_STACK")) table_5(&R->view, units_tall);
+    ew_view_setup(&R->f.view, &views[0], R->f.target.width, R->f.target.height);
+    if (!getenv("MODELS_LAB_SKIP_STACK")) table_5(&R->f.view, units_tall);
     R->zf.all = 0;
     for (int i = 0; i < N; i++) ew_sprite_cache_slot_free(&SLOT[i]);
     table_4(a, data);

@@ -53,7 +53,7 @@ void ew_place_pieces(const float *row_cost, int h, int n, int threads, int *boun
 #define ROW_SPAN 34.0f
 #define MODEL_PX 1.0f
 void ew_estimate_draw_costs(const ew_renderer *r, float *cost) {
-    const int h = r->target.height, w = r->target.width;
+    const int h = r->f.target.height, w = r->f.target.width;
     for (int v = 0; v <= h; v++) cost[v] = 0;
     const struct ew_scene *sc = r->ents.scene;
     for (int i = 0; r->ents.nalias && sc && i < r->ents.nent_frame && i < sc->nents; i++) {
@@ -97,5 +97,5 @@ int ew_frame_row_ms(const ew_renderer *r, float *scan_ms, float *draw_ms, int n)
         float per_row = it->y1 > it->y0 ? (float)(it->ms / (it->y1 - it->y0)) : 0;
         for (int v = it->y0; v < it->y1 && v < n; v++) draw_ms[v] = per_row;
     }
-    return r->target.height;
+    return r->f.target.height;
 }

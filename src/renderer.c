@@ -58,27 +58,27 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     ew_renderer *r = aligned_alloc(_Alignof(ew_renderer), (sizeof(ew_renderer) + 63) / 64 * 64);
     if (!r) goto oom;
     memset(r, 0, sizeof *r);
-    r->world = w, r->palette = d.palette, r->colormap = d.colormap;
-    for (int i = 0; i < 64; i++) r->cfg.lightstyle[i] = 256;  /* until the first frame (light/styles.c) */
+    r->f.world = w, r->f.palette = d.palette, r->f.colormap = d.colormap;
+    for (int i = 0; i < 64; i++) r->f.cfg.lightstyle[i] = 256;  /* until the first frame (light/styles.c) */
     ew_set_gamma(r, 1);
     ew_set_subdivision(r, d.subdivision);                      /* checked: 1..32, a power of two */
-    r->cfg.alias_raster = d.alias_raster;
-    r->cfg.alias_threshold = d.alias_threshold;
-    r->cfg.hsr = ew_hsr_get((int)d.hsr);
-    r->cfg.classic = d.classic != 0;
-    r->cfg.liquid_alpha = -1, r->cfg.fog_density = -1;  /* the map's */
-    r->cfg.waterwarp = 1;
-    r->cfg.hide_occluded = 1;
+    r->f.cfg.alias_raster = d.alias_raster;
+    r->f.cfg.alias_threshold = d.alias_threshold;
+    r->f.cfg.hsr = ew_hsr_get((int)d.hsr);
+    r->f.cfg.classic = d.classic != 0;
+    r->f.cfg.liquid_alpha = -1, r->f.cfg.fog_density = -1;  /* the map's */
+    r->f.cfg.waterwarp = 1;
+    r->f.cfg.hide_occluded = 1;
     /* The frame target: 8-bit palette indices or 32-bit pixels, rows one
      * after another. */
-    r->target.width = width, r->target.height = height;
-    r->target.bpp = d.color == EW_COLOR_TRUE ? 4 : 1;
-    r->target.pitch = width * r->target.bpp;
-    r->target.rgba = r->lit.curve.rgba;
-    r->cfg.use_lit = 1;
+    r->f.target.width = width, r->f.target.height = height;
+    r->f.target.bpp = d.color == EW_COLOR_TRUE ? 4 : 1;
+    r->f.target.pitch = width * r->f.target.bpp;
+    r->f.target.rgba = r->lit.curve.rgba;
+    r->f.cfg.use_lit = 1;
     ew_lightcurve_fit(&r->lit.curve, d.palette, d.colormap);
-    r->draw.target = r->zf.target = &r->target;
-    r->draw.view = &r->view;
+    r->draw.target = r->zf.target = &r->f.target;
+    r->draw.view = &r->f.view;
 
     /* Budgets grow with the frame (more pixels can show more polygons) and
      * with the world: a frame may show every face of a map at once (the
@@ -94,8 +94,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
         int n = ew_face_samples(w, &w->faces[i]);
         if (!(w->faces[i].flags & (EW_SURF_SKY | EW_SURF_TURB)) && n > maxlm) maxlm = n;
     }
-    r->target.pixels = malloc((size_t)px * (size_t)r->target.bpp);
-    r->target.zbuf = malloc(sizeof(float) * (size_t)px);
+    r->f.target.pixels = malloc((size_t)px * (size_t)r->f.target.bpp);
+    r->f.target.zbuf = malloc(sizeof(float) * (size_t)px);
     r->marks.leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
     r->marks.node_frame = calloc((size_t)w->numnodes + 1, sizeof(int));
     r->marks.leaf_up = malloc(sizeof(int) * ((size_t)w->numleaves + 1));
@@ -131,7 +131,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->lit.surf_state = malloc((size_t)r->el.max_surfs);
     r->lit.surf_mip = malloc((size_t)r->el.max_surfs);
     r->lit.grad_list = malloc(sizeof(int) * (size_t)r->el.max_surfs);
-    if (!r->target.pixels || !r->target.zbuf || !r->marks.leaf_frame || !r->marks.node_frame || !r->marks.vis ||
+    if (!r->f.target.pixels || !r->f.target.zbuf || !r->marks.leaf_frame || !r->marks.node_frame || !r->marks.vis ||
         !r->marks.leaf_up || !r->marks.node_up ||
         !r->marks.face_frame ||
         !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
@@ -155,10 +155,10 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     size_t budget = (size_t)px * 16;
     if (budget < ((size_t)16 << 20)) budget = (size_t)16 << 20;
     if (budget > ((size_t)512 << 20)) budget = (size_t)512 << 20;
-    budget *= (size_t)r->target.bpp;  /* true colour: 4 bytes a texel, as many surfaces */
+    budget *= (size_t)r->f.target.bpp;  /* true colour: 4 bytes a texel, as many surfaces */
     if (d.cache_mb) budget = (size_t)d.cache_mb << 20;
     if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
-    r->lit.cache.bpp = r->target.bpp;
+    r->lit.cache.bpp = r->f.target.bpp;
     ew_debug_init(r);
     return r;
 oom:
@@ -185,10 +185,10 @@ static void free_bands(ew_renderer *r) {
 int ew_set_threads(ew_renderer *r, int n) {
     if (n <= 0) n = ew_pool_cores();
     if (n > EW_MAX_THREADS) n = EW_MAX_THREADS;
-    if (r->sched.nbands) ew_zfill_rect(&r->zf, 0, 0, r->target.width, r->target.height);  /* the last frame's, while its spans exist */
+    if (r->sched.nbands) ew_zfill_rect(&r->zf, 0, 0, r->f.target.width, r->f.target.height);  /* the last frame's, while its spans exist */
     free_bands(r);
     /* The old bands' spans are gone, and the z-buffer is complete. */
-    memset(r->zf.row_nspans, 0, sizeof(int32_t) * (size_t)r->target.height);
+    memset(r->zf.row_nspans, 0, sizeof(int32_t) * (size_t)r->f.target.height);
     ew_zfill_mark_all(&r->zf);
     /* A pool even for one thread (no workers): it times the parallel
      * sections (ew_stats.ms_serial is the rest). */
@@ -200,8 +200,8 @@ int ew_set_threads(ew_renderer *r, int n) {
      * 8 rows, drawn as they were scanned (the items are the bands then, as
      * in the debug views). */
     int nb, ni;
-    ew_frame_cuts(n, r->target.height, &nb, &ni);
-    if (r->sched.profile_rows) nb = ni = r->target.height / 8;
+    ew_frame_cuts(n, r->f.target.height, &nb, &ni);
+    if (r->sched.profile_rows) nb = ni = r->f.target.height / 8;
     /* Aligned like ew_band, so no two bands' counters share a cache line. */
     r->sched.bands = aligned_alloc(_Alignof(ew_band), sizeof(ew_band) * (size_t)nb);
     r->sched.max_items = ni;
@@ -229,7 +229,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
     free(r->lit.tp_faces), free(r->ref.poly_of);
     free(r->lit.surf_draw), free(r->lit.grad_list), free(r->lit.surf_state), free(r->lit.surf_mip);
-    free(r->target.pixels), free(r->target.zbuf), free(r->face_ids);
+    free(r->f.target.pixels), free(r->f.target.zbuf), free(r->f.face_ids);
     free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame), free(r->marks.vis);
     free(r->marks.leaf_up), free(r->marks.node_up);
     free(r->marks.leaf_key), free(r->marks.leaf_keyframe), free(r->ents.ent_views), free(r->ents.ent_frame);
@@ -253,67 +253,67 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r);
 }
 
-int ew_frame_width(const ew_renderer *r) { return r->target.width; }
-int ew_frame_height(const ew_renderer *r) { return r->target.height; }
-const uint8_t *ew_frame_pixels(const ew_renderer *r) { return r->target.bpp == 1 ? r->target.pixels : NULL; }
+int ew_frame_width(const ew_renderer *r) { return r->f.target.width; }
+int ew_frame_height(const ew_renderer *r) { return r->f.target.height; }
+const uint8_t *ew_frame_pixels(const ew_renderer *r) { return r->f.target.bpp == 1 ? r->f.target.pixels : NULL; }
 const uint32_t *ew_frame_rgba(const ew_renderer *r) {
-    return r->target.bpp == 4 ? (const uint32_t *)(const void *)r->target.pixels : NULL;
+    return r->f.target.bpp == 4 ? (const uint32_t *)(const void *)r->f.target.pixels : NULL;
 }
-ew_color_mode ew_frame_color(const ew_renderer *r) { return r->target.bpp == 4 ? EW_COLOR_TRUE : EW_COLOR_8BIT; }
+ew_color_mode ew_frame_color(const ew_renderer *r) { return r->f.target.bpp == 4 ? EW_COLOR_TRUE : EW_COLOR_8BIT; }
 
 int ew_write_frame_png(const ew_renderer *r, const char *path, ew_error *err) {
-    if (r->target.bpp == 4)
-        return ew_write_png_rgba(path, ew_frame_rgba(r), r->target.width, r->target.height, err);
-    return ew_write_png(path, r->target.pixels, r->target.width, r->target.height, ew_frame_palette(r), err);
+    if (r->f.target.bpp == 4)
+        return ew_write_png_rgba(path, ew_frame_rgba(r), r->f.target.width, r->f.target.height, err);
+    return ew_write_png(path, r->f.target.pixels, r->f.target.width, r->f.target.height, ew_frame_palette(r), err);
 }
 
 /* Surfaces built with the old setting are rebuilt (their cache entries
  * no longer match). */
 static void relight(ew_renderer *r) { r->lit.cache.gen++; }
 void ew_set_lit(ew_renderer *r, int on) {
-    if (r->cfg.use_lit != (on != 0)) r->cfg.use_lit = on != 0, relight(r);
+    if (r->f.cfg.use_lit != (on != 0)) r->f.cfg.use_lit = on != 0, relight(r);
 }
 void ew_set_dither(ew_renderer *r, int on) {
-    if (r->cfg.dither != (on != 0)) r->cfg.dither = on != 0, relight(r);
+    if (r->f.cfg.dither != (on != 0)) r->f.cfg.dither = on != 0, relight(r);
 }
 
 int ew_use_rgb_light(const ew_renderer *r, const ew_world *w) {
-    return w == r->world && w->rgblight && r->cfg.use_lit && !r->cfg.classic;
+    return w == r->f.world && w->rgblight && r->f.cfg.use_lit && !r->f.cfg.classic;
 }
 const float *ew_frame_zbuffer(ew_renderer *r) {
-    ew_zfill_rect(&r->zf, 0, 0, r->target.width, r->target.height);  /* the rest of the world's 1/z */
-    return r->target.zbuf;
+    ew_zfill_rect(&r->zf, 0, 0, r->f.target.width, r->f.target.height);  /* the rest of the world's 1/z */
+    return r->f.target.zbuf;
 }
 
 void ew_set_lighting(ew_renderer *r, ew_lighting_mode mode) {
-    r->cfg.lighting = mode == EW_LIGHTING_TWO_PASS ? EW_LIGHTING_TWO_PASS : EW_LIGHTING_CACHE;
+    r->f.cfg.lighting = mode == EW_LIGHTING_TWO_PASS ? EW_LIGHTING_TWO_PASS : EW_LIGHTING_CACHE;
 }
-ew_lighting_mode ew_get_lighting(const ew_renderer *r) { return (ew_lighting_mode)r->cfg.lighting; }
+ew_lighting_mode ew_get_lighting(const ew_renderer *r) { return (ew_lighting_mode)r->f.cfg.lighting; }
 void ew_set_light_fault(ew_renderer *r, ew_light_fault fault) {
-    if (r->cfg.light_fault != (int)fault) relight(r);
-    r->cfg.light_fault = fault;
+    if (r->f.cfg.light_fault != (int)fault) relight(r);
+    r->f.cfg.light_fault = fault;
 }
 void ew_flush_surfaces(ew_renderer *r) { relight(r); }
 /* Two-pass lighting wants it for every lit surface of the frame. */
-static int two_pass(const ew_renderer *r) { return r->cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode; }
+static int two_pass(const ew_renderer *r) { return r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode; }
 void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
-void ew_set_hide_occluded(ew_renderer *r, int on) { r->cfg.hide_occluded = on != 0; }
-void ew_set_front_mode(ew_renderer *r, ew_front_mode mode) { r->cfg.front_phases = mode == EW_FRONT_PHASES; }
+void ew_set_hide_occluded(ew_renderer *r, int on) { r->f.cfg.hide_occluded = on != 0; }
+void ew_set_front_mode(ew_renderer *r, ew_front_mode mode) { r->f.cfg.front_phases = mode == EW_FRONT_PHASES; }
 void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode) {
     r->occ.mode = mode == EW_OCCLUSION_OFF || mode == EW_OCCLUSION_ALWAYS ? mode : EW_OCCLUSION_AUTO;
 }
-const int *ew_frame_face_ids(const ew_renderer *r) { return r->face_ids; }
+const int *ew_frame_face_ids(const ew_renderer *r) { return r->f.face_ids; }
 
 /* Light styles: each frame's values come from these settings (ew_frame_begin). */
 void ew_set_lightstyle(ew_renderer *r, int style, int value) {
     if (style < 0 || style >= 64) return;
-    r->cfg.style_set[style].mode = EW_STYLE_FIXED;
-    r->cfg.style_set[style].value = value < 0 ? 0 : value > 1024 ? 1024 : value;
-    r->cfg.lightstyle[style] = r->cfg.style_set[style].value;  /* the same any time: at once */
+    r->f.cfg.style_set[style].mode = EW_STYLE_FIXED;
+    r->f.cfg.style_set[style].value = value < 0 ? 0 : value > 1024 ? 1024 : value;
+    r->f.cfg.lightstyle[style] = r->f.cfg.style_set[style].value;  /* the same any time: at once */
 }
 int ew_set_lightstyle_pattern(ew_renderer *r, int style, const char *pattern) {
     if (style < 0 || style >= 64 || !ew_style_pattern_ok(pattern)) return -1;
-    ew_style_setting *st = &r->cfg.style_set[style];
+    ew_style_setting *st = &r->f.cfg.style_set[style];
     st->mode = EW_STYLE_PATTERN;
     snprintf(st->pattern, sizeof st->pattern, "%s", pattern);
     return 0;
@@ -322,26 +322,26 @@ int ew_set_lightstyle_switch(ew_renderer *r, int style, int on) {
     return ew_set_lightstyle_pattern(r, style, on ? "m" : "a");
 }
 void ew_reset_lightstyle(ew_renderer *r, int style) {
-    if (style >= 0 && style < 64) memset(&r->cfg.style_set[style], 0, sizeof r->cfg.style_set[style]);
+    if (style >= 0 && style < 64) memset(&r->f.cfg.style_set[style], 0, sizeof r->f.cfg.style_set[style]);
 }
 int ew_get_lightstyle(const ew_renderer *r, int style) {
-    return style >= 0 && style < 64 ? r->cfg.lightstyle[style] : -1;
+    return style >= 0 && style < 64 ? r->f.cfg.lightstyle[style] : -1;
 }
 
 int ew_set_gamma(ew_renderer *r, float gamma) {
     if (!(gamma >= 0.5f && gamma <= 3.0f)) return -1;  /* NaN too */
-    r->cfg.gamma = gamma;
-    ew_gamma_table(gamma, r->cfg.gamma_lut);
-    for (int i = 0; i < 768; i++) r->cfg.gamma_palette[i] = r->cfg.gamma_lut[r->palette[i]];
+    r->f.cfg.gamma = gamma;
+    ew_gamma_table(gamma, r->f.cfg.gamma_lut);
+    for (int i = 0; i < 768; i++) r->f.cfg.gamma_palette[i] = r->f.cfg.gamma_lut[r->f.palette[i]];
     return 0;
 }
-float ew_get_gamma(const ew_renderer *r) { return r->cfg.gamma; }
-const uint8_t *ew_frame_palette(const ew_renderer *r) { return r->cfg.gamma_palette; }
+float ew_get_gamma(const ew_renderer *r) { return r->f.cfg.gamma; }
+const uint8_t *ew_frame_palette(const ew_renderer *r) { return r->f.cfg.gamma_palette; }
 
 int ew_set_subdivision(ew_renderer *r, int pixels) {
     for (int shift = 0; shift <= 5; shift++)
         if (pixels == 1 << shift) {
-            r->cfg.subdiv_shift = shift;
+            r->f.cfg.subdiv_shift = shift;
             return 0;
         }
     return -1;
@@ -350,39 +350,39 @@ int ew_set_subdivision(ew_renderer *r, int pixels) {
 int ew_set_hsr(ew_renderer *r, ew_hsr_method method) {
     const ew_hsr *h = ew_hsr_get((int)method);
     if (!h) return -1;
-    r->cfg.hsr = h;
+    r->f.cfg.hsr = h;
     return 0;
 }
 
 void ew_set_classic(ew_renderer *r, int on) {
-    if (r->cfg.classic != (on != 0)) r->cfg.classic = on != 0, relight(r);  /* .lit off in classic */
+    if (r->f.cfg.classic != (on != 0)) r->f.cfg.classic = on != 0, relight(r);  /* .lit off in classic */
 }
-void ew_set_waterwarp(ew_renderer *r, int on) { r->cfg.waterwarp = on != 0; }
+void ew_set_waterwarp(ew_renderer *r, int on) { r->f.cfg.waterwarp = on != 0; }
 
 void ew_set_liquid_alpha(ew_renderer *r, float alpha) {
-    r->cfg.liquid_alpha = alpha < 0 ? -1 : alpha > 1 ? 1 : alpha > 0.0625f ? alpha : 0.0625f;  /* NaN: the map's; the finest 8-bit step at least */
-    if (!(alpha == alpha)) r->cfg.liquid_alpha = -1;
+    r->f.cfg.liquid_alpha = alpha < 0 ? -1 : alpha > 1 ? 1 : alpha > 0.0625f ? alpha : 0.0625f;  /* NaN: the map's; the finest 8-bit step at least */
+    if (!(alpha == alpha)) r->f.cfg.liquid_alpha = -1;
 }
 
 void ew_set_fog(ew_renderer *r, float density, float red, float green, float blue) {
     if (!(density >= 0) || !(density < 1e6f)) {  /* negative or NaN: the map's */
-        r->cfg.fog_density = -1;
+        r->f.cfg.fog_density = -1;
         return;
     }
-    r->cfg.fog_density = density;
+    r->f.cfg.fog_density = density;
     const float c[3] = {red, green, blue};
-    for (int k = 0; k < 3; k++) r->cfg.fog_rgb[k] = c[k] >= 0 ? (c[k] <= 1 ? c[k] : 1) : 0;
+    for (int k = 0; k < 3; k++) r->f.cfg.fog_rgb[k] = c[k] >= 0 ? (c[k] <= 1 ? c[k] : 1) : 0;
 }
 
 void ew_set_alias_raster(ew_renderer *r, ew_alias_raster mode, float threshold_px) {
-    r->cfg.alias_raster = mode;
-    if (threshold_px > 0 && threshold_px < 1e6f) r->cfg.alias_threshold = threshold_px;
+    r->f.cfg.alias_raster = mode;
+    if (threshold_px > 0 && threshold_px < 1e6f) r->f.cfg.alias_threshold = threshold_px;
 }
 
 void ew_enable_face_ids(ew_renderer *r, int on) {
-    r->cfg.face_ids_on = on;
-    if (on && !r->face_ids) r->face_ids = malloc(sizeof(int) * (size_t)r->target.width * r->target.height);
-    if (!r->face_ids) r->cfg.face_ids_on = 0;
+    r->f.cfg.face_ids_on = on;
+    if (on && !r->f.face_ids) r->f.face_ids = malloc(sizeof(int) * (size_t)r->f.target.width * r->f.target.height);
+    if (!r->f.face_ids) r->f.cfg.face_ids_on = 0;
 }
 
 static int camera_ok(const ew_camera *c) {
@@ -403,7 +403,7 @@ static int coloured_dlights(const struct ew_scene *sc) {
  * the span drawers' tables, the hidden-surface method, the PVS. */
 int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     if (!camera_ok(cam)) return -1;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     if (++r->marks.framecount == INT32_MAX) {
         memset(r->marks.leaf_frame, 0, sizeof(int) * (size_t)w->numleaves);
         memset(r->marks.node_frame, 0, sizeof(int) * (size_t)w->numnodes);
@@ -414,30 +414,30 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
         memset(r->marks.vert_frame, 0, sizeof(int) * (size_t)w->numverts);
         r->marks.framecount = 1;
     }
-    memset(&r->stats, 0, sizeof r->stats);
-    ew_styles_frame(r->cfg.lightstyle, r->cfg.style_set, w->styles_start_off, r->cfg.classic, cam->time);
-    ew_view_setup(&r->view, cam, r->target.width, r->target.height);
+    memset(&r->f.stats, 0, sizeof r->f.stats);
+    ew_styles_frame(r->f.cfg.lightstyle, r->f.cfg.style_set, w->styles_start_off, r->f.cfg.classic, cam->time);
+    ew_view_setup(&r->f.view, cam, r->f.target.width, r->f.target.height);
     ew_turb_table(r->draw.turb, &r->draw.turb_phase, cam->time);
-    r->draw.sky_scroll = ew_sky_scroll(r->view.time);
-    r->draw.subdiv_shift = r->cfg.subdiv_shift;
+    r->draw.sky_scroll = ew_sky_scroll(r->f.view.time);
+    r->draw.subdiv_shift = r->f.cfg.subdiv_shift;
     r->draw.rgba = r->lit.curve.rgba;
     /* 8-bit coloured light needs the nearest-colour cube (built once). */
-    if (!r->lit.nearest && r->target.bpp == 1 && !r->cfg.classic &&
-        (ew_use_rgb_light(r, r->world) || coloured_dlights(r->ents.scene)))
+    if (!r->lit.nearest && r->f.target.bpp == 1 && !r->f.cfg.classic &&
+        (ew_use_rgb_light(r, r->f.world) || coloured_dlights(r->ents.scene)))
         r->lit.nearest = ew_blend_cube(&r->blend);
     /* Two-pass lighting's inputs, and its per-surface room (made on first use). */
-    ew_tp_begin(&r->lit.tp, w, r->palette, r->colormap, r->cfg.lightstyle, ew_use_rgb_light(r, w), r->target.bpp,
-                r->cfg.classic);
+    ew_tp_begin(&r->lit.tp, w, r->f.palette, r->f.colormap, r->f.cfg.lightstyle, ew_use_rgb_light(r, w), r->f.target.bpp,
+                r->f.cfg.classic);
     r->draw.tp = &r->lit.tp;
     if (two_pass(r) && !r->lit.tp_faces) r->lit.tp_faces = malloc(sizeof *r->lit.tp_faces * (size_t)r->el.max_surfs);
     r->draw.tp_faces = r->lit.tp_faces;
-    r->cfg.hsr->begin(r);
+    r->f.cfg.hsr->begin(r);
     r->see.n = 0;
-    r->eye_contents = r->world->leaves[ew_pvs_mark(r)].contents;
+    r->f.eye_contents = r->f.world->leaves[ew_pvs_mark(r)].contents;
     /* Faces nearer faces hide are left out of the edge method's list only
      * (the others it feeds count and draw every face), in auto where the
      * PVS lets many leaves through (world/occlude.c). */
-    ew_occ_begin(&r->occ, r->cfg.hsr == &ew_hsr_edge &&
+    ew_occ_begin(&r->occ, r->f.cfg.hsr == &ew_hsr_edge &&
                               (r->occ.mode == EW_OCCLUSION_ALWAYS || r->marks.nvis >= EW_OCC_AUTO_LEAVES));
     return 0;
 }
@@ -484,7 +484,7 @@ static void record_face_ids(ew_renderer *r, const ew_band *b) {
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
         int face = r->el.surfs[sp->surf].face;
-        int *dst = r->face_ids + (size_t)sp->v * r->target.width + sp->u;
+        int *dst = r->f.face_ids + (size_t)sp->v * r->f.target.width + sp->u;
         for (int k = 0; k < sp->count; k++) dst[k] = face;
     }
 }
@@ -493,7 +493,7 @@ static void record_face_ids(ew_renderer *r, const ew_band *b) {
  * idles while another finishes a busy band (cost per row is taken as even
  * within each band).  Without history, equal rows. */
 static void place_bands(ew_renderer *r) {
-    int n = r->sched.nbands, h = r->target.height;
+    int n = r->sched.nbands, h = r->f.target.height;
     if (r->sched.bands_sized_for != n || r->sched.profile_rows) {
         for (int i = 0; i < n; i++) r->sched.bands[i].y0 = h * i / n, r->sched.bands[i].y1 = h * (i + 1) / n;
         return;
@@ -519,10 +519,10 @@ static void job_scan(void *ctx, int thread) {
         b->dropped = 0;
         b->unsorted = 0;
         memset(b->counters, 0, sizeof b->counters);
-        r->cfg.hsr->resolve(r, b);
+        r->f.cfg.hsr->resolve(r, b);
         ew_zfill_index_band(&r->zf, b, i);
-        account_spans(b, r->target.width);
-        if (r->cfg.face_ids_on) record_face_ids(r, b);  /* before the passes, which may win pixels */
+        account_spans(b, r->f.target.width);
+        if (r->f.cfg.face_ids_on) record_face_ids(r, b);  /* before the passes, which may win pixels */
         b->ms = ew_now_ms() - t0;
     }
 }
@@ -535,7 +535,7 @@ typedef struct front_tail_arg {
 static void front_tail(void *arg) {
     front_tail_arg *a = arg;
     a->t1 = ew_now_ms();
-    if (a->r->cfg.hsr->finish) a->r->cfg.hsr->finish(a->r);
+    if (a->r->f.cfg.hsr->finish) a->r->f.cfg.hsr->finish(a->r);
     place_bands(a->r);
     atomic_store(&a->r->sched.next_band, 0);
     a->t_end = ew_now_ms();
@@ -545,7 +545,7 @@ static void front_tail(void *arg) {
  * gradients, a few dozen at a time. */
 static void job_build(void *ctx, int thread) {
     ew_renderer *r = ctx;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     int *scratch = r->lit.blocklights + (size_t)r->lit.maxlm * 3 * thread;
     for (int k; (k = atomic_fetch_add(&r->sched.next_build, 1)) < r->lit.nbuild;)
         ew_cache_build(r, r->lit.to_build[k], scratch);
@@ -562,7 +562,7 @@ static void job_build(void *ctx, int thread) {
             ew_span_prepare(d);
             if (d->kind == EW_DRAW_TWOPASS) {
                 const ew_face *f = &w->faces[sf->face];
-                ew_tp_face_setup(&r->lit.tp, sf->view, sf->face, r->lit.surf_mip[s], ew_face_texture(w, f, r->view.time),
+                ew_tp_face_setup(&r->lit.tp, sf->view, sf->face, r->lit.surf_mip[s], ew_face_texture(w, f, r->f.view.time),
                                  &r->lit.tp_faces[s]);
             }
         }
@@ -583,9 +583,9 @@ static void job_gamma(void *ctx, int thread) {
     ew_renderer *r = ctx;
     for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;) {
         const ew_band *b = &r->sched.bands[i];
-        size_t w = (size_t)r->target.width;
-        ew_gamma_pixels((uint32_t *)(void *)r->target.pixels + (size_t)b->y0 * w, (size_t)(b->y1 - b->y0) * w,
-                        r->cfg.gamma_lut);
+        size_t w = (size_t)r->f.target.width;
+        ew_gamma_pixels((uint32_t *)(void *)r->f.target.pixels + (size_t)b->y0 * w, (size_t)(b->y1 - b->y0) * w,
+                        r->f.cfg.gamma_lut);
     }
 }
 
@@ -603,7 +603,7 @@ static void place_draw(ew_renderer *r) {
     int bounds[EW_MAX_ITEMS + 1];
     s->nitems = s->max_items;
     ew_estimate_draw_costs(r, s->row_cost);  /* bands.c */
-    ew_place_pieces(s->row_cost, r->target.height, s->nitems, s->nthreads, bounds);
+    ew_place_pieces(s->row_cost, r->f.target.height, s->nitems, s->nthreads, bounds);
     for (int i = 0; i < s->nitems; i++) it[i].y0 = bounds[i], it[i].y1 = bounds[i + 1];
 }
 
@@ -656,7 +656,7 @@ enum { SURF_CHUNK = 64 };
  * PREFETCH_BYTES only: that is all of most surfaces at small sizes. */
 #define PREFETCH_BYTES 65536
 static inline void prefetch_texels(const ew_renderer *r, const ew_cached_surf *e) {
-    size_t bytes = (size_t)e->width * (size_t)e->height * (size_t)r->target.bpp;
+    size_t bytes = (size_t)e->width * (size_t)e->height * (size_t)r->f.target.bpp;
     if (bytes > PREFETCH_BYTES) bytes = PREFETCH_BYTES;
     for (size_t o = 0; o < bytes; o += 64) __builtin_prefetch(e->pixels + o);
 }
@@ -664,7 +664,7 @@ static inline void prefetch_texels(const ew_renderer *r, const ew_cached_surf *e
 static void job_surf_peek(void *ctx, int thread) {
     (void)thread;
     ew_renderer *r = ctx;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const int ns = r->el.nsurfs, nb = r->sched.nbands, tp = two_pass(r) && r->lit.tp_faces;
     for (int k; (k = atomic_fetch_add(&r->sched.next_item, SURF_CHUNK)) < ns;) {
         int end = k + SURF_CHUNK < ns ? k + SURF_CHUNK : ns;
@@ -682,7 +682,7 @@ static void job_surf_peek(void *ctx, int thread) {
                 r->lit.surf_state[s] = SURF_SKY_TURB;
                 continue;
             }
-            int mip = ew_face_mip(&r->view, w, f, sf->nearzi);
+            int mip = ew_face_mip(&r->f.view, w, f, sf->nearzi);
             r->lit.surf_mip[s] = (uint8_t)mip;
             if (tp) {  /* two-pass lighting: no surface to find */
                 r->lit.surf_state[s] = SURF_MISS;
@@ -696,7 +696,7 @@ static void job_surf_peek(void *ctx, int thread) {
 }
 
 static void prepare_surfaces(ew_renderer *r) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     r->lit.nbuild = 0;
     r->lit.ngrad = 0;
     memset(&r->lit.surf_draw[0], 0, sizeof r->lit.surf_draw[0]);  /* the background: black and far */
@@ -710,7 +710,7 @@ static void prepare_surfaces(ew_renderer *r) {
         if (state == SURF_SKY_TURB) {
             const ew_face *f = &w->faces[r->el.surfs[s].face];
             d->kind = f->flags & EW_SURF_SKY ? EW_DRAW_SKY : EW_DRAW_TURB;
-            d->tex = ew_face_texture(w, f, r->view.time);
+            d->tex = ew_face_texture(w, f, r->f.view.time);
         } else if (state == SURF_HIT) {
             ew_cache_touch(r, r->lit.surf_cache[s]);
         }
@@ -729,7 +729,7 @@ static void prepare_surfaces(ew_renderer *r) {
         if (state == SURF_MISS)
             e = r->lit.surf_cache[s] = ew_cache_lookup(r, r->el.surfs[s].face, r->lit.surf_mip[s], &build);
         if (!e) {
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             d->kind = EW_DRAW_FLAT;
             continue;
         }
@@ -786,7 +786,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     double t2 = ew_now_ms();
     serial_lap(r, &sc);
     prepare_surfaces(r);
-    r->stats.surfaces_shown = r->lit.ngrad;  /* the surfaces with a span */
+    r->f.stats.surfaces_shown = r->lit.ngrad;  /* the surfaces with a span */
     ser[3] += serial_lap(r, &sc);
     double te = ew_now_ms();
     ew_passes_prepare(r);
@@ -803,15 +803,15 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         atomic_store(&r->sched.next_band, 0);
         ew_pool_run(r->sched.pool, job_warp, r);
     }
-    if (r->target.bpp == 4 && r->cfg.gamma != 1) {
+    if (r->f.target.bpp == 4 && r->f.cfg.gamma != 1) {
         atomic_store(&r->sched.next_band, 0);
         ew_pool_run(r->sched.pool, job_gamma, r);
     }
     double t3 = ew_now_ms();
-    if (r->ents.scene) ew_scene_counts(r->ents.scene, NULL, &r->stats.entities_unknown, &r->stats.models_missing);
+    if (r->ents.scene) ew_scene_counts(r->ents.scene, NULL, &r->f.stats.entities_unknown, &r->f.stats.models_missing);
 
-    ew_stats *st = &r->stats;
-    st->pixels = (long)r->target.width * r->target.height;
+    ew_stats *st = &r->f.stats;
+    st->pixels = (long)r->f.target.width * r->f.target.height;
     st->edges = r->el.nedges;
     st->surfaces = r->el.nsurfs - 1;
     double models_ms = 0;
@@ -834,7 +834,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         st->fog_pixels += m->fog_pixels;
         models_ms += r->sched.items[i].model_ms;
     }
-    if (r->cfg.hsr->memory) st->hsr_bytes = (long)r->cfg.hsr->memory(r);
+    if (r->f.cfg.hsr->memory) st->hsr_bytes = (long)r->f.cfg.hsr->memory(r);
     st->surface_cache_bytes = (long)r->lit.cache.bytes;
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
     /* Models are drawn inside the bands' draw step; ms_models is their

@@ -29,29 +29,6 @@
 
 #include <stdatomic.h>
 
-/* Settings: changed between frames, read by every stage. */
-typedef struct ew_config {
-    int   subdiv_shift;              /* perspective divide every 1 << shift px */
-    int   alias_raster;              /* ew_alias_raster */
-    float alias_threshold;           /* auto: subdivide below this screen height */
-    int   lightstyle[64];            /* this frame's style values (light/styles.c) */
-    ew_style_setting style_set[64];  /* how each is chosen (ew_set_lightstyle ...) */
-    float gamma;                     /* output gamma (ew_set_gamma): 1 = none */
-    uint8_t gamma_lut[256];          /* channel value through the gamma */
-    uint8_t gamma_palette[768];      /* the palette through it (ew_frame_palette) */
-    int   face_ids_on;               /* test hook: record the face of each pixel */
-    /* see-through surfaces, fog, underwater view (ew_set_classic ...) */
-    int   classic;                   /* 1: all of them off, the 1996 look */
-    float liquid_alpha;              /* < 0: the map's */
-    float fog_density, fog_rgb[3];   /* density < 0: the map's */
-    int   waterwarp;
-    int   use_lit, dither;           /* coloured light on; 8-bit coloured light dithered */
-    int   lighting;                  /* ew_lighting_mode: the surface cache or two passes */
-    int   light_fault;               /* test hook (ew_set_light_fault): a wrong cache, for controls */
-    const ew_hsr *hsr;          /* hidden-surface method */
-    int   hide_occluded;             /* moving things the world hides are left out (raster/models.c) */
-    int   front_phases;              /* one thread too runs the front end's phases (ew_set_front_mode) */
-} ew_config;
 
 /* The draw's own cut of the rows, placed after the scan by what each row
  * then holds (its spans, the models over it), since a row's cost to scan
@@ -152,12 +129,7 @@ typedef struct ew_ref {
 } ew_ref;
 
 struct ew_renderer {
-    const ew_world *world;
-    const uint8_t  *palette, *colormap;
-    ew_config   cfg;
-    ew_target   target;
-    ew_view     view;                            /* this frame's camera */
-    ew_stats    stats;                           /* this frame's counters (serial stages) */
+    ew_frame    f;                               /* the frame's shared state (frame.h) */
     ew_marks    marks;
     ew_edge_list el;
     ew_span_ctx draw;
@@ -168,12 +140,10 @@ struct ew_renderer {
     struct ew_spolys *spolys;                    /* beamtree, raycast: surfaces' screen polygons (hsr/surf_poly.c) */
     ew_see      see;
     ew_blend    blend;                           /* 8-bit blend, fog and tint tables */
-    int         eye_contents;                    /* EW_CONTENTS_* of the eye's leaf this frame */
     uint8_t    *warp_copy;                       /* the underwater warp's source frame and shifts */
     const uint8_t *warp_tint;                    /* and its tint table this frame */
     int         warp_rgb[3], warp_amount;        /* true colour: the tint itself */
     ew_sched    sched;
-    int        *face_ids;                        /* test hook: per pixel, or NULL */
     ew_debug    dbg;                             /* debug modes (raster/debug.c) */
     struct ew_front_par *fpar;                   /* the parallel front end's lists (world/front_par.c), or NULL */
     int         fpar_bad;                        /* its plan failed (an irregular tree): the serial front end */

@@ -250,15 +250,15 @@ typedef struct scene {
 
 static void view_at(ew_renderer *r, float yaw) {
     ew_camera cam = {{0, 0, 0}, {0, yaw, 0}, 90, 0};
-    ew_view_setup(&r->view, &cam, r->target.width, r->target.height);
-    memset(r->target.pixels, 0, (size_t)r->target.width * r->target.height);
-    for (int i = 0; i < r->target.width * r->target.height; i++) r->target.zbuf[i] = 0;
-    memset(&r->stats, 0, sizeof r->stats);
+    ew_view_setup(&r->f.view, &cam, r->f.target.width, r->f.target.height);
+    memset(r->f.target.pixels, 0, (size_t)r->f.target.width * r->f.target.height);
+    for (int i = 0; i < r->f.target.width * r->f.target.height; i++) r->f.target.zbuf[i] = 0;
+    memset(&r->f.stats, 0, sizeof r->f.stats);
 }
 
 static long count_written(const ew_renderer *r) {
     long n = 0;
-    for (int i = 0; i < r->target.width * r->target.height; i++) n += r->target.zbuf[i] != 0;
+    for (int i = 0; i < r->f.target.width * r->f.target.height; i++) n += r->f.target.zbuf[i] != 0;
     return n;
 }
 
@@ -286,7 +286,7 @@ static ew_mdl *sphere_model(int level, float radius, int frame_group) {
 static void test_subdiv_sphere(ew_renderer *r) {
     ew_mdl *m = sphere_model(3, 16, 0);
     if (!m) return;
-    int W = r->target.width, H = r->target.height;
+    int W = r->f.target.width, H = r->f.target.height;
     uint8_t *aff = malloc((size_t)W * H);
     int runs = 0, total_missing = 0, total_twice = 0;
     long aff_overlap = 0, missing1 = 0;
@@ -300,21 +300,21 @@ static void test_subdiv_sphere(ew_renderer *r) {
         for (int k = 0; k < 3; k++) p.angles[k] = (float)rndi(0, 359);
 
         view_at(r, 0);
-        r->cfg.alias_raster = EW_ALIAS_AFFINE;
+        r->f.cfg.alias_raster = EW_ALIAS_AFFINE;
         CHECK(ew_draw_alias(r, m, &p) == 1, "sphere culled");
-        for (int k = 0; k < W * H; k++) aff[k] = r->target.zbuf[k] != 0;
+        for (int k = 0; k < W * H; k++) aff[k] = r->f.target.zbuf[k] != 0;
         long naff = count_written(r);
         /* Snapping can fold a nearly edge-on face over its neighbours at the
          * silhouette: the exact fill writes those few pixels twice too. */
-        aff_overlap += r->stats.alias_pixels - naff;
+        aff_overlap += r->f.stats.alias_pixels - naff;
 
         view_at(r, 0);
-        r->cfg.alias_raster = EW_ALIAS_SUBDIV;
+        r->f.cfg.alias_raster = EW_ALIAS_SUBDIV;
         CHECK(ew_draw_alias(r, m, &p) == 1, "sphere culled");
         long nsub = count_written(r);
-        int twice = (int)(r->stats.alias_pixels - nsub);
-        CHECK(r->stats.alias_tris_subdiv == r->stats.alias_tris && r->stats.alias_tris > 100,
-              "subdivision drew %d of %d triangles", r->stats.alias_tris_subdiv, r->stats.alias_tris);
+        int twice = (int)(r->f.stats.alias_pixels - nsub);
+        CHECK(r->f.stats.alias_tris_subdiv == r->f.stats.alias_tris && r->f.stats.alias_tris > 100,
+              "subdivision drew %d of %d triangles", r->f.stats.alias_tris_subdiv, r->f.stats.alias_tris);
         /* Inside the silhouette: the pixel and its neighbours within 2 pixels
          * are all inside the exact (affine, top-left) coverage.  (Split
          * points of silhouette edges are rounded, so subdivision's outline
@@ -323,7 +323,7 @@ static void test_subdiv_sphere(ew_renderer *r) {
         int missing = 0;
         for (int y = 2; y < H - 2; y++)
             for (int x = 2; x < W - 2; x++) {
-                if (r->target.zbuf[y * W + x] != 0) continue;
+                if (r->f.target.zbuf[y * W + x] != 0) continue;
                 int in1 = 1, in2 = 1;
                 for (int dy = -2; dy <= 2; dy++)
                     for (int dx = -2; dx <= 2; dx++)
@@ -354,45 +354,45 @@ static void test_subdiv_sphere(ew_renderer *r) {
 static void test_zbuffer(ew_renderer *r) {
     ew_mdl *m = sphere_model(2, 24, 2);
     if (!m) return;
-    int W = r->target.width, H = r->target.height;
+    int W = r->f.target.width, H = r->f.target.height;
     for (int mode = EW_ALIAS_AFFINE; mode <= EW_ALIAS_SUBDIV; mode++) {
         ew_model_pose p = {{100, 0, 0}, {0, 30, 0}, 0, 0, 0.15, 128, 64};
         /* A wall nearer than the model (at 50 units) everywhere. */
         view_at(r, 0);
-        r->cfg.alias_raster = mode;
-        for (int i = 0; i < W * H; i++) r->target.zbuf[i] = 1.0f / 50;
-        memset(r->target.pixels, 7, (size_t)W * H);
+        r->f.cfg.alias_raster = mode;
+        for (int i = 0; i < W * H; i++) r->f.target.zbuf[i] = 1.0f / 50;
+        memset(r->f.target.pixels, 7, (size_t)W * H);
         CHECK(ew_draw_alias(r, m, &p) == 1, "not in view");
         int changed = 0;
-        for (int i = 0; i < W * H; i++) changed += r->target.pixels[i] != 7 || r->target.zbuf[i] != 1.0f / 50;
-        CHECK(changed == 0 && r->stats.alias_pixels == 0, "mode %d: %d pixels through the wall", mode, changed);
-        CHECK(r->stats.alias_tris > 0, "mode %d: no triangles", mode);
+        for (int i = 0; i < W * H; i++) changed += r->f.target.pixels[i] != 7 || r->f.target.zbuf[i] != 1.0f / 50;
+        CHECK(changed == 0 && r->f.stats.alias_pixels == 0, "mode %d: %d pixels through the wall", mode, changed);
+        CHECK(r->f.stats.alias_tris > 0, "mode %d: no triangles", mode);
 
         /* A wall far behind: the model shows. */
         view_at(r, 0);
-        r->cfg.alias_raster = mode;
-        for (int i = 0; i < W * H; i++) r->target.zbuf[i] = 1.0f / 1000;
-        memset(r->target.pixels, 7, (size_t)W * H);
+        r->f.cfg.alias_raster = mode;
+        for (int i = 0; i < W * H; i++) r->f.target.zbuf[i] = 1.0f / 1000;
+        memset(r->f.target.pixels, 7, (size_t)W * H);
         ew_draw_alias(r, m, &p);
-        long full = r->stats.alias_pixels;
+        long full = r->f.stats.alias_pixels;
         CHECK(full > 500, "mode %d: only %ld pixels in front of a far wall", mode, full);
 
         /* Near wall on the left half only: only the right half is drawn. */
         view_at(r, 0);
-        r->cfg.alias_raster = mode;
+        r->f.cfg.alias_raster = mode;
         for (int y = 0; y < H; y++)
-            for (int x = 0; x < W; x++) r->target.zbuf[y * W + x] = x < W / 2 ? 1.0f / 50 : 1.0f / 1000;
-        memset(r->target.pixels, 7, (size_t)W * H);
+            for (int x = 0; x < W; x++) r->f.target.zbuf[y * W + x] = x < W / 2 ? 1.0f / 50 : 1.0f / 1000;
+        memset(r->f.target.pixels, 7, (size_t)W * H);
         ew_draw_alias(r, m, &p);
         int left = 0, right = 0;
         for (int y = 0; y < H; y++)
             for (int x = 0; x < W; x++) {
-                int ch = r->target.zbuf[y * W + x] != (x < W / 2 ? 1.0f / 50 : 1.0f / 1000);
+                int ch = r->f.target.zbuf[y * W + x] != (x < W / 2 ? 1.0f / 50 : 1.0f / 1000);
                 if (x < W / 2) left += ch; else right += ch;
             }
         CHECK(left == 0 && right > full / 4 && right < full, "mode %d: half wall: %d left, %d right of %ld",
               mode, left, right, full);
-        CHECK(r->stats.alias_pixels == right, "mode %d: %ld counted, %d written", mode, r->stats.alias_pixels, right);
+        CHECK(r->f.stats.alias_pixels == right, "mode %d: %ld counted, %d written", mode, r->f.stats.alias_pixels, right);
     }
     ew_mdl_free(m);
 }
@@ -400,7 +400,7 @@ static void test_zbuffer(ew_renderer *r) {
 static void test_clipping_and_auto(ew_renderer *r) {
     ew_mdl *m = sphere_model(2, 40, 0);
     if (!m) return;
-    int W = r->target.width, H = r->target.height;
+    int W = r->f.target.width, H = r->f.target.height;
     /* Straddling the near plane and every screen edge; off to each side. */
     float spots[][3] = {{30, 45, 0}, {30, 0, 45}, {30, -30, -30}, {60, 70, 0}, {60, -70, 0}, {60, 0, 50},
                         {60, 0, -50}, {5, 0, 0}, {-100, 0, 0}, {300, 0, 0}};
@@ -408,37 +408,37 @@ static void test_clipping_and_auto(ew_renderer *r) {
         for (int mode = EW_ALIAS_AUTO; mode <= EW_ALIAS_SUBDIV; mode++) {
             ew_model_pose p = {{spots[i][0], spots[i][1], spots[i][2]}, {10, 20, 30}, 0, 0, 0, 200, 50};
             view_at(r, 0);
-            r->cfg.alias_raster = mode;
+            r->f.cfg.alias_raster = mode;
             int drawn = ew_draw_alias(r, m, &p);
             long n = count_written(r);
             if (spots[i][0] < 0) {
                 CHECK(drawn == 0 && n == 0, "behind the eye: drawn %d, %ld px", drawn, n);
             } else if (spots[i][0] >= 20) {
-                CHECK(drawn == 1 && n > 0 && r->stats.alias_pixels == n,
-                      "spot %d mode %d: drawn %d, %ld px, %ld counted", i, mode, drawn, n, r->stats.alias_pixels);
+                CHECK(drawn == 1 && n > 0 && r->f.stats.alias_pixels == n,
+                      "spot %d mode %d: drawn %d, %ld px, %ld counted", i, mode, drawn, n, r->f.stats.alias_pixels);
             }
         }
     }
     /* Automatic choice by projected height (threshold 40 px at 320 wide). */
-    r->cfg.alias_threshold = 40;
+    r->f.cfg.alias_threshold = 40;
     ew_model_pose far = {{600, 0, 0}, {0, 0, 0}, 0, 0, 0, 128, 64};
     ew_model_pose close = {{120, 0, 0}, {0, 0, 0}, 0, 0, 0, 128, 64};
     view_at(r, 0);
-    r->cfg.alias_raster = EW_ALIAS_AUTO;
+    r->f.cfg.alias_raster = EW_ALIAS_AUTO;
     ew_draw_alias(r, m, &far);
-    CHECK(r->stats.alias_tris > 0 && r->stats.alias_tris_subdiv == r->stats.alias_tris,
-          "far model: %d of %d subdivided", r->stats.alias_tris_subdiv, r->stats.alias_tris);
+    CHECK(r->f.stats.alias_tris > 0 && r->f.stats.alias_tris_subdiv == r->f.stats.alias_tris,
+          "far model: %d of %d subdivided", r->f.stats.alias_tris_subdiv, r->f.stats.alias_tris);
     view_at(r, 0);
     ew_draw_alias(r, m, &close);
-    CHECK(r->stats.alias_tris > 0 && r->stats.alias_tris_subdiv == 0, "near model: %d of %d subdivided",
-          r->stats.alias_tris_subdiv, r->stats.alias_tris);
+    CHECK(r->f.stats.alias_tris > 0 && r->f.stats.alias_tris_subdiv == 0, "near model: %d of %d subdivided",
+          r->f.stats.alias_tris_subdiv, r->f.stats.alias_tris);
     /* Forced subdivision of a model that needs clipping falls back to the
      * affine clip path (subdivision needs every vertex on screen). */
     view_at(r, 0);
-    r->cfg.alias_raster = EW_ALIAS_SUBDIV;
+    r->f.cfg.alias_raster = EW_ALIAS_SUBDIV;
     ew_model_pose edge = {{60, 70, 0}, {0, 0, 0}, 0, 0, 0, 128, 64};
     ew_draw_alias(r, m, &edge);
-    CHECK(r->stats.alias_tris > 0 && r->stats.alias_tris_subdiv == 0, "clipped model subdivided");
+    CHECK(r->f.stats.alias_tris > 0 && r->f.stats.alias_tris_subdiv == 0, "clipped model subdivided");
     /* Bad poses are refused, not drawn. */
     ew_model_pose bad = {{NAN, 0, 0}, {0, 0, 0}, 0, 0, 0, 128, 64};
     CHECK(ew_draw_alias(r, m, &bad) == 0, "NaN origin drawn");
@@ -467,22 +467,22 @@ static void test_cull_counts(ew_renderer *r) {
     if (!m) return;
     for (int mode = EW_ALIAS_AFFINE; mode <= EW_ALIAS_SUBDIV; mode++) {
         view_at(r, 0);
-        r->cfg.alias_raster = mode;
+        r->f.cfg.alias_raster = mode;
         ew_model_pose p = {{100, 0, 0}, {0, 0, 0}, 0, 0, 0, 128, 0};
         ew_draw_alias(r, m, &p);
-        CHECK(r->stats.alias_tris == 1 && r->stats.alias_pixels > 20,
-              "mode %d: %d triangles drawn (%ld px), want 1", mode, r->stats.alias_tris, r->stats.alias_pixels);
+        CHECK(r->f.stats.alias_tris == 1 && r->f.stats.alias_pixels > 20,
+              "mode %d: %d triangles drawn (%ld px), want 1", mode, r->f.stats.alias_tris, r->f.stats.alias_pixels);
         /* Turned around, the other one faces the eye. */
         view_at(r, 0);
         p.angles[1] = 180;
         ew_draw_alias(r, m, &p);
-        CHECK(r->stats.alias_tris == 1, "mode %d turned: %d triangles drawn", mode, r->stats.alias_tris);
+        CHECK(r->f.stats.alias_tris == 1, "mode %d turned: %d triangles drawn", mode, r->f.stats.alias_tris);
     }
     ew_mdl_free(m);
 }
 
 static void test_sprites_particles(ew_renderer *r) {
-    int W = r->target.width, H = r->target.height;
+    int W = r->f.target.width, H = r->f.target.height;
     for (int type = 0; type <= 4; type++) {
         size_t size;
         uint8_t *data = fx_spr(type, 32, 24, 2, 3, &size);
@@ -497,26 +497,26 @@ static void test_sprites_particles(ew_renderer *r) {
         long n = count_written(r);
         /* 32x24 units at 100 units on a 320-wide 90-degree view: 160 px per
          * 100 units, so about 51x38 pixels less the transparent column. */
-        CHECK(n > 1200 && n < 2400 && r->stats.alias_pixels == n, "type %d: %ld pixels", type, n);
+        CHECK(n > 1200 && n < 2400 && r->f.stats.alias_pixels == n, "type %d: %ld pixels", type, n);
         int has255 = 0;
-        for (int i = 0; i < W * H; i++) has255 |= r->target.zbuf[i] != 0 && r->target.pixels[i] == 255;
+        for (int i = 0; i < W * H; i++) has255 |= r->f.target.zbuf[i] != 0 && r->f.target.pixels[i] == 255;
         CHECK(!has255, "transparent index drawn");
         /* The group animates by time: a different picture at t = 0.07. */
         p.frame = 2;
         p.time = 0.01;
         view_at(r, 0);
         ew_draw_sprite(r, s, &p);
-        int c0 = r->target.pixels[(H / 2) * W + W / 2];
+        int c0 = r->f.target.pixels[(H / 2) * W + W / 2];
         p.time = 0.07;
         view_at(r, 0);
         ew_draw_sprite(r, s, &p);
-        int c1 = r->target.pixels[(H / 2) * W + W / 2];
+        int c1 = r->f.target.pixels[(H / 2) * W + W / 2];
         CHECK(c0 == 102 && c1 == 103, "group pictures %d %d", c0, c1);
         /* Behind a near wall: nothing. */
         view_at(r, 0);
-        for (int i = 0; i < W * H; i++) r->target.zbuf[i] = 1.0f / 50;
+        for (int i = 0; i < W * H; i++) r->f.target.zbuf[i] = 1.0f / 50;
         ew_draw_sprite(r, s, &p);
-        CHECK(r->stats.alias_pixels == 0, "sprite through a wall");
+        CHECK(r->f.stats.alias_pixels == 0, "sprite through a wall");
         /* Behind the eye: culled. */
         ew_model_pose back = {{-100, 0, 0}, {0, 0, 0}, 0, 0, 0, 0, 0};
         view_at(r, 0);
@@ -549,8 +549,8 @@ static void test_sprites_particles(ew_renderer *r) {
     CHECK(inside, "particle outside the ball");
     view_at(r, 0);
     ew_draw_particles(r, a, 500);
-    CHECK(r->stats.particles == 500 && r->stats.alias_pixels > 400 && count_written(r) > 400, "%d particles, %ld px",
-          r->stats.particles, r->stats.alias_pixels);
+    CHECK(r->f.stats.particles == 500 && r->f.stats.alias_pixels > 400 && count_written(r) > 400, "%d particles, %ld px",
+          r->f.stats.particles, r->f.stats.alias_pixels);
     ew_particle one[2] = {{{30, 0, 0}, 5}, {{400, 0, 0}, 6}};
     view_at(r, 0);
     ew_draw_particles(r, one, 1);
@@ -561,9 +561,9 @@ static void test_sprites_particles(ew_renderer *r) {
     /* 320 wide: 100 / z pixels (2 at 100 units on a 640-wide view): 3x3 at 30 units, 1 at 400 */
     CHECK(near_px == 9 && far_px == 1, "particle sizes %ld near, %ld far", near_px, far_px);
     view_at(r, 0);
-    for (int i = 0; i < W * H; i++) r->target.zbuf[i] = 1.0f / 50;
+    for (int i = 0; i < W * H; i++) r->f.target.zbuf[i] = 1.0f / 50;
     ew_draw_particles(r, a, 500);
-    CHECK(r->stats.alias_pixels == 0, "particles through a wall");
+    CHECK(r->f.stats.alias_pixels == 0, "particles through a wall");
 }
 
 int main(void) {

@@ -178,10 +178,10 @@ static void test_masks_mesh(void) {
  * through the slots. */
 static void draw_models(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, int n, ew_alias_xf *xf,
                         ew_xvert *xv, ew_sc_slot *slot) {
-    ew_rows rows = {0, r->target.height, &r->stats, 1};
+    ew_rows rows = {0, r->f.target.height, &r->f.stats, 1};
     for (int i = 0; i < n; i++) {
         if (!ew_alias_place(r, m, &p[i], &xf[i])) continue;
-        int sc = r->cfg.alias_raster == EW_ALIAS_SPRITE_CACHE;
+        int sc = r->f.cfg.alias_raster == EW_ALIAS_SPRITE_CACHE;
         if (sc && ew_sprite_cache_reuse(r, &slot[i], m, &xf[i], &p[i], ew_sprite_cache_tol(r))) {
             ew_sprite_cache_draw(r, &slot[i], &rows);
             continue;
@@ -196,10 +196,10 @@ static void draw_models(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p,
 }
 
 static void clear(ew_renderer *r) {
-    size_t n = (size_t)r->target.width * r->target.height;
-    memset(r->target.pixels, 0, n * (size_t)r->target.bpp);
-    memset(r->target.zbuf, 0, n * sizeof(float));
-    memset(&r->stats, 0, sizeof r->stats);
+    size_t n = (size_t)r->f.target.width * r->f.target.height;
+    memset(r->f.target.pixels, 0, n * (size_t)r->f.target.bpp);
+    memset(r->f.target.zbuf, 0, n * sizeof(float));
+    memset(&r->f.stats, 0, sizeof r->f.stats);
 }
 
 /* What the models left: covered (z written) and colour. */
@@ -208,14 +208,14 @@ typedef struct shot {
     long     covered, writes;
 } shot;
 static void take(const ew_renderer *r, shot *s) {
-    size_t n = (size_t)r->target.width * r->target.height;
+    size_t n = (size_t)r->f.target.width * r->f.target.height;
     s->covered = 0;
-    for (size_t i = 0; i < n; i++) s->covered += (s->in[i] = r->target.zbuf[i] != 0);
-    memcpy(s->pix, r->target.pixels, n);
-    s->writes = r->stats.alias_pixels;
+    for (size_t i = 0; i < n; i++) s->covered += (s->in[i] = r->f.target.zbuf[i] != 0);
+    memcpy(s->pix, r->f.target.pixels, n);
+    s->writes = r->f.stats.alias_pixels;
 }
 static void compare(const ew_renderer *r, const shot *ex, const shot *got, long *holes, long *extra, long *colour) {
-    size_t n = (size_t)r->target.width * r->target.height;
+    size_t n = (size_t)r->f.target.width * r->f.target.height;
     for (size_t i = 0; i < n; i++) {
         *holes += ex->in[i] && !got->in[i];
         *extra += !ex->in[i] && got->in[i];
@@ -224,7 +224,7 @@ static void compare(const ew_renderer *r, const shot *ex, const shot *got, long 
 }
 
 static void view_at(ew_renderer *r, const ew_camera *cam) {
-    ew_view_setup(&r->view, cam, r->target.width, r->target.height);
+    ew_view_setup(&r->f.view, cam, r->f.target.width, r->f.target.height);
 }
 
 static ew_mdl *sphere_model(void) {
@@ -244,14 +244,14 @@ static ew_mdl *sphere_model(void) {
 static void test_sphere(ew_renderer *r) {
     ew_mdl *m = sphere_model();
     if (!m) return;
-    size_t n = (size_t)r->target.width * r->target.height;
+    size_t n = (size_t)r->f.target.width * r->f.target.height;
     shot aff = {malloc(n), malloc(n), 0, 0}, got = {malloc(n), malloc(n), 0, 0};
     ew_xvert *xv = malloc(sizeof *xv * (size_t)m->numverts);
     ew_alias_xf xf;
     ew_sc_slot slot;
     memset(&slot, 0, sizeof slot);
     r->zf.all = 1;  /* models only: no world to z-fill from */
-    r->cfg.alias_threshold = 1000;
+    r->f.cfg.alias_threshold = 1000;
     ew_sc_tol tol = ew_sprite_cache_tol_default();
     tol.max_reuse = 1000;  /* the camera moves decide alone */
     ew_sprite_cache_set_tol(r, &tol);
@@ -267,20 +267,20 @@ static void test_sphere(ew_renderer *r) {
         view_at(r, &cam);
 
         clear(r);
-        r->cfg.alias_raster = EW_ALIAS_AFFINE;
+        r->f.cfg.alias_raster = EW_ALIAS_AFFINE;
         draw_models(r, m, &p, 1, &xf, xv, &slot);
         take(r, &aff);
         aff_twice += aff.writes - aff.covered;
         area += aff.covered;
 
         clear(r);
-        r->cfg.alias_raster = EW_ALIAS_MASKS;
+        r->f.cfg.alias_raster = EW_ALIAS_MASKS;
         draw_models(r, m, &p, 1, &xf, xv, &slot);
         take(r, &got);
         masks_differ += memcmp(aff.in, got.in, n) != 0 || memcmp(aff.pix, got.pix, n) != 0 || got.writes != aff.writes;
 
         clear(r);
-        r->cfg.alias_raster = EW_ALIAS_SPRITE_CACHE;
+        r->f.cfg.alias_raster = EW_ALIAS_SPRITE_CACHE;
         slot.valid = 0;
         draw_models(r, m, &p, 1, &xf, xv, &slot);
         take(r, &got);
@@ -296,11 +296,11 @@ static void test_sphere(ew_renderer *r) {
             cam.angles[1] += 0.3f;
             view_at(r, &cam);
             clear(r);
-            r->cfg.alias_raster = EW_ALIAS_AFFINE;
+            r->f.cfg.alias_raster = EW_ALIAS_AFFINE;
             draw_models(r, m, &p, 1, &xf, xv, &slot);
             take(r, &aff);
             clear(r);
-            r->cfg.alias_raster = EW_ALIAS_SPRITE_CACHE;
+            r->f.cfg.alias_raster = EW_ALIAS_SPRITE_CACHE;
             draw_models(r, m, &p, 1, &xf, xv, &slot);
             take(r, &got);
             hits += slot.hit;
@@ -326,7 +326,7 @@ static void test_sphere(ew_renderer *r) {
     tol = ew_sprite_cache_tol_default();
     ew_sprite_cache_set_tol(r, &tol);
     r->zf.all = 0;
-    r->cfg.alias_raster = EW_ALIAS_AUTO, r->cfg.alias_threshold = 40;
+    r->f.cfg.alias_raster = EW_ALIAS_AUTO, r->f.cfg.alias_threshold = 40;
     ew_sprite_cache_slot_free(&slot);
     free(xv), free(aff.in), free(aff.pix), free(got.in), free(got.pix);
     ew_mdl_free(m);
@@ -353,14 +353,14 @@ enum { NS = 200 };
 static void test_soldiers(ew_renderer *r, const ew_camera *start) {
     ew_mdl *m = load_soldier();
     if (!m) return;
-    size_t n = (size_t)r->target.width * r->target.height;
+    size_t n = (size_t)r->f.target.width * r->f.target.height;
     ew_model_pose base[NS], p[NS];
     ew_alias_xf *xf = malloc(sizeof *xf * NS);
     ew_xvert *xv = malloc(sizeof *xv * (size_t)NS * (size_t)m->numverts);
     ew_sc_slot *slot = calloc(NS, sizeof *slot);
     shot ex = {malloc(n), malloc(n), 0, 0}, got = {malloc(n), malloc(n), 0, 0};
     view_at(r, start);
-    const ew_view *v = &r->view;
+    const ew_view *v = &r->f.view;
     /* 200 soldiers 20..40 px tall spread over the view (test_models' scene). */
     uint32_t seed = 99;
     for (int i = 0; i < NS; i++) {
@@ -374,16 +374,16 @@ static void test_soldiers(ew_renderer *r, const ew_camera *start) {
         base[i].ambient = 100, base[i].shade = 80;
     }
     r->zf.all = 1;
-    r->cfg.alias_threshold = 40;
+    r->f.cfg.alias_threshold = 40;
     ew_sc_tol tol = ew_sprite_cache_tol_default();
     ew_sprite_cache_set_tol(r, &tol);
     /* masks = affine on the whole scene */
     clear(r);
-    r->cfg.alias_raster = EW_ALIAS_AFFINE;
+    r->f.cfg.alias_raster = EW_ALIAS_AFFINE;
     draw_models(r, m, base, NS, xf, xv, slot);
     take(r, &ex);
     clear(r);
-    r->cfg.alias_raster = EW_ALIAS_MASKS;
+    r->f.cfg.alias_raster = EW_ALIAS_MASKS;
     draw_models(r, m, base, NS, xf, xv, slot);
     take(r, &got);
     CHECK(memcmp(ex.in, got.in, n) == 0 && memcmp(ex.pix, got.pix, n) == 0 && ex.writes == got.writes,
@@ -397,16 +397,16 @@ static void test_soldiers(ew_renderer *r, const ew_camera *start) {
         ew_camera cam = *start;
         cam.angles[1] += 10 * t;
         ew_view v0;
-        ew_view_setup(&v0, start, r->target.width, r->target.height);
+        ew_view_setup(&v0, start, r->f.target.width, r->f.target.height);
         for (int k = 0; k < 3; k++) cam.origin[k] += v0.right[k] * 100 * t;
         view_at(r, &cam);
         for (int i = 0; i < NS; i++) p[i] = base[i], p[i].frame = (base[i].frame + (int)(t * 10)) % m->numframes;
         clear(r);
-        r->cfg.alias_raster = EW_ALIAS_AFFINE;
+        r->f.cfg.alias_raster = EW_ALIAS_AFFINE;
         draw_models(r, m, p, NS, xf, xv, slot);
         take(r, &ex);
         clear(r);
-        r->cfg.alias_raster = EW_ALIAS_SPRITE_CACHE;
+        r->f.cfg.alias_raster = EW_ALIAS_SPRITE_CACHE;
         draw_models(r, m, p, NS, xf, xv, slot);
         take(r, &got);
         for (int i = 0; i < NS; i++)
@@ -431,7 +431,7 @@ static void test_soldiers(ew_renderer *r, const ew_camera *start) {
            "extra %.2f%%, wrong colour %.2f%% of %ld exact px, worst frame %.2f%%\n",
            hits, misses, hp, xp, cp, area, worst);
     r->zf.all = 0;
-    r->cfg.alias_raster = EW_ALIAS_AUTO;
+    r->f.cfg.alias_raster = EW_ALIAS_AUTO;
     for (int i = 0; i < NS; i++) ew_sprite_cache_slot_free(&slot[i]);
     free(slot), free(xf), free(xv), free(ex.in), free(ex.pix), free(got.in), free(got.pix);
     ew_mdl_free(m);
@@ -462,19 +462,19 @@ static void test_e1m1(ew_assets *a) {
     for (int i = 0; i < nv; i++) {
         ew_set_alias_raster(r[0], EW_ALIAS_AFFINE, 40);
         CHECK(ew_render(r[0], &views[i], NULL) == 0, "render");
-        if (r[0]->stats.alias_tris == 0) continue;
-        if (r[0]->stats.alias_tris > most_tris) most_tris = r[0]->stats.alias_tris, most = i;
+        if (r[0]->f.stats.alias_tris == 0) continue;
+        if (r[0]->f.stats.alias_tris > most_tris) most_tris = r[0]->f.stats.alias_tris, most = i;
         shown++;
-        memcpy(ref, r[0]->target.pixels, n);
+        memcpy(ref, r[0]->f.target.pixels, n);
         for (int t = 0; t < 2; t++) {
             ew_set_alias_raster(r[t], EW_ALIAS_MASKS, 40);
             ew_render(r[t], &views[i], NULL);
-            differ += memcmp(ref, r[t]->target.pixels, n) != 0;
+            differ += memcmp(ref, r[t]->f.target.pixels, n) != 0;
             ew_set_alias_raster(r[t], EW_ALIAS_SPRITE_CACHE, 40);
             for (int rep = 0; rep < 2; rep++) {  /* drawn, then reused: a still camera shows no difference */
                 ew_render(r[t], &views[i], NULL);
-                differ += memcmp(ref, r[t]->target.pixels, n) != 0;
-                hits += r[t]->stats.alias_sprite_hits, misses += r[t]->stats.alias_sprite_misses;
+                differ += memcmp(ref, r[t]->f.target.pixels, n) != 0;
+                hits += r[t]->f.stats.alias_sprite_hits, misses += r[t]->f.stats.alias_sprite_misses;
             }
         }
     }
@@ -490,8 +490,8 @@ static void test_e1m1(ew_assets *a) {
             ew_set_alias_raster(r[t], EW_ALIAS_SPRITE_CACHE, 40);
             CHECK(ew_render(r[t], &cam, NULL) == 0, "render");
         }
-        move_hits += r[1]->stats.alias_sprite_hits;
-        moved += memcmp(r[0]->target.pixels, r[1]->target.pixels, n) != 0;
+        move_hits += r[1]->f.stats.alias_sprite_hits;
+        moved += memcmp(r[0]->f.target.pixels, r[1]->f.target.pixels, n) != 0;
     }
     CHECK(moved == 0 && move_hits > 0, "sprite-cache: %ld frames differ between one and two threads (%ld hits)", moved,
           move_hits);
@@ -509,17 +509,17 @@ static void test_e1m1(ew_assets *a) {
         for (int i = 0; i < nv; i++) {
             ew_set_alias_raster(rt, EW_ALIAS_AFFINE, 40);
             ew_render(rt, &views[i], NULL);
-            if (rt->stats.alias_tris == 0) continue;
-            memcpy(ref4, rt->target.pixels, n * 4);
+            if (rt->f.stats.alias_tris == 0) continue;
+            memcpy(ref4, rt->f.target.pixels, n * 4);
             ew_set_alias_raster(rt, EW_ALIAS_SPRITE_CACHE, 40);
             for (int rep = 0; rep < 2; rep++) {
                 ew_render(rt, &views[i], NULL);
-                true_differ += memcmp(ref4, rt->target.pixels, n * 4) != 0;
-                true_hits += rt->stats.alias_sprite_hits;
+                true_differ += memcmp(ref4, rt->f.target.pixels, n * 4) != 0;
+                true_hits += rt->f.stats.alias_sprite_hits;
             }
             ew_set_alias_raster(rt, EW_ALIAS_MASKS, 40);
             ew_render(rt, &views[i], NULL);
-            true_differ += memcmp(ref4, rt->target.pixels, n * 4) != 0;
+            true_differ += memcmp(ref4, rt->f.target.pixels, n * 4) != 0;
         }
         free(ref4);
         ew_renderer_destroy(rt);

@@ -32,23 +32,23 @@ static ew_renderer *make(ew_color_mode color, int classic) {
     return r;
 }
 
-static size_t frame_bytes(const ew_renderer *r) { return (size_t)W * H * (size_t)r->target.bpp; }
+static size_t frame_bytes(const ew_renderer *r) { return (size_t)W * H * (size_t)r->f.target.bpp; }
 static uint8_t *copy_frame(const ew_renderer *r) {
     uint8_t *p = malloc(frame_bytes(r));
-    memcpy(p, r->target.pixels, frame_bytes(r));
+    memcpy(p, r->f.target.pixels, frame_bytes(r));
     return p;
 }
 /* Pixel i as a number (palette index or the 4 bytes). */
 static uint32_t px(const ew_renderer *r, const uint8_t *f, size_t i) {
-    if (r->target.bpp == 1) return f[i];
+    if (r->f.target.bpp == 1) return f[i];
     uint32_t v;
     memcpy(&v, f + i * 4, 4);
     return v;
 }
 static double brightness(const ew_renderer *r, const uint8_t *f, size_t i) {
     int rgb[3];
-    if (r->target.bpp == 1) {
-        for (int k = 0; k < 3; k++) rgb[k] = r->palette[f[i] * 3 + k];
+    if (r->f.target.bpp == 1) {
+        for (int k = 0; k < 3; k++) rgb[k] = r->f.palette[f[i] * 3 + k];
     } else {
         ew_rgba_split(px(r, f, i), rgb);
     }
@@ -62,7 +62,7 @@ static ew_stats render(ew_renderer *r, const ew_camera *c) {
     return st;
 }
 
-static const char *color_name(const ew_renderer *r) { return r->target.bpp == 1 ? "8-bit" : "true colour"; }
+static const char *color_name(const ew_renderer *r) { return r->f.target.bpp == 1 ? "8-bit" : "true colour"; }
 
 /* Each mode on, then off: the normal frame again, byte for byte (the
  * cache holds surfaces of the debug mode in between). */
@@ -73,11 +73,11 @@ static void modes_off_give_normal(ew_renderer *r, const ew_camera *c) {
         CHECK(ew_set_debug(r, all_modes[m]) == 0 && ew_get_debug(r) == all_modes[m], "set %s", mode_names[all_modes[m]]);
         render(r, c);
         /* builds on a warm cache: nothing to show */
-        int differs = memcmp(normal, r->target.pixels, frame_bytes(r)) != 0 || all_modes[m] == EW_DEBUG_BUILDS;
+        int differs = memcmp(normal, r->f.target.pixels, frame_bytes(r)) != 0 || all_modes[m] == EW_DEBUG_BUILDS;
         CHECK(differs, "%s: mode %s changes the frame", color_name(r), mode_names[all_modes[m]]);
         ew_set_debug(r, EW_DEBUG_NONE);
         render(r, c);
-        CHECK(memcmp(normal, r->target.pixels, frame_bytes(r)) == 0, "%s: %s off gives the normal frame back",
+        CHECK(memcmp(normal, r->f.target.pixels, frame_bytes(r)) == 0, "%s: %s off gives the normal frame back",
               color_name(r), mode_names[all_modes[m]]);
     }
     free(normal);
@@ -90,7 +90,7 @@ static void spans(ew_renderer *r, const ew_camera *c) {
     long runs = 0;
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++)
-            runs += x == 0 || px(r, r->target.pixels, (size_t)y * W + x) != px(r, r->target.pixels, (size_t)y * W + x - 1);
+            runs += x == 0 || px(r, r->f.target.pixels, (size_t)y * W + x) != px(r, r->f.target.pixels, (size_t)y * W + x - 1);
     CHECK(runs == st.spans && st.spans > H, "%s: %ld runs of one colour, %d spans", color_name(r), runs, st.spans);
     printf("spans (%s): %d spans, %ld runs\n", color_name(r), st.spans, runs);
     ew_set_debug(r, EW_DEBUG_NONE);
@@ -105,9 +105,9 @@ static void edges(ew_renderer *r, const ew_camera *c) {
     render(r, c);
     long changed = 0, wrong = 0;
     for (size_t i = 0; i < (size_t)W * H; i++) {
-        if (px(r, normal, i) == px(r, r->target.pixels, i)) continue;
+        if (px(r, normal, i) == px(r, r->f.target.pixels, i)) continue;
         changed++;
-        wrong += px(r, r->target.pixels, i) != r->dbg.edge;
+        wrong += px(r, r->f.target.pixels, i) != r->dbg.edge;
     }
     CHECK(changed > 2 * H && wrong == 0, "%s: %ld pixels changed, %ld not the edge colour", color_name(r), changed, wrong);
     printf("edges (%s): %d edges, %ld pixels changed to the edge colour\n", color_name(r), st.edges, changed);
@@ -117,7 +117,7 @@ static void edges(ew_renderer *r, const ew_camera *c) {
     uint8_t *ref = copy_frame(r);
     ew_set_debug(r, EW_DEBUG_EDGES);
     render(r, c);
-    CHECK(memcmp(ref, r->target.pixels, frame_bytes(r)) == 0, "reference method: no edges drawn");
+    CHECK(memcmp(ref, r->f.target.pixels, frame_bytes(r)) == 0, "reference method: no edges drawn");
     ew_set_hsr(r, EW_HSR_EDGE);
     ew_set_debug(r, EW_DEBUG_NONE);
     free(normal), free(ref);
@@ -125,7 +125,7 @@ static void edges(ew_renderer *r, const ew_camera *c) {
 
 static long count_colour(const ew_renderer *r, uint32_t colour) {
     long n = 0;
-    for (size_t i = 0; i < (size_t)W * H; i++) n += px(r, r->target.pixels, i) == colour;
+    for (size_t i = 0; i < (size_t)W * H; i++) n += px(r, r->f.target.pixels, i) == colour;
     return n;
 }
 
@@ -186,7 +186,7 @@ static void lighting(ew_renderer *r, const ew_camera *c) {
             double sn = 0, sl = 0, qn = 0, ql = 0;
             for (int y = by * B; y < by * B + B; y++)
                 for (int x = bx * B; x < bx * B + B; x++) {
-                    double a = brightness(r, normal, (size_t)y * W + x), b = brightness(r, r->target.pixels, (size_t)y * W + x);
+                    double a = brightness(r, normal, (size_t)y * W + x), b = brightness(r, r->f.target.pixels, (size_t)y * W + x);
                     sn += a, sl += b, qn += a * a, ql += b * b;
                 }
             int k = by * (W / B) + bx;
@@ -198,10 +198,10 @@ static void lighting(ew_renderer *r, const ew_camera *c) {
         for (int x = 1; x < W; x++) {
             size_t i = (size_t)y * W + x;
             double a = brightness(r, normal, i) - brightness(r, normal, i - 1);
-            double b = brightness(r, r->target.pixels, i) - brightness(r, r->target.pixels, i - 1);
+            double b = brightness(r, r->f.target.pixels, i) - brightness(r, r->f.target.pixels, i - 1);
             dn += a * a, dl += b * b;
             sn += brightness(r, normal, i) * brightness(r, normal, i);
-            sl += brightness(r, r->target.pixels, i) * brightness(r, r->target.pixels, i);
+            sl += brightness(r, r->f.target.pixels, i) * brightness(r, r->f.target.pixels, i);
         }
     double detail_n = sqrt(dn / sn), detail_l = sqrt(dl / sl);
     double an = 0, al = 0, cov = 0, vn = 0, vl = 0;
@@ -227,15 +227,15 @@ static void textures(ew_renderer *r, const ew_camera *c) {
     ew_set_lightstyle(r, 0, 256);
     ew_set_debug(r, EW_DEBUG_NONE);
     render(r, c);
-    int differs = memcmp(tex, r->target.pixels, frame_bytes(r)) != 0;
+    int differs = memcmp(tex, r->f.target.pixels, frame_bytes(r)) != 0;
     CHECK(differs, "%s: textures-only differs from the lit frame", color_name(r));
     ew_world *w = A->world;
     uint8_t *lighting = w->lighting, *rgb = w->rgblight;
     w->lighting = NULL, w->rgblight = NULL;
-    ew_renderer *unlit = make(r->target.bpp == 4 ? EW_COLOR_TRUE : EW_COLOR_8BIT, r->cfg.classic);
+    ew_renderer *unlit = make(r->f.target.bpp == 4 ? EW_COLOR_TRUE : EW_COLOR_8BIT, r->f.cfg.classic);
     render(unlit, c);
     long diff = 0;
-    for (size_t i = 0; i < (size_t)W * H; i++) diff += px(r, tex, i) != px(r, unlit->target.pixels, i);
+    for (size_t i = 0; i < (size_t)W * H; i++) diff += px(r, tex, i) != px(r, unlit->f.target.pixels, i);
     CHECK(diff == 0, "%s: textures-only vs the map without light: %ld pixels differ", color_name(r), diff);
     printf("textures (%s): equal to the map without light data (%ld pixels differ), styles ignored\n", color_name(r),
            diff);
@@ -259,7 +259,7 @@ static void mips(ew_renderer *r) {
         for (size_t i = 0; i < (size_t)W * H; i++) {
             if (!face_is_lit(A->world, ids[i])) continue;
             lit++;
-            uint32_t p = px(r, r->target.pixels, i);
+            uint32_t p = px(r, r->f.target.pixels, i);
             int k = 0;
             while (k < 4 && p != r->dbg.mip[k]) k++;
             if (k < 4) per[k]++; else other++;
@@ -292,7 +292,7 @@ static void builds(ew_renderer *r) {
     uint8_t *normal = copy_frame(r);
     ew_set_debug(r, EW_DEBUG_BUILDS);
     ew_stats st = render(r, c);
-    CHECK(st.surfaces_built == 0 && memcmp(normal, r->target.pixels, frame_bytes(r)) == 0,
+    CHECK(st.surfaces_built == 0 && memcmp(normal, r->f.target.pixels, frame_bytes(r)) == 0,
           "%s: warm cache: nothing highlighted (%d built)", color_name(r), st.surfaces_built);
     /* a style some visible face uses, other than 0 if there is one */
     const int *ids = ew_frame_face_ids(r);
@@ -310,7 +310,7 @@ static void builds(ew_renderer *r) {
         int f = ids[i], uses = 0;
         if (face_is_lit(A->world, f))
             for (int k = 0; k < 4; k++) uses |= A->world->faces[f].styles[k] == style;
-        uint32_t p = px(r, r->target.pixels, i);
+        uint32_t p = px(r, r->f.target.pixels, i);
         if (uses) {
             hl++;
             bad += p != r->dbg.build;
@@ -347,9 +347,9 @@ static void pvs_lock(ew_renderer *r) {
     render(r, a);
     ew_set_pvs_lock(r, 1);
     int na_locked = render(r, a).visible_leaves;
-    CHECK(na_locked == na && memcmp(fa, r->target.pixels, frame_bytes(r)) == 0, "locked where it was set: as normal");
+    CHECK(na_locked == na && memcmp(fa, r->f.target.pixels, frame_bytes(r)) == 0, "locked where it was set: as normal");
     int nb_locked = render(r, b).visible_leaves;
-    int same = memcmp(fb, r->target.pixels, frame_bytes(r)) == 0;
+    int same = memcmp(fb, r->f.target.pixels, frame_bytes(r)) == 0;
     CHECK(nb_locked != nb && !same, "locked at view 0, at view %d: %d leaves (unlocked %d)", far, nb_locked, nb);
     ew_camera side = *a;
     side.angles[1] += 90;
@@ -358,7 +358,7 @@ static void pvs_lock(ew_renderer *r) {
     CHECK(nb_again == nb_locked, "locked set fixed while moving: %d then %d", nb_locked, nb_again);
     ew_set_pvs_lock(r, 0);
     int nb_unlocked = render(r, b).visible_leaves;
-    CHECK(nb_unlocked == nb && memcmp(fb, r->target.pixels, frame_bytes(r)) == 0, "unlocked: normal counts again");
+    CHECK(nb_unlocked == nb && memcmp(fb, r->f.target.pixels, frame_bytes(r)) == 0, "unlocked: normal counts again");
     printf("pvs lock (%s): view 0 %d leaves; view %d %d leaves unlocked, %d locked at view 0 (again %d), %d unlocked\n",
            color_name(r), na, far, nb, nb_locked, nb_again, nb_unlocked);
     free(fa), free(fb);

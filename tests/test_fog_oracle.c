@@ -204,10 +204,10 @@ static void old_reference(loaded *ls) {
         ew_set_fog(r, 0.3f, 0.9f, 0.9f, 0.2f);
         const ew_camera *c = &ls[m].views[best];
         reference(r, c, ref_rgb);
-        const ew_hsr *was = r->cfg.hsr;
-        r->cfg.hsr = &old;
+        const ew_hsr *was = r->f.cfg.hsr;
+        r->f.cfg.hsr = &old;
         shot(r, c, px_rgb);
-        r->cfg.hsr = was;
+        r->f.cfg.hsr = was;
         cmp k = compare(px_rgb, ref_rgb);
         printf("old reference (shared fog) %s view %d (sky %.1f%% of pixels): blocks off %.2f%%, exact %.1f%%\n",
                maps[m], best, 100.0 * best_sky / N, k.bad, k.exact);

@@ -49,8 +49,8 @@ static frame_sig sign_frame(const ew_renderer *r, const ew_stats *st) {
         mix_int(&f, e->surfs[0]), mix_int(&f, e->surfs[1]);
         mix(&f, &e->nearzi, sizeof e->nearzi);
     }
-    if (r->cfg.hsr->finish) {  /* the scans' order by row: made for the edge list's methods only */
-        for (int v = 0; v <= r->target.height + 1; v++) mix_int(&f, el->row_first[v]);
+    if (r->f.cfg.hsr->finish) {  /* the scans' order by row: made for the edge list's methods only */
+        for (int v = 0; v <= r->f.target.height + 1; v++) mix_int(&f, el->row_first[v]);
         for (int i = 0; i < el->nedges; i++) mix_int(&f, el->by_row[i]), mix_int(&f, el->by_row_last[i]);
     }
     s.edges = f.h;
@@ -60,7 +60,7 @@ static frame_sig sign_frame(const ew_renderer *r, const ew_stats *st) {
         mix_int(&f, sf->key), mix_int(&f, sf->face), mix_int(&f, sf->flags), mix_int(&f, sf->insubmodel);
         mix(&f, &sf->nearzi, sizeof sf->nearzi);
         /* which camera: the frame's, or the n-th moved brush model's */
-        mix_int(&f, sf->view == &r->view ? -1 : (long)(sf->view - r->ents.ent_views));
+        mix_int(&f, sf->view == &r->f.view ? -1 : (long)(sf->view - r->ents.ent_views));
         if (sf->insubmodel) mix(&f, &sf->zi_u, sizeof sf->zi_u * 3);
     }
     s.surfs = f.h;
@@ -74,7 +74,7 @@ static frame_sig sign_frame(const ew_renderer *r, const ew_stats *st) {
     }
     s.spans = f.h;
     f.h = 1469598103934665603ull;
-    mix(&f, r->target.pixels, (size_t)r->target.width * r->target.height * r->target.bpp);
+    mix(&f, r->f.target.pixels, (size_t)r->f.target.width * r->f.target.height * r->f.target.bpp);
     s.pixels = f.h;
     s.nedges = st->edges, s.edges_cached = st->edges_cached, s.nsurfs = st->surfaces;
     s.nspans = st->spans, s.dropped = st->dropped;

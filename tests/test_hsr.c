@@ -75,7 +75,7 @@ static void set_hsr(ew_renderer *r, const ew_camera *cam) {
     CHECK(ew_set_hsr(r, EW_HSR_COUNT) == -1 && ew_set_hsr(r, (ew_hsr_method)-1) == -1 &&
               ew_set_hsr(r, (ew_hsr_method)1000) == -1,
           "ew_set_hsr takes an unknown method");
-    CHECK(r->cfg.hsr == ew_hsr_get(EW_HSR_EDGE), "a refused ew_set_hsr changed the method");
+    CHECK(r->f.cfg.hsr == ew_hsr_get(EW_HSR_EDGE), "a refused ew_set_hsr changed the method");
     CHECK(ew_render(r, cam, NULL) == 0, "render");
     CHECK(memcmp(before, ew_frame_face_ids(r), sizeof(int) * W * H) == 0, "a refused ew_set_hsr changed the frame");
     printf("methods: %d of %d built, %d refused by ew_set_hsr as not built\n", EW_HSR_COUNT - unavailable,
@@ -342,7 +342,7 @@ static void synth_expect(const ew_edge_list *el, int w, int h, int *want) {
 /* Resolves the hand-made list with edge-z; spans must tile every row once,
  * left to right.  Returns the pixels that differ from want. */
 static long synth_resolve(ew_renderer *r, int h, const int *want, long counters[EW_HSR_COUNTERS], const char *what) {
-    const int w = r->target.width;
+    const int w = r->f.target.width;
     ew_band b;
     memset(&b, 0, sizeof b);
     long bad = -1;

@@ -81,7 +81,7 @@ static void test_values(ew_renderer *r, ew_camera c) {
         CHECK(ew_render(r, &ck, NULL) == 0, "render at %g", ck.time);
         for (int s = 0; s < 64; s++) {
             int want = s < 12 ? (expect[s][k % (int)strlen(expect[s])] - 'a') * 22 : 264;
-            if (s >= 32 && (r->world->styles_start_off >> s & 1)) want = 0;
+            if (s >= 32 && (r->f.world->styles_start_off >> s & 1)) want = 0;
             if (ew_get_lightstyle(r, s) != want && !wrong++)
                 CHECK(0, "style %d at %.2f s: %d, expected %d", s, ck.time, ew_get_lightstyle(r, s), want);
         }

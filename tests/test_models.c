@@ -243,25 +243,25 @@ typedef struct snapshot {
 } snapshot;
 
 static void snap_take(ew_renderer *r, snapshot *s) {
-    size_t n = (size_t)r->target.width * r->target.height;
-    memcpy(s->frame, r->target.pixels, n);
+    size_t n = (size_t)r->f.target.width * r->f.target.height;
+    memcpy(s->frame, r->f.target.pixels, n);
     memcpy(s->zbuf, ew_frame_zbuffer(r), n * sizeof(float));  /* the whole frame's 1/z */
 }
 static void snap_restore(ew_renderer *r, const snapshot *s) {
-    size_t n = (size_t)r->target.width * r->target.height;
-    memcpy(r->target.pixels, s->frame, n);
-    memcpy(r->target.zbuf, s->zbuf, n * sizeof(float));
+    size_t n = (size_t)r->f.target.width * r->f.target.height;
+    memcpy(r->f.target.pixels, s->frame, n);
+    memcpy(r->f.target.zbuf, s->zbuf, n * sizeof(float));
 }
 
 /* Pixels whose z changed; fails if any got farther (the z test broken). */
 static long changed_pixels(const ew_renderer *r, const snapshot *s, long *farther, long *colour_only) {
     long n = 0;
     *farther = 0, *colour_only = 0;
-    for (long i = 0; i < (long)r->target.width * r->target.height; i++) {
-        if (r->target.zbuf[i] != s->zbuf[i]) {
+    for (long i = 0; i < (long)r->f.target.width * r->f.target.height; i++) {
+        if (r->f.target.zbuf[i] != s->zbuf[i]) {
             n++;
-            if (r->target.zbuf[i] < s->zbuf[i]) (*farther)++;
-        } else if (r->target.pixels[i] != s->frame[i]) {
+            if (r->f.target.zbuf[i] < s->zbuf[i]) (*farther)++;
+        } else if (r->f.target.pixels[i] != s->frame[i]) {
             (*colour_only)++;
         }
     }
@@ -289,8 +289,8 @@ static void measure(ew_renderer *r, const ew_camera *cam, const ew_mdl *soldier)
     enum { N = 200, REPS = 30 };
     ew_model_pose poses[N];
     uint32_t seed = 99;
-    ew_view_setup(&r->view, cam, r->target.width, r->target.height);
-    const ew_view *v = &r->view;
+    ew_view_setup(&r->f.view, cam, r->f.target.width, r->f.target.height);
+    const ew_view *v = &r->f.view;
     for (int i = 0; i < N; i++) {
         seed = seed * 1664525u + 1013904223u;
         float z = 450 + (float)(seed >> 8) / 16777216.0f * 450;
@@ -312,15 +312,15 @@ static void measure(ew_renderer *r, const ew_camera *cam, const ew_mdl *soldier)
     /* Interleaved, best of REPS each: other work on the machine only adds. */
     for (int rep = 0; rep < REPS; rep++) {
         for (int mi = 0; mi < 3; mi++) {
-            r->cfg.alias_raster = modes[mi];
-            r->cfg.alias_threshold = 40;
-            memset(r->target.zbuf, 0, sizeof(float) * (size_t)r->target.width * r->target.height);
-            memset(&r->stats, 0, sizeof r->stats);
+            r->f.cfg.alias_raster = modes[mi];
+            r->f.cfg.alias_threshold = 40;
+            memset(r->f.target.zbuf, 0, sizeof(float) * (size_t)r->f.target.width * r->f.target.height);
+            memset(&r->f.stats, 0, sizeof r->f.stats);
             double t0 = ew_now_ms();
             for (int i = 0; i < N; i++) ew_draw_alias(r, soldier, &poses[i]);
             double t = ew_now_ms() - t0;
             if (t < ms[mi]) ms[mi] = t;
-            st[mi] = r->stats;
+            st[mi] = r->f.stats;
         }
     }
     for (int mi = 0; mi < 3; mi++) {
@@ -355,12 +355,12 @@ static void test_in_frame(void) {
 
     ew_camera cam = views[0];
     CHECK(ew_render(r, &cam, NULL) == 0, "render");
-    size_t npx = (size_t)r->target.width * r->target.height;
+    size_t npx = (size_t)r->f.target.width * r->f.target.height;
     snapshot world = {malloc(npx), malloc(npx * sizeof(float))};
     snap_take(r, &world);
-    const ew_view *v = &r->view;
+    const ew_view *v = &r->f.view;
     /* 100 units ahead, or nearer if a wall is closer (as seen at the centre). */
-    float zc = world.zbuf[(r->target.height / 2) * r->target.width + r->target.width / 2];
+    float zc = world.zbuf[(r->f.target.height / 2) * r->f.target.width + r->f.target.width / 2];
     float dist = 100;
     if (zc > 0 && 0.6f / zc < dist) dist = 0.6f / zc;
     printf("e1m1 view 0: wall %.0f units ahead at the centre, models at %.0f\n", zc > 0 ? 1 / zc : -1.0, dist);
@@ -378,7 +378,7 @@ static void test_in_frame(void) {
     const char *names[3] = {"affine", "subdivision", "auto"};
     for (int mi = 0; mi < 3; mi++) {
         snap_restore(r, &world);
-        memset(&r->stats, 0, sizeof r->stats);
+        memset(&r->f.stats, 0, sizeof r->f.stats);
         ew_set_alias_raster(r, modes[mi], 40);
         CHECK(ew_draw_alias(r, soldier, &p) == 1, "%s: soldier culled", names[mi]);
         long farther, colour_only;
@@ -386,18 +386,18 @@ static void test_in_frame(void) {
         CHECK(n > 500, "%s: only %ld pixels changed", names[mi], n);
         CHECK(farther == 0 && colour_only == 0, "%s: %ld pixels behind the world, %ld without z", names[mi], farther,
               colour_only);
-        CHECK(r->stats.alias_tris > 100 && r->stats.alias_tris < soldier->numtris, "%s: %d triangles", names[mi],
-              r->stats.alias_tris);
-        CHECK(r->stats.alias_pixels >= n, "%s: %ld counted, %ld changed", names[mi], r->stats.alias_pixels, n);
+        CHECK(r->f.stats.alias_tris > 100 && r->f.stats.alias_tris < soldier->numtris, "%s: %d triangles", names[mi],
+              r->f.stats.alias_tris);
+        CHECK(r->f.stats.alias_pixels >= n, "%s: %ld counted, %ld changed", names[mi], r->f.stats.alias_pixels, n);
         if (modes[mi] == EW_ALIAS_SUBDIV)
-            CHECK(r->stats.alias_tris_subdiv == r->stats.alias_tris && r->stats.alias_pixels == n,
-                  "subdivision: %d of %d, %ld counted, %ld changed", r->stats.alias_tris_subdiv, r->stats.alias_tris,
-                  r->stats.alias_pixels, n);
+            CHECK(r->f.stats.alias_tris_subdiv == r->f.stats.alias_tris && r->f.stats.alias_pixels == n,
+                  "subdivision: %d of %d, %ld counted, %ld changed", r->f.stats.alias_tris_subdiv, r->f.stats.alias_tris,
+                  r->f.stats.alias_pixels, n);
         else
-            CHECK(r->stats.alias_tris_subdiv == 0, "%s: %d subdivided", names[mi], r->stats.alias_tris_subdiv);
-        printf("soldier %s: %d triangles, %ld pixels\n", names[mi], r->stats.alias_tris, n);
+            CHECK(r->f.stats.alias_tris_subdiv == 0, "%s: %d subdivided", names[mi], r->f.stats.alias_tris_subdiv);
+        printf("soldier %s: %d triangles, %ld pixels\n", names[mi], r->f.stats.alias_tris, n);
         if (mi == 0 && getenv("EW_MODELS_PNG")) {
-            ew_write_png(getenv("EW_MODELS_PNG"), r->target.pixels, r->target.width, r->target.height, a->palette, &err);
+            ew_write_png(getenv("EW_MODELS_PNG"), r->f.target.pixels, r->f.target.width, r->f.target.height, a->palette, &err);
         }
     }
     /* The same soldier behind the camera: culled, nothing changes. */
@@ -405,31 +405,31 @@ static void test_in_frame(void) {
     ew_model_pose behind = p;
     for (int k = 0; k < 3; k++) behind.origin[k] = v->origin[k] - v->forward[k] * 100;
     CHECK(ew_draw_alias(r, soldier, &behind) == 0, "soldier behind the camera drawn");
-    CHECK(memcmp(r->target.pixels, world.frame, npx) == 0, "culled soldier changed pixels");
+    CHECK(memcmp(r->f.target.pixels, world.frame, npx) == 0, "culled soldier changed pixels");
 
     /* The explosion sprite, a few frames. */
     for (int f = 0; f < explod->numframes; f += 2) {
         snap_restore(r, &world);
-        memset(&r->stats, 0, sizeof r->stats);
+        memset(&r->f.stats, 0, sizeof r->f.stats);
         ew_model_pose sp = p;
         sp.frame = f;
         CHECK(ew_draw_sprite(r, explod, &sp) == 1, "explosion frame %d culled", f);
         long farther, colour_only;
         long n = changed_pixels(r, &world, &farther, &colour_only);
-        CHECK(n > 50 && farther == 0 && colour_only == 0 && r->stats.alias_pixels == n,
-              "explosion frame %d: %ld changed, %ld farther, %ld counted", f, n, farther, r->stats.alias_pixels);
+        CHECK(n > 50 && farther == 0 && colour_only == 0 && r->f.stats.alias_pixels == n,
+              "explosion frame %d: %ld changed, %ld farther, %ld counted", f, n, farther, r->f.stats.alias_pixels);
     }
     /* A particle field. */
     {
         snap_restore(r, &world);
-        memset(&r->stats, 0, sizeof r->stats);
+        memset(&r->f.stats, 0, sizeof r->f.stats);
         ew_particle parts[300];
         ew_particle_field(parts, 300, p.origin, 16, 1234);
         ew_draw_particles(r, parts, 300);
         long farther, colour_only;
         long n = changed_pixels(r, &world, &farther, &colour_only);
-        CHECK(r->stats.particles == 300 && n > 300 && farther == 0 && colour_only == 0,
-              "particles: %d drawn, %ld changed, %ld farther", r->stats.particles, n, farther);
+        CHECK(r->f.stats.particles == 300 && n > 300 && farther == 0 && colour_only == 0,
+              "particles: %d drawn, %ld changed, %ld farther", r->f.stats.particles, n, farther);
     }
     /* Light under the soldier: style scaling, and nothing hit outside. */
     {

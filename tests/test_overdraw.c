@@ -23,7 +23,7 @@ static const uint8_t sentinel[2] = {0x00, 0xFF};
 static long kind_spans[EW_DRAW_FLAT + 1];  /* spans redrawn by kind, over the whole test */
 
 static void scratch_init(scratch *s, const ew_renderer *r) {
-    const ew_target *f = &r->target;
+    const ew_target *f = &r->f.target;
     for (int k = 0; k < 2; k++) {
         s->t[k] = *f;
         s->t[k].pixels = malloc((size_t)f->pitch * f->height);
@@ -58,7 +58,7 @@ typedef struct tally {
  * counts its pixels in writes[]; leaves the scratch frames blank again. */
 static void redraw_span(const ew_renderer *r, scratch *s, const ew_band *b, int j, uint8_t *writes, tally *t) {
     const ew_span *sp = &b->spans[j];
-    const int w = r->target.width, h = r->target.height;
+    const int w = r->f.target.width, h = r->f.target.height;
     t->spans++;
     if (sp->count <= 0 || sp->u < 0 || sp->u + sp->count > w || sp->v < b->y0 || sp->v >= b->y1 || sp->v >= h ||
         sp->surf < 0 || sp->surf >= r->el.nsurfs) {
@@ -94,7 +94,7 @@ static void redraw_span(const ew_renderer *r, scratch *s, const ew_band *b, int 
     }
     /* Inside: every pixel written, once, and as the real frame has it. */
     const uint8_t *a = ew_target_at(&s->t[0], 0, v), *z = ew_target_at(&s->t[1], 0, v);
-    const uint8_t *real = ew_target_at(&r->target, 0, v);
+    const uint8_t *real = ew_target_at(&r->f.target, 0, v);
     for (int x = u0; x < u1; x++) {
         int written = a[x] != sentinel[0] || z[x] != sentinel[1];
         if (!written) {
@@ -124,7 +124,7 @@ static void redraw_span(const ew_renderer *r, scratch *s, const ew_band *b, int 
 static void check_view(ew_renderer *r, const ew_camera *c, const char *what) {
     ew_stats st;
     CHECK(ew_render(r, c, &st) == 0, "%s: render", what);
-    const int w = r->target.width, h = r->target.height;
+    const int w = r->f.target.width, h = r->f.target.height;
     scratch s;
     scratch_init(&s, r);
     uint8_t *writes = calloc((size_t)w * h, 1);
@@ -147,7 +147,7 @@ static void check_view(ew_renderer *r, const ew_camera *c, const char *what) {
         }
     int used[256] = {0}, colours = 0;
     for (int y = 0; y < h; y++) {
-        const uint8_t *row = ew_target_at(&r->target, 0, y);
+        const uint8_t *row = ew_target_at(&r->f.target, 0, y);
         for (int x = 0; x < w; x++) used[row[x]] = 1;
     }
     for (int i = 0; i < 256; i++) colours += used[i];

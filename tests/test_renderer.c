@@ -23,7 +23,7 @@ static long count_diff(const uint8_t *a, const uint8_t *b, long n) {
  * frame poisoned before the render (a surface not rebuilt keeps it; then
  * restored).  Returns the number rebuilt, -1 on a failed check. */
 static int check_style_rebuilds(ew_renderer *r, const ew_camera *c, int style, int value, ew_stats *st) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     ew_cached_surf **prev = malloc(sizeof *prev * (size_t)r->el.max_surfs);
     ew_cached_surf **cur = malloc(sizeof *cur * (size_t)r->el.max_surfs);
     uint8_t *saved = malloc((size_t)r->el.max_surfs);
@@ -187,7 +187,7 @@ int main(void) {
         if (!used) unused = st;
     }
     CHECK(unused > 0, "e1m1 uses every light style");
-    int was = unused > 0 ? r->cfg.lightstyle[unused] : 0;
+    int was = unused > 0 ? r->f.cfg.lightstyle[unused] : 0;
     if (unused > 0) {
         CHECK(check_style_rebuilds(r, &views[0], unused, 512, &s2) == 0, "unused style %d rebuilt %d",
               unused, s2.surfaces_built);
@@ -221,7 +221,7 @@ int main(void) {
     free(ents);
     CHECK(sv >= 0, "no view of e1m1 shows a switchable light style");
     if (sv >= 0) {
-        int old = r->cfg.lightstyle[style];
+        int old = r->f.cfg.lightstyle[style];
         int n_style = check_style_rebuilds(r, &views[sv], style, old / 2, &s2);
         printf("view %d, style %d halved: rebuilt %d of %d lit surfaces\n", sv, style, n_style, nlit);
         CHECK(n_style > 0 && n_style < nlit, "view %d style %d: rebuilt %d of %d", sv, style, n_style, nlit);

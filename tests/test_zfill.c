@@ -45,17 +45,17 @@ static void compare_views(const char *name, const ew_assets *a, ew_scene *sc, in
     CHECK(nv > 0, "%s: no views", name);
     long drawn = 0;
     for (int v = 0; v < nv; v++) {
-        for (int i = 0; i < W * H; i++) lazy->target.zbuf[i] = UNTOUCHED;
+        for (int i = 0; i < W * H; i++) lazy->f.target.zbuf[i] = UNTOUCHED;
         ew_stats ls, fs;
         CHECK(ew_render(lazy, &views[v], &ls) == 0 && ew_render(full, &views[v], &fs) == 0, "%s view %d", name, v);
         drawn += ls.alias_pixels;
         CHECK(ls.pixels_covered == ls.pixels, "%s view %d: %ld of %ld pixels covered", name, v, ls.pixels_covered,
               ls.pixels);
         long untouched = 0, frame_diff = 0, z_diff = 0, left = 0;
-        for (int i = 0; i < W * H; i++) untouched += lazy->target.zbuf[i] == UNTOUCHED;
+        for (int i = 0; i < W * H; i++) untouched += lazy->f.target.zbuf[i] == UNTOUCHED;
         const float *lz = ew_frame_zbuffer(lazy), *fz = ew_frame_zbuffer(full);
         for (int i = 0; i < W * H; i++) {
-            frame_diff += lazy->target.pixels[i] != full->target.pixels[i];
+            frame_diff += lazy->f.target.pixels[i] != full->f.target.pixels[i];
             z_diff += memcmp(&lz[i], &fz[i], sizeof(float)) != 0;
             left += lz[i] == UNTOUCHED;
         }
@@ -136,14 +136,14 @@ static void check_box_light(void) {
     if (r && box >= 0) {
         uint8_t *lit = malloc(W * H), *dark = malloc(W * H), *plain = malloc(W * H);
         ew_render(r, &views[0], NULL);
-        memcpy(plain, r->target.pixels, W * H);  /* no scene */
+        memcpy(plain, r->f.target.pixels, W * H);  /* no scene */
         ew_set_scene(r, sc);
         ew_stats st;
         ew_render(r, &views[0], &st);
-        memcpy(lit, r->target.pixels, W * H);
+        memcpy(lit, r->f.target.pixels, W * H);
         ew_set_lightstyle(r, 0, 0);
         ew_render(r, &views[0], NULL);
-        memcpy(dark, r->target.pixels, W * H);
+        memcpy(dark, r->f.target.pixels, W * H);
         ew_reset_lightstyle(r, 0);  /* back to its default */
         ew_render(r, &views[0], NULL);
         long box_px = 0, relit = 0, again = 0;
@@ -151,7 +151,7 @@ static void check_box_light(void) {
             if (lit[i] == plain[i]) continue;  /* not the box */
             box_px++;
             relit += dark[i] != lit[i];
-            again += r->target.pixels[i] != lit[i];
+            again += r->f.target.pixels[i] != lit[i];
         }
         printf("health box: %ld pixels, %ld of them changed with style 0 off, %ld differ after it is back\n",
                box_px, relit, again);

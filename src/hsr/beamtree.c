@@ -343,7 +343,7 @@ static void raster_row(ew_band *b, int w, int y) {
 static void beam_begin(ew_renderer *r) { ew_spolys_begin(r); }
 
 static void beam_resolve(ew_renderer *r, ew_band *b) {
-    const int w = r->target.width;
+    const int w = r->f.target.width;
     const ew_spolys *sp = r->spolys;
     const ew_surf *surfs = r->el.surfs;
     b->nspans = 0;

@@ -16,7 +16,7 @@
 enum { C_BITS, C_SKIPPED, C_FILLED, C_SPANS };
 
 static void db_resolve(ew_renderer *r, ew_band *b) {
-    const int width = r->target.width, stride = (width + 7) / 8;
+    const int width = r->f.target.width, stride = (width + 7) / 8;
     ew_poly_rows pr;
     /* The rows are resolved one after another: one row of bits is all the
      * buffer ever needs. */

@@ -302,7 +302,7 @@ void ew_edge_begin(ew_renderer *r) {
     ew_edge_list *el = &r->el;
     el->nedges = 0;
     el->nsurfs = 1;  /* surface 0: the background, behind everything */
-    el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->view};
+    el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->f.view};
 }
 
 /* A counting sort by first scanline.  Within a row the later edge comes
@@ -310,7 +310,7 @@ void ew_edge_begin(ew_renderer *r) {
  * ties depend on). */
 void ew_edge_sort_rows(ew_renderer *r) {
     ew_edge_list *el = &r->el;
-    const int h = r->target.height;
+    const int h = r->f.target.height;
     int32_t *first = el->row_first;
     memset(first, 0, sizeof(int32_t) * (size_t)(h + 2));
     for (int i = 0; i < el->nedges; i++) first[el->edges[i].v_first + 2]++;
@@ -324,7 +324,7 @@ void ew_edge_sort_rows(ew_renderer *r) {
     }
 }
 
-static void edge_resolve(ew_renderer *r, ew_band *b) { ew_scan_band(&r->el, r->target.width, b); }
+static void edge_resolve(ew_renderer *r, ew_band *b) { ew_scan_band(&r->el, r->f.target.width, b); }
 
 const ew_hsr ew_hsr_edge = {"edge", ew_edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0, {NULL}, 1, NULL,
                             ew_edge_sort_rows, 0};

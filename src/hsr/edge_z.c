@@ -182,7 +182,7 @@ static void z_begin(ew_renderer *r) {
     ew_edge_list *el = &r->el;
     el->nedges = 0;
     el->nsurfs = 1;  /* surface 0: the background, 1/z 0 everywhere */
-    el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->view};
+    el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->f.view};
 }
 
 /* ew_emit_face gives only brush-model fragments a plane; here world faces
@@ -192,12 +192,12 @@ static void z_face(ew_renderer *r, int fi, int clipflags, int key) {
     ew_emit_face(r, fi, clipflags, key);
     if (r->el.nsurfs == s) return;
     ew_gradients g;
-    ew_face_gradients(r->world, &r->view, &r->world->faces[fi], 0, &g);
+    ew_face_gradients(r->f.world, &r->f.view, &r->f.world->faces[fi], 0, &g);
     ew_surf *sf = &r->el.surfs[s];
     sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
 }
 
-static void z_resolve(ew_renderer *r, ew_band *b) { scan_band_z(&r->el, r->target.width, b); }
+static void z_resolve(ew_renderer *r, ew_band *b) { scan_band_z(&r->el, r->f.target.width, b); }
 
 static size_t z_memory(const ew_renderer *r) {
     size_t n = 0;

@@ -89,79 +89,8 @@ void ew_ref_compose_free(ew_ref_compose *c);
 const ew_hsr *ew_hsr_get(int method);
 
 /* ---- the global edge list (built by world/edges.c, scanned by edge_scan.c) ---- */
-typedef struct ew_edge {
-    int32_t  u;          /* 16.16 screen x at the first scanline */
-    int32_t  u_step;     /* 16.16 per scanline */
-    int32_t  v_first;    /* first scanline crossed */
-    int32_t  v_last;     /* last scanline crossed */
-    uint16_t surfs[2];   /* [0]: surface it trails (right side), [1]: leads */
-    float    nearzi;     /* larger 1/z of its two ends */
-} ew_edge;
 
-/* A polygon in the edge list. */
-typedef struct ew_surf {
-    int   key;           /* BSP order: smaller is nearer */
-    int   face;          /* world face, -1 for the background */
-    int   flags;         /* EW_SURF_* */
-    float nearzi;        /* largest 1/z of its clipped vertices (mip choice) */
-    const ew_view *view; /* the camera in the face's own space (moved brush models) */
-    int   insubmodel;    /* brush model fragment: ties in key sort by 1/z */
-    float zi_u, zi_v, zi_0;  /* 1/z plane (brush model fragments only) */
-} ew_surf;
 
-typedef struct ew_edge_list {
-    ew_edge *edges;      int nedges, max_edges;
-    /* The edges by first scanline (ew_edge_sort_rows, once the front end is
-     * done): row v's are by_row[row_first[v] .. row_first[v + 1]), the
-     * later edge first; by_row_last holds their last scanlines, so a band
-     * finds the edges alive at its top row in one pass over two arrays. */
-    int32_t *row_first;  /* height + 2 */
-    int32_t *by_row, *by_row_last;  /* max_edges each */
-    ew_surf *surfs;      int nsurfs, max_surfs;  /* surface 0 is the background */
-    int      max_spans;  /* per band */
-} ew_edge_list;
-
-/* Spans are kept in the order the scan makes them: row by row, left to
- * right within a row (the drawing, the z-fill index and the accounting all
- * rely on it). */
-typedef struct ew_span {
-    int32_t u, v, count;
-    int32_t surf;        /* the surface it belongs to */
-} ew_span;
-
-typedef struct ew_active {
-    int32_t  u, u_step, v_last;
-    uint16_t surfs[2];
-} ew_active;
-
-/* One surface's place in a band's surface stack (the edge list's scans):
- * its neighbours, its count of edges entered less left, and where its
- * current span began.  Together, so that one cache line and one base
- * register serve all four. */
-typedef struct ew_stack_entry {
-    int32_t next, prev, state, lastu;
-} ew_stack_entry;
-
-/* One horizontal band [y0, y1): its scan state, its spans, and what its
- * draw job counted.  Aligned so neighbouring bands' counters, written by
- * different threads, never share a cache line. */
-struct ew_band {
-    _Alignas(64) int y0, y1;
-    ew_stack_entry *stack;          /* indexed by surface number; 0 is the background */
-    uint8_t *has_spans;             /* per surface: won a span in this band */
-    ew_span *spans;  int nspans, cap_spans, max_spans;
-    int unsorted;                   /* a row's spans may overlap or run out of order (see above) */
-    long counters[EW_HSR_COUNTERS]; /* the method's own counts in this band (zeroed before resolve) */
-    uint8_t *rowmark;               /* width bytes of scratch (accounting unsorted rows), or NULL */
-    void *scratch;  size_t scratch_bytes;  /* the method's own per-band memory (ew_band_scratch) */
-    ew_active *aet;  int naet, cap_aet, max_aet;
-    ew_active *aet_tmp;  int cap_tmp;  /* the band start's merge sort */
-    int32_t *st_neg;  int cap_neg;  /* >= cap_aet entries (the edge list's scan): counts gone below zero on a line */
-    int32_t *st_fix;                /* as many: the stepped edges that may be out of order for the next line */
-    int dropped;
-    long written, covered;          /* world pixels its spans wrote, and covered at least once */
-    double ms;                      /* its scan's time this frame */
-};
 
 int  ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet);
 void ew_band_free(ew_band *b);

@@ -9,7 +9,7 @@
 enum { C_POLYS, C_SPANS, C_PIXELS };
 
 static void painter_resolve(ew_renderer *r, ew_band *b) {
-    const int width = r->target.width;
+    const int width = r->f.target.width;
     ew_poly_rows pr;
     if (!ew_poly_rows_begin(&pr, r, b, 0)) {
         ew_poly_rows_background(b, width);

@@ -29,7 +29,7 @@ void *ew_poly_rows_begin(ew_poly_rows *pr, const ew_renderer *r, ew_band *b, siz
     const ew_edge_list *el = &r->el;
     const int ns = el->nsurfs, ne = el->nedges, rows = b->y1 - b->y0;
     memset(pr, 0, sizeof *pr);
-    pr->el = el, pr->b = b, pr->width = r->target.width, pr->v = b->y0 - 1;
+    pr->el = el, pr->b = b, pr->width = r->f.target.width, pr->v = b->y0 - 1;
     b->nspans = 0;
     b->naet = 0;
     memset(b->has_spans, 0, (size_t)ns);

@@ -116,12 +116,12 @@ static int trace(ray_ctx *c, int n, double t0, double t1, int depth, double *thi
 /* The surface seen through pixel centre (x, y); *lost counts rays that
  * found none where the world is solid. */
 static int cast(const ew_renderer *r, const int *brush, int nbrush, int x, int y, long *lost) {
-    const ew_view *v = &r->view;
-    ray_ctx c = {r, r->world, r->spolys, {v->origin[0], v->origin[1], v->origin[2]}, {0, 0, 0}, -1, 0, 0, -1, 0};
+    const ew_view *v = &r->f.view;
+    ray_ctx c = {r, r->f.world, r->spolys, {v->origin[0], v->origin[1], v->origin[2]}, {0, 0, 0}, -1, 0, 0, -1, 0};
     double dx = (x - v->xcenter) / (double)v->xscale, dy = (v->ycenter - y) / (double)v->yscale;
     for (int k = 0; k < 3; k++) c.d[k] = v->forward[k] + dx * v->right[k] + dy * v->up[k];
     double thit = 0;
-    int s = trace(&c, r->world->models[0].headnode, 0, 1e6, 0, &thit);
+    int s = trace(&c, r->f.world->models[0].headnode, 0, 1e6, 0, &thit);
     *lost += c.faceless > 0;
     /* Through solid and out into nothing: a crack after all, wider than
      * the tolerance; the nearest face where it first went in. */
@@ -191,7 +191,7 @@ static void block(rc_band *k, int x, int y, int s) {
 static void ray_begin(ew_renderer *r) { ew_spolys_begin(r); }
 
 static void ray_resolve(ew_renderer *r, ew_band *b) {
-    const int w = r->target.width, h = r->target.height;
+    const int w = r->f.target.width, h = r->f.target.height;
     const ew_spolys *sp = r->spolys;
     b->nspans = 0;
     b->naet = 0;

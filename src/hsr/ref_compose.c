@@ -50,7 +50,7 @@ void ew_ref_compose_free(ew_ref_compose *c) {
 int *ew_ref_compose_begin(ew_renderer *r) {
     ew_ref_compose *c = r->ref.compose;
     if (!c && !(c = r->ref.compose = calloc(1, sizeof *c))) return NULL;
-    size_t n = (size_t)r->target.width * (size_t)r->target.height;
+    size_t n = (size_t)r->f.target.width * (size_t)r->f.target.height;
     if (n > c->cap_faces) {
         free(c->faces);
         c->cap_faces = 0;
@@ -64,7 +64,7 @@ int *ew_ref_compose_faces(const ew_renderer *r) { return r->ref.compose ? r->ref
 
 void ew_ref_compose_ids_out(const ew_renderer *r, int *ids, int y0, int y1) {
     const ew_ref_compose *c = r->ref.compose;
-    size_t w = (size_t)r->target.width;
+    size_t w = (size_t)r->f.target.width;
     if (ids && c && c->faces && c->faces != ids)
         memcpy(ids + (size_t)y0 * w, c->faces + (size_t)y0 * w, sizeof *ids * w * (size_t)(y1 - y0));
 }
@@ -75,21 +75,21 @@ static double fog_amount(const ew_ref_compose *c, double zi) { return 1.0 - exp(
 int ew_ref_compose_prepare(ew_renderer *r) {
     ew_ref_compose *c = r->ref.compose;
     if (!c) return 0;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     c->npolys = 0;
     c->fog_on = 0;
-    double d = r->cfg.fog_density >= 0 ? r->cfg.fog_density : r->world->worldspawn.fog_density;
-    const float *rgb = r->cfg.fog_density >= 0 ? r->cfg.fog_rgb : r->world->worldspawn.fog_rgb;
-    if (!r->cfg.classic && d > 0) {
+    double d = r->f.cfg.fog_density >= 0 ? r->f.cfg.fog_density : r->f.world->worldspawn.fog_density;
+    const float *rgb = r->f.cfg.fog_density >= 0 ? r->f.cfg.fog_rgb : r->f.world->worldspawn.fog_rgb;
+    if (!r->f.cfg.classic && d > 0) {
         c->fog_on = 1;
         c->fog_w = (d / 64) * (d / 64);
         for (int k = 0; k < 3; k++) c->fog_rgb[k] = rgb[k] * 255.0;
     }
-    r->stats.seethrough_surfaces = 0;
+    r->f.stats.seethrough_surfaces = 0;
     if (r->see.n > c->cap_polys) {
         rc_poly *p = realloc(c->polys, sizeof *p * (size_t)r->see.n);
         if (!p) {
-            r->stats.dropped += r->see.n;
+            r->f.stats.dropped += r->see.n;
             return 0;
         }
         c->polys = p, c->cap_polys = r->see.n;
@@ -100,18 +100,18 @@ int ew_ref_compose_prepare(ew_renderer *r) {
         rc_poly *q = &c->polys[c->npolys];
         *q = (rc_poly){.p = &sp->p, .f = f, .face = sp->face, .fence = (f->flags & EW_SURF_FENCE) != 0,
                        .alpha = sp->kind == EW_SEE_FENCE ? 1.0f : sp->alpha};
-        q->tex = ew_face_texture(w, f, r->view.time);
+        q->tex = ew_face_texture(w, f, r->f.view.time);
         int mip = 0;
-        if (!(f->flags & EW_SURF_TURB) && r->cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode) {
-            mip = ew_face_mip(&r->view, w, f, sp->p.nearzi);
+        if (!(f->flags & EW_SURF_TURB) && r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode) {
+            mip = ew_face_mip(&r->f.view, w, f, sp->p.nearzi);
             q->two_pass = 1;
             ew_tp_face_setup(&r->lit.tp, sp->look.view, sp->face, mip, q->tex, &q->tp);
         } else if (!(f->flags & EW_SURF_TURB)) {
             int build;
-            mip = ew_face_mip(&r->view, w, f, sp->p.nearzi);
+            mip = ew_face_mip(&r->f.view, w, f, sp->p.nearzi);
             ew_cached_surf *e = ew_cache_lookup(r, sp->face, mip, &build);
             if (!e) {
-                r->stats.dropped++;
+                r->f.stats.dropped++;
                 continue;
             }
             if (build) ew_cache_build(r, e, r->lit.blocklights);
@@ -127,7 +127,7 @@ int ew_ref_compose_prepare(ew_renderer *r) {
         q->sign = area > 0 ? 1 : -1;
         c->npolys++;
     }
-    r->stats.seethrough_surfaces = c->npolys;
+    r->f.stats.seethrough_surfaces = c->npolys;
     return 0;
 }
 
@@ -157,21 +157,21 @@ static int32_t frag_texel(const ew_renderer *r, const rc_poly *q, int x, int y, 
         ew_tp_light(&r->lit.tp, &q->tp, X, Y, light);
         uint32_t v = ew_tp_shade(&r->lit.tp, &q->tp, c, light);
         int rgb[3];
-        if (r->target.bpp == 4)
+        if (r->f.target.bpp == 4)
             ew_rgba_split(v, rgb);
         else
-            for (int k = 0; k < 3; k++) rgb[k] = r->palette[v * 3 + k];
+            for (int k = 0; k < 3; k++) rgb[k] = r->f.palette[v * 3 + k];
         return rgb[0] << 16 | rgb[1] << 8 | rgb[2];
     }
     const ew_gradients *g = &q->g;
     float z = 65536.0f / zi, fx = (float)x, fy = (float)y;
     int32_t s = ew_tex_fix((g->s_u * fx + (g->s_v * fy + g->s_0)) * z, g->s_adjust, 0, g->s_max);
     int32_t t = ew_tex_fix((g->t_u * fx + (g->t_v * fy + g->t_0)) * z, g->t_adjust, 0, g->t_max);
-    const uint8_t *pal = r->palette;
+    const uint8_t *pal = r->f.palette;
     int idx;
     if (q->f->flags & EW_SURF_TURB) {
         idx = ew_turb_texel(r->draw.turb, q->tex, s, t);
-    } else if (r->target.bpp == 4) {
+    } else if (r->f.target.bpp == 4) {
         uint8_t px[4];
         memcpy(px, q->surf + (((size_t)((uint32_t)t >> 16) * (size_t)q->surf_width + ((uint32_t)s >> 16)) * 4), 4);
         if (q->fence && px[3] == 0) return -1;
@@ -180,9 +180,9 @@ static int32_t frag_texel(const ew_renderer *r, const rc_poly *q, int x, int y, 
         idx = q->surf[(size_t)((uint32_t)t >> 16) * (size_t)q->surf_width + ((uint32_t)s >> 16)];
     }
     if (q->fence && idx == 255) return -1;
-    if (r->target.bpp == 4) {  /* liquids in true colour: the palette as the frame shows it */
+    if (r->f.target.bpp == 4) {  /* liquids in true colour: the palette as the frame shows it */
         int c[3];
-        ew_rgba_split(r->target.rgba[idx], c);
+        ew_rgba_split(r->f.target.rgba[idx], c);
         return c[0] << 16 | c[1] << 8 | c[2];
     }
     return pal[idx * 3] << 16 | pal[idx * 3 + 1] << 8 | pal[idx * 3 + 2];
@@ -218,9 +218,9 @@ enum { MAX_FRAGS = 64 };
 void ew_ref_compose_draw(ew_renderer *r, const ew_rows *rows) {
     ew_ref_compose *c = r->ref.compose;
     if (!c || (!c->fog_on && c->npolys == 0)) return;
-    const ew_target *t = &r->target;
-    const ew_world *w = r->world;
-    int *ids = r->ref.ids ? r->ref.ids : r->cfg.face_ids_on ? r->face_ids : NULL;
+    const ew_target *t = &r->f.target;
+    const ew_world *w = r->f.world;
+    int *ids = r->ref.ids ? r->ref.ids : r->f.cfg.face_ids_on ? r->f.face_ids : NULL;
     nearest_cache *nc = NULL;
     if (t->bpp == 1) {
         if (!(nc = malloc(sizeof *nc))) {
@@ -271,7 +271,7 @@ void ew_ref_compose_draw(ew_renderer *r, const ew_rows *rows) {
             int was = -1;
             if (t->bpp == 1) {
                 was = row[x];
-                for (int k = 0; k < 3; k++) col[k] = r->palette[was * 3 + k];
+                for (int k = 0; k < 3; k++) col[k] = r->f.palette[was * 3 + k];
             } else {
                 int v[3];
                 ew_rgba_split(ew_get32(row, x), v);
@@ -284,7 +284,7 @@ void ew_ref_compose_draw(ew_renderer *r, const ew_rows *rows) {
                 double amount = -1;
                 if (face >= 0 && (w->faces[face].flags & EW_SURF_SKY)) {
                     float plane[3];
-                    ew_face_zplane(w, &r->view, &w->faces[face], plane);
+                    ew_face_zplane(w, &r->f.view, &w->faces[face], plane);
                     double sky = (double)plane[0] * x + (double)plane[1] * y + plane[2];
                     if (zr[x] <= sky * (1 + 1e-4)) amount = 0.5;
                 }
@@ -315,9 +315,9 @@ void ew_ref_compose_draw(ew_renderer *r, const ew_rows *rows) {
             if (t->bpp == 4) {
                 ew_set32(row, x, ew_rgba(v[0], v[1], v[2]));
             } else {
-                const uint8_t *p = &r->palette[was * 3];
+                const uint8_t *p = &r->f.palette[was * 3];
                 if (v[0] != p[0] || v[1] != p[1] || v[2] != p[2])  /* unchanged colours keep their index */
-                    row[x] = nearest(r->palette, nc, v[0], v[1], v[2]);
+                    row[x] = nearest(r->f.palette, nc, v[0], v[1], v[2]);
             }
         }
     }

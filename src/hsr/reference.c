@@ -23,8 +23,8 @@ static void ref_begin(ew_renderer *r) {
     r->ref.npolys = 0;
     ew_ref_compose_begin(r);  /* its per-pixel faces (hsr/ref_compose.c) */
     /* two-pass lighting: which polygon won each pixel */
-    size_t npx = (size_t)r->target.width * (size_t)r->target.height;
-    if (r->cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.npoly_of < npx) {
+    size_t npx = (size_t)r->f.target.width * (size_t)r->f.target.height;
+    if (r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.npoly_of < npx) {
         free(r->ref.poly_of);
         r->ref.poly_of = malloc(sizeof(int) * npx);
         r->ref.npoly_of = r->ref.poly_of ? npx : 0;
@@ -36,50 +36,50 @@ static void ref_begin(ew_renderer *r) {
 /* One world-space polygon of face fi; v is the camera in the face's own space. */
 static void ref_poly(ew_renderer *r, float (*in)[3], int n, int fi, const ew_view *v, int key) {
     (void)key;  /* the z-buffer needs no order */
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_face *f = &w->faces[fi];
     ew_ref *ref = &r->ref;
     if (ref->npolys == ref->cap) {
         int cap = ref->cap ? ref->cap * 2 : 256;
         ew_ref_poly *p = realloc(ref->polys, sizeof *p * (size_t)cap);
         if (!p) {
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             return;
         }
         ref->polys = p, ref->cap = cap;
     }
     ew_ref_poly *rp = &ref->polys[ref->npolys];
-    if (!ew_zpoly_project(&r->view, in, n, &rp->p)) return;
+    if (!ew_zpoly_project(&r->f.view, in, n, &rp->p)) return;
     rp->face = fi;
     /* exact; a fence's holes are alpha-tested per pixel like the rest */
     rp->look = (ew_zpoly_look){w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0, 0,
-                               (f->flags & EW_SURF_FENCE) && !r->cfg.classic ? EW_ZP_FENCE : EW_ZP_OPAQUE, NULL, 256};
+                               (f->flags & EW_SURF_FENCE) && !r->f.cfg.classic ? EW_ZP_FENCE : EW_ZP_OPAQUE, NULL, 256};
     rp->two_pass = 0;
-    if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB)) && r->cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode &&
+    if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB)) && r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode &&
         rp->look.mode == EW_ZP_OPAQUE) {
         /* two-pass lighting: no lit surface; ref_resolve lights its pixels */
-        rp->look.mip = ew_face_mip(&r->view, w, f, rp->p.nearzi);
+        rp->look.mip = ew_face_mip(&r->f.view, w, f, rp->p.nearzi);
         rp->two_pass = 1;
         ew_tp_face_setup(&r->lit.tp, v, fi, rp->look.mip, rp->look.tex, &rp->tp);
     } else if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
         int build;
-        rp->look.mip = ew_face_mip(&r->view, w, f, rp->p.nearzi);
+        rp->look.mip = ew_face_mip(&r->f.view, w, f, rp->p.nearzi);
         ew_cached_surf *e = ew_cache_lookup(r, fi, rp->look.mip, &build);
         if (e && build) ew_cache_build(r, e, r->lit.blocklights);
         if (e) rp->look.surf = e->pixels, rp->look.surf_width = e->width;
     }
-    r->stats.surfaces++;
+    r->f.stats.surfaces++;
     ref->npolys++;
 }
 
 static void ref_face(ew_renderer *r, int fi, int clipflags, int key) {
     (void)clipflags;  /* clipped against every plane regardless */
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_face *f = &w->faces[fi];
     if (f->numedges > EW_MAX_POLY - 8) return;
     float in[EW_MAX_POLY][3];
     ew_face_points(w, f, in);
-    ref_poly(r, in, f->numedges, fi, &r->view, key);
+    ref_poly(r, in, f->numedges, fi, &r->f.view, key);
 }
 
 /* Two-pass lighting, once every polygon is filled (z, sky, liquids; lit
@@ -87,7 +87,7 @@ static void ref_face(ew_renderer *r, int fi, int clipflags, int key) {
  * pixels drawn in the two passes, run by run along each row, and the
  * numbers turned into faces for ids. */
 static void two_pass_rows(ew_renderer *r, const ew_band *b, int *ids) {
-    const ew_target *t = &r->target;
+    const ew_target *t = &r->f.target;
     for (int y = b->y0; y < b->y1; y++) {
         const int *pr = r->ref.poly_of + (size_t)y * t->width;
         uint8_t *row = ew_target_at(t, 0, y);
@@ -103,13 +103,13 @@ static void two_pass_rows(ew_renderer *r, const ew_band *b, int *ids) {
 
 /* The band's rows: cleared to the background, then every polygon filled. */
 static void ref_resolve(ew_renderer *r, ew_band *b) {
-    const ew_target *t = &r->target;
-    int *out = r->ref.ids ? r->ref.ids : r->cfg.face_ids_on ? r->face_ids : NULL;
+    const ew_target *t = &r->f.target;
+    int *out = r->ref.ids ? r->ref.ids : r->f.cfg.face_ids_on ? r->f.face_ids : NULL;
     /* The faces go to the compose's buffer (it finds the sky by them), and
      * from there to the caller's. */
     int *own = ew_ref_compose_faces(r), *ids = own ? own : out;
     size_t npx = (size_t)t->width * (size_t)t->height;
-    int two = r->cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.poly_of && r->ref.npoly_of >= npx;
+    int two = r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.poly_of && r->ref.npoly_of >= npx;
     int *fill = two ? r->ref.poly_of : ids;  /* two-pass: each pixel's polygon first */
     b->nspans = 0;
     b->naet = 0;
@@ -141,16 +141,16 @@ const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref
  * over its z-buffer as over the edge list's), then copies it out. */
 int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, int *face_ids,
                         ew_error *err) {
-    const ew_hsr *was = r->cfg.hsr;
-    r->cfg.hsr = &ew_hsr_reference;
+    const ew_hsr *was = r->f.cfg.hsr;
+    r->f.cfg.hsr = &ew_hsr_reference;
     r->ref.ids = face_ids;
     int rc = ew_render(r, cam, NULL);
     r->ref.ids = NULL;
-    r->cfg.hsr = was;
+    r->f.cfg.hsr = was;
     if (rc < 0) return ew_fail(err, "reference: bad camera");
     if (pixels)  /* palette indices, or 4-byte pixels in true colour */
-        for (int y = 0; y < r->target.height; y++)
-            memcpy(pixels + (size_t)y * r->target.width * r->target.bpp, ew_target_at(&r->target, 0, y),
-                   (size_t)r->target.width * r->target.bpp);
+        for (int y = 0; y < r->f.target.height; y++)
+            memcpy(pixels + (size_t)y * r->f.target.width * r->f.target.bpp, ew_target_at(&r->f.target, 0, y),
+                   (size_t)r->f.target.width * r->f.target.bpp);
     return 0;
 }

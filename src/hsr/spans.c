@@ -50,7 +50,7 @@ static int clip_span(drawn *d, int *nd, int s, int xl, int xr, ew_row_poly *p, l
 }
 
 static void spans_resolve(ew_renderer *r, ew_band *b) {
-    const int width = r->target.width;
+    const int width = r->f.target.width;
     const int maxd = width / 2 + 2;
     ew_poly_rows pr;
     char *m = ew_poly_rows_begin(&pr, r, b, sizeof(drawn) * (size_t)maxd + sizeof(ew_row_poly) * (size_t)(width + 1));

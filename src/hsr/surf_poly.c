@@ -38,7 +38,7 @@ ew_spolys *ew_spolys_begin(ew_renderer *r) {
         sp = r->spolys = calloc(1, sizeof *sp);
         if (!sp) return NULL;
     }
-    int nf = r->world->numfaces;
+    int nf = r->f.world->numfaces;
     if (sp->nfaces != nf) {
         free(sp->face_surf), free(sp->face_frame);
         sp->face_surf = malloc(sizeof(int) * (size_t)nf);
@@ -69,7 +69,7 @@ static void record(ew_renderer *r, int s, float (*p)[3], int n) {
         sp->failed = 1;
         return;
     }
-    const ew_view *v = &r->view;
+    const ew_view *v = &r->f.view;
     ew_spoly_vert *out = sp->verts + sp->nverts;
     double area = 0;
     for (int i = 0; i < n; i++) {
@@ -137,7 +137,7 @@ static void record(ew_renderer *r, int s, float (*p)[3], int n) {
 /* Face fi's edge planes for surface s. */
 static void edge_planes(ew_renderer *r, int s, int fi) {
     ew_spolys *sp = r->spolys;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_face *f = &w->faces[fi];
     int n = f->numedges;
     if (reserve((void **)&sp->eplanes, &sp->cap_eplanes, sp->neplanes + n, sizeof *sp->eplanes, 4096) < 0) {
@@ -177,14 +177,14 @@ void ew_spolys_face(ew_renderer *r, int fi, int clipflags, int key) {
     sp->face_surf[fi] = s, sp->face_frame[fi] = sp->frame;
     sp->polys[s] = (ew_spoly){0, 0, 0, 0, 0, 0, 0, 0};
     edge_planes(r, s, fi);
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_face *f = &w->faces[fi];
     float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
     ew_face_points(w, f, in);
     for (int i = 0; i < f->numedges; i++) tin[i] = i;
     /* The same clip as the edge list's, so shared clipped points match. */
-    int m = clipflags ? ew_clip_poly(&r->view, clipflags, in, f->numedges, out, tin, tout) : f->numedges;
+    int m = clipflags ? ew_clip_poly(&r->f.view, clipflags, in, f->numedges, out, tin, tout) : f->numedges;
     if (m < 3) {
         sp->polys[s].n = 0;
         return;
@@ -200,7 +200,7 @@ void ew_spolys_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_v
     float out[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
     for (int i = 0; i < n; i++) tin[i] = -1;
-    int m = ew_clip_poly(&r->view, 15, verts, n, out, tin, tout);
+    int m = ew_clip_poly(&r->f.view, 15, verts, n, out, tin, tout);
     if (m < 3) {
         r->spolys->polys[s].n = 0;
         return;

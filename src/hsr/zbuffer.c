@@ -22,12 +22,12 @@ static void zb_face(ew_renderer *r, int face, int clipflags, int key) {
     if (r->el.nsurfs == s) return;  /* clipped away, or no room */
     ew_surf *sf = &r->el.surfs[s];
     ew_gradients g;
-    ew_face_gradients(r->world, sf->view, &r->world->faces[face], 0, &g);
+    ew_face_gradients(r->f.world, sf->view, &r->f.world->faces[face], 0, &g);
     sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
 }
 
 static void zb_resolve(ew_renderer *r, ew_band *b) {
-    const int width = r->target.width;
+    const int width = r->f.target.width;
     ew_poly_rows pr;
     /* The rows are resolved one after another: one row of depth is all
      * the buffer ever needs. */

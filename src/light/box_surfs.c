@@ -20,7 +20,7 @@ void ew_free_box_surfs(ew_renderer *r) {
 }
 
 static void box_light(const ew_renderer *r, const ew_face *f, int light[4]) {
-    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->cfg.lightstyle[f->styles[k] & 63];
+    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->f.cfg.lightstyle[f->styles[k] & 63];
 }
 
 /* Makes scene model mi's box surfaces current; -1 when out of memory. */
@@ -46,7 +46,7 @@ int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
         if (f->flags & (EW_SURF_SKY | EW_SURF_TURB)) continue;
         int light[4];
         box_light(r, f, light);
-        const ew_texture *tex = ew_face_texture(bw, f, r->view.time);
+        const ew_texture *tex = ew_face_texture(bw, f, r->f.view.time);
         if (bs->built && bs->tex == tex && bs->gen == r->lit.cache.gen && memcmp(light, bs->light, sizeof light) == 0)
             continue;
         bs->built = 0;
@@ -54,7 +54,7 @@ int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
         int ok = scratch != NULL;
         for (int mip = 0; mip < 4 && ok; mip++) {
             int w = f->extents[0] >> mip, h = f->extents[1] >> mip;
-            if (!bs->pixels[mip]) bs->pixels[mip] = malloc((size_t)w * h * (size_t)r->target.bpp);
+            if (!bs->pixels[mip]) bs->pixels[mip] = malloc((size_t)w * h * (size_t)r->f.target.bpp);
             ok = bs->pixels[mip] != NULL;
             if (ok) ew_build_surface(r, bw, f, tex, mip, light, 0, bs->pixels[mip], scratch);
             bs->width[mip] = w;

@@ -182,16 +182,16 @@ void ew_cache_free(ew_surf_cache *c) {
 
 /* The entry's texture and light styles as they are this frame. */
 static int current_look(const ew_renderer *r, const ew_face *f, int light[4]) {
-    const ew_world *w = r->world;
-    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->cfg.lightstyle[f->styles[k] & 63];
-    return (int)(ew_face_texture(w, f, r->view.time) - w->textures);
+    const ew_world *w = r->f.world;
+    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->f.cfg.lightstyle[f->styles[k] & 63];
+    return (int)(ew_face_texture(w, f, r->f.view.time) - w->textures);
 }
 
 ew_cached_surf *ew_cache_peek(const ew_renderer *r, int face, int mip) {
     const ew_surf_cache *c = &r->lit.cache;
     ew_cached_surf *e = c->slot[face * 4 + mip];
     if (!e) return NULL;
-    int light[4], texture = current_look(r, &r->world->faces[face], light);
+    int light[4], texture = current_look(r, &r->f.world->faces[face], light);
     unsigned dl = ew_face_dlights(r, face);
     /* A dynamically lit surface is good only for the frame that built it. */
     if (e->texture == texture && memcmp(e->light, light, sizeof light) == 0 && e->dlights == dl && e->gen == c->gen &&
@@ -202,7 +202,7 @@ ew_cached_surf *ew_cache_peek(const ew_renderer *r, int face, int mip) {
 
 void ew_cache_touch(ew_renderer *r, ew_cached_surf *e) {
     ew_surf_cache *c = &r->lit.cache;
-    if (e->last_frame != r->marks.framecount) r->stats.surfaces_cached++;
+    if (e->last_frame != r->marks.framecount) r->f.stats.surfaces_cached++;
     lru_unlink(c, e);
     lru_push_front(c, e);
     e->last_frame = r->marks.framecount;
@@ -210,7 +210,7 @@ void ew_cache_touch(ew_renderer *r, ew_cached_surf *e) {
 
 ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
     ew_surf_cache *c = &r->lit.cache;
-    const ew_face *f = &r->world->faces[face];
+    const ew_face *f = &r->f.world->faces[face];
     *build = 0;
     ew_cached_surf *e = ew_cache_peek(r, face, mip);
     if (e) {
@@ -254,7 +254,7 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
         e->pixels = (uint8_t *)(e + 1);
         c->slot[face * 4 + mip] = e;
     }
-    if (dl || old_dl) r->stats.surfaces_rebuilt_by_dlights++;
+    if (dl || old_dl) r->f.stats.surfaces_rebuilt_by_dlights++;
     e->width = width, e->height = height, e->texture = texture, e->dlights = dl, e->gen = c->gen;
     memcpy(e->light, light, sizeof light);
     c->bytes += need;
@@ -262,13 +262,13 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
     e->last_frame = r->marks.framecount;
     while (c->bytes > c->budget && c->lru_tail && c->lru_tail->last_frame != r->marks.framecount)
         evict(c, c->lru_tail);
-    r->stats.surfaces_built++;
+    r->f.stats.surfaces_built++;
     *build = 1;
     return e;
 }
 
 void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch) {
-    const ew_face *f = &r->world->faces[e->face];
-    ew_build_surface(r, r->world, f, &r->world->textures[e->texture], e->mip, e->light, e->dlights, e->pixels,
+    const ew_face *f = &r->f.world->faces[e->face];
+    ew_build_surface(r, r->f.world, f, &r->f.world->textures[e->texture], e->mip, e->light, e->dlights, e->pixels,
                      scratch);
 }

@@ -15,7 +15,7 @@
 #define EW_DLIGHT_MAX_ADD 25600000
 
 static void mark(ew_renderer *r, const float p[3], float radius, int bit, int node, int depth) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     while (node >= 0 && depth++ < 4096) {
         const ew_node *n = &w->nodes[node];
         const ew_plane *pl = &w->planes[n->plane];
@@ -44,7 +44,7 @@ static void mark(ew_renderer *r, const float p[3], float radius, int bit, int no
 void ew_mark_dlights(ew_renderer *r) {
     const struct ew_scene *sc = r->ents.scene;
     if (!sc) return;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     for (int i = 0; i < sc->ndlights; i++) {
         const ew_dlight *dl = &sc->dlights[i];
         mark(r, dl->origin, dl->radius, i, w->models[0].headnode, 0);
@@ -69,7 +69,7 @@ unsigned ew_face_dlights(const ew_renderer *r, int face) {
 void ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *bl, int nc, int smax, int tmax,
                     const float (*st_to_lm)[3]) {
     const struct ew_scene *sc = r->ents.scene;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     if (!sc || !bits) return;
     const ew_plane *pl = &w->planes[f->plane];
     const ew_texinfo *ti = &w->texinfo[f->texinfo];

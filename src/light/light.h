@@ -113,13 +113,6 @@ int  ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]);
  * A style's value each frame (256 = the light map as compiled): by
  * default the game's pattern for it at the frame's time, 256 in classic
  * mode; or what the caller set (a fixed value or a pattern of its own). */
-#define EW_STYLE_PATTERN_MAX 64       /* letters in a pattern, at most */
-enum { EW_STYLE_DEFAULT = 0, EW_STYLE_FIXED, EW_STYLE_PATTERN };
-typedef struct ew_style_setting {
-    int  mode;                        /* EW_STYLE_* (0: the default) */
-    int  value;                       /* EW_STYLE_FIXED */
-    char pattern[EW_STYLE_PATTERN_MAX + 1];  /* EW_STYLE_PATTERN: letters a..z */
-} ew_style_setting;
 /* 1 if p is 1..EW_STYLE_PATTERN_MAX letters 'a'..'z'. */
 int  ew_style_pattern_ok(const char *p);
 /* The value of one letter: ('c' - 'a') * 22, so 'a' = 0, 'm' = 264, 'z' = 550. */

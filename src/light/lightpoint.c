@@ -11,7 +11,7 @@
  * returned, rgb filled (the mono level three times without coloured
  * light).  Quake's 16-texel grid, or the face's own layout (facelm). */
 static int face_light(const ew_renderer *r, const ew_face *f, int fi, float fs, float ft, int rgb[3]) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     long at, step;
     if (w->facelm) {
         const ew_facelm *lm = &w->facelm[fi];
@@ -34,7 +34,7 @@ static int face_light(const ew_renderer *r, const ew_face *f, int fi, float fs, 
     for (int k = 0; k < 4 && f->styles[k] != 255; k++, at += step) {
         if (at < 0 || at >= w->lightsize) break;
         int style = f->styles[k];
-        int scale = style < 64 ? r->cfg.lightstyle[style] : 256;
+        int scale = style < 64 ? r->f.cfg.lightstyle[style] : 256;
         sum += (long)w->lighting[at] * scale;
         if (w->rgblight)
             for (int j = 0; j < 3; j++) c[j] += (long)w->rgblight[3 * at + j] * scale;
@@ -51,7 +51,7 @@ static int face_light(const ew_renderer *r, const ew_face *f, int fi, float fs, 
 /* -1: nothing hit on this part of the segment. */
 static int trace(const ew_renderer *r, int node, const float start[3], const float end[3], int depth,
                  int rgb[3]) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     float a[3] = {start[0], start[1], start[2]};
     while (node >= 0) {
         if (depth++ > w->numnodes + 1) return -1;  /* the loader rejected cycles; a guard */
@@ -94,10 +94,10 @@ int ew_light_point_rgb(const ew_renderer *r, const float p[3], int rgb[3]) {
     int scratch[3];
     if (!rgb) rgb = scratch;
     rgb[0] = rgb[1] = rgb[2] = 0;
-    if (!r || !r->world || !p || r->world->nummodels < 1) return 0;
+    if (!r || !r->f.world || !p || r->f.world->nummodels < 1) return 0;
     if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) return 0;
     float end[3] = {p[0], p[1], p[2] - 2048.0f};
-    int lit = trace(r, r->world->models[0].headnode, p, end, 0, rgb);
+    int lit = trace(r, r->f.world->models[0].headnode, p, end, 0, rgb);
     if (lit < 0) rgb[0] = rgb[1] = rgb[2] = 0;
     return lit < 0 ? 0 : lit;
 }

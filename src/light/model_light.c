@@ -23,7 +23,7 @@ void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, i
 
 int ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]) {
     tint[0] = tint[1] = tint[2] = 256;
-    if (!ew_use_rgb_light(r, r->world)) return 0;
+    if (!ew_use_rgb_light(r, r->f.world)) return 0;
     int rgb[3];
     ew_light_point_rgb(r, origin, rgb);
     /* The hue of the light under the model, its brightness left to the

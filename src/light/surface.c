@@ -115,7 +115,7 @@ static int gather(const ew_renderer *r, const ew_world *w, const ew_face *f, con
                 for (int i = 0; i < n; i++) bl[i] += lm[i] * light[k];
         }
     }
-    if (w == r->world) ew_add_dlights(r, f, dlights, bl, nc, L->smax, L->tmax, L->st_to_lm);
+    if (w == r->f.world) ew_add_dlights(r, f, dlights, bl, nc, L->smax, L->tmax, L->st_to_lm);
     if (nc == 3)
         for (int i = 0; i < size && grey; i++) grey = bl[i * 3] == bl[i * 3 + 1] && bl[i * 3] == bl[i * 3 + 2];
     for (int i = 0; i < n; i++) bl[i] = light_row(bl[i]);
@@ -334,24 +334,24 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
         return;
     }
     lm_layout L = face_layout(w, f);
-    int truecolor = r->target.bpp == 4;
+    int truecolor = r->f.target.bpp == 4;
     int rgbsrc = ew_use_rgb_light(r, w);
     /* True colour lights in RGB where dynamic lights reach, even under
      * white light: they may be coloured. */
     /* Dynamic lights may be coloured: RGB where they reach (a white one
      * leaves the samples grey, and grey takes the white path below). */
-    int rgb = rgbsrc || (dlights && w == r->world && !r->cfg.classic && (truecolor || r->lit.nearest));
+    int rgb = rgbsrc || (dlights && w == r->f.world && !r->f.cfg.classic && (truecolor || r->lit.nearest));
     int *bl = scratch;
     int grey = gather(r, w, f, &L, light, dlights, rgb ? 3 : 1, rgbsrc, bl);
     int nc = rgb ? 3 : 1;
-    if (r->cfg.light_fault) light_fault(r->cfg.light_fault, bl, L.smax, L.tmax, nc);
+    if (r->f.cfg.light_fault) light_fault(r->f.cfg.light_fault, bl, L.smax, L.tmax, nc);
     if (rgb && grey) {  /* white after all: one channel, so 8-bit takes the colormap path exactly */
         for (int i = 0, n = L.smax * L.tmax; i < n; i++) bl[i] = bl[i * 3];
         nc = 1;
     }
     emitter e = {truecolor ? OUT_RGBA : nc == 3 ? OUT_NEAREST : OUT_CMAP, nc,
-                 (tex->flags & EW_SURF_FENCE) && !r->cfg.classic, r->colormap, &r->lit.curve, NULL, NULL,
-                 r->cfg.dither};
+                 (tex->flags & EW_SURF_FENCE) && !r->f.cfg.classic, r->f.colormap, &r->lit.curve, NULL, NULL,
+                 r->f.cfg.dither};
     if (e.mode == OUT_NEAREST && !r->lit.nearest) e.mode = OUT_CMAP;  /* no table: white */
     e.cube = &r->blend;
     e.hue = r->blend.hue ? r->blend.hue : r->lit.nearest;  /* no memory for the hue cube: plain nearest */
@@ -398,7 +398,7 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
     if (e.mode == OUT_CMAP) {  /* the original's path, kept tight */
         /* The block size as a constant in each copy, so the texel loops unroll. */
         cmap_block_fn *fn = mip == 0 ? cmap_blocks16 : mip == 1 ? cmap_blocks8 : mip == 2 ? cmap_blocks4 : cmap_blocks2;
-        fn(out, width, bl, smax, tmax, tp, tw, th, s0, t0, r->colormap);
+        fn(out, width, bl, smax, tmax, tp, tw, th, s0, t0, r->f.colormap);
         return;
     }
     /* The same stepping per channel, each texel through the emitter. */

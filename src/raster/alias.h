@@ -2,7 +2,7 @@
  * Moving things (internal): triangle (alias) models, sprites, particles,
  * and the light level of a point for lighting them.  All of them are drawn
  * after the world, z-buffered against the 1/z the world's spans z-filled
- * (larger 1/z is nearer), and write only r->target.pixels, r->target.zbuf and r->stats.
+ * (larger 1/z is nearer), and write only r->f.target.pixels, r->f.target.zbuf and r->f.stats.
  *
  * The alias model pipeline (Black Book chapter 69): every vertex of the
  * frame is transformed, projected and snapped to integer screen
@@ -50,7 +50,7 @@ int  ew_particle_field(ew_particle *out, int n, const float center[3], float rad
 
 /* Light level 0..255 of the world's floor under p: traces straight down up
  * to 2048 units through model 0 to the first face hit and samples its light
- * map there (styles scaled by r->cfg.lightstyle[], no dynamic lights).  0 when
+ * map there (styles scaled by r->f.cfg.lightstyle[], no dynamic lights).  0 when
  * nothing is hit or the face has no light map; 255 if the map is unlit. */
 int  ew_light_point(const ew_renderer *r, const float p[3]);
 

@@ -28,8 +28,8 @@ static void pick_colours(ew_renderer *r) {
     static const uint8_t mip_rgb[4][3] = {{210, 40, 40}, {40, 180, 40}, {50, 70, 220}, {230, 210, 40}};
     static const uint8_t heat_rgb[EW_DBG_HEAT][3] = {{0, 0, 0},     {20, 30, 150}, {30, 170, 40},
                                                      {230, 220, 40}, {240, 130, 20}, {230, 20, 20}};
-    int eight = r->target.bpp == 1;
-    const uint8_t *pal = r->palette;
+    int eight = r->f.target.bpp == 1;
+    const uint8_t *pal = r->f.palette;
     uint32_t used[16];
     int n = 0;
     for (int k = 0; k < 4; k++) {
@@ -75,9 +75,9 @@ int ew_set_debug(ew_renderer *r, ew_debug_mode mode) {
     int m = (int)mode;
     if (m < EW_DEBUG_NONE || m > EW_DEBUG_BUILDS) m = EW_DEBUG_NONE;
     if (m == EW_DEBUG_OVERDRAW && !r->dbg.count) {
-        size_t px = (size_t)r->target.width * (size_t)r->target.height;
+        size_t px = (size_t)r->f.target.width * (size_t)r->f.target.height;
         r->dbg.count = malloc(px);
-        r->dbg.snap = malloc(px * (size_t)r->target.bpp);
+        r->dbg.snap = malloc(px * (size_t)r->f.target.bpp);
         if (!r->dbg.count || !r->dbg.snap) {
             ew_debug_free(r);
             return -1;
@@ -114,7 +114,7 @@ void ew_debug_fill_span(const ew_span_ctx *c, const ew_span *sp, uint32_t color)
 }
 
 void ew_debug_mip_surface(const ew_renderer *r, int mip, uint8_t *out, int width, int height) {
-    const ew_target *t = &r->target;
+    const ew_target *t = &r->f.target;
     size_t n = (size_t)width * (size_t)height;
     if (t->bpp == 1) {
         memset(out, (int)(uint8_t)r->dbg.mip[mip & 3], n);
@@ -138,7 +138,7 @@ static uint32_t span_colour(const ew_target *t, uint32_t n) {
 }
 
 void ew_debug_spans(ew_renderer *r, const ew_band *b) {
-    const ew_target *t = &r->target;
+    const ew_target *t = &r->f.target;
     uint32_t base = (uint32_t)(b - r->sched.bands) << 20;
     uint32_t prev = 0;
     for (int i = 0; i < b->nspans; i++) {
@@ -155,8 +155,8 @@ void ew_debug_spans(ew_renderer *r, const ew_band *b) {
 /* Every edge of the global edge list crossing the band's rows, a pixel a
  * row where the scan puts its span's first pixel. */
 static void draw_edges(ew_renderer *r, int y0, int y1) {
-    if (r->cfg.hsr != &ew_hsr_edge) return;
-    const ew_target *t = &r->target;
+    if (r->f.cfg.hsr != &ew_hsr_edge) return;
+    const ew_target *t = &r->f.target;
     for (int i = 0; i < r->el.nedges; i++) {
         const ew_edge *e = &r->el.edges[i];
         int va = e->v_first > y0 ? e->v_first : y0, vb = e->v_last < y1 - 1 ? e->v_last : y1 - 1;
@@ -173,7 +173,7 @@ static void draw_edges(ew_renderer *r, int y0, int y1) {
 /* Overdraw: the band's world spans counted, then each pass over the world
  * (fog aside) counted where it changed a pixel, then the counts painted. */
 static void draw_overdraw(ew_renderer *r, const ew_band *b, const ew_rows *rows) {
-    const ew_target *t = &r->target;
+    const ew_target *t = &r->f.target;
     int w = t->width, bpp = t->bpp;
     uint8_t *count = r->dbg.count;
     memset(count + (size_t)rows->y0 * w, 0, (size_t)(rows->y1 - rows->y0) * w);

@@ -21,13 +21,13 @@ void ew_fog_levels(ew_fog *f) {
 int ew_fog_prepare(ew_renderer *r) {
     ew_fog *fog = &r->draw.fog;
     fog->table = NULL;
-    if (r->cfg.classic) return 0;
-    const float *rgb = r->cfg.fog_density >= 0 ? r->cfg.fog_rgb : r->world->worldspawn.fog_rgb;
-    float d = r->cfg.fog_density >= 0 ? r->cfg.fog_density : r->world->worldspawn.fog_density;
+    if (r->f.cfg.classic) return 0;
+    const float *rgb = r->f.cfg.fog_density >= 0 ? r->f.cfg.fog_rgb : r->f.world->worldspawn.fog_rgb;
+    float d = r->f.cfg.fog_density >= 0 ? r->f.cfg.fog_density : r->f.world->worldspawn.fog_density;
     if (!(d > 0)) return 0;
     for (int k = 0; k < 3; k++) fog->rgb[k] = (int)(rgb[k] * 255 + 0.5f);
     if (!(fog->table = ew_blend_fog(&r->blend, rgb))) {  /* the 8-bit tables; also "fog on" in true colour */
-        r->stats.dropped++;
+        r->f.stats.dropped++;
         return 0;
     }
     fog->w = (d / 64) * (d / 64);
@@ -54,7 +54,7 @@ static long fog_run(const ew_fog *f, int bpp, float *zr, uint8_t *px, int x0, in
  * nothing nearer was drawn over it, are found by their 1/z, recomputed
  * exactly as the z-fill wrote it, and take the sky's level. */
 static long fog_spans(const ew_renderer *r, const ew_fog *fog, const ew_span *spans, int nspans) {
-    const ew_target *t = &r->target;
+    const ew_target *t = &r->f.target;
     long n = 0;
     for (int i = 0; i < nspans; i++) {
         const ew_span *sp = &spans[i];
@@ -105,7 +105,7 @@ static long fog_unsorted(const ew_renderer *r, const ew_fog *fog, const ew_span 
 void ew_draw_fog(ew_renderer *r, const ew_rows *rows) {
     const ew_fog *fog = &r->draw.fog;
     if (!fog->table) return;
-    const ew_target *t = &r->target;
+    const ew_target *t = &r->f.target;
     ew_zfill_rect(&r->zf, 0, rows->y0, t->width, rows->y1);  /* every pixel's depth */
     long n = 0;
     const ew_zfill *zf = &r->zf;

@@ -90,11 +90,11 @@ int ew_boxes_reserve(ew_renderer *r, int nents, int nfaces) {
  * (1/z 0), hides nothing. */
 static int world_hides(const ew_renderer *r, int x0, int y0, int x1, int y1, float zi) {
     const ew_zfill *z = &r->zf;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     if (x0 < 0) x0 = 0;
     if (y0 < 0) y0 = 0;
-    if (x1 > r->target.width) x1 = r->target.width;
-    if (y1 > r->target.height) y1 = r->target.height;
+    if (x1 > r->f.target.width) x1 = r->f.target.width;
+    if (y1 > r->f.target.height) y1 = r->f.target.height;
     if (x0 >= x1 || y0 >= y1) return 0;
     /* The planes of the last few surfaces met: a thing's rows cross few. */
     enum { NPLANES = 8 };
@@ -133,8 +133,8 @@ static int world_hides(const ew_renderer *r, int x0, int y0, int x1, int y1, flo
  * rounding many times over, so the test never hides a pixel that would
  * pass the z test. */
 static int screen_box_hidden(const ew_renderer *r, float umin, float umax, float vmin, float vmax, float zi_near) {
-    if (!r->cfg.hide_occluded || !(umin <= umax && vmin <= vmax) || !(zi_near < 1e30f)) return 0;
-    float wd = (float)r->target.width, ht = (float)r->target.height;
+    if (!r->f.cfg.hide_occluded || !(umin <= umax && vmin <= vmax) || !(zi_near < 1e30f)) return 0;
+    float wd = (float)r->f.target.width, ht = (float)r->f.target.height;
     int x0 = (int)floorf(fminf(fmaxf(umin, -2), wd)) - 1, x1 = (int)ceilf(fminf(fmaxf(umax, -2), wd)) + 2;
     int y0 = (int)floorf(fminf(fmaxf(vmin, -2), ht)) - 1, y1 = (int)ceilf(fminf(fmaxf(vmax, -2), ht)) + 2;
     return world_hides(r, x0, y0, x1, y1, zi_near * 1.02f);
@@ -154,7 +154,7 @@ static int box_hidden(const ew_renderer *r, const float lo[3], const float hi[3]
     for (int c = 0; c < 8; c++) {
         const float p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]};
         ew_proj j;
-        ew_project(&r->view, p, &j);
+        ew_project(&r->f.view, p, &j);
         if (!(j.zi < 1.0f)) return 0;  /* near the eye or behind it (or NaN) */
         umin = fminf(umin, j.u), umax = fmaxf(umax, j.u), vmin = fminf(vmin, j.v), vmax = fmaxf(vmax, j.v);
         zi_near = fmaxf(zi_near, j.zi);
@@ -175,7 +175,7 @@ static void prepare_box(ew_renderer *r, int ei) {
     const ew_model *m = &bw->models[0];
     ew_box_frame *bf = &r->ents.box_frame[ei];
     ew_box_face *out = r->ents.box_faces + bf->face0;
-    const int h = r->target.height;
+    const int h = r->f.target.height;
     bf->frame = r->marks.framecount;
     bf->in_view = bf->nfaces = bf->dropped = bf->zrect = bf->hidden = 0;
     bf->y0 = bf->y1 = 0;
@@ -186,12 +186,12 @@ static void prepare_box(ew_renderer *r, int ei) {
     const ew_scene_model *sm = &sc->models[e->model];
     float lo[3], hi[3];
     ew_moved_box(ax, e->origin, sm->lo, sm->hi, lo, hi);
-    if (ew_cull_box(&r->view, lo, hi, 15) < 0) return;
+    if (ew_cull_box(&r->f.view, lo, hi, 15) < 0) return;
     if (box_hidden(r, lo, hi)) {
         bf->hidden = 1;
         return;
     }
-    ew_view_to_model(&r->view, ax, e->origin, &bf->mv);
+    ew_view_to_model(&r->f.view, ax, e->origin, &bf->mv);
     box_corner corner[BOX_CORNERS];
     uint8_t made[BOX_CORNERS];
     int16_t front[BOX_FACES];
@@ -209,7 +209,7 @@ static void prepare_box(ew_renderer *r, int ei) {
             if (!box_face_front(bw, f, &bf->mv)) continue;
             front[nfront++] = (int16_t)i;
             for (int k = 0; k < f->numedges; k++) {  /* every one, for the faces below */
-                const box_corner *bc = box_corner_at(&r->view, bw, ax, e->origin, corner, made, ew_face_vertex(bw, f, k));
+                const box_corner *bc = box_corner_at(&r->f.view, bw, ax, e->origin, corner, made, ew_face_vertex(bw, f, k));
                 cut |= bc->out;
                 if (cut) continue;
                 if (bc->u < umin) umin = bc->u;
@@ -253,11 +253,11 @@ static void prepare_box(ew_renderer *r, int ei) {
         if (!shared || cut) {
             float p[EW_MAX_POLY][3];
             for (int k = 0; k < n; k++) box_move(ax, e->origin, bw->verts[ew_face_vertex(bw, f, k)], p[k]);
-            if (!ew_zpoly_project(&r->view, p, n, zp)) continue;
+            if (!ew_zpoly_project(&r->f.view, p, n, zp)) continue;
             holds = zp->x0 <= zp->x1 && zp->y0 <= zp->y1;
         } else {
             if (n < 3) continue;
-            holds = ew_zpoly_rect(&r->view, zp, n, umin, umax, vmin, vmax);
+            holds = ew_zpoly_rect(&r->f.view, zp, n, umin, umax, vmin, vmax);
             /* Most faces of a far box fall between pixel centres: once the
              * box is known to be in view (and no surface is missing, which
              * is counted below), their orientation tells nothing. */
@@ -297,11 +297,11 @@ static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surf
         const ew_zpoly *zp = &bx->zp;
         if (zp->y1 < rows->y0 || zp->y0 >= rows->y1) continue;  /* another piece's rows */
         const ew_face *f = &bw->faces[m->firstface + bx->face];
-        ew_zpoly_look look = {bw, f, &bf->mv, ew_face_texture(bw, f, r->view.time), NULL, 0, 0, 1, EW_ZP_OPAQUE,
+        ew_zpoly_look look = {bw, f, &bf->mv, ew_face_texture(bw, f, r->f.view.time), NULL, 0, 0, 1, EW_ZP_OPAQUE,
                               NULL, 256};
         if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
             const ew_box_surf *bs = &surfs->face[bx->face];  /* built: prepare_box kept only such */
-            look.mip = ew_face_mip(&r->view, bw, f, zp->nearzi);
+            look.mip = ew_face_mip(&r->f.view, bw, f, zp->nearzi);
             look.surf = bs->pixels[look.mip], look.surf_width = bs->width[look.mip];
         }
         if (!bf->zrect)
@@ -320,13 +320,13 @@ static ew_model_pose entity_pose(const ew_renderer *r, const ew_scene_entity *e,
                                  const ew_ent_frame *ef) {
     ew_model_pose pose = {{e->origin[0], e->origin[1], e->origin[2]},
                           {e->angles[0], e->angles[1], e->angles[2]},
-                          e->frame, e->skin, r->view.time, ef->ambient, ef->shade};
+                          e->frame, e->skin, r->f.view.time, ef->ambient, ef->shade};
     if (m->kind == EW_MODEL_ALIAS) {
         /* Time walks a model through its frames at the game's 10 a second
          * (frame groups animate by their own intervals too). */
         const ew_mdl *mdl = m->data;
-        if (r->view.time > 0 && mdl->numframes > 1)
-            pose.frame = (int)(((long long)ew_int_checked(r->view.time * 10, 0, INT_MAX, 0) + e->frame) % mdl->numframes);
+        if (r->f.view.time > 0 && mdl->numframes > 1)
+            pose.frame = (int)(((long long)ew_int_checked(r->f.view.time * 10, 0, INT_MAX, 0) + e->frame) % mdl->numframes);
     }
     return pose;
 }

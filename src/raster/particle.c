@@ -9,7 +9,7 @@
 
 void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const ew_rows *rows) {
     if (!r || !p || n <= 0) return;
-    const ew_view *v = &r->view;
+    const ew_view *v = &r->f.view;
     float k = v->xscale * 0.625f;          /* size in pixels = k / z */
     int maxsize = v->width / 80 > 4 ? v->width / 80 : 4;
     long pixels = 0;
@@ -36,12 +36,12 @@ void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const e
         if (y1 > rows->y1) y1 = rows->y1;
         if (y0 >= y1) continue;
         uint8_t color = p[i].color;
-        const int bpp = r->target.bpp;  /* read once: the stores could alias the renderer */
-        const uint32_t *rgba = r->target.rgba;
+        const int bpp = r->f.target.bpp;  /* read once: the stores could alias the renderer */
+        const uint32_t *rgba = r->f.target.rgba;
         ew_zfill_rect(&r->zf, x0, y0, x1, y1);
         for (int y = y0; y < y1; y++) {
-            float *zr = ew_target_z(&r->target, 0, y);
-            uint8_t *fr = ew_target_at(&r->target, 0, y);
+            float *zr = ew_target_z(&r->f.target, 0, y);
+            uint8_t *fr = ew_target_at(&r->f.target, 0, y);
             for (int x = x0; x < x1; x++) {
                 if (zi >= zr[x]) {
                     zr[x] = zi;
@@ -77,6 +77,6 @@ int ew_particle_field(ew_particle *out, int n, const float center[3], float radi
 }
 
 void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
-    ew_rows all = {0, r->target.height, &r->stats, 1};
+    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
     ew_draw_particles_rows(r, p, n, &all);
 }

@@ -116,11 +116,6 @@ uint8_t ew_turb_texel(const int32_t table[128], const ew_texture *t, int32_t s, 
 
 /* Rows of the frame a drawing call may touch, and where its counters go:
  * moving things are drawn band by band, each band only in its own rows. */
-typedef struct ew_rows {
-    int       y0, y1;      /* [y0, y1) */
-    ew_stats *stats;
-    int       first;       /* the rows that count per-model figures (triangles, entities) */
-} ew_rows;
 
 /* raster/zpoly.c: the z-buffered polygon fill (reference path, item boxes) */
 typedef struct ew_zpoly {

@@ -23,14 +23,14 @@ static int by_order(const void *pa, const void *pb) {
 
 int ew_see_prepare(ew_renderer *r) {
     ew_see *see = &r->see;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     see->nfences = see->n_drawn = 0;
-    r->stats.seethrough_surfaces = 0;
+    r->f.stats.seethrough_surfaces = 0;
     if (see->n == 0) return 0;
     if (see->n > see->cap_order) {
         int *o = realloc(see->order, sizeof *o * (size_t)see->cap);
         if (!o) {
-            r->stats.dropped += see->n;
+            r->f.stats.dropped += see->n;
             see->n = 0;
             return 0;
         }
@@ -41,23 +41,23 @@ int ew_see_prepare(ew_renderer *r) {
         ew_see_poly *sp = &see->polys[i];
         const ew_face *f = &w->faces[sp->face];
         ew_zpoly_look *look = &sp->look;
-        look->tex = ew_face_texture(w, f, r->view.time);
+        look->tex = ew_face_texture(w, f, r->f.view.time);
         /* Less than half the finest 8-bit step: invisible (maps use a
          * tiny "alpha" to hide a brush entity). */
         if (sp->kind == EW_SEE_BLEND && sp->alpha < 0.5f / EW_BLEND_LEVELS) continue;
         look->mode = sp->kind == EW_SEE_FENCE ? EW_ZP_FENCE : EW_ZP_BLEND;
         look->alpha256 = (int)(sp->alpha * 256 + 0.5f);
-        if (sp->kind == EW_SEE_BLEND && r->target.bpp == 1 &&
+        if (sp->kind == EW_SEE_BLEND && r->f.target.bpp == 1 &&
             !(look->blend = ew_blend_alpha(&r->blend, ew_blend_level(sp->alpha)))) {
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             continue;
         }
         if (!(f->flags & EW_SURF_TURB)) {  /* a lit surface, through the cache like the world's */
             int build;
-            look->mip = ew_face_mip(&r->view, w, f, sp->p.nearzi);
+            look->mip = ew_face_mip(&r->f.view, w, f, sp->p.nearzi);
             ew_cached_surf *e = ew_cache_lookup(r, sp->face, look->mip, &build);
             if (!e) {
-                r->stats.dropped++;
+                r->f.stats.dropped++;
                 continue;
             }
             if (build) r->lit.to_build[r->lit.nbuild++] = e;  /* built with the world's */
@@ -69,7 +69,7 @@ int ew_see_prepare(ew_renderer *r) {
     sort_base = see->polys;  /* serial: no other thread sorts */
     qsort(see->order, (size_t)n, sizeof *see->order, by_order);
     see->n_drawn = n;
-    r->stats.seethrough_surfaces = n;
+    r->f.stats.seethrough_surfaces = n;
     return 0;
 }
 
@@ -82,7 +82,7 @@ static void draw_range(ew_renderer *r, const ew_rows *rows, int from, int to, lo
         if (p->y1 < rows->y0 || p->y0 >= rows->y1) continue;  /* another band's rows */
         ew_zfill_rect(&r->zf, p->x0, p->y0 > rows->y0 ? p->y0 : rows->y0, p->x1 + 1,
                       p->y1 + 1 < rows->y1 ? p->y1 + 1 : rows->y1);
-        px += ew_zpoly_fill(&r->draw, p, &sp->look, r->cfg.face_ids_on ? r->face_ids : NULL, sp->face, rows->y0,
+        px += ew_zpoly_fill(&r->draw, p, &sp->look, r->f.cfg.face_ids_on ? r->f.face_ids : NULL, sp->face, rows->y0,
                             rows->y1);
     }
     *count += px;

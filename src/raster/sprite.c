@@ -63,7 +63,7 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     if (!r || !s || !p) return 0;
     for (int k = 0; k < 3; k++)
         if (!isfinite(p->origin[k]) || !isfinite(p->angles[k]) || fabsf(p->origin[k]) > 1e6f) return 0;
-    const ew_view *v = &r->view;
+    const ew_view *v = &r->f.view;
     const ew_spr_pic *pic = ew_spr_pick(s, p->frame, p->time);
     float wr[3], wu[3];
     sprite_axes(v, s, p, wr, wu);
@@ -140,11 +140,11 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     float uu = dot3(U, du), uv = dot3(U, dv), u0 = dot3(U, d0), uo = dot3(U, O);
     int pw = pic->width, ph = pic->height;
     long count = 0;
-    const int bpp = r->target.bpp;  /* read once: the stores could alias the renderer */
-    const uint32_t *rgba = r->target.rgba;
+    const int bpp = r->f.target.bpp;  /* read once: the stores could alias the renderer */
+    const uint32_t *rgba = r->f.target.rgba;
     for (int y = y0; y < y1; y++) {
-        float *zr = ew_target_z(&r->target, 0, y);
-        uint8_t *fr = ew_target_at(&r->target, 0, y);
+        float *zr = ew_target_z(&r->f.target, 0, y);
+        uint8_t *fr = ew_target_at(&r->f.target, 0, y);
         float fy = (float)y;
         for (int x = x0; x < x1; x++) {
             float fx = (float)x;
@@ -166,6 +166,6 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
 }
 
 int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
-    ew_rows all = {0, r->target.height, &r->stats, 1};
+    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
     return ew_draw_sprite_rows(r, s, p, &all);
 }

@@ -8,18 +8,12 @@
 #ifndef EW_RASTER_TARGET_H
 #define EW_RASTER_TARGET_H
 
+#include "frame.h"
+
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
 
-typedef struct ew_target {
-    uint8_t *pixels;        /* height rows of pitch bytes */
-    float   *zbuf;          /* width * height 1/z values (larger is nearer, 0 is far) */
-    int      width, height;
-    int      pitch;         /* bytes from one row to the next */
-    int      bpp;           /* bytes per pixel: 1 (palette indices) or 4 (R, G, B, A bytes) */
-    const uint32_t *rgba;   /* the palette as 4-byte pixels (ew_rgba), for bpp 4 */
-} ew_target;
 
 /* First pixel of row y, column x. */
 static inline uint8_t *ew_target_at(const ew_target *t, int x, int y) {

@@ -19,17 +19,17 @@ static int tint_of(int contents, int rgb[3]) {
 }
 
 int ew_warp_begin(ew_renderer *r) {
-    int c = r->eye_contents;
-    if (r->cfg.classic || !r->cfg.waterwarp ||
+    int c = r->f.eye_contents;
+    if (r->f.cfg.classic || !r->f.cfg.waterwarp ||
         (c != EW_CONTENTS_WATER && c != EW_CONTENTS_SLIME && c != EW_CONTENTS_LAVA))
         return 0;
-    const ew_target *t = &r->target;
+    const ew_target *t = &r->f.target;
     size_t frame = (size_t)t->pitch * (size_t)t->height;
     if (!r->warp_copy) {
         /* the copy, then per row its x shift and per column its y shift */
         r->warp_copy = malloc(frame + sizeof(int32_t) * (size_t)(t->width + t->height));
         if (!r->warp_copy) {
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             return 0;
         }
     }
@@ -39,18 +39,18 @@ int ew_warp_begin(ew_renderer *r) {
     r->warp_amount = amount;
     memcpy(r->warp_copy, t->pixels, frame);
     /* Amplitude: 2.5 pixels at 320x200, in proportion above. */
-    float amp = 2.5f * (float)t->height / 200.0f, tm = (float)r->view.time;
+    float amp = 2.5f * (float)t->height / 200.0f, tm = (float)r->f.view.time;
     int32_t *xs = (int32_t *)(void *)(r->warp_copy + frame), *ys = xs + t->height;
     for (int y = 0; y < t->height; y++)
         xs[y] = (int32_t)lrintf(amp * (1 + sinf(6.2831853f * 3.0f * (float)y / (float)t->height + tm * 3.0f)));
     for (int x = 0; x < t->width; x++)
         ys[x] = (int32_t)lrintf(amp * (1 + sinf(6.2831853f * 4.0f * (float)x / (float)t->width + tm * 2.5f)));
-    r->stats.underwater = 1;
+    r->f.stats.underwater = 1;
     return 1;
 }
 
 void ew_warp_rows(ew_renderer *r, int y0, int y1) {
-    const ew_target *t = &r->target;
+    const ew_target *t = &r->f.target;
     size_t frame = (size_t)t->pitch * (size_t)t->height;
     const int32_t *xs = (const int32_t *)(const void *)(r->warp_copy + frame), *ys = xs + t->height;
     const uint8_t *tint = r->warp_tint;

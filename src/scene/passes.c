@@ -28,7 +28,7 @@ _Static_assert(NOWN <= NPASSES, "room for every pass's work");
 
 /* The frame's list: its method's choice. */
 static const ew_pass *pass_list(const ew_renderer *r, int *n) {
-    if (r->cfg.hsr && r->cfg.hsr->own_compose) {
+    if (r->f.cfg.hsr && r->f.cfg.hsr->own_compose) {
         *n = NOWN;
         return own_passes;
     }

@@ -31,7 +31,7 @@ typedef struct split_ctx {
 
 static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
     ew_renderer *r = c->r;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     if (depth > MAX_SPLIT_DEPTH) {
         c->dropped++;
         return;
@@ -91,7 +91,7 @@ int ew_brush_items(ew_renderer *r, ew_brush_item *items, int *culled) {
     const struct ew_scene *sc = r->ents.scene;
     *culled = 0;
     if (!sc) return 0;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     int used = 0;
     for (int ei = 0; ei < sc->nents; ei++) {
         const ew_scene_entity *e = &sc->ents[ei];
@@ -102,13 +102,13 @@ int ew_brush_items(ew_renderer *r, ew_brush_item *items, int *culled) {
         ew_entity_axes(e->angles, it->ax);
         float lo[3], hi[3];
         ew_moved_box(it->ax, e->origin, m->mins, m->maxs, lo, hi);
-        if (ew_cull_box(&r->view, lo, hi, 15) < 0) {
+        if (ew_cull_box(&r->f.view, lo, hi, 15) < 0) {
             (*culled)++;
             continue;
         }
         it->ent = ei;
         it->mv = &r->ents.ent_views[used++];
-        ew_view_to_model(&r->view, it->ax, e->origin, it->mv);
+        ew_view_to_model(&r->f.view, it->ax, e->origin, it->mv);
     }
     return used;
 }
@@ -156,7 +156,7 @@ static int start_node(const ew_world *w, const ew_model *m, const ew_scene_entit
  * split down the world BSP; its fragments in visited leaves go to sink.
  * 1 if any did (the entity is drawn); *dropped counts what was lost. */
 int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, void *sink_ctx, int *dropped) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_scene_entity *e = &r->ents.scene->ents[it->ent];
     const ew_model *m = &w->models[-1 - e->model];
     const ew_view *mv = it->mv;
@@ -195,7 +195,7 @@ int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, v
 static void frag_direct(void *ctx, float (*p)[3], int n, int face, const ew_view *v, int key, int kind, float alpha) {
     ew_renderer *r = ctx;
     if (ew_see_to_hsr(r, kind))
-        r->cfg.hsr->poly(r, p, n, face, v, key);
+        r->f.cfg.hsr->poly(r, p, n, face, v, key);
     else
         ew_see_add(r, p, n, face, v, key, kind, alpha);
 }
@@ -204,16 +204,16 @@ void ew_walk_brush_models(ew_renderer *r) {
     if (!r->ents.scene) return;
     ew_brush_item *items = malloc(sizeof *items * (size_t)(r->ents.max_ent_views + 1));
     if (!items) {
-        r->stats.dropped++;
+        r->f.stats.dropped++;
         return;
     }
     int culled, n = ew_brush_items(r, items, &culled);
-    r->stats.entities_culled += culled;
+    r->f.stats.entities_culled += culled;
     for (int i = 0; i < n; i++) {
         int dropped, drawn = ew_brush_split(r, &items[i], frag_direct, r, &dropped);
-        r->stats.dropped += dropped;
-        if (drawn) r->stats.entities_drawn++;
-        else r->stats.entities_culled++;
+        r->f.stats.dropped += dropped;
+        if (drawn) r->f.stats.entities_drawn++;
+        else r->f.stats.entities_culled++;
     }
     free(items);
 }

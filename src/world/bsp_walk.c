@@ -11,14 +11,14 @@
 /* The serial walker's leaf: its faces marked for the nodes above. */
 static void mark_leaf(ew_walker *wk, int li) {
     ew_renderer *r = wk->r;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_leaf *leaf = &w->leaves[li];
     for (int i = 0; i < leaf->nummarks; i++) r->marks.face_frame[w->marksurfaces[leaf->firstmark + i]] = r->marks.framecount;
 }
 
 void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d) {
     ew_renderer *r = wk->r;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_node *node = &w->nodes[n];
     /* Only faces facing the camera can be seen: behind the plane, the
      * PLANEBACK ones. */
@@ -30,7 +30,7 @@ void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d) {
         if (d == 0) continue;  /* edge-on */
         /* The node's box crosses a plane; the face itself often does not,
          * and then skips the clip (or is not seen at all). */
-        int cf = clipflags ? ew_cull_face(&r->view, w->face_box[fi], clipflags) : 0;
+        int cf = clipflags ? ew_cull_face(&r->f.view, w->face_box[fi], clipflags) : 0;
         if (cf < 0) continue;
         float alpha;
         int kind = ew_see_kind(r, f, 1, &alpha);
@@ -41,18 +41,18 @@ void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d) {
 
 /* Which side of node n's plane the camera is on (0 front), and how far. */
 static inline int node_side(const ew_renderer *r, const ew_node *node, float *d) {
-    const ew_plane *pl = &r->world->planes[node->plane];
-    const float *o = r->view.origin;
+    const ew_plane *pl = &r->f.world->planes[node->plane];
+    const float *o = r->f.view.origin;
     *d = o[0] * pl->normal[0] + o[1] * pl->normal[1] + o[2] * pl->normal[2] - pl->dist;
     return *d >= 0 ? 0 : 1;
 }
 
 int ew_walk_enter(ew_walker *wk, int n, int *clipflags, float *d) {
     ew_renderer *r = wk->r;
-    const ew_node *node = &r->world->nodes[n];
+    const ew_node *node = &r->f.world->nodes[n];
     if (r->marks.node_frame[n] != r->marks.framecount) return -1;
     if (*clipflags) {
-        *clipflags = ew_cull_box(&r->view, node->mins, node->maxs, *clipflags);
+        *clipflags = ew_cull_box(&r->f.view, node->mins, node->maxs, *clipflags);
         if (*clipflags < 0) return -1;
     }
     return node_side(r, node, d);
@@ -60,7 +60,7 @@ int ew_walk_enter(ew_walker *wk, int n, int *clipflags, float *d) {
 
 void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth) {
     ew_renderer *r = wk->r;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     if (depth > EW_MAX_WALK_DEPTH) {
         wk->dropped++;
         return;
@@ -69,7 +69,7 @@ void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth) {
         int li = -1 - n;
         const ew_leaf *leaf = &w->leaves[li];
         if (r->marks.leaf_frame[li] != r->marks.framecount || leaf->contents == EW_CONTENTS_SOLID) return;
-        if (clipflags && ew_cull_box(&r->view, leaf->mins, leaf->maxs, clipflags) < 0) return;
+        if (clipflags && ew_cull_box(&r->f.view, leaf->mins, leaf->maxs, clipflags) < 0) return;
         wk->visible_leaves++;
         /* Brush model fragments in this leaf sort here in BSP order. */
         r->marks.leaf_key[li] = wk->key++;
@@ -86,32 +86,32 @@ void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth) {
 }
 
 void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_face *f = &w->faces[fi];
     if (f->numedges > EW_MAX_POLY - 8) return;
     float p[EW_MAX_POLY][3];
     ew_face_points(w, f, p);
-    ew_see_add(r, p, f->numedges, fi, &r->view, key, kind, alpha);
+    ew_see_add(r, p, f->numedges, fi, &r->f.view, key, kind, alpha);
 }
 
 /* The serial walker's face: to the method, or to the see-through pass. */
 static void method_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
     if (ew_see_to_hsr(wk->r, kind))
-        wk->r->cfg.hsr->face(wk->r, fi, clipflags, wk->key);
+        wk->r->f.cfg.hsr->face(wk->r, fi, clipflags, wk->key);
     else
         ew_walk_see_add(wk->r, fi, wk->key, kind, alpha);
 }
 
 void ew_walk_world(ew_renderer *r) {
     ew_walker wk = {.r = r, .leaf = mark_leaf, .face = method_face};
-    ew_walk_node(&wk, r->world->models[0].headnode, 15, 0);
-    r->stats.visible_leaves += wk.visible_leaves;
-    r->stats.dropped += wk.dropped;
+    ew_walk_node(&wk, r->f.world->models[0].headnode, 15, 0);
+    r->f.stats.visible_leaves += wk.visible_leaves;
+    r->f.stats.dropped += wk.dropped;
 }
 /* Does a world-space box touch any leaf of this frame's PVS?  (Entities in
  * no visible leaf are hidden however near they are.) */
 static int box_visible(const ew_renderer *r, int n, const float lo[3], const float hi[3], int depth) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     while (n >= 0) {
         if (depth++ > EW_MAX_WALK_DEPTH) return 1;
         /* No leaf of this frame's PVS below (ew_pvs_mark marks every node
@@ -138,5 +138,5 @@ static int box_visible(const ew_renderer *r, int n, const float lo[3], const flo
 }
 
 int ew_box_in_pvs(const ew_renderer *r, const float lo[3], const float hi[3]) {
-    return box_visible(r, r->world->models[0].headnode, lo, hi, 0);
+    return box_visible(r, r->f.world->models[0].headnode, lo, hi, 0);
 }

@@ -10,13 +10,13 @@
 
 int ew_see_kind(const ew_renderer *r, const ew_face *f, float entity_alpha, float *alpha) {
     *alpha = 1;
-    if (r->cfg.classic || (f->flags & EW_SURF_SKY)) return EW_SEE_OPAQUE;
+    if (r->f.cfg.classic || (f->flags & EW_SURF_SKY)) return EW_SEE_OPAQUE;
     /* An entity's own alpha replaces its liquids' (as the ports do). */
     float a = entity_alpha;
     if ((f->flags & EW_SURF_TURB) && entity_alpha >= 1) {
-        const ew_world *w = r->world;
+        const ew_world *w = r->f.world;
         const ew_texture *tex = &w->textures[w->texinfo[f->texinfo].texture];
-        a = r->cfg.liquid_alpha >= 0 ? r->cfg.liquid_alpha : w->worldspawn.liquid_alpha[tex->liquid];
+        a = r->f.cfg.liquid_alpha >= 0 ? r->f.cfg.liquid_alpha : w->worldspawn.liquid_alpha[tex->liquid];
     }
     if (a < 1) {
         *alpha = a;
@@ -26,7 +26,7 @@ int ew_see_kind(const ew_renderer *r, const ew_face *f, float entity_alpha, floa
 }
 
 int ew_see_to_hsr(const ew_renderer *r, int kind) {
-    return kind == EW_SEE_OPAQUE || (kind == EW_SEE_FENCE && r->cfg.hsr->fences);
+    return kind == EW_SEE_OPAQUE || (kind == EW_SEE_FENCE && r->f.cfg.hsr->fences);
 }
 
 void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind,
@@ -35,19 +35,19 @@ void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view 
     if (see->n == see->cap) {
         int cap = see->cap ? see->cap * 2 : 64;
         if (cap > r->el.max_surfs) {  /* the same budget as the edge list's */
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             return;
         }
         ew_see_poly *p = realloc(see->polys, sizeof *p * (size_t)cap);
         if (!p) {
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             return;
         }
         see->polys = p, see->cap = cap;
     }
     ew_see_poly *sp = &see->polys[see->n];
-    if (!ew_zpoly_project(&r->view, verts, n, &sp->p)) return;  /* outside the frustum */
+    if (!ew_zpoly_project(&r->f.view, verts, n, &sp->p)) return;  /* outside the frustum */
     sp->face = fi, sp->key = key, sp->kind = kind, sp->alpha = alpha;
-    sp->look = (ew_zpoly_look){r->world, &r->world->faces[fi], v, NULL, NULL, 0, 0, 1, EW_ZP_OPAQUE, NULL, 256};
+    sp->look = (ew_zpoly_look){r->f.world, &r->f.world->faces[fi], v, NULL, NULL, 0, 0, 1, EW_ZP_OPAQUE, NULL, 256};
     see->n++;
 }

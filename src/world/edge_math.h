@@ -78,7 +78,7 @@ static inline int ew_edge_cache_take(ew_renderer *r, int se, int s, float *zi) {
     int slot = sign * r->marks.edge_cache_down[e] > 0 ? 0 : 1;
     if (ed->surfs[slot] != 0) return 0;
     ed->surfs[slot] = (uint16_t)s;
-    r->stats.edges_cached++;
+    r->f.stats.edges_cached++;
     *zi = ed->nearzi;
     return 1;
 }
@@ -96,9 +96,9 @@ static inline void ew_edge_cache_note(ew_renderer *r, int se, int idx, int down)
 static inline void ew_surf_set_world(const ew_renderer *r, ew_surf *sf, int fi, int key, float nearzi) {
     sf->key = key;
     sf->face = fi;
-    sf->flags = r->world->faces[fi].flags;
+    sf->flags = r->f.world->faces[fi].flags;
     sf->nearzi = nearzi;
-    sf->view = &r->view;
+    sf->view = &r->f.view;
     sf->insubmodel = 0;
 }
 

@@ -9,7 +9,7 @@
 
 typedef ew_proj proj;
 
-static void project(const ew_renderer *r, const float p[3], proj *out) { ew_project(&r->view, p, out); }
+static void project(const ew_renderer *r, const float p[3], proj *out) { ew_project(&r->f.view, p, out); }
 
 /* Adds the edge a->b for surface s; returns its index, or -1 if it crosses
  * no scanline centre (horizontal or too short) and so never bounds a span. */
@@ -17,7 +17,7 @@ static inline int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) 
     ew_edge spill, *e = r->el.nedges < r->el.max_edges ? &r->el.edges[r->el.nedges] : &spill;
     if (!ew_edge_setup(a, b, e)) return -1;
     if (e == &spill) {
-        r->stats.dropped++;
+        r->f.stats.dropped++;
         return -1;
     }
     e->nearzi = a->zi > b->zi ? a->zi : b->zi;
@@ -28,7 +28,7 @@ static inline int add_edge(ew_renderer *r, const proj *a, const proj *b, int s) 
  * four faces. */
 static inline void project_vertex(ew_renderer *r, int vi, proj *out) {
     if (r->marks.vert_frame[vi] != r->marks.framecount) {
-        project(r, r->world->verts[vi], &r->marks.vert_proj[vi]);
+        project(r, r->f.world->verts[vi], &r->marks.vert_proj[vi]);
         r->marks.vert_frame[vi] = r->marks.framecount;
     }
     *out = r->marks.vert_proj[vi];
@@ -49,12 +49,12 @@ static inline float emit_world_edge(ew_renderer *r, int se, const float *pa, con
 }
 
 void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_face *f = &w->faces[fi];
     int n = f->numedges;
     int full = r->el.nsurfs >= r->el.max_surfs || r->el.nedges + n + 4 > r->el.max_edges;
     if (n > EW_MAX_POLY - 8 || (full && !r->occ.on)) {
-        r->stats.dropped++;
+        r->f.stats.dropped++;
         return;
     }
     int s = r->el.nsurfs;
@@ -67,7 +67,7 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
     if (clipflags) {
         ew_face_points(w, f, in);
         for (int i = 0; i < n; i++) tin[i] = i;
-        m = ew_clip_poly(&r->view, clipflags, in, n, out, tin, tout);
+        m = ew_clip_poly(&r->f.view, clipflags, in, n, out, tin, tout);
     }
     if (r->occ.on) {
         /* Every point projected first, for the coverage map (world/occlude.c),
@@ -81,16 +81,16 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
                 else project_vertex(r, ew_face_vertex(w, f, i), &pj[i]);
                 valid[i] = 1;
             }
-            ew_occ_box b = ew_occ_box_of(&r->occ, pj, m, r->target.width, r->target.height);
+            ew_occ_box b = ew_occ_box_of(&r->occ, pj, m, r->f.target.width, r->f.target.height);
             hidden = ew_occ_face(&r->occ, &r->occ.whole, pj, m, b, key);
         }
         if (full) {
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             return;
         }
         if (m < 3) return;
         if (hidden) {
-            r->stats.faces_occluded++;
+            r->f.stats.faces_occluded++;
             return;
         }
     } else {
@@ -127,15 +127,15 @@ void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) {
 
 void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
     if (r->el.nsurfs >= r->el.max_surfs || n > EW_MAX_POLY - 8 || r->el.nedges + n + 4 > r->el.max_edges) {
-        r->stats.dropped++;
+        r->f.stats.dropped++;
         return;
     }
     proj pj[EW_MAX_POLY];
     float nearzi;
-    int m = ew_poly_project(&r->view, verts, n, pj, &nearzi);
+    int m = ew_poly_project(&r->f.view, verts, n, pj, &nearzi);
     if (m < 3) return;
     int s = r->el.nsurfs;
     for (int i = 0; i < m; i++) add_edge(r, &pj[i], &pj[i + 1 == m ? 0 : i + 1], s);
-    ew_surf_set_fragment(r->world, &r->el.surfs[s], fi, key, nearzi, v);
+    ew_surf_set_fragment(r->f.world, &r->el.surfs[s], fi, key, nearzi, v);
     r->el.nsurfs++;
 }

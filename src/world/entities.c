@@ -38,7 +38,7 @@ void ew_test_entities(ew_renderer *r, int from, int to) {
          * PVS and the frustum. */
         float reach = model_reach(m), lo[3], hi[3];
         for (int k = 0; k < 3; k++) lo[k] = e->origin[k] - reach, hi[k] = e->origin[k] + reach;
-        if (ew_cull_box(&r->view, lo, hi, 15) < 0 || !ew_box_in_pvs(r, lo, hi)) {  /* the cheap test first */
+        if (ew_cull_box(&r->f.view, lo, hi, 15) < 0 || !ew_box_in_pvs(r, lo, hi)) {  /* the cheap test first */
             ef->culled = 1;
             continue;
         }
@@ -56,7 +56,7 @@ int ew_prepare_entities(ew_renderer *r) {
     if (!sc) return 0;
     if (r->ents.tested_frame != r->marks.framecount) {
         if (ew_reserve_entities(r) < 0) {
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             return 0;
         }
         ew_test_entities(r, 0, sc->nents);
@@ -69,7 +69,7 @@ int ew_prepare_entities(ew_renderer *r) {
         if (xf) en->xf = xf;
         if (list) en->alias_list = list;
         if (!xf || !list) {
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             return 0;
         }
         en->max_xf = sc->nents;
@@ -79,19 +79,19 @@ int ew_prepare_entities(ew_renderer *r) {
         if (tm) en->tint_remap = tm;
         if (!tr || !tm) {
             en->max_xf = 0;
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             return 0;
         }
     }
     size_t nxverts = 0;
     int nbox_faces = 0, boxes = ew_boxes_reserve(r, sc->nents, 0) == 0;
     en->nbox = 0;
-    if (!boxes) r->stats.dropped++;  /* no item box drawn */
+    if (!boxes) r->f.stats.dropped++;  /* no item box drawn */
     for (int i = 0; i < sc->nents; i++) {
         const ew_scene_entity *e = &sc->ents[i];
         const ew_ent_frame *ef = &r->ents.ent_frame[i];
         en->xf[i].visible = en->xf[i].hidden = 0;
-        r->stats.entities_culled += ef->culled;
+        r->f.stats.entities_culled += ef->culled;
         if (!ef->visible) continue;
         const ew_scene_model *m = &sc->models[e->model];
         if (m->kind == EW_MODEL_ALIAS) {
@@ -100,7 +100,7 @@ int ew_prepare_entities(ew_renderer *r) {
             en->alias_list[en->nalias++] = i;
         }
         if (m->kind == EW_MODEL_BOX) {
-            if (ew_prepare_box(r, e->model, m->data) < 0) r->stats.dropped++;
+            if (ew_prepare_box(r, e->model, m->data) < 0) r->f.stats.dropped++;
             if (boxes) {
                 en->box_frame[i].face0 = nbox_faces;
                 nbox_faces += ((const ew_world *)m->data)->models[0].numfaces;
@@ -109,15 +109,15 @@ int ew_prepare_entities(ew_renderer *r) {
         }
     }
     if (boxes && ew_boxes_reserve(r, sc->nents, nbox_faces) < 0) {
-        r->stats.dropped++;
+        r->f.stats.dropped++;
         en->nbox = 0;
     }
     r->ents.nent_frame = sc->nents;
-    if (ew_sprite_cache_reserve(r, sc->nents) < 0) r->stats.dropped++;  /* models drawn exactly then */
+    if (ew_sprite_cache_reserve(r, sc->nents) < 0) r->f.stats.dropped++;  /* models drawn exactly then */
     if (nxverts > en->max_xverts) {
         ew_xvert *xv = realloc(en->xverts, sizeof *xv * nxverts);
         if (!xv) {  /* each piece poses its own then */
-            r->stats.dropped++;
+            r->f.stats.dropped++;
             en->nalias = 0;
             return en->nbox;
         }

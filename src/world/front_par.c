@@ -423,7 +423,7 @@ static void add_seg(struct ew_front_par *fp, int kind, int n, int clipflags, int
 }
 
 static void top_walk(ew_renderer *r, struct ew_front_par *fp, int n, int clipflags, int depth) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     if (depth > EW_MAX_WALK_DEPTH) return;  /* cannot be: the plan measured the tree */
     ew_walker wk = {.r = r};
     float d;
@@ -461,7 +461,7 @@ typedef struct task_walker {
 static void task_leaf(ew_walker *wk, int li) {
     task_walker *t = (task_walker *)wk;
     ew_renderer *r = wk->r;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_leaf *leaf = &w->leaves[li];
     const int frame = r->marks.framecount, *face_root = t->fp->face_root;
     /* The root number of this subtree: that of its first node (a leaf
@@ -492,7 +492,7 @@ static void task_leaf(ew_walker *wk, int li) {
 static void list_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
     task_walker *t = (task_walker *)wk;
     seg *s = t->s;
-    const ew_face *f = &wk->r->world->faces[fi];
+    const ew_face *f = &wk->r->f.world->faces[fi];
     if (ew_see_to_hsr(wk->r, kind)) {
         int need = f->numedges + 4;
         t->fp->lf[s->lf0 + s->nfaces++] = (lface){fi, clipflags, wk->key, s->npe, kind, alpha};
@@ -515,7 +515,7 @@ static void walk_seg(ew_renderer *r, struct ew_front_par *fp, int segno) {
  * segments touch only their own faces and their own ranges of lf. */
 static void node_faces(ew_renderer *r, struct ew_front_par *fp, int segno) {
     seg *s = &fp->segs[segno];
-    const ew_node *nd = &r->world->nodes[s->n];
+    const ew_node *nd = &r->f.world->nodes[s->n];
     const int frame = r->marks.framecount;
     for (int i = 0; i < nd->numfaces; i++) {
         int fi = nd->firstface + i;
@@ -542,8 +542,8 @@ static void layout(ew_renderer *r, struct ew_front_par *fp) {
             ew_walk_see_add(r, l->face, key + l->key, l->kind, l->alpha);
         }
         key += s->nkeys;
-        r->stats.visible_leaves += s->visible_leaves;
-        r->stats.dropped += s->dropped;
+        r->f.stats.visible_leaves += s->visible_leaves;
+        r->f.stats.dropped += s->dropped;
     }
     fp->nfaces = nf, fp->nchunks = c;
 }
@@ -580,7 +580,7 @@ static inline const float *face_point(const ew_world *w, const ew_face *f, float
 static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int may_skip) {
     pface *pf = &fp->faces[p];
     pedge *out = fp->pedges + pf->pe;
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_face *f = &w->faces[pf->face];
     int n = f->numedges;
     pf->m = -1;
@@ -596,17 +596,17 @@ static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int ma
     if (pf->clipflags) {
         ew_face_points(w, f, in);
         for (int i = 0; i < n; i++) tin[i] = i;
-        m = ew_clip_poly(&r->view, pf->clipflags, in, n, cl, tin, tout);
+        m = ew_clip_poly(&r->f.view, pf->clipflags, in, n, cl, tin, tout);
         if (m < 3) return;
     }
     if (fp->occ) {
         /* Every point, for the coverage map (the cull phase), kept. */
         for (int i = 0; i < m; i++) {
-            ew_project(&r->view, face_point(w, f, cl, pf->clipflags, i), &pj[i]);
+            ew_project(&r->f.view, face_point(w, f, cl, pf->clipflags, i), &pj[i]);
             fp->pts[pf->pe + i] = pj[i];
         }
         memset(valid, 1, (size_t)m);
-        fp->boxes[p] = ew_occ_box_of(&r->occ, pj, m, r->target.width, r->target.height);
+        fp->boxes[p] = ew_occ_box_of(&r->occ, pj, m, r->f.target.width, r->f.target.height);
     } else {
         /* Vertices projected as the edges that are set up need them. */
         memset(valid, 0, (size_t)m);
@@ -621,8 +621,8 @@ static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int ma
             out[i].se = se, out[i].crosses = 0, out[i].skipped = 1;
             continue;
         }
-        if (!valid[i]) ew_project(&r->view, face_point(w, f, cl, pf->clipflags, i), &pj[i]), valid[i] = 1;
-        if (!valid[j]) ew_project(&r->view, face_point(w, f, cl, pf->clipflags, j), &pj[j]), valid[j] = 1;
+        if (!valid[i]) ew_project(&r->f.view, face_point(w, f, cl, pf->clipflags, i), &pj[i]), valid[i] = 1;
+        if (!valid[j]) ew_project(&r->f.view, face_point(w, f, cl, pf->clipflags, j), &pj[j]), valid[j] = 1;
         set_pedge(&out[i], &pj[i], &pj[j], se);
     }
     pf->m = m;
@@ -778,7 +778,7 @@ static void frag_sink(void *ctx, float (*p)[3], int n, int face, const ew_view *
     }
     ew_proj pj[EW_MAX_POLY];
     float nearzi;
-    int m = ew_poly_project(&r->view, p, n, pj, &nearzi);
+    int m = ew_poly_project(&r->f.view, p, n, pj, &nearzi);
     if (m < 3) return;
     if (!grow((void **)&a->edges, &a->cap_edges, a->nedges + m, sizeof(pedge))) {
         a->failed = 1;
@@ -820,7 +820,7 @@ static int staged_chunks(const struct ew_front_par *fp) { return fp->direct ? 0 
 static int add_prepared(ew_renderer *r, const pedge *p, int s) {
     if (!p->crosses) return -1;
     if (r->el.nedges >= r->el.max_edges) {
-        r->stats.dropped++;
+        r->f.stats.dropped++;
         return -1;
     }
     r->el.edges[r->el.nedges] = p->e;
@@ -829,16 +829,16 @@ static int add_prepared(ew_renderer *r, const pedge *p, int s) {
 
 /* ew_emit_face's decisions one face at a time, with its limits. */
 static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe, int hidden) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_face *f = &w->faces[pf->face];
     int n = f->numedges;
     if (r->el.nsurfs >= r->el.max_surfs || n > EW_MAX_POLY - 8 || r->el.nedges + n + 4 > r->el.max_edges) {
-        r->stats.dropped++;
+        r->f.stats.dropped++;
         return;
     }
     if (pf->m < 0) return;
     if (hidden) {
-        r->stats.faces_occluded++;
+        r->f.stats.faces_occluded++;
         return;
     }
     int s = r->el.nsurfs;
@@ -875,16 +875,16 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
     /* No face would meet ew_emit_face's limits, nor a fragment
      * ew_emit_poly's: the same list. */
     if (!failed && s <= r->el.max_surfs && (long)e + EW_MAX_POLY <= r->el.max_edges) {
-        r->stats.edges_cached += cached;
-        r->stats.dropped += dropped;
-        r->stats.faces_occluded += (int)occluded;
-        r->stats.entities_culled += fp->bculled;
+        r->f.stats.edges_cached += cached;
+        r->f.stats.dropped += dropped;
+        r->f.stats.faces_occluded += (int)occluded;
+        r->f.stats.entities_culled += fp->bculled;
         for (int i = 0; i < fp->nbitems; i++) {
             const bres *b = &fp->bres[i];
             const arena *a = &fp->arenas[b->arena];
-            r->stats.dropped += b->dropped;
-            if (b->drawn) r->stats.entities_drawn++;
-            else r->stats.entities_culled++;
+            r->f.stats.dropped += b->dropped;
+            if (b->drawn) r->f.stats.entities_drawn++;
+            else r->f.stats.entities_culled++;
             for (int k = b->f0; k < b->f0 + b->nf; k++) {
                 const pfrag *fr = &a->frags[k];
                 if (!ew_see_to_hsr(r, fr->kind))
@@ -939,7 +939,7 @@ static void write_brush(ew_renderer *r, struct ew_front_par *fp, int i) {
             ed->surfs[0] = (uint16_t)(pe->down ? s : 0);
             ed->surfs[1] = (uint16_t)(pe->down ? 0 : s);
         }
-        ew_surf_set_fragment(r->world, &r->el.surfs[s++], fr->face, fr->key, fr->nearzi, fr->view);
+        ew_surf_set_fragment(r->f.world, &r->el.surfs[s++], fr->face, fr->key, fr->nearzi, fr->view);
     }
 }
 
@@ -1055,7 +1055,7 @@ static void job_front(void *ctx, int thread) {
     r->marks.vis_pending = 0;
     t = ew_now_ms();
     fp->nsegs = fp->ntree = fp->nnode = 0;
-    int head = r->world->models[0].headnode;
+    int head = r->f.world->models[0].headnode;
     if (fp->head_root) add_seg(fp, SEG_TREE, head, 15, 0, 0);
     else top_walk(r, fp, head, 15, 0);
     ser += ew_now_ms() - t;
@@ -1093,10 +1093,10 @@ static void job_front(void *ctx, int thread) {
 int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread),
                            double serial_ms[2]) {
     /* One thread walks the tree in one loop unless the phases are asked for. */
-    if ((r->sched.nthreads == 1 && !r->cfg.front_phases) ||
-        r->cfg.hsr->face != ew_emit_face || r->cfg.hsr->poly != ew_emit_poly || r->fpar_bad)
+    if ((r->sched.nthreads == 1 && !r->f.cfg.front_phases) ||
+        r->f.cfg.hsr->face != ew_emit_face || r->f.cfg.hsr->poly != ew_emit_poly || r->fpar_bad)
         return -1;
-    if (!r->fpar && !(r->fpar = front_par_new(r->world))) {
+    if (!r->fpar && !(r->fpar = front_par_new(r->f.world))) {
         r->fpar_bad = 1;  /* an irregular tree (or no memory): the serial front end from now on */
         return -1;
     }
@@ -1112,9 +1112,9 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     }
     const int frame = r->marks.framecount;
     if (frame < fp->last_frame) {  /* the frame number wrapped: forget the old marks */
-        for (int i = 0; i <= r->world->numedges; i++)
+        for (int i = 0; i <= r->f.world->numedges; i++)
             for (int k = 0; k < 2; k++) atomic_store_explicit(&fp->eside[i][k].frame, 0, memory_order_relaxed);
-        for (int i = 0; i <= r->world->numfaces; i++) atomic_store_explicit(&fp->topmark[i], 0, memory_order_relaxed);
+        for (int i = 0; i <= r->f.world->numfaces; i++) atomic_store_explicit(&fp->topmark[i], 0, memory_order_relaxed);
     }
     fp->last_frame = frame;
     fp->tail = tail, fp->tail_arg = arg, fp->then = then;
@@ -1132,6 +1132,6 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     front_run run = {r, {0, 0}};
     ew_pool_run(r->sched.pool, job_front, &run);
     serial_ms[0] = run.serial_ms[0], serial_ms[1] = run.serial_ms[1];
-    for (int k = 1; k < NPHASES; k++) r->stats.ms_front_items += fp->longest[k];
+    for (int k = 1; k < NPHASES; k++) r->f.stats.ms_front_items += fp->longest[k];
     return 0;
 }

@@ -41,9 +41,9 @@ void ew_pvs_finish(ew_renderer *r) {
 static void list_leaf(ew_renderer *r, int leaf) { r->marks.vis[r->marks.nvis++] = leaf; }
 
 int ew_pvs_mark(ew_renderer *r) {
-    const ew_world *w = r->world;
+    const ew_world *w = r->f.world;
     const ew_model *m = &w->models[0];
-    int leaf = ew_point_leaf(w, m->headnode, r->view.origin);
+    int leaf = ew_point_leaf(w, m->headnode, r->f.view.origin);
     /* Locked (ew_set_pvs_lock): the PVS of the leaf the lock kept. */
     int eye = leaf;
     r->dbg.last_leaf = eye;

@@ -3,17 +3,8 @@
 #ifndef EW_WORLD_VIEW_H
 #define EW_WORLD_VIEW_H
 
-#include "ew_world.h"
+#include "frame.h"
 
-typedef struct ew_view {
-    float origin[3];
-    float forward[3], right[3], up[3];
-    float xcenter, ycenter;   /* pixel centres are integers */
-    float xscale, yscale;     /* pixels per unit of x/z, y/z */
-    ew_plane frustum[4];      /* world space, normals point inward */
-    int   width, height;
-    double time;
-} ew_view;
 
 void ew_view_setup(ew_view *v, const ew_camera *cam, int width, int height);
 /* Forward, right and up of Quake angles (pitch yaw roll, degrees). */
