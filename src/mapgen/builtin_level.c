@@ -27,25 +27,6 @@
 
 enum { NX = 64, NY = 50, NZ = 22 };
 
-/* floor (top of the cell), sides, ceiling (underside) */
-static const uint8_t material_tex[BI_NUM_MATERIALS][3] = {
-    [BI_M_BRICK] = {BI_T_FLOOR, BI_T_BRICK, BI_T_WOOD},
-    [BI_M_STONE] = {BI_T_STONE, BI_T_STONE, BI_T_STONE},
-    [BI_M_METAL] = {BI_T_METAL, BI_T_METAL, BI_T_METAL},
-    [BI_M_WOOD] = {BI_T_WOOD, BI_T_WOOD, BI_T_WOOD},
-    [BI_M_PLATFORM] = {BI_T_WOOD, BI_T_METAL, BI_T_METAL},
-    [BI_M_BUTTON] = {BI_T_METAL, BI_T_BUTTON0, BI_T_METAL},
-    [BI_M_TILE] = {BI_T_FLOOR, BI_T_STONE, BI_T_STONE},
-};
-
-int bi_face_texture(int self_kind, int other_kind, int other_mat, int facing) {
-    if (other_kind == BI_SKY) return BI_T_SKY;
-    /* the water surface, seen from above or below */
-    if (other_kind == BI_WATER || (self_kind == BI_WATER && other_kind == BI_EMPTY)) return BI_T_WATER;
-    int part = facing == 4 ? 0 : facing == 5 ? 2 : 1;
-    return material_tex[other_mat][part];
-}
-
 static void fill(bi_grid *g, int x0, int y0, int z0, int x1, int y1, int z1, int kind, int mat) {
     for (int z = z0; z < z1; z++)
         for (int y = y0; y < y1; y++)

@@ -395,3 +395,24 @@ int bi_write_textures(const uint8_t pal[768], bi_buf *lump) {
     }
     return lump->failed ? -1 : 0;
 }
+
+/* The texture of a face of a cell of kind self_kind looking into a cell of
+ * kind other_kind and material other_mat (the BSP writer asks per face). */
+/* per material: floor (top of the cell), sides, ceiling (underside) */
+static const uint8_t material_tex[BI_NUM_MATERIALS][3] = {
+    [BI_M_BRICK] = {BI_T_FLOOR, BI_T_BRICK, BI_T_WOOD},
+    [BI_M_STONE] = {BI_T_STONE, BI_T_STONE, BI_T_STONE},
+    [BI_M_METAL] = {BI_T_METAL, BI_T_METAL, BI_T_METAL},
+    [BI_M_WOOD] = {BI_T_WOOD, BI_T_WOOD, BI_T_WOOD},
+    [BI_M_PLATFORM] = {BI_T_WOOD, BI_T_METAL, BI_T_METAL},
+    [BI_M_BUTTON] = {BI_T_METAL, BI_T_BUTTON0, BI_T_METAL},
+    [BI_M_TILE] = {BI_T_FLOOR, BI_T_STONE, BI_T_STONE},
+};
+
+int bi_face_texture(int self_kind, int other_kind, int other_mat, int facing) {
+    if (other_kind == BI_SKY) return BI_T_SKY;
+    /* the water surface, seen from above or below */
+    if (other_kind == BI_WATER || (self_kind == BI_WATER && other_kind == BI_EMPTY)) return BI_T_WATER;
+    int part = facing == 4 ? 0 : facing == 5 ? 2 : 1;
+    return material_tex[other_mat][part];
+}
