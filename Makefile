@@ -12,8 +12,8 @@ build:
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # Installs the command, the headers, libedgewise.a and libedgewise.so,
-# edgewise.pc, the man page and the bash completion under PREFIX (README
-# "Use it as a library"); DESTDIR=... stages it for packaging.
+# edgewise.pc, the man page and the bash completion under PREFIX
+# (docs/library.md); DESTDIR=... stages it for packaging.
 PREFIX ?= /usr/local
 install:
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
@@ -24,7 +24,7 @@ install:
 demo: build
 	./$(BUILD)/edgewise demo --out demo.png --stats
 
-# The standard benchmark (bench/README.md): the maps of BENCHMARK.md at three
+# The standard benchmark (docs/performance.md): the maps of BENCHMARK.md at three
 # sizes, one thread and all cores.  Written to a temporary file first so an
 # interrupted run leaves the previous LATEST.jsonl intact.
 EW_DATA     ?= ../shared/data/librequake
