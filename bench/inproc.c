@@ -23,7 +23,7 @@
  * lost in the frame's noise; --per-view prints each view's two medians.
  *
  * Built with EW_INPROC_OLD, side A is instead a revision from before these
- * public calls (cde885f, which Speed II measures against), reached through
+ * public calls (cde885f, the many-core work's baseline), reached through
  * bench/inproc_old.c built against that revision's header; --classic then
  * goes to side B only (the old revision's one look was the classic one).
  *

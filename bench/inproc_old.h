@@ -1,6 +1,6 @@
 /* bench/inproc_old.h: side A of bench/inproc.c for a revision from before
  * the public calls inproc.c makes (ew_assets_create, ew_set_classic), such
- * as cde885f, the revision Speed II measures against.  bench/inproc_old.c
+ * as cde885f, the many-core work's baseline.  bench/inproc_old.c
  * is built against that revision's own header and library; only the plain
  * C types below cross between the two. */
 #ifndef EW_INPROC_OLD_H

@@ -8,14 +8,14 @@
  *
  * Per map, size and thread count: load the map, render the whole view set
  * once (warm-up), then P more times, timing each ew_render call with the
- * monotonic clock.  One JSON object per row (bench/README.md lists every
+ * monotonic clock.  One JSON object per row (docs/performance.md lists every
  * field).  Each row also carries this machine's "fill floor" for its size:
  * the time to texture every pixel once with the cheapest loop there is, so
  * a figure can be read as "N times the cost of touching every pixel".
  * Each row reports the frame's serial time (outside the parallel sections)
  * and, with --bands N, the imbalance of N bands cut from the one-thread
  * frame's per-row costs and the speed-up Amdahl's law then predicts on N
- * cores (bench/README.md, "Speed II").
+ * cores (docs/performance.md, "Threads").
  *
  * A benchmark is read, never asserted on: nothing here fails on a time.
  */
@@ -54,7 +54,7 @@ static const char bench_usage[] =
     "\n"
     "Runs the benchmark protocol of BENCHMARK.md: per map, size and thread\n"
     "count, one warm-up pass over the view set, then P timed passes.  Prints\n"
-    "one JSON object per row (fields: bench/README.md).\n"
+    "one JSON object per row (fields: docs/performance.md).\n"
     "\n"
     "options:\n"
     "  --data DIR        game directory (maps/, gfx/)\n"

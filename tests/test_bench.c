@@ -120,10 +120,7 @@ static void check_bands(const char *what, const char *line, const int *bands, in
 
 static void test_start(void) {
     const char *rel = "data/librequake/maps/start.bsp";
-    if (!ew_t_have_shared(rel)) {
-        CHECK(0, "%s not found (set EW_SHARED)", ew_t_shared(rel));
-        return;
-    }
+    if (!ew_t_need_shared(rel)) return;
     /* The CLI runs in tmpdir: make the data path absolute. */
     char data[2048], cwd[512] = "";
     const char *shared = ew_t_shared("data/librequake");

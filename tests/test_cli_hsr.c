@@ -446,7 +446,7 @@ int main(void) {
     if (data)
         test_lab(data);
     else
-        fprintf(stderr, "skipped the lab on real maps: no ../shared/data/librequake\n");
+        ew_t_skip("the lab on real maps: %s not found (set EW_SHARED)", ew_t_shared("data/librequake"));
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", tmpdir);

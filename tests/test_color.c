@@ -703,10 +703,7 @@ static void test_settings(void) {
 }
 
 int main(void) {
-    if (!ew_t_have_shared("data/librequake/maps/start.lit")) {
-        fprintf(stderr, "../shared/data/librequake not found (set EW_SHARED)\n");
-        return 1;
-    }
+    if (!ew_t_need_shared("data/librequake/maps/start.lit")) return ew_t_finish();
     test_reference_true();
     test_white_like_8bit();
     test_equalities();

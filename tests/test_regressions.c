@@ -101,7 +101,9 @@ int main(void) {
     snprintf(root, sizeof root, "%s/tests/regress", src && *src ? src : ".");
     int ntargets, total = 0;
     char **targets = list_dir(root, &ntargets);
-    CHECK(targets != NULL || ntargets == 0, "cannot read %s", root);
+    /* No inputs is a failure, not a pass: the folder is part of the source. */
+    CHECK(targets != NULL && ntargets > 0, "no regression inputs: cannot read %s (EW_SOURCE=%s)", root,
+          src ? src : "unset");
 
     for (int t = 0; t < ntargets; t++) {
         if (!strcmp(targets[t], "fly_path")) {  /* through the command, not a fuzz target */
@@ -115,13 +117,14 @@ int main(void) {
         if (!fn) continue;
         if ((!strcmp(targets[t], "mdl") && !ew_fuzz_have_mdl) ||
             (!strcmp(targets[t], "spr") && !ew_fuzz_have_spr)) {
-            printf("%-8s skipped: loader not in this build\n", targets[t]);
+            ew_t_skip("%s: loader not in this build", targets[t]);
             continue;
         }
         char dir[1300];
         snprintf(dir, sizeof dir, "%s/%s", root, targets[t]);
         int n, accepted = 0;
         char **files = list_dir(dir, &n);
+        CHECK(n > 0, "%s: no inputs", dir);
         for (int i = 0; i < n; i++) {
             char path[2600];
             snprintf(path, sizeof path, "%s/%s", dir, files[i]);
@@ -144,6 +147,7 @@ int main(void) {
     }
     free_list(targets, ntargets);
     printf("%d regression inputs\n", total);
+    CHECK(total > 0, "no regression inputs under %s", root);
 
     /* The dlight NaN (render/dlight_nan_plane.bin): plane 0's normal is
      * (2.4e21, -1.4e37, 1), finite but not a direction, and the dynamic

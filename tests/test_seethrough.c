@@ -555,10 +555,7 @@ static void lqdm7_tests(ew_assets *a) {
 }
 
 int main(void) {
-    if (!ew_t_have_shared("data/librequake/maps/start.bsp")) {
-        fprintf(stderr, "../shared/data/librequake not found (set EW_SHARED)\n");
-        return 1;
-    }
+    if (!ew_t_need_shared("data/librequake/maps/start.bsp")) return ew_t_finish();
     g_ids0 = malloc(sizeof(int) * N), g_ids1 = malloc(sizeof(int) * N);
     g_a = malloc(N), g_b = malloc(N), g_c = malloc(N), g_d = malloc(N);
     const char *maps[] = {"start", "e2m1", "e4m1", "lqdm7"};

@@ -258,7 +258,7 @@ static void pak(const char *maps, const char *data) {
 /* One `edgewise shots` per map under GNU parallel, manifests merged with cat. */
 static void gnu_parallel(const char *maps) {
     if (system("parallel --version >/dev/null 2>&1") != 0) {
-        printf("skip: GNU parallel is not installed (Debian package 'parallel'), the split batch is not tested\n");
+        ew_t_skip("GNU parallel is not installed (Debian package 'parallel'), the split batch is not tested");
         return;
     }
     const char *cli = getenv("EW_CLI");
@@ -295,7 +295,7 @@ int main(void) {
         return 1;
     }
     bad_args();
-    if (ew_t_have_shared("data/librequake/maps/start.bsp")) {
+    if (ew_t_need_shared("data/librequake/maps/start.bsp")) {
         char maps[512], data[512];
         snprintf(maps, sizeof maps, "%s", ew_t_shared_abs("data/librequake/maps"));
         snprintf(data, sizeof data, "%s", ew_t_shared_abs("data/librequake"));
@@ -304,8 +304,6 @@ int main(void) {
         jobs(maps);
         pak(maps, data);
         gnu_parallel(maps);
-    } else {
-        printf("skip: ../shared/data/librequake not found, only the argument checks ran\n");
     }
     free(run_r);
     char cmd[400];

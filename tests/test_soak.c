@@ -86,12 +86,10 @@ int main(void) {
     }
     soak_ok("builtin", NULL);
     const char *data = ew_t_shared("data/librequake");
-    if (ew_t_have_shared("data/librequake/maps/start.bsp")) {
+    if (ew_t_need_shared("data/librequake/maps/start.bsp")) {
         soak_ok("start", data);
         soak_ok("e1m1", data);
         soak_painter_fog(data);
-    } else {
-        CHECK(0, "%s not found (set EW_SHARED)", data);
     }
 
     soak_fails((const char *const[]){"soak", "builtin", NULL}, 2, "--frames");

@@ -26,10 +26,7 @@ static void add(tally *t, double x, int v) {
 
 int main(void) {
     const char *maps[] = {"e1m1", "lqdm7", "start"};
-    if (!ew_t_have_shared("data/librequake/maps/e1m1.bsp")) {
-        fprintf(stderr, "../shared/data/librequake not found (set EW_SHARED)\n");
-        return 1;
-    }
+    if (!ew_t_need_shared("data/librequake/maps/e1m1.bsp")) return ew_t_finish();
     ew_error err;
     int *ref_ids = malloc(sizeof(int) * W * H), *ids = malloc(sizeof(int) * W * H);
     uint8_t *ref_px = malloc(W * H), *px16 = malloc(W * H), *px1 = malloc(W * H);

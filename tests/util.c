@@ -3,12 +3,13 @@
 
 #include <fcntl.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-int ew_t_passed, ew_t_failed;
+int ew_t_passed, ew_t_failed, ew_t_skipped;
 
 const char *ew_t_shared(const char *rel) {
     static char buf[4][1024];
@@ -20,6 +21,22 @@ const char *ew_t_shared(const char *rel) {
 }
 
 int ew_t_have_shared(const char *rel) { return access(ew_t_shared(rel), R_OK) == 0; }
+
+void ew_t_skip(const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    printf("SKIP: ");
+    vprintf(fmt, ap);
+    putchar('\n');
+    va_end(ap);
+    ew_t_skipped++;
+}
+
+int ew_t_need_shared(const char *rel) {
+    if (ew_t_have_shared(rel)) return 1;
+    ew_t_skip("%s not found (set EW_SHARED)", ew_t_shared(rel));
+    return 0;
+}
 
 const char *ew_t_shared_abs(const char *rel) {
     static char out[2048];
@@ -60,8 +77,8 @@ ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene, ew_camera *vi
 }
 
 int ew_t_finish(void) {
-    printf("%d passed, %d failed\n", ew_t_passed, ew_t_failed);
-    return ew_t_failed ? 1 : 0;
+    printf("%d passed, %d failed, %d skipped\n", ew_t_passed, ew_t_failed, ew_t_skipped);
+    return ew_t_failed ? 1 : ew_t_skipped ? 77 : 0;
 }
 
 void ew_t_slurp(const char *path, char *buf, size_t size) {

@@ -5,7 +5,7 @@
 #include "edgewise.h"
 #include <stdio.h>
 
-extern int ew_t_passed, ew_t_failed;
+extern int ew_t_passed, ew_t_failed, ew_t_skipped;
 
 /* EW_T_SANITIZED: 1 in a build under AddressSanitizer (gcc or clang), where
  * the slow tests check fewer views or rounds in the same way. */
@@ -37,6 +37,12 @@ extern int ew_t_passed, ew_t_failed;
 const char *ew_t_shared(const char *rel);
 /* 1 if ../shared/<rel> exists. */
 int ew_t_have_shared(const char *rel);
+/* Prints "SKIP: <why>" and counts a skip: the part of the test that could
+ * not run (a missing tool or data file).  ew_t_finish then exits 77, which
+ * ctest reports as skipped (SKIP_RETURN_CODE), unless a check failed. */
+void ew_t_skip(const char *fmt, ...);
+/* 1 if ../shared/<rel> exists; else 0 after an ew_t_skip naming it. */
+int ew_t_need_shared(const char *rel);
 /* ew_t_shared made absolute, for a command run in another folder; static buffer. */
 const char *ew_t_shared_abs(const char *rel);
 /* Loads ../shared/data/librequake/maps/NAME.bsp with its palette and
@@ -48,7 +54,8 @@ ew_assets *ew_t_load_map(const char *name);
  * (EW_MAX_VIEWS) its view set, *nviews of them (checked to be some); NULL
  * after a failed CHECK.  *scene may be NULL after a failed CHECK too. */
 ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene, ew_camera *views, int *nviews);
-/* Prints "N passed, N failed" and returns the process exit code. */
+/* Prints "N passed, N failed, N skipped" and returns the process exit
+ * code: 1 if a check failed, else 77 if anything was skipped, else 0. */
 int ew_t_finish(void);
 
 /* ---- running the edgewise command (EW_CLI, set by CMake) ---------------- */

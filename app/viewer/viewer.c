@@ -27,7 +27,7 @@ static const char view_usage[] =
     "usage: edgewise view MAP [options]\n"
     "\n"
     "A window in which MAP ('builtin' for the built-in scene) is rendered by\n"
-    "edgewise; see the README's viewer section for the keys and formats.\n"
+    "edgewise; see docs/viewer.md for the keys and formats.\n"
     "\n"
     "options:\n"
     "  --data DIR        game directory (maps/, gfx/)\n"
@@ -43,8 +43,8 @@ static const char view_usage[] =
     "  --quiet           no warning lines about the map's optional data\n"
     "drawing options (as render):\n";
 
-/* How finished frames reach the window (README "view"): the window's own
- * surface (the frame converted straight into its pixel format, scaled in
+/* How finished frames reach the window (docs/viewer.md, "Presenting"):
+ * the window's own surface (the frame converted straight into its pixel format, scaled in
  * the same pass, shown with SDL_UpdateWindowSurface: on X11 a shared-memory
  * put image), a streaming texture of the default (accelerated) SDL
  * renderer scaled by the GPU, or the same through SDL's software

@@ -89,10 +89,8 @@ int  bi_write_textures(const uint8_t palette[768], bi_buf *lump);
 int  bi_texture_is_special(int tex);  /* sky and liquids: no light map */
 void bi_texture_size(int tex, int *w, int *h);
 /* Deterministic noise for procedural images: value noise summed over
- * octaves on a lattice of period cells, tiling (u, v) in [0,1); and a hash
- * of a lattice point to [0,1). */
+ * octaves on a lattice of period cells, tiling (u, v) in [0,1). */
 double bi_fbm(double u, double v, int period, int octaves, uint32_t seed);
-double bi_rnd01(uint32_t x, uint32_t y, uint32_t seed);
 
 /* light_bake.c: light and visibility.
  * Line of sight through the grid: walks the cells the segment a->b passes

@@ -136,7 +136,6 @@ static uint8_t px(int ramp, double shade) {
 double bi_fbm(double u, double v, int period, int octaves, uint32_t seed) {
     return fbm(u, v, period, octaves, seed);
 }
-double bi_rnd01(uint32_t x, uint32_t y, uint32_t seed) { return rnd01(x, y, seed); }
 uint8_t bi_px(int ramp, double shade) { return px(ramp, shade); }
 
 /* ---- the textures ----------------------------------------------------------- */

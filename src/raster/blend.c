@@ -82,10 +82,6 @@ static int build_cube(ew_blend *b, int with_hue) {
 
 const uint8_t *ew_blend_cube(ew_blend *b) { return build_cube(b, 1) < 0 ? NULL : b->nearest; }
 
-uint8_t ew_blend_nearest(const ew_blend *b, int r, int g, int bl) {
-    return (uint8_t)nearest_exact(b->palette, r, g, bl);
-}
-
 int ew_blend_level(float alpha) {
     int l = (int)lrintf(alpha * EW_BLEND_LEVELS);
     return l < 1 ? 1 : l > EW_BLEND_LEVELS ? EW_BLEND_LEVELS : l;

@@ -49,8 +49,6 @@ static inline int ew_blend_at(const ew_blend *b, int r, int g, int bl) {
  * times the weighted distance, in integers. */
 #define EW_HUE_WEIGHT 2
 #define EW_HUE_DIST(d2, sum) (3 * EW_HUE_WEIGHT * (d2) - (EW_HUE_WEIGHT - 1) * (sum) * (sum))
-/* The nearest non-fullbright palette colour to (r, g, b), 0..255 each. */
-uint8_t ew_blend_nearest(const ew_blend *b, int r, int g, int bl);
 /* The alpha level of an opacity in (0, 1]: 1..EW_BLEND_LEVELS. */
 int  ew_blend_level(float alpha);
 /* The table of level (src over dst at level / EW_BLEND_LEVELS): built if

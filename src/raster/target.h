@@ -1,10 +1,9 @@
 /* The frame target (internal): where a frame's pixels and 1/z go.
  *
  * Every drawer writes through an ew_target: a row starts at
- * pixels + y * pitch, a pixel is bpp bytes.  Only the per-pixel store below
- * and the lit-surface texel differ by depth; 8-bit palette indices are the
- * only format today, a 32-bit writer is the second one the colour work adds
- * here (see docs/architecture.md). */
+ * pixels + y * pitch, a pixel is bpp bytes: 1 for 8-bit palette indices,
+ * 4 for true colour.  Only the per-pixel store below and the lit-surface
+ * texel differ by depth (see docs/architecture.md). */
 #ifndef EW_RASTER_TARGET_H
 #define EW_RASTER_TARGET_H
 
@@ -23,8 +22,6 @@ static inline uint8_t *ew_target_at(const ew_target *t, int x, int y) {
 static inline float *ew_target_z(const ew_target *t, int x, int y) {
     return t->zbuf + (size_t)y * (size_t)t->width + (size_t)x;
 }
-/* The per-pixel store of the 8-bit writer. */
-static inline void ew_put8(uint8_t *dst, uint8_t index) { *dst = index; }
 /* The two pixel writers: palette index c into pixel x of a row, through a
  * table of 4-byte pixels in true colour (the target's, or a model's tinted one). */
 static inline void ew_put_via(int bpp, const uint32_t *rgba, uint8_t *row, int x, uint8_t c) {
