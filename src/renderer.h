@@ -19,6 +19,7 @@
 #include "hsr/hsr.h"
 #include "light/light.h"
 #include "light/twopass.h"
+#include "output/gamma.h"
 #include "pool.h"
 #include "raster/blend.h"
 #include "raster/debug.h"
@@ -149,12 +150,6 @@ struct ew_renderer {
     int         fpar_bad;                        /* its plan failed (an irregular tree): the serial front end */
     ew_occlusion occ;                            /* faces nearer faces hide (world/occlude.c) */
 };
-
-/* output/gamma.c: the table of a channel through gamma g (out = 255 *
- * (in / 255) ^ (1 / g)); the gamma applied to n 32-bit pixels in place
- * (R, G, B through lut, A kept). */
-void ew_gamma_table(float g, uint8_t lut[256]);
-void ew_gamma_pixels(uint32_t *px, size_t n, const uint8_t lut[256]);
 
 /* bands.c: the frame's cost to draw per row (cost[0..height-1]; cost[height]
  * is scratch), from the scan's spans and the posed models, for placing the
