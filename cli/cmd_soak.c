@@ -325,8 +325,7 @@ static void print_findings(FILE *out, const char *key, const findings *f) {
 static int budget_full(const ew_renderer *r) {
     if (r->el.nsurfs >= r->el.max_surfs || r->el.nedges + EW_MAX_POLY + 4 > r->el.max_edges) return 1;
     for (int i = 0; i < r->sched.nbands; i++)
-        if (r->sched.bands[i].nspans >= r->sched.bands[i].max_spans || r->sched.bands[i].naet >= r->sched.bands[i].max_aet)
-            return 1;
+        if (ew_band_budget_full(&r->sched.bands[i])) return 1;
     return 0;
 }
 

@@ -97,35 +97,21 @@ typedef struct ew_span {
     int32_t surf;        /* the surface it belongs to */
 } ew_span;
 
-typedef struct ew_active {
-    int32_t  u, u_step, v_last;
-    uint16_t surfs[2];
-} ew_active;
-
-/* One surface's place in a band's surface stack (the edge list's scans):
- * its neighbours, its count of edges entered less left, and where its
- * current span began.  Together, so that one cache line and one base
- * register serve all four. */
-typedef struct ew_stack_entry {
-    int32_t next, prev, state, lastu;
-} ew_stack_entry;
-
-/* One horizontal band [y0, y1): its scan state, its spans, and what its
- * draw job counted.  Aligned so neighbouring bands' counters, written by
+/* One horizontal band [y0, y1): its spans, the method's state, and what
+ * its draw job counted.  Aligned so neighbouring bands' counters, written by
  * different threads, never share a cache line. */
 struct ew_band {
     _Alignas(64) int y0, y1;
-    ew_stack_entry *stack;          /* indexed by surface number; 0 is the background */
     uint8_t *has_spans;             /* per surface: won a span in this band */
     ew_span *spans;  int nspans, cap_spans, max_spans;
     int unsorted;                   /* a row's spans may overlap or run out of order (see above) */
     long counters[EW_HSR_COUNTERS]; /* the method's own counts in this band (zeroed before resolve) */
     uint8_t *rowmark;               /* width bytes of scratch (accounting unsorted rows), or NULL */
     void *scratch;  size_t scratch_bytes;  /* the method's own per-band memory (ew_band_scratch) */
-    ew_active *aet;  int naet, cap_aet, max_aet;
-    ew_active *aet_tmp;  int cap_tmp;  /* the band start's merge sort */
-    int32_t *st_neg;  int cap_neg;  /* >= cap_aet entries (the edge list's scan): counts gone below zero on a line */
-    int32_t *st_fix;                /* as many: the stepped edges that may be out of order for the next line */
+    /* The method's own band state (the edge scan's: hsr/active.h), made by
+     * the method on first use and freed with the band through own_free,
+     * which also says whose it is. */
+    void *own;  void (*own_free)(void *own);
     int dropped;
     long written, covered;          /* world pixels its spans wrote, and covered at least once */
     double ms;                      /* its scan's time this frame */

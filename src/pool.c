@@ -10,7 +10,7 @@
  * at small frame sizes.  ew_pool_wake, called as a frame starts, has
  * sleeping workers poll through the serial front end. */
 #define _GNU_SOURCE  /* sched_getcpu, sched_setaffinity (Linux) */
-#include "renderer.h"
+#include "pool.h"
 #include "ew_util.h"
 
 #include <pthread.h>

@@ -18,6 +18,34 @@
 #define EW_MAX_W 7680
 #define EW_MAX_H 4320
 
+/* ---- what the hidden-surface method sees of the frame (hsr/hsr.h) ---- */
+
+static void hsr_emit_face(void *owner, int face, int clipflags, int key) { ew_emit_face(owner, face, clipflags, key); }
+static void hsr_emit_poly(void *owner, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
+    ew_emit_poly(owner, verts, n, fi, v, key);
+}
+/* A lit surface looked up, and built at once if new (the reference's
+ * polygons and see-through surfaces: serial). */
+static const uint8_t *hsr_lit_surface(void *owner, int face, int mip, int *width) {
+    ew_renderer *r = owner;
+    int build;
+    ew_cached_surf *e = ew_cache_lookup(r, face, mip, &build);
+    if (!e) return NULL;
+    if (build) ew_cache_build(r, e, r->lit.blocklights);
+    *width = e->width;
+    return e->pixels;
+}
+/* Filled once a frame, before the method's begin (and once at creation). */
+static void hsr_ctx_setup(ew_renderer *r) {
+    ew_hsr_ctx *c = &r->hsr;
+    c->f = &r->f, c->el = &r->el;
+    c->bands = r->sched.bands, c->nbands = r->sched.nbands;
+    c->draw = &r->draw, c->tp = &r->lit.tp, c->see = &r->see;
+    c->debug = r->dbg.mode != 0;
+    c->owner = r;
+    c->emit_face = hsr_emit_face, c->emit_poly = hsr_emit_poly, c->lit_surface = hsr_lit_surface;
+}
+
 /* Checks desc and fills in its defaults; 0, or -1 with err set. */
 static int resolve_desc(const ew_renderer_desc *in, ew_renderer_desc *d, ew_error *err) {
     if (!in) return ew_fail(err, "renderer: no description");
@@ -160,6 +188,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
     r->lit.cache.bpp = r->f.target.bpp;
     ew_debug_init(r);
+    hsr_ctx_setup(r);
     return r;
 oom:
     ew_renderer_destroy(r);
@@ -214,7 +243,7 @@ int ew_set_threads(ew_renderer *r, int n) {
     r->sched.nthreads = n;
     r->sched.nbands = nb;
     for (int i = 0; i < nb; i++)
-        if (ew_band_init(&r->sched.bands[i], r->el.max_surfs, r->el.max_spans, r->el.max_edges) < 0) return -1;
+        if (ew_band_init(&r->sched.bands[i], r->el.max_surfs, r->el.max_spans) < 0) return -1;
     r->sched.bands_sized_for = 0;  /* no cost history for these bands yet */
     return n;
 }
@@ -227,7 +256,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free_bands(r);
     free(r->lit.surf_cache), free(r->lit.to_build), free(r->sched.row_cost);
     free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
-    free(r->lit.tp_faces), free(r->ref.poly_of);
+    free(r->lit.tp_faces);
     free(r->lit.surf_draw), free(r->lit.grad_list), free(r->lit.surf_state), free(r->lit.surf_mip);
     free(r->f.target.pixels), free(r->f.target.zbuf), free(r->f.face_ids);
     free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame), free(r->marks.vis);
@@ -239,8 +268,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->marks.vert_frame), free(r->marks.vert_proj);
     free(r->el.edges), free(r->el.row_first), free(r->el.by_row), free(r->el.by_row_last);
     free(r->el.surfs), free(r->lit.blocklights);
-    free(r->ref.polys), ew_ref_compose_free(r->ref.compose);
-    ew_spolys_free(r->spolys);
+    ew_hsr_ctx_free(&r->hsr);
     free(r->see.polys), free(r->see.order), free(r->warp_copy);
     ew_blend_free(&r->blend);
     ew_debug_free(r);
@@ -431,13 +459,15 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->draw.tp = &r->lit.tp;
     if (two_pass(r) && !r->lit.tp_faces) r->lit.tp_faces = malloc(sizeof *r->lit.tp_faces * (size_t)r->el.max_surfs);
     r->draw.tp_faces = r->lit.tp_faces;
-    r->f.cfg.hsr->begin(r);
+    hsr_ctx_setup(r);
+    r->f.cfg.hsr->begin(&r->hsr);
     r->see.n = 0;
     r->f.eye_contents = r->f.world->leaves[ew_pvs_mark(r)].contents;
-    /* Faces nearer faces hide are left out of the edge method's list only
-     * (the others it feeds count and draw every face), in auto where the
-     * PVS lets many leaves through (world/occlude.c). */
-    ew_occ_begin(&r->occ, r->f.cfg.hsr == &ew_hsr_edge &&
+    /* Faces nearer faces hide are left out of the list only for a method
+     * whose frame that leaves the same (the others it feeds count and draw
+     * every face), in auto where the PVS lets many leaves through
+     * (world/occlude.c). */
+    ew_occ_begin(&r->occ, (r->f.cfg.hsr->flags & EW_HSR_OCCLUSION) &&
                               (r->occ.mode == EW_OCCLUSION_ALWAYS || r->marks.nvis >= EW_OCC_AUTO_LEAVES));
     return 0;
 }
@@ -516,10 +546,8 @@ static void job_scan(void *ctx, int thread) {
     for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;) {
         double t0 = ew_now_ms();
         ew_band *b = &r->sched.bands[i];
-        b->dropped = 0;
-        b->unsorted = 0;
-        memset(b->counters, 0, sizeof b->counters);
-        r->f.cfg.hsr->resolve(r, b);
+        ew_band_reset(b);
+        r->f.cfg.hsr->resolve(&r->hsr, b);
         ew_zfill_index_band(&r->zf, b, i);
         account_spans(b, r->f.target.width);
         if (r->f.cfg.face_ids_on) record_face_ids(r, b);  /* before the passes, which may win pixels */
@@ -535,7 +563,7 @@ typedef struct front_tail_arg {
 static void front_tail(void *arg) {
     front_tail_arg *a = arg;
     a->t1 = ew_now_ms();
-    if (a->r->f.cfg.hsr->finish) a->r->f.cfg.hsr->finish(a->r);
+    if (a->r->f.cfg.hsr->finish) a->r->f.cfg.hsr->finish(&a->r->hsr);
     place_bands(a->r);
     atomic_store(&a->r->sched.next_band, 0);
     a->t_end = ew_now_ms();
@@ -834,7 +862,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
         st->fog_pixels += m->fog_pixels;
         models_ms += r->sched.items[i].model_ms;
     }
-    if (r->f.cfg.hsr->memory) st->hsr_bytes = (long)r->f.cfg.hsr->memory(r);
+    if (r->f.cfg.hsr->memory) st->hsr_bytes = (long)r->f.cfg.hsr->memory(&r->hsr);
     st->surface_cache_bytes = (long)r->lit.cache.bytes;
     st->overdraw = st->pixels_covered ? (double)st->pixels_written / st->pixels_covered : 0;
     /* Models are drawn inside the bands' draw step; ms_models is their
@@ -849,5 +877,23 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     st->ms_serial_begin = ser[0], st->ms_serial_walk = ser[1], st->ms_serial_brush = ser[2];
     st->ms_serial_prepare = ser[3], st->ms_serial_passes = ser[4];
     if (stats) *stats = *st;
+    return 0;
+}
+
+/* Renders the frame with the reference method (the moving things drawn
+ * over its z-buffer as over the edge list's), then copies it out. */
+int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, int *face_ids,
+                        ew_error *err) {
+    const ew_hsr *was = r->f.cfg.hsr;
+    r->f.cfg.hsr = &ew_hsr_reference;
+    r->hsr.ref_ids = face_ids;
+    int rc = ew_render(r, cam, NULL);
+    r->hsr.ref_ids = NULL;
+    r->f.cfg.hsr = was;
+    if (rc < 0) return ew_fail(err, "reference: bad camera");
+    if (pixels)  /* palette indices, or 4-byte pixels in true colour */
+        for (int y = 0; y < r->f.target.height; y++)
+            memcpy(pixels + (size_t)y * r->f.target.width * r->f.target.bpp, ew_target_at(&r->f.target, 0, y),
+                   (size_t)r->f.target.width * r->f.target.bpp);
     return 0;
 }

@@ -19,6 +19,7 @@
 #include "hsr/hsr.h"
 #include "light/light.h"
 #include "light/twopass.h"
+#include "output/gamma.h"
 #include "pool.h"
 #include "raster/blend.h"
 #include "raster/debug.h"
@@ -103,31 +104,6 @@ typedef struct ew_ents {
 } ew_ents;
 void ew_sprite_cache_free(struct ew_sprite_cache *c);
 
-/* See-through polygons of this frame (world/divert.c collects them from the
- * front end, raster/seethrough.c draws them): fences first, then the
- * translucent ones back to front. */
-enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
-typedef struct ew_see_poly {
-    ew_zpoly       p;           /* clipped and projected */
-    ew_zpoly_look  look;        /* its texels and how it is drawn */
-    int            face, key, kind;
-    float          alpha;
-} ew_see_poly;
-typedef struct ew_see {
-    ew_see_poly *polys; int n, cap;
-    int         *order;  int cap_order;  /* fences, then translucent far to near */
-    int          n_drawn, nfences;       /* in order[]: all, and the fences among them */
-} ew_see;
-
-/* The reference method's frame: the polygons it fills band by band. */
-typedef struct ew_ref_poly ew_ref_poly;
-typedef struct ew_ref {
-    ew_ref_poly *polys; int npolys, cap;
-    int         *ids;                            /* ew_render_reference's face ids, or NULL */
-    int         *poly_of;  size_t npoly_of;      /* two-pass lighting: each pixel's polygon */
-    struct ew_ref_compose *compose;              /* its own compositing (hsr/ref_compose.c) */
-} ew_ref;
-
 struct ew_renderer {
     ew_frame    f;                               /* the frame's shared state (frame.h) */
     ew_marks    marks;
@@ -136,8 +112,7 @@ struct ew_renderer {
     ew_zfill    zf;
     ew_lit      lit;
     ew_ents     ents;
-    ew_ref      ref;
-    struct ew_spolys *spolys;                    /* beamtree, raycast: surfaces' screen polygons (hsr/surf_poly.c) */
+    ew_hsr_ctx  hsr;                             /* what the hidden-surface method sees of the frame (hsr/hsr.h) */
     ew_see      see;
     ew_blend    blend;                           /* 8-bit blend, fog and tint tables */
     uint8_t    *warp_copy;                       /* the underwater warp's source frame and shifts */
@@ -149,12 +124,6 @@ struct ew_renderer {
     int         fpar_bad;                        /* its plan failed (an irregular tree): the serial front end */
     ew_occlusion occ;                            /* faces nearer faces hide (world/occlude.c) */
 };
-
-/* output/gamma.c: the table of a channel through gamma g (out = 255 *
- * (in / 255) ^ (1 / g)); the gamma applied to n 32-bit pixels in place
- * (R, G, B through lut, A kept). */
-void ew_gamma_table(float g, uint8_t lut[256]);
-void ew_gamma_pixels(uint32_t *px, size_t n, const uint8_t lut[256]);
 
 /* bands.c: the frame's cost to draw per row (cost[0..height-1]; cost[height]
  * is scratch), from the scan's spans and the posed models, for placing the

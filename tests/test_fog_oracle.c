@@ -178,7 +178,7 @@ static void methods(loaded *ls, ew_color_mode color) {
  * translucent passes, against its own compositing, where the sky shows. */
 static void old_reference(loaded *ls) {
     ew_hsr old = ew_hsr_reference;
-    old.fences = 1, old.own_compose = 0;
+    old.flags = (old.flags | EW_HSR_FENCES) & ~(unsigned)EW_HSR_OWN_COMPOSE;
     double worst = 0;
     char at[64] = "";
     for (int m = 0; m < NMAPS; m++) {

@@ -164,7 +164,8 @@ static void check_map(const char *map) {
         const row *rw = &rows[m];
         if (!rw->views) continue;
         const ew_hsr *h = ew_hsr_get(m);
-        CHECK(h->exact_once == exact_once_expected(m), "%s: exact_once %d", h->name, h->exact_once);
+        CHECK(!!(h->flags & EW_HSR_EXACT_ONCE) == exact_once_expected(m), "%s: EW_HSR_EXACT_ONCE %d", h->name,
+              !!(h->flags & EW_HSR_EXACT_ONCE));
         if (m == EW_HSR_EDGE_Z) {
             int k = counter_index(m, "1/z comparisons");
             CHECK(k >= 0 && rw->counters[k] >= rw->views, "%s edge-z: %ld 1/z comparisons over %d views", map,
@@ -346,10 +347,10 @@ static long synth_resolve(ew_renderer *r, int h, const int *want, long counters[
     ew_band b;
     memset(&b, 0, sizeof b);
     long bad = -1;
-    if (ew_band_init(&b, r->el.max_surfs, r->el.max_spans, r->el.max_edges) == 0) {
+    if (ew_band_init(&b, r->el.max_surfs, r->el.max_spans) == 0) {
         b.y0 = 0, b.y1 = h;
-        ew_hsr_get(EW_HSR_EDGE_Z)->finish(r);
-        ew_hsr_get(EW_HSR_EDGE_Z)->resolve(r, &b);
+        ew_hsr_get(EW_HSR_EDGE_Z)->finish(&r->hsr);
+        ew_hsr_get(EW_HSR_EDGE_Z)->resolve(&r->hsr, &b);
         memcpy(counters, b.counters, sizeof b.counters);
         bad = 0;
         int row = -1, end = 0, tiled = 1;

@@ -1,5 +1,5 @@
-/* The active edge table's order, shared by the edge list's scans (hsr/edge_scan.c,
- * hsr/edge_z.c): by u; at equal u the edge heading left first, then edges
+/* The edge list's scans' band state (hsr/edge_scan.c, hsr/edge_z.c), and
+ * the active edge table's order they share: by u; at equal u the edge heading left first, then edges
  * that only lead before edges that trail, so a sliver's leading edge comes
  * before its trailing edge. */
 #ifndef EW_HSR_ACTIVE_H
@@ -8,6 +8,70 @@
 #include "hsr/hsr.h"
 
 #include <string.h>
+
+/* An edge alive on the current line of a scan. */
+typedef struct ew_active {
+    int32_t  u, u_step, v_last;
+    uint16_t surfs[2];
+} ew_active;
+
+/* One surface's place in a band's surface stack (the edge list's scans):
+ * its neighbours, its count of edges entered less left, and where its
+ * current span began.  Together, so that one cache line and one base
+ * register serve all four. */
+typedef struct ew_stack_entry {
+    int32_t next, prev, state, lastu;
+} ew_stack_entry;
+
+/* The edge list's scans' own state in a band (ew_band.own): the surface
+ * stack and the active edge table, which start small and grow on demand
+ * up to the budget. */
+typedef struct ew_edge_scan {
+    ew_stack_entry *stack;          /* indexed by surface number; 0 is the background (max_surfs) */
+    ew_active *aet;  int naet, cap_aet, max_aet;
+    ew_active *aet_tmp;  int cap_tmp;  /* the band start's merge sort */
+    int32_t *st_neg;  int cap_neg;  /* >= cap_aet entries (the edge list's scan): counts gone below zero on a line */
+    int32_t *st_fix;                /* as many: the stepped edges that may be out of order for the next line */
+} ew_edge_scan;
+
+/* The band's edge scan state, made on first use for el's budgets (the
+ * stack's counts all zero), or NULL when memory runs out. */
+ew_edge_scan *ew_edge_scan_of(ew_band *b, const ew_edge_list *el);
+/* Frees one (ew_band.own_free of a band whose own is an edge scan). */
+void ew_edge_scan_free(void *own);
+/* The band's active edges made those alive at its top row, sorted; then
+ * each row's new edges added, unsorted.  Edges past the table's capacity
+ * are counted in b->dropped. */
+void ew_edge_scan_start(const ew_edge_list *el, ew_edge_scan *s, ew_band *b);
+void ew_edge_scan_add_row(const ew_edge_list *el, ew_edge_scan *s, ew_band *b, int v);
+
+/* The spans a scan makes, held in locals (after inlining, registers) by
+ * its inner loop, since the stores of a span and its has_spans byte could
+ * alias the band's fields. */
+typedef struct ew_span_sink {
+    ew_span *spans;
+    int      n, cap;
+    uint8_t *has;
+} ew_span_sink;
+
+/* hsr/band.c: the band's spans doubled, at most to its budget; 0 if they were. */
+int ew_band_grow_spans(ew_band *b);
+
+/* A span of surf on row v from u0 to u1 (none if empty) into the band. */
+static inline void ew_sink_span(ew_band *b, ew_span_sink *o, int surf, int u0, int u1, int v) {
+    if (u1 <= u0) return;
+    if (o->n >= o->cap) {
+        b->nspans = o->n;
+        if (ew_band_grow_spans(b) < 0) {
+            b->dropped++;
+            return;
+        }
+        o->spans = b->spans, o->cap = b->cap_spans;
+    }
+    ew_span *sp = &o->spans[o->n++];
+    sp->u = u0, sp->v = v, sp->count = u1 - u0, sp->surf = surf;
+    o->has[surf] = 1;
+}
 
 /* Edge e entering the active table on line v. */
 static inline void ew_active_set(ew_active *a, const ew_edge *e, int v) {

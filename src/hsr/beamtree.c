@@ -340,15 +340,14 @@ static void raster_row(ew_band *b, int w, int y) {
     if (cur >= 0) ew_band_span(b, cur, cu0, cu1, y);
 }
 
-static void beam_begin(ew_renderer *r) { ew_spolys_begin(r); }
+static void beam_begin(ew_hsr_ctx *c) { ew_spolys_begin(c); }
 
-static void beam_resolve(ew_renderer *r, ew_band *b) {
-    const int w = r->f.target.width;
-    const ew_spolys *sp = r->spolys;
-    const ew_surf *surfs = r->el.surfs;
+static void beam_resolve(const ew_hsr_ctx *c, ew_band *b) {
+    const int w = c->f->target.width;
+    const ew_spolys *sp = c->spolys;
+    const ew_surf *surfs = c->el->surfs;
     b->nspans = 0;
-    b->naet = 0;
-    memset(b->has_spans, 0, (size_t)r->el.nsurfs);
+    memset(b->has_spans, 0, (size_t)c->el->nsurfs);
     bt_hdr *h = arena(b);
     if (!h || !sp || sp->failed) {  /* out of memory: the background alone, counted */
         b->dropped++;
@@ -403,10 +402,10 @@ static void beam_resolve(ew_renderer *r, ew_band *b) {
 
 /* The polygons, and what the bands' trees use of their scratch (another
  * method may have grown it further). */
-static size_t beam_memory(const ew_renderer *r) {
-    size_t n = ew_spolys_memory(r);
-    for (int i = 0; i < r->sched.nbands; i++) {
-        const ew_band *b = &r->sched.bands[i];
+static size_t beam_memory(const ew_hsr_ctx *c) {
+    size_t n = ew_spolys_memory(c);
+    for (int i = 0; i < c->nbands; i++) {
+        const ew_band *b = &c->bands[i];
         const bt_hdr *h = b->scratch_bytes >= sizeof(bt_hdr) ? b->scratch : NULL;
         if (h && h->magic == MAGIC) n += h->off[A_N - 1] + h->cap[A_N - 1] * elem[A_N - 1];
     }
@@ -414,6 +413,6 @@ static size_t beam_memory(const ew_renderer *r) {
 }
 
 const ew_hsr ew_hsr_beamtree = {
-    "beamtree", beam_begin, ew_spolys_face, ew_spolys_poly, beam_resolve, 0,
-    {"beam tree nodes", "fragments drawn", "polygons rejected", "polygons skipped by early out"},
-    1, beam_memory, NULL, 0};
+    "beamtree", EW_HSR_MAKES_SPANS | EW_HSR_EXACT_ONCE, beam_begin, ew_spolys_face, ew_spolys_poly, NULL,
+    beam_resolve, beam_memory,
+    {"beam tree nodes", "fragments drawn", "polygons rejected", "polygons skipped by early out"}};

@@ -9,19 +9,18 @@
  * The polygons, their order and their pixels are the edge list's
  * (hsr/poly_rows.h). */
 #include "hsr/poly_rows.h"
-#include "renderer.h"
 
 #include <string.h>
 
 enum { C_BITS, C_SKIPPED, C_FILLED, C_SPANS };
 
-static void db_resolve(ew_renderer *r, ew_band *b) {
-    const int width = r->f.target.width, stride = (width + 7) / 8;
+static void db_resolve(const ew_hsr_ctx *ctx, ew_band *b) {
+    const int width = ctx->f->target.width, stride = (width + 7) / 8;
     ew_poly_rows pr;
     /* The rows are resolved one after another: one row of bits is all the
      * buffer ever needs. */
     size_t pieces_at = ((size_t)stride + 15) & ~(size_t)15;
-    uint8_t *row = ew_poly_rows_begin(&pr, r, b, pieces_at + sizeof(ew_row_poly) * (size_t)(width + 1));
+    uint8_t *row = ew_poly_rows_begin(&pr, ctx, b, pieces_at + sizeof(ew_row_poly) * (size_t)(width + 1));
     if (!row) {
         ew_poly_rows_background(b, width);
         return;
@@ -66,8 +65,6 @@ static void db_resolve(ew_renderer *r, ew_band *b) {
     }
 }
 
-static size_t db_memory(const ew_renderer *r) { return ew_poly_rows_memory(r); }
-
-const ew_hsr ew_hsr_drawbuffer = {"drawbuffer", ew_edge_begin, ew_emit_face, ew_emit_poly, db_resolve, 0,
-                                  {"bits tested", "bytes skipped", "bytes filled", "polygon spans"}, 1,
-                                  db_memory, NULL, 0};
+const ew_hsr ew_hsr_drawbuffer = {"drawbuffer", EW_HSR_EDGE_LIST | EW_HSR_MAKES_SPANS | EW_HSR_EXACT_ONCE,
+                                  ew_edge_begin, ew_edge_face, ew_edge_poly, NULL, db_resolve, ew_poly_rows_memory,
+                                  {"bits tested", "bytes skipped", "bytes filled", "polygon spans"}};

@@ -5,31 +5,42 @@
  * surface; if it was on top, its span ends and the next one down resumes.
  * So every pixel of the band is emitted exactly once, for the nearest
  * surface, and surface 0 (the background, farthest of all) fills any gap. */
-#include "renderer.h"
 #include "hsr/active.h"
 
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Spans and active edges start small and grow on demand up to the budget,
- * so many bands cost little memory. */
-#define FIRST_SPANS 4096
+/* The active edges start small and grow on demand up to the budget, so
+ * many bands cost little memory. */
 #define FIRST_AET 1024
 
-int ew_band_init(ew_band *b, int max_surfs, int max_spans, int max_aet) {
-    b->stack = calloc(max_surfs, sizeof *b->stack);
-    b->has_spans = malloc((size_t)max_surfs);
-    b->cap_spans = max_spans < FIRST_SPANS ? max_spans : FIRST_SPANS;
-    b->cap_aet = max_aet < FIRST_AET ? max_aet : FIRST_AET;
-    b->spans = malloc(sizeof(ew_span) * b->cap_spans);
-    b->aet = malloc(sizeof(ew_active) * b->cap_aet);
-    b->st_neg = malloc(sizeof(int32_t) * b->cap_aet);
-    b->st_fix = malloc(sizeof(int32_t) * b->cap_aet);
-    b->cap_neg = b->st_neg && b->st_fix ? b->cap_aet : 0;
-    b->max_spans = max_spans;
-    b->max_aet = max_aet;
-    return b->stack && b->has_spans && b->spans && b->aet && b->st_neg && b->st_fix ? 0 : -1;
+void ew_edge_scan_free(void *own) {
+    ew_edge_scan *s = own;
+    if (!s) return;
+    free(s->stack), free(s->aet), free(s->aet_tmp), free(s->st_neg), free(s->st_fix);
+    free(s);
+}
+
+ew_edge_scan *ew_edge_scan_of(ew_band *b, const ew_edge_list *el) {
+    if (b->own_free == ew_edge_scan_free) return b->own;
+    if (b->own_free) b->own_free(b->own);  /* another method's */
+    b->own = NULL, b->own_free = NULL;
+    ew_edge_scan *s = calloc(1, sizeof *s);
+    if (!s) return NULL;
+    s->max_aet = el->max_edges;
+    s->cap_aet = s->max_aet < FIRST_AET ? s->max_aet : FIRST_AET;
+    s->stack = calloc((size_t)el->max_surfs, sizeof *s->stack);
+    s->aet = malloc(sizeof(ew_active) * (size_t)s->cap_aet);
+    s->st_neg = malloc(sizeof(int32_t) * (size_t)s->cap_aet);
+    s->st_fix = malloc(sizeof(int32_t) * (size_t)s->cap_aet);
+    s->cap_neg = s->st_neg && s->st_fix ? s->cap_aet : 0;
+    if (!s->stack || !s->aet || !s->st_neg || !s->st_fix) {
+        ew_edge_scan_free(s);
+        return NULL;
+    }
+    b->own = s, b->own_free = ew_edge_scan_free;
+    return s;
 }
 
 /* Doubles an array of *cap elements, at most to max; 0 if it could. */
@@ -40,21 +51,6 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
     if (!p) return -1;
     *arr = p, *cap = n;
     return 0;
-}
-
-void ew_band_free(ew_band *b) {
-    free(b->stack);
-    free(b->has_spans), free(b->spans), free(b->aet), free(b->aet_tmp), free(b->st_neg), free(b->st_fix);
-    free(b->rowmark), free(b->scratch);
-}
-
-void *ew_band_scratch(ew_band *b, size_t bytes) {
-    if (bytes <= b->scratch_bytes) return b->scratch;
-    void *p = realloc(b->scratch, bytes);
-    if (!p) return NULL;
-    memset((char *)p + b->scratch_bytes, 0, bytes - b->scratch_bytes);
-    b->scratch = p, b->scratch_bytes = bytes;
-    return p;
 }
 
 /* Is surface a in front of surface b at pixel (u, v)?  BSP order decides,
@@ -70,86 +66,54 @@ static inline int nearer(const ew_surf *a, const ew_surf *b, int u, int v) {
     return a->zi_u > b->zi_u;
 }
 
-/* A span of surf on row v from u0 to u1 (none if empty) into the band.
- * The scan's inner loop holds the band's span array, count and capacity
- * in locals (after inlining, registers), since the stores of a span and
- * its has_spans byte could alias the band's fields. */
-typedef struct span_sink {
-    ew_span *spans;
-    int      n, cap;
-    uint8_t *has;
-} span_sink;
-
-static inline void sink_span(ew_band *b, span_sink *o, int surf, int u0, int u1, int v) {
-    if (u1 <= u0) return;
-    if (o->n >= o->cap) {
-        b->nspans = o->n;
-        if (grow((void **)&b->spans, &b->cap_spans, b->max_spans, sizeof(ew_span)) < 0) {
-            b->dropped++;
-            return;
-        }
-        o->spans = b->spans, o->cap = b->cap_spans;
-    }
-    ew_span *sp = &o->spans[o->n++];
-    sp->u = u0, sp->v = v, sp->count = u1 - u0, sp->surf = surf;
-    o->has[surf] = 1;
-}
-
-/* A span for the other methods (one at a time, through the band's fields). */
-void ew_band_span(ew_band *b, int surf, int u0, int u1, int v) {
-    span_sink o = {b->spans, b->nspans, b->cap_spans, b->has_spans};
-    sink_span(b, &o, surf, u0, u1, v);
-    b->nspans = o.n;
-}
-
 /* st_neg and st_fix hold at least cap_aet entries, since a line has at most
  * as many counts going below zero, or edges out of order, as it has edges.
  * Another method may have grown aet on the same band (hsr/edge_z.c); if
  * they cannot follow, cap_aet comes down to them (aet itself stays as large
  * as it is).  realloc keeps st_fix's entries: they live from one line's
  * stepping to the next line's sort, and new edges may grow aet between. */
-static void fit_neg(ew_band *b) {
-    if (b->cap_neg >= b->cap_aet) return;
-    int32_t *neg = realloc(b->st_neg, sizeof(int32_t) * (size_t)b->cap_aet), *fix = NULL;
-    if (neg) b->st_neg = neg, fix = realloc(b->st_fix, sizeof(int32_t) * (size_t)b->cap_aet);
-    if (fix) b->st_fix = fix, b->cap_neg = b->cap_aet;
-    else b->cap_aet = b->cap_neg;
+static void fit_neg(ew_edge_scan *s) {
+    if (s->cap_neg >= s->cap_aet) return;
+    int32_t *neg = realloc(s->st_neg, sizeof(int32_t) * (size_t)s->cap_aet), *fix = NULL;
+    if (neg) s->st_neg = neg, fix = realloc(s->st_fix, sizeof(int32_t) * (size_t)s->cap_aet);
+    if (fix) s->st_fix = fix, s->cap_neg = s->cap_aet;
+    else s->cap_aet = s->cap_neg;
 }
 
-static void add_active(ew_band *b, const ew_edge *e, int v) {
-    if (b->naet >= b->cap_aet) {
-        if (grow((void **)&b->aet, &b->cap_aet, b->max_aet, sizeof(ew_active)) == 0) fit_neg(b);
-        if (b->naet >= b->cap_aet) {
+static void add_active(ew_edge_scan *s, ew_band *b, const ew_edge *e, int v) {
+    if (s->naet >= s->cap_aet) {
+        if (grow((void **)&s->aet, &s->cap_aet, s->max_aet, sizeof(ew_active)) == 0) fit_neg(s);
+        if (s->naet >= s->cap_aet) {
             b->dropped++;
             return;
         }
     }
-    ew_active_set(&b->aet[b->naet++], e, v);
+    ew_active_set(&s->aet[s->naet++], e, v);
 }
 
-void ew_band_start(const ew_edge_list *el, ew_band *b) {
+void ew_edge_scan_start(const ew_edge_list *el, ew_edge_scan *s, ew_band *b) {
     /* Only the rows above are visited, and the edges are sorted at once,
      * since the insertion sort of the first row would take time quadratic
      * in their number. */
-    b->naet = 0;
+    s->naet = 0;
     for (int k = 0, end = el->row_first[b->y0]; k < end; k++)
-        if (el->by_row_last[k] >= b->y0) add_active(b, &el->edges[el->by_row[k]], b->y0);
-    if (b->naet <= 1) return;
-    if (b->cap_tmp < b->naet) {
-        ew_active *t = realloc(b->aet_tmp, sizeof *t * (size_t)b->naet);
-        if (t) b->aet_tmp = t, b->cap_tmp = b->naet;
+        if (el->by_row_last[k] >= b->y0) add_active(s, b, &el->edges[el->by_row[k]], b->y0);
+    if (s->naet <= 1) return;
+    if (s->cap_tmp < s->naet) {
+        ew_active *t = realloc(s->aet_tmp, sizeof *t * (size_t)s->naet);
+        if (t) s->aet_tmp = t, s->cap_tmp = s->naet;
     }
-    if (b->cap_tmp >= b->naet)
-        ew_active_sort_any(b->aet, b->naet, b->aet_tmp);
+    if (s->cap_tmp >= s->naet)
+        ew_active_sort_any(s->aet, s->naet, s->aet_tmp);
     else  /* no memory for the merge: the same order, slower */
-        ew_active_sort(b->aet, b->naet);
+        ew_active_sort(s->aet, s->naet);
 }
 
-static inline void add_row(const ew_edge_list *el, ew_band *b, int v) {
+static inline void add_row(const ew_edge_list *el, ew_edge_scan *s, ew_band *b, int v) {
     for (int k = el->row_first[v], end = el->row_first[v + 1]; k < end; k++)
-        add_active(b, &el->edges[el->by_row[k]], v);
+        add_active(s, b, &el->edges[el->by_row[k]], v);
 }
-void ew_band_add_row(const ew_edge_list *el, ew_band *b, int v) { add_row(el, b, v); }
+void ew_edge_scan_add_row(const ew_edge_list *el, ew_edge_scan *s, ew_band *b, int v) { add_row(el, s, b, v); }
 
 /* The line's edges in order: a[0..nold) are last line's, stepped, nearly in
  * order already; a[nold..n) start on this line, in the order they were
@@ -187,32 +151,38 @@ static void sort_edges(ew_active *a, int nold, int n, const int32_t *fix, int nf
 
 void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
     const ew_surf *surfs = el->surfs;
-    ew_stack_entry *st = b->stack;
+    b->nspans = 0;
+    memset(b->has_spans, 0, (size_t)el->nsurfs);
+    ew_edge_scan *es = ew_edge_scan_of(b, el);
+    if (!es) {  /* out of memory: the band stays background */
+        b->dropped++;
+        for (int v = b->y0; v < b->y1; v++) ew_band_span(b, 0, 0, width, v);
+        return;
+    }
+    ew_stack_entry *st = es->stack;
 
     /* The stack's counts are all zero here: calloc'd, and each line ends by
      * clearing every count it left above or below zero. */
-    b->nspans = 0;
-    fit_neg(b);
-    memset(b->has_spans, 0, (size_t)el->nsurfs);
-    ew_band_start(el, b);
+    fit_neg(es);
+    ew_edge_scan_start(el, es, b);
 
     int nfix = 0;  /* sorted */
-    span_sink out = {b->spans, 0, b->cap_spans, b->has_spans};
+    ew_span_sink out = {b->spans, 0, b->cap_spans, b->has_spans};
     for (int v = b->y0; v < b->y1; v++) {
-        const int nold = b->naet;  /* last line's edges, stepped: nearly in order */
-        add_row(el, b, v);
+        const int nold = es->naet;  /* last line's edges, stepped: nearly in order */
+        add_row(el, es, b, v);
         /* Read once per line: a span's stores could alias them, so
          * the compiler would reload both at every edge. */
-        ew_active *aet = b->aet;
-        const int naet = b->naet;
-        int32_t *fix = b->st_fix;
+        ew_active *aet = es->aet;
+        const int naet = es->naet;
+        int32_t *fix = es->st_fix;
         sort_edges(aet, nold, naet, fix, nfix);
 
         int top = 0;  /* the background, always at the bottom of the stack */
         st[0].next = -1, st[0].prev = -1, st[0].lastu = 0;
         /* Surfaces whose count went below zero on this line: cap_neg >=
          * cap_aet >= naet entries, at most one per edge. */
-        int32_t *neg = b->st_neg;
+        int32_t *neg = es->st_neg;
         int nneg = 0;
         for (int i = 0; i < naet; i++) {
             const ew_active a = aet[i];
@@ -229,7 +199,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
                 int c = --st[s].state;
                 if (c == 0) {
                     if (s == top) {
-                        sink_span(b, &out, s, st[s].lastu, iu, v);
+                        ew_sink_span(b, &out, s, st[s].lastu, iu, v);
                         top = st[s].next;
                         st[top].prev = -1;
                         st[top].lastu = iu;
@@ -244,7 +214,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
             s = a.surfs[1];
             if (s && ++st[s].state == 1) {                          /* leading edge */
                 if (nearer(&surfs[s], &surfs[top], iu, v)) {
-                    sink_span(b, &out, top, st[top].lastu, iu, v);
+                    ew_sink_span(b, &out, top, st[top].lastu, iu, v);
                     st[s].next = top, st[s].prev = -1;
                     st[top].prev = s;
                     top = s;
@@ -258,7 +228,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
                 }
             }
         }
-        sink_span(b, &out, top, st[top].lastu, width, v);
+        ew_sink_span(b, &out, top, st[top].lastu, width, v);
 
         /* Stepped to the next line, in a pass of its own: the scan above
          * then keeps its state in registers.  No branch on an edge's u
@@ -291,26 +261,26 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
          * the stack is just the background and neg is empty. */
         for (int s = top; s > 0; s = st[s].next) st[s].state = 0;
         for (int k = 0; k < nneg; k++) st[neg[k]].state = 0;
-        b->naet = n;
+        es->naet = n;
     }
     b->nspans = out.n;
 }
 
 /* ---- the edge list as a hidden-surface method ---- */
 
-void ew_edge_begin(ew_renderer *r) {
-    ew_edge_list *el = &r->el;
+void ew_edge_begin(ew_hsr_ctx *c) {
+    ew_edge_list *el = c->el;
     el->nedges = 0;
     el->nsurfs = 1;  /* surface 0: the background, behind everything */
-    el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->f.view};
+    el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &c->f->view};
 }
 
 /* A counting sort by first scanline.  Within a row the later edge comes
  * first, the order the per-row lists this replaced had (and the scans'
  * ties depend on). */
-void ew_edge_sort_rows(ew_renderer *r) {
-    ew_edge_list *el = &r->el;
-    const int h = r->f.target.height;
+void ew_edge_sort_rows(ew_hsr_ctx *c) {
+    ew_edge_list *el = c->el;
+    const int h = c->f->target.height;
     int32_t *first = el->row_first;
     memset(first, 0, sizeof(int32_t) * (size_t)(h + 2));
     for (int i = 0; i < el->nedges; i++) first[el->edges[i].v_first + 2]++;
@@ -324,7 +294,15 @@ void ew_edge_sort_rows(ew_renderer *r) {
     }
 }
 
-static void edge_resolve(ew_renderer *r, ew_band *b) { ew_scan_band(&r->el, r->f.target.width, b); }
+/* The front end's own face and polygon (world/edges.c), through the context. */
+void ew_edge_face(ew_hsr_ctx *c, int face, int clipflags, int key) { c->emit_face(c->owner, face, clipflags, key); }
+void ew_edge_poly(ew_hsr_ctx *c, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
+    c->emit_poly(c->owner, verts, n, fi, v, key);
+}
 
-const ew_hsr ew_hsr_edge = {"edge", ew_edge_begin, ew_emit_face, ew_emit_poly, edge_resolve, 0, {NULL}, 1, NULL,
-                            ew_edge_sort_rows, 0};
+static void edge_resolve(const ew_hsr_ctx *c, ew_band *b) { ew_scan_band(c->el, c->f->target.width, b); }
+
+const ew_hsr ew_hsr_edge = {
+    "edge",
+    EW_HSR_EDGE_LIST | EW_HSR_OCCLUSION | EW_HSR_MAKES_SPANS | EW_HSR_EXACT_ONCE | EW_HSR_SHOWS_EDGES,
+    ew_edge_begin, ew_edge_face, ew_edge_poly, ew_edge_sort_rows, edge_resolve, NULL, {NULL}};

@@ -22,8 +22,8 @@
  * No BSP key is read.  Every pixel of a row is emitted once, left to right,
  * for the surface nearest at its centre (1/z evaluated as the reference
  * path evaluates it), or the background where none is. */
-#include "renderer.h"
 #include "hsr/active.h"
+#include "raster/raster.h"  /* ew_face_gradients */
 
 #include <limits.h>
 #include <string.h>
@@ -102,23 +102,24 @@ static void advance(zscan *z, ew_band *b, int *top, int *start, int a, int end, 
 }
 
 static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
-    ew_stack_entry *st = b->stack;
     b->nspans = 0;
-    b->naet = 0;
     memset(b->has_spans, 0, (size_t)el->nsurfs);
-    zscan z = {el->surfs, st, ew_band_scratch(b, sizeof(float) * (size_t)el->nsurfs), 0, 0, 0, 0};
-    if (!z.zrow) {  /* out of memory: the band stays background */
+    ew_edge_scan *es = ew_edge_scan_of(b, el);  /* the edge method's band state (hsr/edge_scan.c) */
+    float *zrow = es ? ew_band_scratch(b, sizeof(float) * (size_t)el->nsurfs) : NULL;
+    if (!zrow) {  /* out of memory: the band stays background */
         b->dropped++;
         for (int v = b->y0; v < b->y1; v++) ew_band_span(b, 0, 0, width, v);
         return;
     }
+    ew_stack_entry *st = es->stack;
+    zscan z = {el->surfs, st, zrow, 0, 0, 0, 0};
 
-    ew_band_start(el, b);  /* the edge method's active edges (hsr/edge_scan.c) */
+    ew_edge_scan_start(el, es, b);  /* the edge method's active edges */
 
     for (int v = b->y0; v < b->y1; v++) {
-        ew_band_add_row(el, b, v);
-        ew_active *aet = b->aet;
-        const int naet = b->naet;
+        ew_edge_scan_add_row(el, es, b, v);
+        ew_active *aet = es->aet;
+        const int naet = es->naet;
         ew_active_sort(aet, naet);
 
         z.v = (float)v;
@@ -169,7 +170,7 @@ static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
             a.u += a.u_step;
             aet[n++] = a;
         }
-        b->naet = n;
+        es->naet = n;
     }
     b->counters[C_COMPARES] += z.compares;
     b->counters[C_SPLITS] += z.splits;
@@ -178,34 +179,27 @@ static void scan_band_z(const ew_edge_list *el, int width, ew_band *b) {
 
 /* ---- the method: the edge method's front end, planes for every surface ---- */
 
-static void z_begin(ew_renderer *r) {
-    ew_edge_list *el = &r->el;
-    el->nedges = 0;
-    el->nsurfs = 1;  /* surface 0: the background, 1/z 0 everywhere */
-    el->surfs[0] = (ew_surf){.key = INT32_MAX, .face = -1, .view = &r->f.view};
-}
-
 /* ew_emit_face gives only brush-model fragments a plane; here world faces
  * get theirs, seen from the camera. */
-static void z_face(ew_renderer *r, int fi, int clipflags, int key) {
-    int s = r->el.nsurfs;
-    ew_emit_face(r, fi, clipflags, key);
-    if (r->el.nsurfs == s) return;
+static void z_face(ew_hsr_ctx *c, int fi, int clipflags, int key) {
+    int s = c->el->nsurfs;
+    ew_edge_face(c, fi, clipflags, key);
+    if (c->el->nsurfs == s) return;
     ew_gradients g;
-    ew_face_gradients(r->f.world, &r->f.view, &r->f.world->faces[fi], 0, &g);
-    ew_surf *sf = &r->el.surfs[s];
+    ew_face_gradients(c->f->world, &c->f->view, &c->f->world->faces[fi], 0, &g);
+    ew_surf *sf = &c->el->surfs[s];
     sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
 }
 
-static void z_resolve(ew_renderer *r, ew_band *b) { scan_band_z(&r->el, r->f.target.width, b); }
+static void z_resolve(const ew_hsr_ctx *c, ew_band *b) { scan_band_z(c->el, c->f->target.width, b); }
 
-static size_t z_memory(const ew_renderer *r) {
+static size_t z_memory(const ew_hsr_ctx *c) {
     size_t n = 0;
-    for (int i = 0; i < r->sched.nbands; i++) n += r->sched.bands[i].scratch_bytes;
+    for (int i = 0; i < c->nbands; i++) n += c->bands[i].scratch_bytes;
     return n;
 }
 
 const ew_hsr ew_hsr_edge_z = {
-    "edge-z", z_begin, z_face, ew_emit_poly, z_resolve, 0,
-    {[C_COMPARES] = "1/z comparisons", [C_SPLITS] = "intersections split", [C_TIES] = "abutting ties"},
-    1, z_memory, ew_edge_sort_rows, 0};
+    "edge-z", EW_HSR_MAKES_SPANS | EW_HSR_EXACT_ONCE, ew_edge_begin, z_face, ew_edge_poly, ew_edge_sort_rows,
+    z_resolve, z_memory,
+    {[C_COMPARES] = "1/z comparisons", [C_SPLITS] = "intersections split", [C_TIES] = "abutting ties"}};

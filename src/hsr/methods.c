@@ -1,7 +1,9 @@
 /* The hidden-surface methods by ew_hsr_method: names for every one, the
  * implementation where this build has it (hsr/hsr.h). */
-#include "renderer.h"
+#include "hsr/reference.h"
+#include "hsr/surf_poly.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 static const char *const names[EW_HSR_COUNT] = {
@@ -40,3 +42,11 @@ const char *ew_hsr_counter_name(ew_hsr_method method, int i) {
 }
 
 int ew_hsr_available(ew_hsr_method method) { return ew_hsr_get((int)method) != NULL; }
+
+void ew_hsr_ctx_free(ew_hsr_ctx *c) {
+    ew_spolys_free(c->spolys);
+    c->spolys = NULL;
+    if (c->ref) free(c->ref->polys), free(c->ref->poly_of), ew_ref_compose_free(c->ref->compose);
+    free(c->ref);
+    c->ref = NULL;
+}

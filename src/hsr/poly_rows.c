@@ -1,6 +1,5 @@
 /* The edge list's polygons row by row, front to back (hsr/poly_rows.h). */
 #include "hsr/poly_rows.h"
-#include "renderer.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -25,13 +24,12 @@ static int cmp_item(const void *pa, const void *pb) {
 
 static size_t align16(size_t n) { return (n + 15) & ~(size_t)15; }
 
-void *ew_poly_rows_begin(ew_poly_rows *pr, const ew_renderer *r, ew_band *b, size_t extra) {
-    const ew_edge_list *el = &r->el;
+void *ew_poly_rows_begin(ew_poly_rows *pr, const ew_hsr_ctx *c, ew_band *b, size_t extra) {
+    const ew_edge_list *el = c->el;
     const int ns = el->nsurfs, ne = el->nedges, rows = b->y1 - b->y0;
     memset(pr, 0, sizeof *pr);
-    pr->el = el, pr->b = b, pr->width = r->f.target.width, pr->v = b->y0 - 1;
+    pr->el = el, pr->b = b, pr->width = c->f->target.width, pr->v = b->y0 - 1;
     b->nspans = 0;
-    b->naet = 0;
     memset(b->has_spans, 0, (size_t)ns);
 
     /* One block: the index, the order and the row list, then the method's
@@ -276,10 +274,10 @@ void ew_poly_rows_emit_sorted(ew_poly_rows *pr, ew_row_poly *p, int n) {
 
 /* What this frame used of each band's scratch: another method may have
  * grown it further, and the scratch is kept. */
-size_t ew_poly_rows_memory(const ew_renderer *r) {
+size_t ew_poly_rows_memory(const ew_hsr_ctx *c) {
     size_t n = 0;
-    for (int i = 0; i < r->sched.nbands; i++) {
-        const ew_band *b = &r->sched.bands[i];
+    for (int i = 0; i < c->nbands; i++) {
+        const ew_band *b = &c->bands[i];
         if (b->scratch_bytes >= 16) n += *(const size_t *)b->scratch;
     }
     return n;

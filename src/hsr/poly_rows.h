@@ -2,7 +2,7 @@
  * visibility polygon by polygon (spans, zbuffer, painter, drawbuffer).
  *
  * Those methods share the edge list's front end (ew_edge_begin,
- * ew_emit_face, ew_emit_poly), so their surfaces and edges are the edge
+ * ew_edge_face, ew_edge_poly), so their surfaces and edges are the edge
  * method's.  Here a band finds each surface's edges, orders the surfaces
  * front to back by BSP key and, row by row, hands out every polygon
  * crossing the row with its pixel extent [xl, xr): the pixels the edge
@@ -46,7 +46,7 @@ typedef struct ew_poly_rows {
  * over: the method clears what it needs), or NULL when out of memory (the
  * caller then fills the band with the background: ew_poly_rows_background).
  * Also clears b's spans and has_spans. */
-void *ew_poly_rows_begin(ew_poly_rows *pr, const ew_renderer *r, ew_band *b, size_t extra);
+void *ew_poly_rows_begin(ew_poly_rows *pr, const ew_hsr_ctx *c, ew_band *b, size_t extra);
 /* Every row of b the background alone (a band that could not resolve). */
 void ew_poly_rows_background(ew_band *b, int width);
 
@@ -63,6 +63,6 @@ int ew_poly_rows_starts_here(const ew_poly_rows *pr, int s);
 void ew_poly_rows_emit_sorted(ew_poly_rows *pr, ew_row_poly *p, int n);
 
 /* The method's memory: what it used of the bands' scratch this frame. */
-size_t ew_poly_rows_memory(const ew_renderer *r);
+size_t ew_poly_rows_memory(const ew_hsr_ctx *c);
 
 #endif

@@ -24,7 +24,7 @@
 #define MAGIC 0x72617963617374ULL  /* "raycast": this method's scratch layout */
 
 typedef struct ray_ctx {
-    const ew_renderer *r;
+    const ew_hsr_ctx  *c;
     const ew_world    *w;
     const ew_spolys   *sp;
     double o[3], d[3];     /* eye, and direction with a forward part of 1 (t is the view depth) */
@@ -115,13 +115,13 @@ static int trace(ray_ctx *c, int n, double t0, double t1, int depth, double *thi
 
 /* The surface seen through pixel centre (x, y); *lost counts rays that
  * found none where the world is solid. */
-static int cast(const ew_renderer *r, const int *brush, int nbrush, int x, int y, long *lost) {
-    const ew_view *v = &r->f.view;
-    ray_ctx c = {r, r->f.world, r->spolys, {v->origin[0], v->origin[1], v->origin[2]}, {0, 0, 0}, -1, 0, 0, -1, 0};
+static int cast(const ew_hsr_ctx *hc, const int *brush, int nbrush, int x, int y, long *lost) {
+    const ew_view *v = &hc->f->view;
+    ray_ctx c = {hc, hc->f->world, hc->spolys, {v->origin[0], v->origin[1], v->origin[2]}, {0, 0, 0}, -1, 0, 0, -1, 0};
     double dx = (x - v->xcenter) / (double)v->xscale, dy = (v->ycenter - y) / (double)v->yscale;
     for (int k = 0; k < 3; k++) c.d[k] = v->forward[k] + dx * v->right[k] + dy * v->up[k];
     double thit = 0;
-    int s = trace(&c, r->f.world->models[0].headnode, 0, 1e6, 0, &thit);
+    int s = trace(&c, hc->f->world->models[0].headnode, 0, 1e6, 0, &thit);
     *lost += c.faceless > 0;
     /* Through solid and out into nothing: a crack after all, wider than
      * the tolerance; the nearest face where it first went in. */
@@ -132,7 +132,7 @@ static int cast(const ew_renderer *r, const int *brush, int nbrush, int x, int y
     if (s < 0) s = 0, thit = 0;
     /* Brush model fragments: the nearest one whose polygon holds the pixel, if nearer than the world. */
     double best = thit > 0 ? 1.0 / thit * (1 - 1e-6) : 0;
-    const ew_surf *surfs = r->el.surfs;
+    const ew_surf *surfs = hc->el->surfs;
     for (int i = 0; i < nbrush; i++) {
         int bs = brush[i];
         const ew_spoly *pl = &c.sp->polys[bs];
@@ -151,7 +151,7 @@ static int cast(const ew_renderer *r, const int *brush, int nbrush, int x, int y
 }
 
 typedef struct rc_band {
-    const ew_renderer *r;
+    const ew_hsr_ctx *c;
     ew_band *b;
     int     *rays;     /* per pixel of rows [ry0, ry1]: the surface, or UNKNOWN */
     int     *out;      /* per pixel of the band */
@@ -162,7 +162,7 @@ typedef struct rc_band {
 
 static int ray(rc_band *k, int x, int y) {
     int *slot = &k->rays[(size_t)(y - k->ry0) * k->w + x];
-    if (*slot == UNKNOWN) *slot = cast(k->r, k->brush, k->nbrush, x, y, &k->lost), k->cast++;
+    if (*slot == UNKNOWN) *slot = cast(k->c, k->brush, k->nbrush, x, y, &k->lost), k->cast++;
     return *slot;
 }
 
@@ -188,15 +188,14 @@ static void block(rc_band *k, int x, int y, int s) {
     block(k, x, y, h), block(k, x + h, y, h), block(k, x, y + h, h), block(k, x + h, y + h, h);
 }
 
-static void ray_begin(ew_renderer *r) { ew_spolys_begin(r); }
+static void ray_begin(ew_hsr_ctx *c) { ew_spolys_begin(c); }
 
-static void ray_resolve(ew_renderer *r, ew_band *b) {
-    const int w = r->f.target.width, h = r->f.target.height;
-    const ew_spolys *sp = r->spolys;
+static void ray_resolve(const ew_hsr_ctx *c, ew_band *b) {
+    const int w = c->f->target.width, h = c->f->target.height;
+    const ew_spolys *sp = c->spolys;
     b->nspans = 0;
-    b->naet = 0;
-    memset(b->has_spans, 0, (size_t)r->el.nsurfs);
-    rc_band k = {r, b, NULL, NULL, NULL, 0, 0, 0, w, h, 0, 0, 0, 0};
+    memset(b->has_spans, 0, (size_t)c->el->nsurfs);
+    rc_band k = {c, b, NULL, NULL, NULL, 0, 0, 0, w, h, 0, 0, 0, 0};
     k.ry0 = b->y0 / GRID * GRID;
     k.ry1 = (b->y1 - 1) / GRID * GRID + GRID;
     if (k.ry1 > h - 1) k.ry1 = h - 1;
@@ -216,7 +215,7 @@ static void ray_resolve(ew_renderer *r, ew_band *b) {
     for (int i = 0; i < sp->norder; i++) {
         int s = sp->order[i];
         const ew_spoly *pl = &sp->polys[s];
-        if (r->el.surfs[s].insubmodel && pl->y1 >= k.ry0 && pl->y0 <= k.ry1) k.brush[k.nbrush++] = s;
+        if (c->el->surfs[s].insubmodel && pl->y1 >= k.ry0 && pl->y0 <= k.ry1) k.brush[k.nbrush++] = s;
     }
     for (int y = k.ry0; y < b->y1; y += GRID)
         for (int x = 0; x < w; x += GRID) block(&k, x, y, GRID);
@@ -233,10 +232,10 @@ static void ray_resolve(ew_renderer *r, ew_band *b) {
 }
 
 /* The polygons, and what the bands used of their scratch this frame. */
-static size_t ray_memory(const ew_renderer *r) {
-    size_t n = ew_spolys_memory(r);
-    for (int i = 0; i < r->sched.nbands; i++) {
-        const ew_band *b = &r->sched.bands[i];
+static size_t ray_memory(const ew_hsr_ctx *c) {
+    size_t n = ew_spolys_memory(c);
+    for (int i = 0; i < c->nbands; i++) {
+        const ew_band *b = &c->bands[i];
         const unsigned long long *h = b->scratch_bytes >= 16 ? b->scratch : NULL;
         if (h && h[0] == MAGIC) n += (size_t)h[1];
     }
@@ -244,6 +243,5 @@ static size_t ray_memory(const ew_renderer *r) {
 }
 
 const ew_hsr ew_hsr_raycast = {
-    "raycast", ray_begin, ew_spolys_face, ew_spolys_poly, ray_resolve, 0,
-    {"rays cast", "blocks filled", "pixels filled from corners", "rays into solid with no face"},
-    1, ray_memory, NULL, 0};
+    "raycast", EW_HSR_MAKES_SPANS | EW_HSR_EXACT_ONCE, ray_begin, ew_spolys_face, ew_spolys_poly, NULL, ray_resolve,
+    ray_memory, {"rays cast", "blocks filled", "pixels filled from corners", "rays into solid with no face"}};

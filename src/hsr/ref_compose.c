@@ -13,8 +13,10 @@
  * fogged at its own depth and laid over with its opacity (a fence's: 1).
  * An 8-bit frame takes the nearest palette colour of the result, found by
  * searching the palette (fullbrights and the key colour never chosen). */
-#include "raster/span_step.h"
-#include "renderer.h"
+#include "hsr/reference.h"
+#include "light/light.h"      /* ew_face_mip, ew_face_texture */
+#include "light/twopass.h"
+#include "raster/span_step.h"  /* ew_tex_fix; raster/raster.h: ew_see */
 
 #include <math.h>
 #include <stdlib.h>
@@ -47,10 +49,11 @@ void ew_ref_compose_free(ew_ref_compose *c) {
     free(c->faces), free(c->polys), free(c);
 }
 
-int *ew_ref_compose_begin(ew_renderer *r) {
-    ew_ref_compose *c = r->ref.compose;
-    if (!c && !(c = r->ref.compose = calloc(1, sizeof *c))) return NULL;
-    size_t n = (size_t)r->f.target.width * (size_t)r->f.target.height;
+int *ew_ref_compose_begin(ew_hsr_ctx *hc) {
+    if (!hc->ref) return NULL;
+    ew_ref_compose *c = hc->ref->compose;
+    if (!c && !(c = hc->ref->compose = calloc(1, sizeof *c))) return NULL;
+    size_t n = (size_t)hc->f->target.width * (size_t)hc->f->target.height;
     if (n > c->cap_faces) {
         free(c->faces);
         c->cap_faces = 0;
@@ -60,11 +63,13 @@ int *ew_ref_compose_begin(ew_renderer *r) {
     return c->faces;
 }
 
-int *ew_ref_compose_faces(const ew_renderer *r) { return r->ref.compose ? r->ref.compose->faces : NULL; }
+static ew_ref_compose *compose_of(const ew_hsr_ctx *hc) { return hc->ref ? hc->ref->compose : NULL; }
 
-void ew_ref_compose_ids_out(const ew_renderer *r, int *ids, int y0, int y1) {
-    const ew_ref_compose *c = r->ref.compose;
-    size_t w = (size_t)r->f.target.width;
+int *ew_ref_compose_faces(const ew_hsr_ctx *hc) { return compose_of(hc) ? compose_of(hc)->faces : NULL; }
+
+void ew_ref_compose_ids_out(const ew_hsr_ctx *hc, int *ids, int y0, int y1) {
+    const ew_ref_compose *c = compose_of(hc);
+    size_t w = (size_t)hc->f->target.width;
     if (ids && c && c->faces && c->faces != ids)
         memcpy(ids + (size_t)y0 * w, c->faces + (size_t)y0 * w, sizeof *ids * w * (size_t)(y1 - y0));
 }
@@ -72,50 +77,51 @@ void ew_ref_compose_ids_out(const ew_renderer *r, int *ids, int y0, int y1) {
 /* The fog amount at 1/z zi, 1 - exp(-(density z / 64)^2). */
 static double fog_amount(const ew_ref_compose *c, double zi) { return 1.0 - exp(-c->fog_w / (zi * zi)); }
 
-int ew_ref_compose_prepare(ew_renderer *r) {
-    ew_ref_compose *c = r->ref.compose;
+int ew_ref_compose_prepare(ew_hsr_ctx *hc) {
+    ew_ref_compose *c = compose_of(hc);
     if (!c) return 0;
-    const ew_world *w = r->f.world;
+    ew_frame *fr = hc->f;
+    const ew_see *see = hc->see;
+    const ew_world *w = fr->world;
     c->npolys = 0;
     c->fog_on = 0;
-    double d = r->f.cfg.fog_density >= 0 ? r->f.cfg.fog_density : r->f.world->worldspawn.fog_density;
-    const float *rgb = r->f.cfg.fog_density >= 0 ? r->f.cfg.fog_rgb : r->f.world->worldspawn.fog_rgb;
-    if (!r->f.cfg.classic && d > 0) {
+    double d = fr->cfg.fog_density >= 0 ? fr->cfg.fog_density : fr->world->worldspawn.fog_density;
+    const float *rgb = fr->cfg.fog_density >= 0 ? fr->cfg.fog_rgb : fr->world->worldspawn.fog_rgb;
+    if (!fr->cfg.classic && d > 0) {
         c->fog_on = 1;
         c->fog_w = (d / 64) * (d / 64);
         for (int k = 0; k < 3; k++) c->fog_rgb[k] = rgb[k] * 255.0;
     }
-    r->f.stats.seethrough_surfaces = 0;
-    if (r->see.n > c->cap_polys) {
-        rc_poly *p = realloc(c->polys, sizeof *p * (size_t)r->see.n);
+    fr->stats.seethrough_surfaces = 0;
+    if (see->n > c->cap_polys) {
+        rc_poly *p = realloc(c->polys, sizeof *p * (size_t)see->n);
         if (!p) {
-            r->f.stats.dropped += r->see.n;
+            fr->stats.dropped += see->n;
             return 0;
         }
-        c->polys = p, c->cap_polys = r->see.n;
+        c->polys = p, c->cap_polys = see->n;
     }
-    for (int i = 0; i < r->see.n; i++) {
-        const ew_see_poly *sp = &r->see.polys[i];
+    for (int i = 0; i < see->n; i++) {
+        const ew_see_poly *sp = &see->polys[i];
         const ew_face *f = &w->faces[sp->face];
         rc_poly *q = &c->polys[c->npolys];
         *q = (rc_poly){.p = &sp->p, .f = f, .face = sp->face, .fence = (f->flags & EW_SURF_FENCE) != 0,
                        .alpha = sp->kind == EW_SEE_FENCE ? 1.0f : sp->alpha};
-        q->tex = ew_face_texture(w, f, r->f.view.time);
+        q->tex = ew_face_texture(w, f, fr->view.time);
         int mip = 0;
-        if (!(f->flags & EW_SURF_TURB) && r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode) {
-            mip = ew_face_mip(&r->f.view, w, f, sp->p.nearzi);
+        if (!(f->flags & EW_SURF_TURB) && fr->cfg.lighting == EW_LIGHTING_TWO_PASS && !hc->debug) {
+            mip = ew_face_mip(&fr->view, w, f, sp->p.nearzi);
             q->two_pass = 1;
-            ew_tp_face_setup(&r->lit.tp, sp->look.view, sp->face, mip, q->tex, &q->tp);
+            ew_tp_face_setup(hc->tp, sp->look.view, sp->face, mip, q->tex, &q->tp);
         } else if (!(f->flags & EW_SURF_TURB)) {
-            int build;
-            mip = ew_face_mip(&r->f.view, w, f, sp->p.nearzi);
-            ew_cached_surf *e = ew_cache_lookup(r, sp->face, mip, &build);
-            if (!e) {
-                r->f.stats.dropped++;
+            mip = ew_face_mip(&fr->view, w, f, sp->p.nearzi);
+            int width;
+            const uint8_t *surf = hc->lit_surface(hc->owner, sp->face, mip, &width);
+            if (!surf) {
+                fr->stats.dropped++;
                 continue;
             }
-            if (build) ew_cache_build(r, e, r->lit.blocklights);
-            q->surf = e->pixels, q->surf_width = e->width;
+            q->surf = surf, q->surf_width = width;
         }
         ew_face_gradients(w, sp->look.view, f, mip, &q->g);
         double area = 0;
@@ -127,7 +133,7 @@ int ew_ref_compose_prepare(ew_renderer *r) {
         q->sign = area > 0 ? 1 : -1;
         c->npolys++;
     }
-    r->f.stats.seethrough_surfaces = c->npolys;
+    fr->stats.seethrough_surfaces = c->npolys;
     return 0;
 }
 
@@ -149,29 +155,30 @@ static int inside(const rc_poly *q, double x, double y) {
  * fence's hole.  The one place a see-through face's texel is read: lit
  * faces from their cached lit surface (or, in two-pass lighting, from the
  * light oracle per pixel), liquids from their warped texture. */
-static int32_t frag_texel(const ew_renderer *r, const rc_poly *q, int x, int y, float zi) {
+static int32_t frag_texel(const ew_hsr_ctx *hc, const rc_poly *q, int x, int y, float zi) {
+    const ew_frame *fr = hc->f;
     if (q->two_pass) {
         int X, Y, light[3];
         uint8_t c = ew_tp_texel(&q->tp, x, y, &X, &Y);
         if (q->fence && c == 255) return -1;
-        ew_tp_light(&r->lit.tp, &q->tp, X, Y, light);
-        uint32_t v = ew_tp_shade(&r->lit.tp, &q->tp, c, light);
+        ew_tp_light(hc->tp, &q->tp, X, Y, light);
+        uint32_t v = ew_tp_shade(hc->tp, &q->tp, c, light);
         int rgb[3];
-        if (r->f.target.bpp == 4)
+        if (fr->target.bpp == 4)
             ew_rgba_split(v, rgb);
         else
-            for (int k = 0; k < 3; k++) rgb[k] = r->f.palette[v * 3 + k];
+            for (int k = 0; k < 3; k++) rgb[k] = fr->palette[v * 3 + k];
         return rgb[0] << 16 | rgb[1] << 8 | rgb[2];
     }
     const ew_gradients *g = &q->g;
     float z = 65536.0f / zi, fx = (float)x, fy = (float)y;
     int32_t s = ew_tex_fix((g->s_u * fx + (g->s_v * fy + g->s_0)) * z, g->s_adjust, 0, g->s_max);
     int32_t t = ew_tex_fix((g->t_u * fx + (g->t_v * fy + g->t_0)) * z, g->t_adjust, 0, g->t_max);
-    const uint8_t *pal = r->f.palette;
+    const uint8_t *pal = fr->palette;
     int idx;
     if (q->f->flags & EW_SURF_TURB) {
-        idx = ew_turb_texel(r->draw.turb, q->tex, s, t);
-    } else if (r->f.target.bpp == 4) {
+        idx = ew_turb_texel(hc->draw->turb, q->tex, s, t);
+    } else if (fr->target.bpp == 4) {
         uint8_t px[4];
         memcpy(px, q->surf + (((size_t)((uint32_t)t >> 16) * (size_t)q->surf_width + ((uint32_t)s >> 16)) * 4), 4);
         if (q->fence && px[3] == 0) return -1;
@@ -180,9 +187,9 @@ static int32_t frag_texel(const ew_renderer *r, const rc_poly *q, int x, int y, 
         idx = q->surf[(size_t)((uint32_t)t >> 16) * (size_t)q->surf_width + ((uint32_t)s >> 16)];
     }
     if (q->fence && idx == 255) return -1;
-    if (r->f.target.bpp == 4) {  /* liquids in true colour: the palette as the frame shows it */
+    if (fr->target.bpp == 4) {  /* liquids in true colour: the palette as the frame shows it */
         int c[3];
-        ew_rgba_split(r->f.target.rgba[idx], c);
+        ew_rgba_split(fr->target.rgba[idx], c);
         return c[0] << 16 | c[1] << 8 | c[2];
     }
     return pal[idx * 3] << 16 | pal[idx * 3 + 1] << 8 | pal[idx * 3 + 2];
@@ -215,12 +222,13 @@ typedef struct frag {
 } frag;
 enum { MAX_FRAGS = 64 };
 
-void ew_ref_compose_draw(ew_renderer *r, const ew_rows *rows) {
-    ew_ref_compose *c = r->ref.compose;
+void ew_ref_compose_draw(const ew_hsr_ctx *hc, const ew_rows *rows) {
+    const ew_ref_compose *c = compose_of(hc);
     if (!c || (!c->fog_on && c->npolys == 0)) return;
-    const ew_target *t = &r->f.target;
-    const ew_world *w = r->f.world;
-    int *ids = r->ref.ids ? r->ref.ids : r->f.cfg.face_ids_on ? r->f.face_ids : NULL;
+    const ew_frame *fm = hc->f;
+    const ew_target *t = &fm->target;
+    const ew_world *w = fm->world;
+    int *ids = hc->ref_ids ? hc->ref_ids : fm->cfg.face_ids_on ? fm->face_ids : NULL;
     nearest_cache *nc = NULL;
     if (t->bpp == 1) {
         if (!(nc = malloc(sizeof *nc))) {
@@ -252,7 +260,7 @@ void ew_ref_compose_draw(ew_renderer *r, const ew_rows *rows) {
                 if (x < q->p->x0 || x > q->p->x1 || !inside(q, x, y)) continue;
                 float zi = q->g.zi_u * (float)x + q->g.zi_v * (float)y + q->g.zi_0;
                 if (!(zi > zr[x])) continue;  /* behind the opaque pixel */
-                int32_t rgb = frag_texel(r, q, x, y, zi);
+                int32_t rgb = frag_texel(hc, q, x, y, zi);
                 if (rgb < 0) continue;  /* a fence's hole */
                 if (n == MAX_FRAGS) {
                     rows->stats->dropped++;
@@ -271,7 +279,7 @@ void ew_ref_compose_draw(ew_renderer *r, const ew_rows *rows) {
             int was = -1;
             if (t->bpp == 1) {
                 was = row[x];
-                for (int k = 0; k < 3; k++) col[k] = r->f.palette[was * 3 + k];
+                for (int k = 0; k < 3; k++) col[k] = fm->palette[was * 3 + k];
             } else {
                 int v[3];
                 ew_rgba_split(ew_get32(row, x), v);
@@ -284,7 +292,7 @@ void ew_ref_compose_draw(ew_renderer *r, const ew_rows *rows) {
                 double amount = -1;
                 if (face >= 0 && (w->faces[face].flags & EW_SURF_SKY)) {
                     float plane[3];
-                    ew_face_zplane(w, &r->f.view, &w->faces[face], plane);
+                    ew_face_zplane(w, &fm->view, &w->faces[face], plane);
                     double sky = (double)plane[0] * x + (double)plane[1] * y + plane[2];
                     if (zr[x] <= sky * (1 + 1e-4)) amount = 0.5;
                 }
@@ -315,9 +323,9 @@ void ew_ref_compose_draw(ew_renderer *r, const ew_rows *rows) {
             if (t->bpp == 4) {
                 ew_set32(row, x, ew_rgba(v[0], v[1], v[2]));
             } else {
-                const uint8_t *p = &r->f.palette[was * 3];
+                const uint8_t *p = &fm->palette[was * 3];
                 if (v[0] != p[0] || v[1] != p[1] || v[2] != p[2])  /* unchanged colours keep their index */
-                    row[x] = nearest(r->f.palette, nc, v[0], v[1], v[2]);
+                    row[x] = nearest(fm->palette, nc, v[0], v[1], v[2]);
             }
         }
     }

@@ -5,8 +5,10 @@
  * a per-pixel z-buffer test from the face's plane equation, textured with
  * a true divide per pixel (raster/zpoly.c).  Slow and simple on purpose:
  * the tests trust it. */
-#include "renderer.h"
-#include "ew_util.h"
+#include "hsr/reference.h"
+#include "light/light.h"    /* ew_face_mip, ew_face_texture */
+#include "light/twopass.h"
+#include "raster/raster.h"  /* ew_zpoly */
 
 #include <stdlib.h>
 #include <string.h>
@@ -19,101 +21,107 @@ struct ew_ref_poly {
     ew_tp_face    tp;
 };
 
-static void ref_begin(ew_renderer *r) {
-    r->ref.npolys = 0;
-    ew_ref_compose_begin(r);  /* its per-pixel faces (hsr/ref_compose.c) */
+static void ref_begin(ew_hsr_ctx *c) {
+    c->el->nedges = 0;
+    c->el->nsurfs = 1;  /* no spans: the back end draws nothing of the world */
+    ew_ref *ref = c->ref;
+    if (!ref && !(ref = c->ref = calloc(1, sizeof *ref))) return;  /* every polygon dropped */
+    ref->npolys = 0;
+    ew_ref_compose_begin(c);  /* its per-pixel faces (hsr/ref_compose.c) */
     /* two-pass lighting: which polygon won each pixel */
-    size_t npx = (size_t)r->f.target.width * (size_t)r->f.target.height;
-    if (r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.npoly_of < npx) {
-        free(r->ref.poly_of);
-        r->ref.poly_of = malloc(sizeof(int) * npx);
-        r->ref.npoly_of = r->ref.poly_of ? npx : 0;
+    size_t npx = (size_t)c->f->target.width * (size_t)c->f->target.height;
+    if (c->f->cfg.lighting == EW_LIGHTING_TWO_PASS && ref->npoly_of < npx) {
+        free(ref->poly_of);
+        ref->poly_of = malloc(sizeof(int) * npx);
+        ref->npoly_of = ref->poly_of ? npx : 0;
     }
-    r->el.nedges = 0;
-    r->el.nsurfs = 1;  /* no spans: the back end draws nothing of the world */
 }
 
 /* One world-space polygon of face fi; v is the camera in the face's own space. */
-static void ref_poly(ew_renderer *r, float (*in)[3], int n, int fi, const ew_view *v, int key) {
+static void ref_poly(ew_hsr_ctx *c, float (*in)[3], int n, int fi, const ew_view *v, int key) {
     (void)key;  /* the z-buffer needs no order */
-    const ew_world *w = r->f.world;
+    const ew_world *w = c->f->world;
     const ew_face *f = &w->faces[fi];
-    ew_ref *ref = &r->ref;
+    ew_ref *ref = c->ref;
+    if (!ref) {
+        c->f->stats.dropped++;
+        return;
+    }
     if (ref->npolys == ref->cap) {
         int cap = ref->cap ? ref->cap * 2 : 256;
         ew_ref_poly *p = realloc(ref->polys, sizeof *p * (size_t)cap);
         if (!p) {
-            r->f.stats.dropped++;
+            c->f->stats.dropped++;
             return;
         }
         ref->polys = p, ref->cap = cap;
     }
     ew_ref_poly *rp = &ref->polys[ref->npolys];
-    if (!ew_zpoly_project(&r->f.view, in, n, &rp->p)) return;
+    if (!ew_zpoly_project(&c->f->view, in, n, &rp->p)) return;
     rp->face = fi;
     /* exact; a fence's holes are alpha-tested per pixel like the rest */
     rp->look = (ew_zpoly_look){w, f, v, ew_face_texture(w, f, v->time), NULL, 0, 0, 0,
-                               (f->flags & EW_SURF_FENCE) && !r->f.cfg.classic ? EW_ZP_FENCE : EW_ZP_OPAQUE, NULL, 256};
+                               (f->flags & EW_SURF_FENCE) && !c->f->cfg.classic ? EW_ZP_FENCE : EW_ZP_OPAQUE, NULL, 256};
     rp->two_pass = 0;
-    if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB)) && r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode &&
+    if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB)) && c->f->cfg.lighting == EW_LIGHTING_TWO_PASS && !c->debug &&
         rp->look.mode == EW_ZP_OPAQUE) {
         /* two-pass lighting: no lit surface; ref_resolve lights its pixels */
-        rp->look.mip = ew_face_mip(&r->f.view, w, f, rp->p.nearzi);
+        rp->look.mip = ew_face_mip(&c->f->view, w, f, rp->p.nearzi);
         rp->two_pass = 1;
-        ew_tp_face_setup(&r->lit.tp, v, fi, rp->look.mip, rp->look.tex, &rp->tp);
+        ew_tp_face_setup(c->tp, v, fi, rp->look.mip, rp->look.tex, &rp->tp);
     } else if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
-        int build;
-        rp->look.mip = ew_face_mip(&r->f.view, w, f, rp->p.nearzi);
-        ew_cached_surf *e = ew_cache_lookup(r, fi, rp->look.mip, &build);
-        if (e && build) ew_cache_build(r, e, r->lit.blocklights);
-        if (e) rp->look.surf = e->pixels, rp->look.surf_width = e->width;
+        rp->look.mip = ew_face_mip(&c->f->view, w, f, rp->p.nearzi);
+        int width;
+        const uint8_t *surf = c->lit_surface(c->owner, fi, rp->look.mip, &width);
+        if (surf) rp->look.surf = surf, rp->look.surf_width = width;
     }
-    r->f.stats.surfaces++;
+    c->f->stats.surfaces++;
     ref->npolys++;
 }
 
-static void ref_face(ew_renderer *r, int fi, int clipflags, int key) {
+static void ref_face(ew_hsr_ctx *c, int fi, int clipflags, int key) {
     (void)clipflags;  /* clipped against every plane regardless */
-    const ew_world *w = r->f.world;
+    const ew_world *w = c->f->world;
     const ew_face *f = &w->faces[fi];
     if (f->numedges > EW_MAX_POLY - 8) return;
     float in[EW_MAX_POLY][3];
     ew_face_points(w, f, in);
-    ref_poly(r, in, f->numedges, fi, &r->f.view, key);
+    ref_poly(c, in, f->numedges, fi, &c->f->view, key);
 }
 
 /* Two-pass lighting, once every polygon is filled (z, sky, liquids; lit
  * faces get nothing yet) with its own number per pixel: the lit faces'
  * pixels drawn in the two passes, run by run along each row, and the
  * numbers turned into faces for ids. */
-static void two_pass_rows(ew_renderer *r, const ew_band *b, int *ids) {
-    const ew_target *t = &r->f.target;
+static void two_pass_rows(const ew_hsr_ctx *c, const ew_band *b, int *ids) {
+    const ew_target *t = &c->f->target;
+    const ew_ref *ref = c->ref;
     for (int y = b->y0; y < b->y1; y++) {
-        const int *pr = r->ref.poly_of + (size_t)y * t->width;
+        const int *pr = ref->poly_of + (size_t)y * t->width;
         uint8_t *row = ew_target_at(t, 0, y);
         for (int x = 0, x1; x < t->width; x = x1) {
             int p = pr[x];
             for (x1 = x + 1; x1 < t->width && pr[x1] == p; x1++) {}
-            if (p >= 0 && r->ref.polys[p].two_pass) ew_tp_run(&r->lit.tp, &r->ref.polys[p].tp, row, y, x, x1);
+            if (p >= 0 && ref->polys[p].two_pass) ew_tp_run(c->tp, &ref->polys[p].tp, row, y, x, x1);
         }
         if (ids)
-            for (int x = 0; x < t->width; x++) ids[(size_t)y * t->width + x] = pr[x] >= 0 ? r->ref.polys[pr[x]].face : -1;
+            for (int x = 0; x < t->width; x++) ids[(size_t)y * t->width + x] = pr[x] >= 0 ? ref->polys[pr[x]].face : -1;
     }
 }
 
 /* The band's rows: cleared to the background, then every polygon filled. */
-static void ref_resolve(ew_renderer *r, ew_band *b) {
-    const ew_target *t = &r->f.target;
-    int *out = r->ref.ids ? r->ref.ids : r->f.cfg.face_ids_on ? r->f.face_ids : NULL;
+static void ref_resolve(const ew_hsr_ctx *c, ew_band *b) {
+    const ew_target *t = &c->f->target;
+    const ew_ref *ref = c->ref;
+    int *out = c->ref_ids ? c->ref_ids : c->f->cfg.face_ids_on ? c->f->face_ids : NULL;
     /* The faces go to the compose's buffer (it finds the sky by them), and
      * from there to the caller's. */
-    int *own = ew_ref_compose_faces(r), *ids = own ? own : out;
+    int *own = ew_ref_compose_faces(c), *ids = own ? own : out;
     size_t npx = (size_t)t->width * (size_t)t->height;
-    int two = r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && r->ref.poly_of && r->ref.npoly_of >= npx;
-    int *fill = two ? r->ref.poly_of : ids;  /* two-pass: each pixel's polygon first */
+    int two = ref && c->f->cfg.lighting == EW_LIGHTING_TWO_PASS && ref->poly_of && ref->npoly_of >= npx;
+    int *fill = two ? ref->poly_of : ids;  /* two-pass: each pixel's polygon first */
     b->nspans = 0;
-    b->naet = 0;
-    memset(b->has_spans, 0, (size_t)r->el.nsurfs);
+    memset(b->has_spans, 0, (size_t)c->el->nsurfs);
     for (int y = b->y0; y < b->y1; y++) {
         uint8_t *row = ew_target_at(t, 0, y);
         for (int x = 0; x < t->width; x++) ew_put_index(t, row, x, 0);  /* the background: black */
@@ -122,35 +130,18 @@ static void ref_resolve(ew_renderer *r, ew_band *b) {
         if (fill)
             for (int x = 0; x < t->width; x++) fill[(size_t)y * t->width + x] = -1;
     }
-    for (int i = 0; i < r->ref.npolys; i++) {
-        const ew_ref_poly *rp = &r->ref.polys[i];
-        ew_zpoly_fill(&r->draw, &rp->p, &rp->look, fill, two ? i : rp->face, b->y0, b->y1);
+    for (int i = 0; ref && i < ref->npolys; i++) {
+        const ew_ref_poly *rp = &ref->polys[i];
+        ew_zpoly_fill(c->draw, &rp->p, &rp->look, fill, two ? i : rp->face, b->y0, b->y1);
     }
-    if (two) two_pass_rows(r, b, ids);
-    if (own) ew_ref_compose_ids_out(r, out, b->y0, b->y1);
+    if (two) two_pass_rows(c, b, ids);
+    if (own) ew_ref_compose_ids_out(c, out, b->y0, b->y1);
 }
 
-static size_t ref_memory(const ew_renderer *r) { return sizeof(ew_ref_poly) * (size_t)r->ref.cap; }
+static size_t ref_memory(const ew_hsr_ctx *c) { return c->ref ? sizeof(ew_ref_poly) * (size_t)c->ref->cap : 0; }
 
-/* Fences go to the see-through list (fences 0) and with the translucent
- * surfaces and fog to its own compositing (own_compose 1). */
-const ew_hsr ew_hsr_reference = {"reference", ref_begin, ref_face, ref_poly, ref_resolve, 0, {NULL}, 0, ref_memory,
-                                  NULL, 1};
-
-/* Renders the frame with the reference method (the moving things drawn
- * over its z-buffer as over the edge list's), then copies it out. */
-int ew_render_reference(ew_renderer *r, const ew_camera *cam, uint8_t *pixels, int *face_ids,
-                        ew_error *err) {
-    const ew_hsr *was = r->f.cfg.hsr;
-    r->f.cfg.hsr = &ew_hsr_reference;
-    r->ref.ids = face_ids;
-    int rc = ew_render(r, cam, NULL);
-    r->ref.ids = NULL;
-    r->f.cfg.hsr = was;
-    if (rc < 0) return ew_fail(err, "reference: bad camera");
-    if (pixels)  /* palette indices, or 4-byte pixels in true colour */
-        for (int y = 0; y < r->f.target.height; y++)
-            memcpy(pixels + (size_t)y * r->f.target.width * r->f.target.bpp, ew_target_at(&r->f.target, 0, y),
-                   (size_t)r->f.target.width * r->f.target.bpp);
-    return 0;
-}
+/* Fences go to the see-through list (no EW_HSR_FENCES) and with the
+ * translucent surfaces and fog to its own compositing (EW_HSR_OWN_COMPOSE);
+ * no spans: it writes the pixels itself. */
+const ew_hsr ew_hsr_reference = {"reference", EW_HSR_OWN_COMPOSE, ref_begin, ref_face, ref_poly, NULL, ref_resolve,
+                                  ref_memory, {NULL}};

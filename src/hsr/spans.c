@@ -8,7 +8,6 @@
  * polygons, their order and their pixels are the edge list's
  * (hsr/poly_rows.h). */
 #include "hsr/poly_rows.h"
-#include "renderer.h"
 
 #include <string.h>
 
@@ -49,11 +48,11 @@ static int clip_span(drawn *d, int *nd, int s, int xl, int xr, ew_row_poly *p, l
     return np;
 }
 
-static void spans_resolve(ew_renderer *r, ew_band *b) {
-    const int width = r->f.target.width;
+static void spans_resolve(const ew_hsr_ctx *ctx, ew_band *b) {
+    const int width = ctx->f->target.width;
     const int maxd = width / 2 + 2;
     ew_poly_rows pr;
-    char *m = ew_poly_rows_begin(&pr, r, b, sizeof(drawn) * (size_t)maxd + sizeof(ew_row_poly) * (size_t)(width + 1));
+    char *m = ew_poly_rows_begin(&pr, ctx, b, sizeof(drawn) * (size_t)maxd + sizeof(ew_row_poly) * (size_t)(width + 1));
     if (!m) {
         ew_poly_rows_background(b, width);
         return;
@@ -76,8 +75,6 @@ static void spans_resolve(ew_renderer *r, ew_band *b) {
     }
 }
 
-static size_t spans_memory(const ew_renderer *r) { return ew_poly_rows_memory(r); }
-
-const ew_hsr ew_hsr_spans = {"spans", ew_edge_begin, ew_emit_face, ew_emit_poly, spans_resolve, 0,
-                             {"polygon spans", "spans clipped", "spans hidden", "span list entries"}, 1,
-                             spans_memory, NULL, 0};
+const ew_hsr ew_hsr_spans = {"spans", EW_HSR_EDGE_LIST | EW_HSR_MAKES_SPANS | EW_HSR_EXACT_ONCE, ew_edge_begin,
+                             ew_edge_face, ew_edge_poly, NULL, spans_resolve, ew_poly_rows_memory,
+                             {"polygon spans", "spans clipped", "spans hidden", "span list entries"}};

@@ -31,14 +31,14 @@ static int reserve(void **arr, int *cap, int need, size_t elem, int first) {
     return 0;
 }
 
-ew_spolys *ew_spolys_begin(ew_renderer *r) {
-    ew_edge_begin(r);
-    ew_spolys *sp = r->spolys;
+ew_spolys *ew_spolys_begin(ew_hsr_ctx *c) {
+    ew_edge_begin(c);
+    ew_spolys *sp = c->spolys;
     if (!sp) {
-        sp = r->spolys = calloc(1, sizeof *sp);
+        sp = c->spolys = calloc(1, sizeof *sp);
         if (!sp) return NULL;
     }
-    int nf = r->f.world->numfaces;
+    int nf = c->f->world->numfaces;
     if (sp->nfaces != nf) {
         free(sp->face_surf), free(sp->face_frame);
         sp->face_surf = malloc(sizeof(int) * (size_t)nf);
@@ -51,15 +51,15 @@ ew_spolys *ew_spolys_begin(ew_renderer *r) {
     sp->norder = 0;
     sp->neplanes = 0;
     sp->failed = sp->nfaces != nf;
-    if (reserve((void **)&sp->polys, &sp->cap_polys, r->el.max_surfs, sizeof *sp->polys, 256) < 0) sp->failed = 1;
+    if (reserve((void **)&sp->polys, &sp->cap_polys, c->el->max_surfs, sizeof *sp->polys, 256) < 0) sp->failed = 1;
     else sp->polys[0] = (ew_spoly){0, 0, 0, 0, 0, 0, 0, 0};  /* the background has no polygon */
     return sp;
 }
 
 /* Surface s (just made) gets its polygon from the world-space points p
  * (already clipped), and its place in the BSP order. */
-static void record(ew_renderer *r, int s, float (*p)[3], int n) {
-    ew_spolys *sp = r->spolys;
+static void record(ew_hsr_ctx *c, int s, float (*p)[3], int n) {
+    ew_spolys *sp = c->spolys;
     if (!sp || sp->failed) return;
     ew_spoly *pl = &sp->polys[s];
     pl->first = sp->nverts, pl->n = 0;
@@ -69,7 +69,7 @@ static void record(ew_renderer *r, int s, float (*p)[3], int n) {
         sp->failed = 1;
         return;
     }
-    const ew_view *v = &r->f.view;
+    const ew_view *v = &c->f->view;
     ew_spoly_vert *out = sp->verts + sp->nverts;
     double area = 0;
     for (int i = 0; i < n; i++) {
@@ -119,12 +119,13 @@ static void record(ew_renderer *r, int s, float (*p)[3], int n) {
     sp->nverts += m;
     /* World faces arrive in key order; brush model fragments come later
      * with their leaves' keys, and are inserted after equal keys. */
-    int key = r->el.surfs[s].key, at = sp->norder;
-    if (at > 0 && r->el.surfs[sp->order[at - 1]].key > key) {
+    const ew_surf *surfs = c->el->surfs;
+    int key = surfs[s].key, at = sp->norder;
+    if (at > 0 && surfs[sp->order[at - 1]].key > key) {
         int lo = 0, hi = at;
         while (lo < hi) {
             int mid = (lo + hi) / 2;
-            if (r->el.surfs[sp->order[mid]].key <= key) lo = mid + 1;
+            if (surfs[sp->order[mid]].key <= key) lo = mid + 1;
             else hi = mid;
         }
         at = lo;
@@ -135,9 +136,9 @@ static void record(ew_renderer *r, int s, float (*p)[3], int n) {
 }
 
 /* Face fi's edge planes for surface s. */
-static void edge_planes(ew_renderer *r, int s, int fi) {
-    ew_spolys *sp = r->spolys;
-    const ew_world *w = r->f.world;
+static void edge_planes(ew_hsr_ctx *c, int s, int fi) {
+    ew_spolys *sp = c->spolys;
+    const ew_world *w = c->f->world;
     const ew_face *f = &w->faces[fi];
     int n = f->numedges;
     if (reserve((void **)&sp->eplanes, &sp->cap_eplanes, sp->neplanes + n, sizeof *sp->eplanes, 4096) < 0) {
@@ -169,47 +170,47 @@ static void edge_planes(ew_renderer *r, int s, int fi) {
     sp->neplanes += m;
 }
 
-void ew_spolys_face(ew_renderer *r, int fi, int clipflags, int key) {
-    int s = r->el.nsurfs;
-    ew_emit_face(r, fi, clipflags, key);
-    if (r->el.nsurfs == s || !r->spolys || r->spolys->failed) return;
-    ew_spolys *sp = r->spolys;
+void ew_spolys_face(ew_hsr_ctx *c, int fi, int clipflags, int key) {
+    int s = c->el->nsurfs;
+    ew_edge_face(c, fi, clipflags, key);
+    if (c->el->nsurfs == s || !c->spolys || c->spolys->failed) return;
+    ew_spolys *sp = c->spolys;
     sp->face_surf[fi] = s, sp->face_frame[fi] = sp->frame;
     sp->polys[s] = (ew_spoly){0, 0, 0, 0, 0, 0, 0, 0};
-    edge_planes(r, s, fi);
-    const ew_world *w = r->f.world;
+    edge_planes(c, s, fi);
+    const ew_world *w = c->f->world;
     const ew_face *f = &w->faces[fi];
     float in[EW_MAX_POLY][3], out[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
     ew_face_points(w, f, in);
     for (int i = 0; i < f->numedges; i++) tin[i] = i;
     /* The same clip as the edge list's, so shared clipped points match. */
-    int m = clipflags ? ew_clip_poly(&r->f.view, clipflags, in, f->numedges, out, tin, tout) : f->numedges;
+    int m = clipflags ? ew_clip_poly(&c->f->view, clipflags, in, f->numedges, out, tin, tout) : f->numedges;
     if (m < 3) {
         sp->polys[s].n = 0;
         return;
     }
-    record(r, s, clipflags ? out : in, m);
+    record(c, s, clipflags ? out : in, m);
 }
 
-void ew_spolys_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
-    int s = r->el.nsurfs;
-    ew_emit_poly(r, verts, n, fi, v, key);
-    if (r->el.nsurfs == s || !r->spolys || r->spolys->failed) return;
-    r->spolys->polys[s] = (ew_spoly){0, 0, 0, 0, 0, 0, 0, 0};
+void ew_spolys_poly(ew_hsr_ctx *c, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
+    int s = c->el->nsurfs;
+    ew_edge_poly(c, verts, n, fi, v, key);
+    if (c->el->nsurfs == s || !c->spolys || c->spolys->failed) return;
+    c->spolys->polys[s] = (ew_spoly){0, 0, 0, 0, 0, 0, 0, 0};
     float out[EW_MAX_POLY][3];
     int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
     for (int i = 0; i < n; i++) tin[i] = -1;
-    int m = ew_clip_poly(&r->f.view, 15, verts, n, out, tin, tout);
+    int m = ew_clip_poly(&c->f->view, 15, verts, n, out, tin, tout);
     if (m < 3) {
-        r->spolys->polys[s].n = 0;
+        c->spolys->polys[s].n = 0;
         return;
     }
-    record(r, s, out, m);
+    record(c, s, out, m);
 }
 
-size_t ew_spolys_memory(const ew_renderer *r) {
-    const ew_spolys *sp = r->spolys;
+size_t ew_spolys_memory(const ew_hsr_ctx *c) {
+    const ew_spolys *sp = c->spolys;
     if (!sp) return 0;
     return sizeof *sp->polys * (size_t)sp->cap_polys + sizeof *sp->verts * (size_t)sp->cap_verts +
            sizeof(int) * ((size_t)sp->cap_order + 2 * (size_t)sp->nfaces) + sizeof *sp->eplanes * (size_t)sp->cap_eplanes;

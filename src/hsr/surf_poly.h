@@ -1,7 +1,7 @@
 /* The screen polygons of the frame's surfaces (internal), for the methods
  * that need each surface's shape rather than its edges: the beam tree
  * (hsr/beamtree.c) and the raycast (hsr/raycast.c).  Both keep the edge
- * list's front end unchanged (ew_emit_face / ew_emit_poly make the surfaces
+ * list's front end unchanged (ew_edge_face / ew_edge_poly make the surfaces
  * the back end draws) and record, serially as faces arrive, each new
  * surface's clipped, projected polygon, the surfaces in BSP order, and the
  * world face -> surface map of the frame.
@@ -16,7 +16,7 @@
 #ifndef EW_HSR_SURF_POLY_H
 #define EW_HSR_SURF_POLY_H
 
-#include "renderer.h"
+#include "hsr/hsr.h"
 
 /* grid: made from two points of the 1/1024 grid (or axis-aligned through
  * one): a, b, c exact, so two such lines can be compared exactly. */
@@ -35,7 +35,7 @@ typedef struct ew_spoly {
 } ew_spoly;
 
 typedef struct ew_spolys {
-    ew_spoly      *polys;  int cap_polys;          /* per surface of r->el */
+    ew_spoly      *polys;  int cap_polys;          /* per surface of the edge list */
     ew_spoly_vert *verts;  int nverts, cap_verts;
     int           *order;  int norder, cap_order;  /* surfaces by BSP key, nearest first (stable) */
     int           *face_surf, *face_frame;         /* world face -> its surface, when face_frame is this frame */
@@ -64,12 +64,13 @@ int ew_line_through(double x0, double y0, double x1, double y1, ew_line *out);
 /* The line (a, b, c) with its inv; 0 if a and b are both 0. */
 int ew_line_norm(double a, double b, double c, ew_line *out);
 
-/* The frame's polygons (r->spolys, made on first use), begun with the
+/* The frame's polygons (c->spolys, made on first use), begun with the
  * edge list's begin; NULL when out of memory. */
-ew_spolys *ew_spolys_begin(ew_renderer *r);
+ew_spolys *ew_spolys_begin(ew_hsr_ctx *c);
 /* The edge list's face / poly, then the new surface's polygon recorded. */
-void ew_spolys_face(ew_renderer *r, int face, int clipflags, int key);
-void ew_spolys_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
-size_t ew_spolys_memory(const ew_renderer *r);
+void ew_spolys_face(ew_hsr_ctx *c, int face, int clipflags, int key);
+void ew_spolys_poly(ew_hsr_ctx *c, float (*verts)[3], int n, int fi, const ew_view *v, int key);
+size_t ew_spolys_memory(const ew_hsr_ctx *c);
+void ew_spolys_free(ew_spolys *sp);
 
 #endif

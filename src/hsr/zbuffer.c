@@ -8,7 +8,7 @@
  * (hsr/poly_rows.h); ties in 1/z go to the one drawn first, the nearer in
  * BSP order. */
 #include "hsr/poly_rows.h"
-#include "renderer.h"
+#include "raster/raster.h"  /* ew_face_gradients */
 
 #include <string.h>
 
@@ -16,22 +16,22 @@ enum { C_TESTS, C_PASSES, C_SPANS };
 
 /* The edge list's face, with its 1/z plane kept on the surface (the edge
  * list fills it for brush-model fragments only). */
-static void zb_face(ew_renderer *r, int face, int clipflags, int key) {
-    int s = r->el.nsurfs;
-    ew_emit_face(r, face, clipflags, key);
-    if (r->el.nsurfs == s) return;  /* clipped away, or no room */
-    ew_surf *sf = &r->el.surfs[s];
+static void zb_face(ew_hsr_ctx *c, int face, int clipflags, int key) {
+    int s = c->el->nsurfs;
+    ew_edge_face(c, face, clipflags, key);
+    if (c->el->nsurfs == s) return;  /* clipped away, or no room */
+    ew_surf *sf = &c->el->surfs[s];
     ew_gradients g;
-    ew_face_gradients(r->f.world, sf->view, &r->f.world->faces[face], 0, &g);
+    ew_face_gradients(c->f->world, sf->view, &c->f->world->faces[face], 0, &g);
     sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
 }
 
-static void zb_resolve(ew_renderer *r, ew_band *b) {
-    const int width = r->f.target.width;
+static void zb_resolve(const ew_hsr_ctx *ctx, ew_band *b) {
+    const int width = ctx->f->target.width;
     ew_poly_rows pr;
     /* The rows are resolved one after another: one row of depth is all
      * the buffer ever needs. */
-    float *zr = ew_poly_rows_begin(&pr, r, b, sizeof(float) * (size_t)width);
+    float *zr = ew_poly_rows_begin(&pr, ctx, b, sizeof(float) * (size_t)width);
     if (!zr) {
         ew_poly_rows_background(b, width);
         return;
@@ -43,7 +43,7 @@ static void zb_resolve(ew_renderer *r, ew_band *b) {
         memset(zr, 0, sizeof(float) * (size_t)width);  /* 0: nothing drawn, farther than any polygon */
         for (int i = 0; i < pr.nrow; i++) {
             const ew_row_poly *rp = &pr.row[i];
-            const ew_surf *sf = &r->el.surfs[rp->surf];
+            const ew_surf *sf = &ctx->el->surfs[rp->surf];
             const float zv = sf->zi_v * v + sf->zi_0, du = sf->zi_u;
             c[C_TESTS] += rp->xr - rp->xl;
             int run = -1;
@@ -73,7 +73,5 @@ static void zb_resolve(ew_renderer *r, ew_band *b) {
     }
 }
 
-static size_t zb_memory(const ew_renderer *r) { return ew_poly_rows_memory(r); }
-
-const ew_hsr ew_hsr_zbuffer = {"zbuffer", ew_edge_begin, zb_face, ew_emit_poly, zb_resolve, 0,
-                               {"depth tests", "depth passes", "spans made"}, 0, zb_memory, NULL, 0};
+const ew_hsr ew_hsr_zbuffer = {"zbuffer", EW_HSR_MAKES_SPANS, ew_edge_begin, zb_face, ew_edge_poly, NULL, zb_resolve,
+                               ew_poly_rows_memory, {"depth tests", "depth passes", "spans made"}};

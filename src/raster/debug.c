@@ -155,7 +155,7 @@ void ew_debug_spans(ew_renderer *r, const ew_band *b) {
 /* Every edge of the global edge list crossing the band's rows, a pixel a
  * row where the scan puts its span's first pixel. */
 static void draw_edges(ew_renderer *r, int y0, int y1) {
-    if (r->f.cfg.hsr != &ew_hsr_edge) return;
+    if (!(r->f.cfg.hsr->flags & EW_HSR_SHOWS_EDGES)) return;
     const ew_target *t = &r->f.target;
     for (int i = 0; i < r->el.nedges; i++) {
         const ew_edge *e = &r->el.edges[i];

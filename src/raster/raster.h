@@ -5,7 +5,7 @@
 #ifndef EW_RASTER_H
 #define EW_RASTER_H
 
-#include "hsr/hsr.h"
+#include "world/view.h"  /* the frame's types, EW_MAX_POLY */
 #include "raster/blend.h"
 #include "raster/target.h"
 
@@ -164,6 +164,22 @@ enum {
     EW_ZP_BLEND     /* z-tested, blended over what is there through look->blend, fogged at
                        its own depth first; no z written */
 };
+/* See-through polygons of this frame (world/divert.c collects them from the
+ * front end, raster/seethrough.c draws them): fences first, then the
+ * translucent ones back to front. */
+enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
+typedef struct ew_see_poly {
+    ew_zpoly       p;           /* clipped and projected */
+    ew_zpoly_look  look;        /* its texels and how it is drawn */
+    int            face, key, kind;
+    float          alpha;
+} ew_see_poly;
+typedef struct ew_see {
+    ew_see_poly *polys; int n, cap;
+    int         *order;  int cap_order;  /* fences, then translucent far to near */
+    int          n_drawn, nfences;       /* in order[]: all, and the fences among them */
+} ew_see;
+
 /* Clips (whole frustum) and projects a world-space polygon; 0 if nothing is left. */
 int  ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p);
 /* Its two halves, for a caller that shares projected corners between

@@ -13,13 +13,15 @@ static const ew_pass passes[] = {
     /* translucent surfaces, far to near, each fogged at its own depth */
     {"translucent", NULL, NULL, ew_draw_translucent},
 };
-/* A method that composites for itself (ew_hsr.own_compose: the reference)
+/* A method that composites for itself (EW_HSR_OWN_COMPOSE: the reference)
  * runs the models, then its own fences, translucent surfaces and fog,
  * per pixel (hsr/ref_compose.c), and none of the shared passes above: it
  * is what they are checked against. */
+static int compose_prepare(ew_renderer *r) { return ew_ref_compose_prepare(&r->hsr); }
+static void compose_draw(ew_renderer *r, const ew_rows *rows) { ew_ref_compose_draw(&r->hsr, rows); }
 static const ew_pass own_passes[] = {
     {"models", ew_prepare_entities, ew_models_work, ew_draw_models},
-    {"compose", ew_ref_compose_prepare, NULL, ew_ref_compose_draw},
+    {"compose", compose_prepare, NULL, compose_draw},
 };
 /* After the bands: the underwater warp and tint (raster/warp.c, ew_render). */
 enum { NPASSES = sizeof passes / sizeof *passes, NOWN = sizeof own_passes / sizeof *own_passes };
@@ -28,7 +30,7 @@ _Static_assert(NOWN <= NPASSES, "room for every pass's work");
 
 /* The frame's list: its method's choice. */
 static const ew_pass *pass_list(const ew_renderer *r, int *n) {
-    if (r->f.cfg.hsr && r->f.cfg.hsr->own_compose) {
+    if (r->f.cfg.hsr && (r->f.cfg.hsr->flags & EW_HSR_OWN_COMPOSE)) {
         *n = NOWN;
         return own_passes;
     }

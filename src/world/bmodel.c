@@ -195,7 +195,7 @@ int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, v
 static void frag_direct(void *ctx, float (*p)[3], int n, int face, const ew_view *v, int key, int kind, float alpha) {
     ew_renderer *r = ctx;
     if (ew_see_to_hsr(r, kind))
-        r->f.cfg.hsr->poly(r, p, n, face, v, key);
+        r->f.cfg.hsr->poly(&r->hsr, p, n, face, v, key);
     else
         ew_see_add(r, p, n, face, v, key, kind, alpha);
 }

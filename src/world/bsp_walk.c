@@ -97,7 +97,7 @@ void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha) {
 /* The serial walker's face: to the method, or to the see-through pass. */
 static void method_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
     if (ew_see_to_hsr(wk->r, kind))
-        wk->r->f.cfg.hsr->face(wk->r, fi, clipflags, wk->key);
+        wk->r->f.cfg.hsr->face(&wk->r->hsr, fi, clipflags, wk->key);
     else
         ew_walk_see_add(wk->r, fi, wk->key, kind, alpha);
 }

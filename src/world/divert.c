@@ -26,7 +26,7 @@ int ew_see_kind(const ew_renderer *r, const ew_face *f, float entity_alpha, floa
 }
 
 int ew_see_to_hsr(const ew_renderer *r, int kind) {
-    return kind == EW_SEE_OPAQUE || (kind == EW_SEE_FENCE && r->f.cfg.hsr->fences);
+    return kind == EW_SEE_OPAQUE || (kind == EW_SEE_FENCE && (r->f.cfg.hsr->flags & EW_HSR_FENCES));
 }
 
 void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind,

@@ -108,7 +108,7 @@ void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha);
  * shared between faces settled and everything numbered by prefix sums;
  * then, on the calling thread, tail(arg), and then then(r, thread) on
  * every thread of the pool (one pool run for all).  -1 (nothing done) if
- * the method does not use ew_emit_face and ew_emit_poly, the pool has
+ * the method does not take the edge list (EW_HSR_EDGE_LIST), the pool has
  * one thread and ew_set_front_mode did not ask for the phases, the tree
  * is irregular (an edge on more than two faces, a face on two nodes...)
  * or memory runs out: then the serial walk and brush models as before.
@@ -167,5 +167,12 @@ int  ew_prepare_entities(ew_renderer *r);
  * frame (r->ents.tested_frame set to it), ew_prepare_entities keeps it. */
 int  ew_reserve_entities(ew_renderer *r);
 void ew_test_entities(ew_renderer *r, int from, int to);
+
+/* world/edges.c: clip, project and emit one face (or a loose polygon)
+ * into the edge list: the front end's own face and poly, which the edge
+ * list's methods take (EW_HSR_EDGE_LIST, through the context's emit_face
+ * and emit_poly). */
+void ew_emit_face(ew_renderer *r, int face, int clipflags, int key);
+void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
 
 #endif

@@ -1094,7 +1094,7 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
                            double serial_ms[2]) {
     /* One thread walks the tree in one loop unless the phases are asked for. */
     if ((r->sched.nthreads == 1 && !r->f.cfg.front_phases) ||
-        r->f.cfg.hsr->face != ew_emit_face || r->f.cfg.hsr->poly != ew_emit_poly || r->fpar_bad)
+        !(r->f.cfg.hsr->flags & EW_HSR_EDGE_LIST) || r->fpar_bad)
         return -1;
     if (!r->fpar && !(r->fpar = front_par_new(r->f.world))) {
         r->fpar_bad = 1;  /* an irregular tree (or no memory): the serial front end from now on */
