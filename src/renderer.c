@@ -160,6 +160,10 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
     r->lit.cache.bpp = r->f.target.bpp;
     ew_debug_init(r);
+    r->passes.ctx = (ew_pass_ctx){
+        .f = &r->f, .r = r, .draw = &r->draw, .zf = &r->zf, .blend = &r->blend, .see = &r->see,
+        .warp = &r->warp, .dbg = &r->dbg, .el = &r->el, .surf_draw = r->lit.surf_draw,
+    };
     return r;
 oom:
     ew_renderer_destroy(r);
@@ -241,7 +245,8 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->el.surfs), free(r->lit.blocklights);
     free(r->ref.polys), ew_ref_compose_free(r->ref.compose);
     ew_spolys_free(r->spolys);
-    free(r->see.polys), free(r->see.order), free(r->warp_copy);
+    free(r->see.polys), free(r->see.order);
+    ew_warp_free(&r->warp);
     ew_blend_free(&r->blend);
     ew_debug_free(r);
     ew_front_par_free(r->fpar);
@@ -549,7 +554,7 @@ static void job_build(void *ctx, int thread) {
     int *scratch = r->lit.blocklights + (size_t)r->lit.maxlm * 3 * thread;
     for (int k; (k = atomic_fetch_add(&r->sched.next_build, 1)) < r->lit.nbuild;)
         ew_cache_build(r, r->lit.to_build[k], scratch);
-    ew_passes_work(r);  /* e.g. alias models posed once for every band */
+    ew_passes_work(&r->passes);  /* e.g. alias models posed once for every band */
     enum { CHUNK = 32 };
     for (int k; (k = atomic_fetch_add(&r->sched.next_grad, CHUNK)) < r->lit.ngrad;) {
         int end = k + CHUNK < r->lit.ngrad ? k + CHUNK : r->lit.ngrad;
@@ -569,23 +574,14 @@ static void job_build(void *ctx, int thread) {
     }
 }
 
-/* The underwater warp, band by band, from the copy of the whole frame. */
-static void job_warp(void *ctx, int thread) {
-    (void)thread;
-    ew_renderer *r = ctx;
-    for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;)
-        ew_warp_rows(r, r->sched.bands[i].y0, r->sched.bands[i].y1);
-}
-
-/* True colour: the output gamma, band by band. */
-static void job_gamma(void *ctx, int thread) {
+/* The whole-frame passes (the underwater warp, the gamma), band by band,
+ * once every band is drawn. */
+static void job_after(void *ctx, int thread) {
     (void)thread;
     ew_renderer *r = ctx;
     for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;) {
-        const ew_band *b = &r->sched.bands[i];
-        size_t w = (size_t)r->f.target.width;
-        ew_gamma_pixels((uint32_t *)(void *)r->f.target.pixels + (size_t)b->y0 * w, (size_t)(b->y1 - b->y0) * w,
-                        r->f.cfg.gamma_lut);
+        ew_rows rows = {r->sched.bands[i].y0, r->sched.bands[i].y1, &r->f.stats, 0};
+        ew_passes_after(&r->passes, &rows);
     }
 }
 
@@ -618,7 +614,7 @@ static void job_draw(void *ctx, int thread) {
         double t0 = ew_now_ms();
         ew_draw_item *it = &r->sched.items[i];
         if (r->dbg.mode == EW_DEBUG_SPANS) {
-            ew_debug_spans(r, &r->sched.bands[i]);
+            ew_debug_spans(&r->draw, &r->sched.bands[i], i);
         } else {
             /* Rows whose spans follow each other in one band: one call. */
             for (int y = it->y0, y1; y < it->y1; y = y1) {
@@ -631,10 +627,7 @@ static void job_draw(void *ctx, int thread) {
         double t1 = ew_now_ms();
         memset(&it->stats, 0, sizeof it->stats);
         ew_rows rows = {it->y0, it->y1, &it->stats, i == 0};
-        if (r->dbg.mode)
-            ew_debug_passes(r, &r->sched.bands[i], &rows);
-        else
-            ew_passes_draw(r, &rows);
+        ew_passes_draw(&r->passes, r->dbg.mode ? &r->sched.bands[i] : NULL, &rows);
         it->model_ms = ew_now_ms() - t1;
         it->ms = ew_now_ms() - t0;
     }
@@ -740,77 +733,41 @@ static void prepare_surfaces(ew_renderer *r) {
             if (r->dbg.mode == EW_DEBUG_BUILDS) d->kind = EW_DRAW_DEBUG, d->flat = r->dbg.build;
         }
     }
+    r->f.stats.surfaces_shown = r->lit.ngrad;  /* the surfaces with a span */
 }
 
-/* The serial time of the frame's phases: wall time between two marks less
- * the time spent inside ew_pool_run (the parallel sections) in between. */
-typedef struct serial_clock { double t, par; } serial_clock;
-static double serial_lap(const ew_renderer *r, serial_clock *c) {
+/* The frame's clocks (ew_stats' times): a mark at the end of each serial
+ * step, with the serial time since the last mark, wall time between two
+ * marks less the time spent inside ew_pool_run (the parallel sections). */
+enum { MARK_START, MARK_BEGUN, MARK_SCANNED, MARK_SURFACES, MARK_PASSES, MARK_DRAWN, NMARKS };
+typedef struct frame_clock {
+    double at[NMARKS], serial[NMARKS];
+    double t, par;                   /* the last mark: wall time and parallel time then */
+    double par0;                     /* parallel time at the start */
+    double front_ms, walk_ms, brush_ms, tail_ms;  /* the front end (front_end) */
+    double serial_in_run;            /* serial steps inside the front end's pool run */
+} frame_clock;
+
+static double serial_lap(const ew_renderer *r, frame_clock *c) {
     double t = ew_now_ms(), par = ew_pool_parallel_ms(r->sched.pool);
     double ms = (t - c->t) - (par - c->par);
     c->t = t, c->par = par;
     return ms;
 }
+static void clock_mark(const ew_renderer *r, frame_clock *c, int mark) {
+    if (mark == MARK_START) {
+        c->t = c->at[MARK_START] = ew_now_ms();
+        c->par = c->par0 = ew_pool_parallel_ms(r->sched.pool);
+        return;
+    }
+    c->at[mark] = ew_now_ms();
+    c->serial[mark] = serial_lap(r, c);
+}
 
-int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
-    double t0 = ew_now_ms();
-    serial_clock sc = {t0, ew_pool_parallel_ms(r->sched.pool)}, sc0 = sc;
-    double ser[6];  /* begin, walk, brush, prepare, passes; then all */
-    if (ew_frame_begin(r, cam) < 0) return -1;
-    ew_pool_wake(r->sched.pool);
-    ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
-    ser[0] = serial_lap(r, &sc);
-    /* The walk, brush models, then the bands scanned.  On more than one
-     * thread (or with EW_FRONT_PHASES) the walk, the faces' clipping and
-     * edge setup run on every thread, the scan follows in the same pool
-     * run (world/front_par.c); one thread walks in one loop below.  The
-     * serial steps in that run (its layout and numbering, the brush models,
-     * band placement) are counted in ms_serial by their own clocks. */
-    front_tail_arg ft = {r, 0, 0};
-    double tw = ew_now_ms(), serial_in_run = 0, front_serial[2] = {0, 0};
-    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, front_serial) < 0) {
-        ew_pvs_finish(r);
-        ew_walk_world(r);
-        double tb = ew_now_ms();
-        ew_walk_brush_models(r);
-        front_tail(&ft);
-        serial_lap(r, &sc);
-        ew_pool_run(r->sched.pool, job_scan, r);
-        ser[1] = tb - tw, ser[2] = ft.t1 - tb;
-    } else {
-        serial_in_run = front_serial[0] + front_serial[1] + (ft.t_end - ft.t1);
-        ser[1] = front_serial[0], ser[2] = front_serial[1];
-    }
-    ser[3] = ft.t_end - ft.t1;
-    double t1 = ft.t1;
-    double t2 = ew_now_ms();
-    serial_lap(r, &sc);
-    prepare_surfaces(r);
-    r->f.stats.surfaces_shown = r->lit.ngrad;  /* the surfaces with a span */
-    ser[3] += serial_lap(r, &sc);
-    double te = ew_now_ms();
-    ew_passes_prepare(r);
-    double prep_ms = ew_now_ms() - te;
-    ser[4] = serial_lap(r, &sc);
-    atomic_store(&r->sched.next_build, 0);
-    atomic_store(&r->sched.next_grad, 0);
-    ew_pool_run(r->sched.pool, job_build, r);
-    place_draw(r);
-    atomic_store(&r->sched.next_band, 0);
-    ew_pool_run(r->sched.pool, job_draw, r);
-    r->sched.bands_sized_for = r->sched.nbands;
-    if (!ew_debug_structure(&r->dbg) && ew_warp_begin(r)) {
-        atomic_store(&r->sched.next_band, 0);
-        ew_pool_run(r->sched.pool, job_warp, r);
-    }
-    if (r->f.target.bpp == 4 && r->f.cfg.gamma != 1) {
-        atomic_store(&r->sched.next_band, 0);
-        ew_pool_run(r->sched.pool, job_gamma, r);
-    }
-    double t3 = ew_now_ms();
-    if (r->ents.scene) ew_scene_counts(r->ents.scene, NULL, &r->f.stats.entities_unknown, &r->f.stats.models_missing);
-
+/* The frame's counters from the bands' and the draw's items', and its times. */
+static void frame_stats(ew_renderer *r, const frame_clock *c) {
     ew_stats *st = &r->f.stats;
+    if (r->ents.scene) ew_scene_counts(r->ents.scene, NULL, &st->entities_unknown, &st->models_missing);
     st->pixels = (long)r->f.target.width * r->f.target.height;
     st->edges = r->el.nedges;
     st->surfaces = r->el.nsurfs - 1;
@@ -840,14 +797,70 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     /* Models are drawn inside the bands' draw step; ms_models is their
      * time summed over bands, per thread (the wall time they took), plus
      * the serial per-frame entity pass. */
-    models_ms = models_ms / r->sched.nthreads + prep_ms;
+    const double *at = c->at;
+    double t0 = at[MARK_START], t1 = c->front_ms, t2 = at[MARK_SCANNED], t3 = at[MARK_DRAWN];
+    models_ms = models_ms / r->sched.nthreads + (at[MARK_PASSES] - at[MARK_SURFACES]);
     st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2 - models_ms;
     st->ms_models = models_ms, st->ms_total = t3 - t0;
     /* Serial: from the start of the frame to here, outside ew_pool_run. */
-    ser[5] = serial_lap(r, &sc0) + serial_in_run;
-    st->ms_serial = ser[5];
-    st->ms_serial_begin = ser[0], st->ms_serial_walk = ser[1], st->ms_serial_brush = ser[2];
-    st->ms_serial_prepare = ser[3], st->ms_serial_passes = ser[4];
-    if (stats) *stats = *st;
+    st->ms_serial = (ew_now_ms() - t0) - (ew_pool_parallel_ms(r->sched.pool) - c->par0) + c->serial_in_run;
+    st->ms_serial_begin = c->serial[MARK_BEGUN], st->ms_serial_walk = c->walk_ms, st->ms_serial_brush = c->brush_ms;
+    st->ms_serial_prepare = c->tail_ms + c->serial[MARK_SURFACES], st->ms_serial_passes = c->serial[MARK_PASSES];
+}
+
+/* The walk, brush models, then the bands scanned.  On more than one
+ * thread (or with EW_FRONT_PHASES) the walk, the faces' clipping and edge
+ * setup run on every thread, the scan follows in the same pool run
+ * (world/front_par.c); one thread walks in one loop below.  The serial
+ * steps in that run (its layout and numbering, the brush models, band
+ * placement) are counted in ms_serial by their own clocks. */
+static void front_end(ew_renderer *r, frame_clock *c) {
+    front_tail_arg ft = {r, 0, 0};
+    double tw = ew_now_ms(), front_serial[2] = {0, 0};
+    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, front_serial) < 0) {
+        ew_pvs_finish(r);
+        ew_walk_world(r);
+        double tb = ew_now_ms();
+        ew_walk_brush_models(r);
+        front_tail(&ft);
+        serial_lap(r, c);
+        ew_pool_run(r->sched.pool, job_scan, r);
+        c->walk_ms = tb - tw, c->brush_ms = ft.t1 - tb;
+        c->serial_in_run = 0;
+    } else {
+        c->serial_in_run = front_serial[0] + front_serial[1] + (ft.t_end - ft.t1);
+        c->walk_ms = front_serial[0], c->brush_ms = front_serial[1];
+    }
+    c->tail_ms = ft.t_end - ft.t1;
+    c->front_ms = ft.t1;
+}
+
+int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
+    frame_clock clock;
+    clock_mark(r, &clock, MARK_START);
+    if (ew_frame_begin(r, cam) < 0) return -1;
+    ew_pool_wake(r->sched.pool);
+    ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
+    clock_mark(r, &clock, MARK_BEGUN);
+    front_end(r, &clock);
+    clock_mark(r, &clock, MARK_SCANNED);
+    prepare_surfaces(r);
+    clock_mark(r, &clock, MARK_SURFACES);
+    ew_passes_prepare(&r->passes);
+    clock_mark(r, &clock, MARK_PASSES);
+    atomic_store(&r->sched.next_build, 0);
+    atomic_store(&r->sched.next_grad, 0);
+    ew_pool_run(r->sched.pool, job_build, r);
+    place_draw(r);
+    atomic_store(&r->sched.next_band, 0);
+    ew_pool_run(r->sched.pool, job_draw, r);
+    r->sched.bands_sized_for = r->sched.nbands;
+    if (ew_passes_after_begin(&r->passes)) {  /* the underwater warp, the gamma */
+        atomic_store(&r->sched.next_band, 0);
+        ew_pool_run(r->sched.pool, job_after, r);
+    }
+    clock_mark(r, &clock, MARK_DRAWN);
+    frame_stats(r, &clock);
+    if (stats) *stats = r->f.stats;
     return 0;
 }

@@ -19,6 +19,7 @@
 #include "hsr/hsr.h"
 #include "light/light.h"
 #include "light/twopass.h"
+#include "output/gamma.h"
 #include "pool.h"
 #include "raster/blend.h"
 #include "raster/debug.h"
@@ -55,8 +56,7 @@ typedef struct ew_sched {
     _Alignas(64) _Atomic int next_band;           /* work handed out in a phase */
     _Alignas(64) _Atomic int next_build;
     _Alignas(64) _Atomic int next_grad;
-    _Alignas(64) _Atomic int next_item;           /* the passes' parallel preparation */
-    int      pass_items[8], npass_items;          /* per pass, its work items this frame */
+    _Alignas(64) _Atomic int next_item;           /* the surfaces' lookup */
     _Alignas(64) char end;
 } ew_sched;
 
@@ -103,22 +103,6 @@ typedef struct ew_ents {
 } ew_ents;
 void ew_sprite_cache_free(struct ew_sprite_cache *c);
 
-/* See-through polygons of this frame (world/divert.c collects them from the
- * front end, raster/seethrough.c draws them): fences first, then the
- * translucent ones back to front. */
-enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
-typedef struct ew_see_poly {
-    ew_zpoly       p;           /* clipped and projected */
-    ew_zpoly_look  look;        /* its texels and how it is drawn */
-    int            face, key, kind;
-    float          alpha;
-} ew_see_poly;
-typedef struct ew_see {
-    ew_see_poly *polys; int n, cap;
-    int         *order;  int cap_order;  /* fences, then translucent far to near */
-    int          n_drawn, nfences;       /* in order[]: all, and the fences among them */
-} ew_see;
-
 /* The reference method's frame: the polygons it fills band by band. */
 typedef struct ew_ref_poly ew_ref_poly;
 typedef struct ew_ref {
@@ -140,21 +124,14 @@ struct ew_renderer {
     struct ew_spolys *spolys;                    /* beamtree, raycast: surfaces' screen polygons (hsr/surf_poly.c) */
     ew_see      see;
     ew_blend    blend;                           /* 8-bit blend, fog and tint tables */
-    uint8_t    *warp_copy;                       /* the underwater warp's source frame and shifts */
-    const uint8_t *warp_tint;                    /* and its tint table this frame */
-    int         warp_rgb[3], warp_amount;        /* true colour: the tint itself */
+    ew_warp     warp;                            /* the underwater warp (raster/warp.c) */
+    ew_passes   passes;                          /* what is drawn over the world, and after (scene/passes.c) */
     ew_sched    sched;
     ew_debug    dbg;                             /* debug modes (raster/debug.c) */
     struct ew_front_par *fpar;                   /* the parallel front end's lists (world/front_par.c), or NULL */
     int         fpar_bad;                        /* its plan failed (an irregular tree): the serial front end */
     ew_occlusion occ;                            /* faces nearer faces hide (world/occlude.c) */
 };
-
-/* output/gamma.c: the table of a channel through gamma g (out = 255 *
- * (in / 255) ^ (1 / g)); the gamma applied to n 32-bit pixels in place
- * (R, G, B through lut, A kept). */
-void ew_gamma_table(float g, uint8_t lut[256]);
-void ew_gamma_pixels(uint32_t *px, size_t n, const uint8_t lut[256]);
 
 /* bands.c: the frame's cost to draw per row (cost[0..height-1]; cost[height]
  * is scratch), from the scan's spans and the posed models, for placing the

@@ -1,6 +1,6 @@
 /* Output gamma: a table per channel value, for the palette of 8-bit frames
- * and the pixels of true-colour frames (renderer.h). */
-#include "renderer.h"
+ * and the pixels of true-colour frames (output/gamma.h). */
+#include "output/gamma.h"
 
 #include <math.h>
 #include <string.h>

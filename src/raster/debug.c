@@ -137,9 +137,9 @@ static uint32_t span_colour(const ew_target *t, uint32_t n) {
     return ew_rgba(48 + (int)(h & 0xBF), 48 + (int)((h >> 8) & 0xBF), 48 + (int)((h >> 16) & 0xBF));
 }
 
-void ew_debug_spans(ew_renderer *r, const ew_band *b) {
-    const ew_target *t = &r->f.target;
-    uint32_t base = (uint32_t)(b - r->sched.bands) << 20;
+void ew_debug_spans(const ew_span_ctx *draw, const ew_band *b, int band) {
+    const ew_target *t = draw->target;
+    uint32_t base = (uint32_t)band << 20;
     uint32_t prev = 0;
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
@@ -147,7 +147,7 @@ void ew_debug_spans(ew_renderer *r, const ew_band *b) {
         /* A span touching the one before it in its row never shares its colour. */
         for (uint32_t k = 1; i > 0 && c == prev && b->spans[i - 1].v == sp->v; k++)
             c = span_colour(t, base + (uint32_t)i + (k << 28));
-        ew_debug_fill_span(&r->draw, sp, c);
+        ew_debug_fill_span(draw, sp, c);
         prev = c;
     }
 }
@@ -170,12 +170,14 @@ static void draw_edges(ew_renderer *r, int y0, int y1) {
     }
 }
 
+void ew_debug_edges(ew_renderer *r, const ew_rows *rows) { draw_edges(r, rows->y0, rows->y1); }
+
 /* Overdraw: the band's world spans counted, then each pass over the world
- * (fog aside) counted where it changed a pixel, then the counts painted. */
-static void draw_overdraw(ew_renderer *r, const ew_band *b, const ew_rows *rows) {
-    const ew_target *t = &r->f.target;
-    int w = t->width, bpp = t->bpp;
-    uint8_t *count = r->dbg.count;
+ * (fog aside) counted where it changed a pixel (scene/passes.c), then the
+ * counts painted. */
+void ew_debug_count_spans(ew_debug *d, const ew_target *t, const ew_band *b, const ew_rows *rows) {
+    int w = t->width;
+    uint8_t *count = d->count;
     memset(count + (size_t)rows->y0 * w, 0, (size_t)(rows->y1 - rows->y0) * w);
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
@@ -183,37 +185,28 @@ static void draw_overdraw(ew_renderer *r, const ew_band *b, const ew_rows *rows)
         uint8_t *c = count + (size_t)sp->v * w + sp->u;
         for (int k = 0; k < sp->count; k++) c[k] += c[k] < 255;
     }
+}
+
+void ew_debug_snap(ew_debug *d, const ew_target *t, const ew_rows *rows) {
     size_t off = (size_t)rows->y0 * t->pitch, bytes = (size_t)(rows->y1 - rows->y0) * t->pitch;
-    for (int p = 0; p < ew_pass_count(r); p++) {
-        if (strcmp(ew_pass_name(r, p), "fog") == 0) continue;
-        memcpy(r->dbg.snap + off, t->pixels + off, bytes);
-        ew_pass_draw(r, rows, p);
-        for (int y = rows->y0; y < rows->y1; y++) {
-            const uint8_t *now = ew_target_at(t, 0, y), *was = r->dbg.snap + (size_t)y * t->pitch;
-            uint8_t *c = count + (size_t)y * w;
-            for (int x = 0; x < w; x++)
-                if (memcmp(now + (size_t)x * bpp, was + (size_t)x * bpp, (size_t)bpp) != 0) c[x] += c[x] < 255;
-        }
-    }
+    memcpy(d->snap + off, t->pixels + off, bytes);
+}
+
+void ew_debug_count_changes(ew_debug *d, const ew_target *t, const ew_rows *rows) {
+    int w = t->width, bpp = t->bpp;
     for (int y = rows->y0; y < rows->y1; y++) {
-        uint8_t *row = ew_target_at(t, 0, y);
-        const uint8_t *c = count + (size_t)y * w;
-        for (int x = 0; x < w; x++) put(t, row, x, r->dbg.heat[c[x] < EW_DBG_HEAT ? c[x] : EW_DBG_HEAT - 1]);
+        const uint8_t *now = ew_target_at(t, 0, y), *was = d->snap + (size_t)y * t->pitch;
+        uint8_t *c = d->count + (size_t)y * w;
+        for (int x = 0; x < w; x++)
+            if (memcmp(now + (size_t)x * bpp, was + (size_t)x * bpp, (size_t)bpp) != 0) c[x] += c[x] < 255;
     }
 }
 
-void ew_debug_passes(ew_renderer *r, const ew_band *b, const ew_rows *rows) {
-    switch (r->dbg.mode) {
-    case EW_DEBUG_SPANS:
-        return;  /* the spans alone */
-    case EW_DEBUG_OVERDRAW:
-        draw_overdraw(r, b, rows);
-        return;
-    case EW_DEBUG_EDGES:
-        ew_passes_draw(r, rows);
-        draw_edges(r, rows->y0, rows->y1);
-        return;
-    default:
-        ew_passes_draw(r, rows);
+void ew_debug_paint_heat(const ew_debug *d, const ew_target *t, const ew_rows *rows) {
+    int w = t->width;
+    for (int y = rows->y0; y < rows->y1; y++) {
+        uint8_t *row = ew_target_at(t, 0, y);
+        const uint8_t *c = d->count + (size_t)y * w;
+        for (int x = 0; x < w; x++) put(t, row, x, d->heat[c[x] < EW_DBG_HEAT ? c[x] : EW_DBG_HEAT - 1]);
     }
 }

@@ -1,10 +1,10 @@
 /* Debug modes (internal): the pipeline made visible (ew_set_debug,
  * ew_set_pvs_lock; raster/debug.c).  The hooks elsewhere are a branch per
  * band, surface or frame, never per pixel:
- *   renderer.c   job_draw: spans drawn by ew_debug_spans, the passes by
- *                ew_debug_passes (overdraw counts, edges drawn over);
- *                prepare_surfaces: built surfaces become EW_DRAW_DEBUG;
- *                ew_render: no underwater warp in the structure modes
+ *   renderer.c   job_draw: spans drawn by ew_debug_spans;
+ *                prepare_surfaces: built surfaces become EW_DRAW_DEBUG
+ *   scene/passes.c  the passes drawn the mode's way (overdraw counts,
+ *                edges drawn over); no underwater warp in the structure modes
  *   light/surface.c  ew_build_surface: flat grey texture, mip tints;
  *                gather: normal light everywhere
  *   world/pvs.c  ew_pvs_mark: the locked leaf's PVS */
@@ -38,10 +38,18 @@ static inline int ew_debug_structure(const ew_debug *d) {
 
 void ew_debug_init(ew_renderer *r);
 void ew_debug_free(ew_renderer *r);
-/* A band's spans, each in its own colour (instead of ew_draw_spans). */
-void ew_debug_spans(ew_renderer *r, const ew_band *b);
-/* What a mode draws over a band's world instead of ew_passes_draw. */
-void ew_debug_passes(ew_renderer *r, const ew_band *b, const ew_rows *rows);
+/* A band's spans (band: its number), each in its own colour (instead of
+ * ew_draw_spans). */
+void ew_debug_spans(const ew_span_ctx *draw, const ew_band *b, int band);
+/* What the modes draw over a band's world, by the pass list
+ * (scene/passes.c): the edges drawn over its rows; overdraw: the band's
+ * spans counted, a pass's rows kept before it draws and the pixels it
+ * changed counted after, then the counts painted. */
+void ew_debug_edges(ew_renderer *r, const ew_rows *rows);
+void ew_debug_count_spans(ew_debug *d, const ew_target *t, const ew_band *b, const ew_rows *rows);
+void ew_debug_snap(ew_debug *d, const ew_target *t, const ew_rows *rows);
+void ew_debug_count_changes(ew_debug *d, const ew_target *t, const ew_rows *rows);
+void ew_debug_paint_heat(const ew_debug *d, const ew_target *t, const ew_rows *rows);
 /* A span of one colour (EW_DRAW_DEBUG surfaces: colour in d->flat). */
 void ew_debug_fill_span(const ew_span_ctx *c, const ew_span *sp, uint32_t color);
 /* A lit surface of width x height texels in mip's colour. */

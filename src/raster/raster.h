@@ -183,4 +183,59 @@ int  ew_zpoly_orient(ew_zpoly *p);
 long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,
                    int y0, int y1);
 
+/* See-through polygons of this frame (world/divert.c collects them from the
+ * front end, raster/seethrough.c draws them): fences first, then the
+ * translucent ones back to front. */
+enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
+typedef struct ew_see_poly {
+    ew_zpoly       p;           /* clipped and projected */
+    ew_zpoly_look  look;        /* its texels and how it is drawn */
+    int            face, key, kind;
+    float          alpha;
+} ew_see_poly;
+typedef struct ew_see {
+    ew_see_poly *polys; int n, cap;
+    int         *order;  int cap_order;  /* fences, then translucent far to near */
+    int          n_drawn, nfences;       /* in order[]: all, and the fences among them */
+} ew_see;
+
+struct ew_zfill;
+
+/* raster/seethrough.c: fence textures (alpha-tested, z-written), then
+ * translucent surfaces (blended far to near, no z), as the front end
+ * collected them (world/divert.c). */
+int  ew_see_prepare(ew_renderer *r);
+void ew_draw_fences(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, struct ew_zfill *zf,
+                    const ew_rows *rows);
+void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, struct ew_zfill *zf,
+                         const ew_rows *rows);
+
+/* raster/fog.c: fog over what is opaque by its depth (the translucent
+ * surfaces fog their own texels as they blend).  The prepare sets this
+ * frame's fog (fog->table NULL: none). */
+void ew_fog_prepare(ew_fog *fog, ew_frame *f, ew_blend *blend);
+void ew_draw_fog(const ew_fog *fog, const ew_target *t, struct ew_zfill *zf, const ew_surf_draw *surf_draw,
+                 const ew_rows *rows);
+
+/* raster/warp.c: the underwater view, after every band is drawn (it reads
+ * rows of other bands): the frame warped and tinted by the liquid the eye
+ * is in, from a copy of it.  ew_warp_begin (serial) returns 0 when there
+ * is nothing to do. */
+typedef struct ew_warp {
+    uint8_t       *copy;            /* the source frame, then per row its x shift, per column its y shift */
+    const uint8_t *tint;            /* 8-bit: the tint table this frame */
+    int            rgb[3], amount;  /* true colour: the tint itself */
+} ew_warp;
+int  ew_warp_begin(ew_warp *w, ew_frame *f, ew_blend *blend);
+void ew_warp_rows(const ew_warp *w, const ew_target *t, int y0, int y1);
+void ew_warp_free(ew_warp *w);
+
+/* raster/models.c: alias models, sprites, item boxes, then particles,
+ * z-buffered over the z-filled world.  (Brush models are in the world.)
+ * ew_models_work does the frame's item-th piece of the work
+ * ew_prepare_entities leaves: the visible alias models posed, then the item
+ * boxes projected, once for every piece of the draw. */
+void ew_draw_models(ew_renderer *r, const ew_rows *rows);
+void ew_models_work(ew_renderer *r, int item);
+
 #endif

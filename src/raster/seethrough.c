@@ -73,25 +73,27 @@ int ew_see_prepare(ew_renderer *r) {
     return 0;
 }
 
-static void draw_range(ew_renderer *r, const ew_rows *rows, int from, int to, long *count) {
-    const ew_see *see = &r->see;
+static void draw_range(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, ew_zfill *zf,
+                       const ew_rows *rows, int from, int to, long *count) {
     long px = 0;
     for (int k = from; k < to; k++) {
         const ew_see_poly *sp = &see->polys[see->order[k]];
         const ew_zpoly *p = &sp->p;
         if (p->y1 < rows->y0 || p->y0 >= rows->y1) continue;  /* another band's rows */
-        ew_zfill_rect(&r->zf, p->x0, p->y0 > rows->y0 ? p->y0 : rows->y0, p->x1 + 1,
+        ew_zfill_rect(zf, p->x0, p->y0 > rows->y0 ? p->y0 : rows->y0, p->x1 + 1,
                       p->y1 + 1 < rows->y1 ? p->y1 + 1 : rows->y1);
-        px += ew_zpoly_fill(&r->draw, p, &sp->look, r->f.cfg.face_ids_on ? r->f.face_ids : NULL, sp->face, rows->y0,
+        px += ew_zpoly_fill(draw, p, &sp->look, f->cfg.face_ids_on ? f->face_ids : NULL, sp->face, rows->y0,
                             rows->y1);
     }
     *count += px;
 }
 
-void ew_draw_fences(ew_renderer *r, const ew_rows *rows) {
-    draw_range(r, rows, 0, r->see.nfences, &rows->stats->fence_pixels);
+void ew_draw_fences(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, ew_zfill *zf,
+                    const ew_rows *rows) {
+    draw_range(see, f, draw, zf, rows, 0, see->nfences, &rows->stats->fence_pixels);
 }
 
-void ew_draw_translucent(ew_renderer *r, const ew_rows *rows) {
-    draw_range(r, rows, r->see.nfences, r->see.n_drawn, &rows->stats->translucent_pixels);
+void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, ew_zfill *zf,
+                         const ew_rows *rows) {
+    draw_range(see, f, draw, zf, rows, see->nfences, see->n_drawn, &rows->stats->translucent_pixels);
 }
