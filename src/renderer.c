@@ -4,6 +4,7 @@
  * spans and the passes over the world (renderer.h, docs/architecture.md). */
 #include "renderer.h"
 #include "ew_util.h"
+#include "overlay/overlay.h"
 #include "scene/scene.h"
 #include "world/edge_math.h"  /* ew_proj */
 
@@ -388,6 +389,13 @@ void ew_enable_face_ids(ew_renderer *r, int on) {
     r->f.cfg.face_ids_on = on;
     if (on && !r->f.face_ids) r->f.face_ids = malloc(sizeof(int) * (size_t)r->f.target.width * r->f.target.height);
     if (!r->f.face_ids) r->f.cfg.face_ids_on = 0;
+}
+
+int ew_draw_text(ew_renderer *r, int x, int y, int scale, const char *text, const ew_text_style *style) {
+    return r ? ew_text_draw(&r->f.target, r->f.palette, x, y, scale, text, style) : -1;
+}
+int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_overlay_info *extra) {
+    return r ? ew_stats_overlay_draw(&r->f.target, r->f.palette, st, extra) : -1;
 }
 
 static int camera_ok(const ew_camera *c) {
