@@ -5,7 +5,7 @@
 #include "renderer.h"
 #include "ew_util.h"
 #include "overlay/overlay.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 #include "world/edge_math.h"  /* ew_proj */
 
 #include <math.h>
@@ -396,6 +396,16 @@ int ew_draw_text(ew_renderer *r, int x, int y, int scale, const char *text, cons
 }
 int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_overlay_info *extra) {
     return r ? ew_stats_overlay_draw(&r->f.target, r->f.palette, st, extra) : -1;
+}
+
+void ew_set_scene(ew_renderer *r, const ew_scene *s) {
+    ew_free_box_surfs(r);  /* they belong to the old scene's models */
+    r->ents.scene = s;
+    int need = s ? s->nents : 0;
+    if (need > r->ents.max_ent_views) {
+        ew_view *v = realloc(r->ents.ent_views, sizeof *v * (size_t)need);
+        if (v) r->ents.ent_views = v, r->ents.max_ent_views = need;
+    }
 }
 
 static int camera_ok(const ew_camera *c) {

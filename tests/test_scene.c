@@ -5,7 +5,7 @@
 #include "edgewise_tools.h"
 #include "util.h"
 #include "renderer.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <math.h>
 #include <stdlib.h>

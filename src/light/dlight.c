@@ -6,7 +6,7 @@
  * cached surfaces. */
 #include "renderer.h"
 #include "ew_util.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <math.h>
 

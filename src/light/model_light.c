@@ -1,7 +1,7 @@
 /* The light an alias model is drawn with (see light/lightpoint.c). */
 #include "renderer.h"
 #include "ew_util.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <math.h>
 

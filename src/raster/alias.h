@@ -17,6 +17,7 @@
 
 #include "renderer.h"
 #include "asset/mdl.h"
+#include "asset/scene.h"  /* ew_particle */
 #include "asset/spr.h"
 
 /* Where and how an entity is drawn. */
@@ -38,10 +39,6 @@ int  ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p
 int  ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p);
 int  ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p);
 
-typedef struct ew_particle {
-    float   org[3];
-    uint8_t color;   /* palette index */
-} ew_particle;
 void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const ew_rows *rows);
 void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n);
 /* Fills out[0..n) with a deterministic cloud in a ball of `radius` around

@@ -8,7 +8,7 @@
 #include "ew_util.h"
 #include "raster/alias.h"
 #include "world/edge_math.h"  /* ew_project */
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <limits.h>
 #include <math.h>
