@@ -161,9 +161,10 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
     r->lit.cache.bpp = r->f.target.bpp;
     ew_debug_init(r);
+    r->lit.marks = &r->marks, r->lit.blend = &r->blend, r->lit.dbg = &r->dbg;
     r->passes.ctx = (ew_pass_ctx){
         .f = &r->f, .r = r, .draw = &r->draw, .zf = &r->zf, .blend = &r->blend, .see = &r->see,
-        .warp = &r->warp, .dbg = &r->dbg, .el = &r->el, .surf_draw = r->lit.surf_draw,
+        .warp = &r->warp, .dbg = &r->dbg, .el = &r->el, .lit = &r->lit,
     };
     return r;
 oom:
@@ -238,7 +239,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame), free(r->marks.vis);
     free(r->marks.leaf_up), free(r->marks.node_up);
     free(r->marks.leaf_key), free(r->marks.leaf_keyframe), free(r->ents.ent_views), free(r->ents.ent_frame);
-    ew_free_box_surfs(r);
+    ew_box_surfs_free(r->ents.box_surfs, r->ents.nbox_surfs);
     free(r->marks.face_dlframe), free(r->marks.face_dlbits);
     free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
     free(r->marks.vert_frame), free(r->marks.vert_proj);
@@ -283,9 +284,6 @@ void ew_set_dither(ew_renderer *r, int on) {
     if (r->f.cfg.dither != (on != 0)) r->f.cfg.dither = on != 0, relight(r);
 }
 
-int ew_use_rgb_light(const ew_renderer *r, const ew_world *w) {
-    return w == r->f.world && w->rgblight && r->f.cfg.use_lit && !r->f.cfg.classic;
-}
 const float *ew_frame_zbuffer(ew_renderer *r) {
     ew_zfill_rect(&r->zf, 0, 0, r->f.target.width, r->f.target.height);  /* the rest of the world's 1/z */
     return r->f.target.zbuf;
@@ -399,13 +397,29 @@ int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_overlay_i
 }
 
 void ew_set_scene(ew_renderer *r, const ew_scene *s) {
-    ew_free_box_surfs(r);  /* they belong to the old scene's models */
-    r->ents.scene = s;
+    ew_box_surfs_free(r->ents.box_surfs, r->ents.nbox_surfs);  /* they belong to the old scene's models */
+    r->ents.box_surfs = NULL, r->ents.nbox_surfs = 0;
+    r->ents.scene = r->lit.scene = s;
     int need = s ? s->nents : 0;
     if (need > r->ents.max_ent_views) {
         ew_view *v = realloc(r->ents.ent_views, sizeof *v * (size_t)need);
         if (v) r->ents.ent_views = v, r->ents.max_ent_views = need;
     }
+}
+
+/* The stages' calls for callers that still hold the renderer (renderer.h). */
+ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
+    return ew_lit_lookup(&r->lit, &r->f, face, mip, build);
+}
+void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch) { ew_lit_build(&r->lit, &r->f, e, scratch); }
+void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade) {
+    ew_light_model(&r->f, r->ents.scene, origin, ambient, shade);
+}
+int ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]) {
+    return ew_light_tint(&r->f, origin, tint);
+}
+int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
+    return ew_box_surfs_prepare(&r->ents.box_surfs, &r->ents.nbox_surfs, &r->lit, &r->f, mi, bw);
 }
 
 static int camera_ok(const ew_camera *c) {
@@ -446,10 +460,10 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->draw.rgba = r->lit.curve.rgba;
     /* 8-bit coloured light needs the nearest-colour cube (built once). */
     if (!r->lit.nearest && r->f.target.bpp == 1 && !r->f.cfg.classic &&
-        (ew_use_rgb_light(r, r->f.world) || coloured_dlights(r->ents.scene)))
+        (ew_use_rgb_light(&r->f, r->f.world) || coloured_dlights(r->ents.scene)))
         r->lit.nearest = ew_blend_cube(&r->blend);
     /* Two-pass lighting's inputs, and its per-surface room (made on first use). */
-    ew_tp_begin(&r->lit.tp, w, r->f.palette, r->f.colormap, r->f.cfg.lightstyle, ew_use_rgb_light(r, w), r->f.target.bpp,
+    ew_tp_begin(&r->lit.tp, w, r->f.palette, r->f.colormap, r->f.cfg.lightstyle, ew_use_rgb_light(&r->f, w), r->f.target.bpp,
                 r->f.cfg.classic);
     r->draw.tp = &r->lit.tp;
     if (two_pass(r) && !r->lit.tp_faces) r->lit.tp_faces = malloc(sizeof *r->lit.tp_faces * (size_t)r->el.max_surfs);
@@ -571,7 +585,7 @@ static void job_build(void *ctx, int thread) {
     const ew_world *w = r->f.world;
     int *scratch = r->lit.blocklights + (size_t)r->lit.maxlm * 3 * thread;
     for (int k; (k = atomic_fetch_add(&r->sched.next_build, 1)) < r->lit.nbuild;)
-        ew_cache_build(r, r->lit.to_build[k], scratch);
+        ew_lit_build(&r->lit, &r->f, r->lit.to_build[k], scratch);
     ew_passes_work(&r->passes);  /* e.g. alias models posed once for every band */
     enum { CHUNK = 32 };
     for (int k; (k = atomic_fetch_add(&r->sched.next_grad, CHUNK)) < r->lit.ngrad;) {
@@ -699,7 +713,7 @@ static void job_surf_peek(void *ctx, int thread) {
                 r->lit.surf_state[s] = SURF_MISS;
                 continue;
             }
-            const ew_cached_surf *e = r->lit.surf_cache[s] = ew_cache_peek(r, sf->face, mip);
+            const ew_cached_surf *e = r->lit.surf_cache[s] = ew_lit_peek(&r->lit, &r->f, sf->face, mip);
             r->lit.surf_state[s] = e ? SURF_HIT : SURF_MISS;
             if (e) prefetch_texels(r, e);
         }
@@ -723,7 +737,7 @@ static void prepare_surfaces(ew_renderer *r) {
             d->kind = f->flags & EW_SURF_SKY ? EW_DRAW_SKY : EW_DRAW_TURB;
             d->tex = ew_face_texture(w, f, r->f.view.time);
         } else if (state == SURF_HIT) {
-            ew_cache_touch(r, r->lit.surf_cache[s]);
+            ew_lit_touch(&r->lit, &r->f, r->lit.surf_cache[s]);
         }
     }
     int tp = two_pass(r) && r->lit.tp_faces;
@@ -738,7 +752,7 @@ static void prepare_surfaces(ew_renderer *r) {
         ew_cached_surf *e = r->lit.surf_cache[s];
         int build = 0;
         if (state == SURF_MISS)
-            e = r->lit.surf_cache[s] = ew_cache_lookup(r, r->el.surfs[s].face, r->lit.surf_mip[s], &build);
+            e = r->lit.surf_cache[s] = ew_lit_lookup(&r->lit, &r->f, r->el.surfs[s].face, r->lit.surf_mip[s], &build);
         if (!e) {
             r->f.stats.dropped++;
             d->kind = EW_DRAW_FLAT;
@@ -858,7 +872,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     clock_mark(r, &clock, MARK_START);
     if (ew_frame_begin(r, cam) < 0) return -1;
     ew_pool_wake(r->sched.pool);
-    ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
+    ew_mark_dlights(&r->marks, &r->f, r->ents.scene);  /* before the walk: a method may look up lit surfaces as faces arrive */
     clock_mark(r, &clock, MARK_BEGUN);
     front_end(r, &clock);
     clock_mark(r, &clock, MARK_SCANNED);

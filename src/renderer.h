@@ -21,7 +21,7 @@
 #include "light/twopass.h"
 #include "output/gamma.h"
 #include "pool.h"
-#include "raster/blend.h"
+#include "light/blend.h"
 #include "raster/debug.h"
 #include "raster/raster.h"
 #include "raster/zfill.h"
@@ -59,23 +59,6 @@ typedef struct ew_sched {
     _Alignas(64) _Atomic int next_item;           /* the surfaces' lookup */
     _Alignas(64) char end;
 } ew_sched;
-
-/* This frame's lit surfaces: per surface of the edge list, its cache entry
- * (normal surfaces only) and how its spans are drawn. */
-typedef struct ew_lit {
-    ew_surf_cache    cache;
-    ew_cached_surf **surf_cache;
-    ew_surf_draw    *surf_draw;
-    ew_cached_surf **to_build;  int nbuild;
-    int             *grad_list; int ngrad;       /* surfaces whose gradients are needed */
-    uint8_t         *surf_state, *surf_mip;      /* per surface: prepare_surfaces' read-only findings */
-    int              maxlm;                      /* largest light map, in samples */
-    int             *blocklights;                /* building scratch, maxlm * 3 per thread */
-    ew_lightcurve    curve;                      /* palette colour x light (light/curve.c) */
-    const uint8_t   *nearest;                    /* 8-bit coloured light: RGB cube -> index */
-    ew_twopass       tp;                         /* two-pass lighting: this frame's inputs */
-    ew_tp_face      *tp_faces;                   /* two-pass lighting: per surface (max_surfs) */
-} ew_lit;
 
 /* The scene drawn with the world, and what this frame knows of it. */
 typedef struct ew_ents {
@@ -137,6 +120,14 @@ struct ew_renderer {
  * is scratch), from the scan's spans and the posed models, for placing the
  * draw's items. */
 void ew_estimate_draw_costs(const ew_renderer *r, float *cost);
+
+/* renderer.c: the stages' calls as they were, for callers in world/ and
+ * hsr/ that still hold the renderer (light/light.h has the stages' own). */
+ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
+void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
+void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade);
+int  ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]);
+int  ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw);
 
 /* renderer.c: new frame number, view, per-frame tables, PVS marks, and the
  * hidden-surface method's begin. */

@@ -45,12 +45,6 @@ void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n);
  * center (same seed, same cloud); returns n (0 if n < 0 or out is NULL). */
 int  ew_particle_field(ew_particle *out, int n, const float center[3], float radius, uint32_t seed);
 
-/* Light level 0..255 of the world's floor under p: traces straight down up
- * to 2048 units through model 0 to the first face hit and samples its light
- * map there (styles scaled by r->f.cfg.lightstyle[], no dynamic lights).  0 when
- * nothing is hit or the face has no light map; 255 if the map is unlit. */
-int  ew_light_point(const ew_renderer *r, const float p[3]);
-
 /* The five clip planes in view space (near z = near_z, then the four
  * screen sides, which put projected centres within [-0.5, size - 0.5]):
  * n.p + d >= 0 inside.  Shared by models and sprites. */

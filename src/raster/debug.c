@@ -113,16 +113,6 @@ void ew_debug_fill_span(const ew_span_ctx *c, const ew_span *sp, uint32_t color)
     for (int x = 0; x < sp->count; x++) ew_set32(row, x, color);
 }
 
-void ew_debug_mip_surface(const ew_renderer *r, int mip, uint8_t *out, int width, int height) {
-    const ew_target *t = &r->f.target;
-    size_t n = (size_t)width * (size_t)height;
-    if (t->bpp == 1) {
-        memset(out, (int)(uint8_t)r->dbg.mip[mip & 3], n);
-        return;
-    }
-    for (size_t i = 0; i < n; i++) ew_set32(out, (int)i, r->dbg.mip[mip & 3]);
-}
-
 static uint32_t hash32(uint32_t x) {
     x ^= x >> 16, x *= 0x7feb352dU;
     x ^= x >> 15, x *= 0x846ca68bU;

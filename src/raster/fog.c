@@ -1,7 +1,7 @@
 /* Fog by depth, as today's source ports draw worldspawn "fog": a colour
  * at view depth z moves towards the fog colour by 1 - exp(-(density z /
  * 64)^2).  In an 8-bit frame the fogged colour is the nearest palette
- * colour, from a table per fog level (raster/blend.h).  The sky is fogged
+ * colour, from a table per fog level (light/blend.h).  The sky is fogged
  * half way, whatever its depth, as the ports do by default. */
 #include "raster/zfill.h"
 

@@ -6,7 +6,7 @@
 #define EW_RASTER_H
 
 #include "hsr/hsr.h"
-#include "raster/blend.h"
+#include "light/blend.h"
 #include "raster/target.h"
 
 /* Screen gradients of a face: s/z, t/z and 1/z are linear in screen space. */
@@ -48,7 +48,7 @@ typedef struct ew_surf_draw {
 #define EW_FOG_QSCALE 512.0f
 #define EW_FOG_QSTEPS 4096    /* QMAX * QSCALE */
 typedef struct ew_fog {
-    const uint8_t *table;     /* EW_FOG_LEVELS x 256 (raster/blend.h), NULL: no fog */
+    const uint8_t *table;     /* EW_FOG_LEVELS x 256 (light/blend.h), NULL: no fog */
     float   w;                /* (density / 64)^2, so q = w / zi^2 = (density z / 64)^2 */
     int     sky_level;        /* the sky is fogged half way, as the ports do */
     int     rgb[3];           /* true colour: the fog colour, 0..255 */
@@ -204,7 +204,8 @@ struct ew_zfill;
 /* raster/seethrough.c: fence textures (alpha-tested, z-written), then
  * translucent surfaces (blended far to near, no z), as the front end
  * collected them (world/divert.c). */
-int  ew_see_prepare(ew_renderer *r);
+struct ew_lit;
+void ew_see_prepare(ew_see *see, ew_frame *f, struct ew_lit *lit);
 void ew_draw_fences(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, struct ew_zfill *zf,
                     const ew_rows *rows);
 void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, struct ew_zfill *zf,

@@ -16,7 +16,10 @@ static int models_prepare(const ew_pass_ctx *c) { return ew_prepare_entities(c->
 static void models_work(const ew_pass_ctx *c, int item) { ew_models_work(c->r, item); }
 static void models_draw(const ew_pass_ctx *c, const ew_rows *rows) { ew_draw_models(c->r, rows); }
 
-static int see_prepare(const ew_pass_ctx *c) { return ew_see_prepare(c->r); }
+static int see_prepare(const ew_pass_ctx *c) {
+    ew_see_prepare(c->see, c->f, c->lit);
+    return 0;
+}
 static void fences_draw(const ew_pass_ctx *c, const ew_rows *rows) {
     ew_draw_fences(c->see, c->f, c->draw, c->zf, rows);
 }
@@ -29,7 +32,7 @@ static int fog_prepare(const ew_pass_ctx *c) {
     return 0;
 }
 static void fog_draw(const ew_pass_ctx *c, const ew_rows *rows) {
-    ew_draw_fog(&c->draw->fog, &c->f->target, c->zf, c->surf_draw, rows);
+    ew_draw_fog(&c->draw->fog, &c->f->target, c->zf, c->lit->surf_draw, rows);
 }
 
 static int compose_prepare(const ew_pass_ctx *c) { return ew_ref_compose_prepare(c->r); }

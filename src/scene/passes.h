@@ -13,6 +13,7 @@
 #define EW_SCENE_PASSES_H
 
 #include "frame.h"
+#include "light/light.h"
 #include "raster/debug.h"
 #include "raster/raster.h"
 #include "raster/zfill.h"
@@ -32,7 +33,7 @@ typedef struct ew_pass_ctx {
     ew_warp           *warp;
     ew_debug          *dbg;
     const ew_edge_list *el;    /* the edge debug view */
-    const ew_surf_draw *surf_draw;            /* per surface of the edge list */
+    ew_lit            *lit;    /* the lit surfaces (see-through ones join the world's builds) */
 } ew_pass_ctx;
 
 typedef struct ew_pass {
