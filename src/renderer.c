@@ -162,9 +162,10 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->lit.cache.bpp = r->f.target.bpp;
     ew_debug_init(r);
     r->lit.marks = &r->marks, r->lit.blend = &r->blend, r->lit.dbg = &r->dbg;
+    r->models = (ew_models){&r->ents, &r->marks, &r->el, &r->zf, &r->draw, &r->lit};
     r->passes.ctx = (ew_pass_ctx){
         .f = &r->f, .r = r, .draw = &r->draw, .zf = &r->zf, .blend = &r->blend, .see = &r->see,
-        .warp = &r->warp, .dbg = &r->dbg, .el = &r->el, .lit = &r->lit,
+        .warp = &r->warp, .dbg = &r->dbg, .el = &r->el, .lit = &r->lit, .models = &r->models,
     };
     return r;
 oom:
@@ -420,6 +421,20 @@ int ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]) {
 }
 int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
     return ew_box_surfs_prepare(&r->ents.box_surfs, &r->ents.nbox_surfs, &r->lit, &r->f, mi, bw);
+}
+int ew_boxes_reserve(ew_renderer *r, int nents, int nfaces) { return ew_boxes_grow(&r->ents, nents, nfaces); }
+int ew_sprite_cache_reserve(ew_renderer *r, int n) { return ew_sprite_cache_grow(&r->ents.sprite_cache, &r->f, n); }
+int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
+    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
+    return ew_draw_alias_rows(&r->f, &r->zf, m, p, &all);
+}
+int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
+    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
+    return ew_draw_sprite_rows(&r->f, &r->zf, s, p, &all);
+}
+void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
+    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
+    ew_draw_particles_rows(&r->f, &r->zf, p, n, &all);
 }
 
 static int camera_ok(const ew_camera *c) {

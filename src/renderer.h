@@ -21,6 +21,7 @@
 #include "light/twopass.h"
 #include "output/gamma.h"
 #include "pool.h"
+#include "raster/alias.h"
 #include "light/blend.h"
 #include "raster/debug.h"
 #include "raster/raster.h"
@@ -60,31 +61,6 @@ typedef struct ew_sched {
     _Alignas(64) char end;
 } ew_sched;
 
-/* The scene drawn with the world, and what this frame knows of it. */
-typedef struct ew_ents {
-    const struct ew_scene *scene;               /* or NULL */
-    ew_view      *ent_views;  int max_ent_views; /* camera in each brush entity's space */
-    ew_ent_frame *ent_frame;  int nent_frame, max_ent_frame;
-    int           tested_frame;                 /* frame whose entities were tested in the front end */
-    ew_box_surfs **box_surfs; int nbox_surfs;   /* per scene model: item box surfaces, or NULL */
-    /* item boxes projected once a frame for every piece of the draw
-     * (raster/models.c): per entity its frame, the faces to fill of all of
-     * them, and the visible boxes, the parallel work after the alias models */
-    struct ew_box_frame *box_frame; int max_box_frame;
-    struct ew_box_face  *box_faces; int max_box_faces;
-    int          *box_list;   int nbox;
-    /* alias models posed once a frame for every band (raster/alias.h) */
-    struct ew_alias_xf *xf;   int max_xf;       /* per entity */
-    struct ew_xvert *xverts;  size_t max_xverts; /* their vertices, one run per visible model */
-    int          *alias_list; int nalias;       /* visible alias entities, the parallel work first */
-    uint32_t     *tint_rgba;                    /* per entity, 256: the palette in its light's colour */
-    uint8_t      *tint_remap;                   /* per entity, 256: 8-bit, the nearest colours of that */
-    /* EW_ALIAS_SPRITE_CACHE: per entity, its image kept across frames
-     * (raster/alias_sprite_cache.c; sized in the prepare, slot i written only
-     * by the pose work of entity i, read by the bands) */
-    struct ew_sprite_cache *sprite_cache;
-} ew_ents;
-void ew_sprite_cache_free(struct ew_sprite_cache *c);
 
 /* The reference method's frame: the polygons it fills band by band. */
 typedef struct ew_ref_poly ew_ref_poly;
@@ -102,7 +78,8 @@ struct ew_renderer {
     ew_span_ctx draw;
     ew_zfill    zf;
     ew_lit      lit;
-    ew_ents     ents;
+    ew_ents     ents;                            /* the scene's entities this frame (raster/alias.h) */
+    ew_models   models;                          /* the models pass's parts (raster/models.c) */
     ew_ref      ref;
     struct ew_spolys *spolys;                    /* beamtree, raycast: surfaces' screen polygons (hsr/surf_poly.c) */
     ew_see      see;
@@ -128,6 +105,12 @@ void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
 void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade);
 int  ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]);
 int  ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw);
+int  ew_boxes_reserve(ew_renderer *r, int nents, int nfaces);
+int  ew_sprite_cache_reserve(ew_renderer *r, int n);
+/* The whole frame's rows (the tests' calls; raster/alias.h draws a band's). */
+int  ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p);
+int  ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p);
+void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n);
 
 /* renderer.c: new frame number, view, per-frame tables, PVS marks, and the
  * hidden-surface method's begin. */

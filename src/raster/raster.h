@@ -141,9 +141,6 @@ typedef struct ew_box_face {
     ew_zpoly zp;                    /* projected and oriented */
     int      face;                  /* of the box model */
 } ew_box_face;
-/* Room for the frame's item boxes: nents entity frames and list slots
- * (before the entities are listed), then nfaces faces; -1 without memory. */
-int  ew_boxes_reserve(ew_renderer *r, int nents, int nfaces);
 
 typedef struct ew_zpoly_look {
     const ew_world   *world;
@@ -230,13 +227,5 @@ typedef struct ew_warp {
 int  ew_warp_begin(ew_warp *w, ew_frame *f, ew_blend *blend);
 void ew_warp_rows(const ew_warp *w, const ew_target *t, int y0, int y1);
 void ew_warp_free(ew_warp *w);
-
-/* raster/models.c: alias models, sprites, item boxes, then particles,
- * z-buffered over the z-filled world.  (Brush models are in the world.)
- * ew_models_work does the frame's item-th piece of the work
- * ew_prepare_entities leaves: the visible alias models posed, then the item
- * boxes projected, once for every piece of the draw. */
-void ew_draw_models(ew_renderer *r, const ew_rows *rows);
-void ew_models_work(ew_renderer *r, int item);
 
 #endif

@@ -14,6 +14,7 @@
 
 #include "frame.h"
 #include "light/light.h"
+#include "raster/alias.h"
 #include "raster/debug.h"
 #include "raster/raster.h"
 #include "raster/zfill.h"
@@ -25,7 +26,7 @@ typedef struct ew_renderer ew_renderer;
 /* The parts of the frame the passes read and write. */
 typedef struct ew_pass_ctx {
     ew_frame          *f;
-    ew_renderer       *r;      /* the passes of stages that still take the renderer (models, the reference's compose) */
+    ew_renderer       *r;      /* the passes of stages that still take the renderer (the entities' listing, the reference's compose) */
     ew_span_ctx       *draw;   /* the span drawers' tables (fog) */
     ew_zfill          *zf;
     ew_blend          *blend;
@@ -34,6 +35,7 @@ typedef struct ew_pass_ctx {
     ew_debug          *dbg;
     const ew_edge_list *el;    /* the edge debug view */
     ew_lit            *lit;    /* the lit surfaces (see-through ones join the world's builds) */
+    const ew_models   *models; /* the models pass's parts */
 } ew_pass_ctx;
 
 typedef struct ew_pass {
