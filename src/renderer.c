@@ -160,7 +160,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     if (d.cache_mb) budget = (size_t)d.cache_mb << 20;
     if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
     r->lit.cache.bpp = r->f.target.bpp;
-    ew_debug_init(r);
+    ew_debug_init(&r->dbg, &r->f, &r->lit.curve);
     r->lit.marks = &r->marks, r->lit.blend = &r->blend, r->lit.dbg = &r->dbg;
     r->models = (ew_models){&r->ents, &r->marks, &r->el, &r->zf, &r->draw, &r->lit};
     r->passes.ctx = (ew_pass_ctx){
@@ -251,7 +251,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->see.polys), free(r->see.order);
     ew_warp_free(&r->warp);
     ew_blend_free(&r->blend);
-    ew_debug_free(r);
+    ew_debug_free(&r->dbg);
     ew_front_par_free(r->fpar);
     ew_occ_free(&r->occ);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
@@ -436,6 +436,14 @@ void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
     ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
     ew_draw_particles_rows(&r->f, &r->zf, p, n, &all);
 }
+
+int ew_set_debug(ew_renderer *r, ew_debug_mode mode) {
+    int rc = ew_debug_set(&r->dbg, &r->f.target, (int)mode);
+    if (rc > 0) r->lit.cache.gen++;  /* surfaces of another mode are never served */
+    return rc < 0 ? -1 : 0;
+}
+ew_debug_mode ew_get_debug(const ew_renderer *r) { return (ew_debug_mode)r->dbg.mode; }
+void ew_set_pvs_lock(ew_renderer *r, int on) { ew_debug_pvs_lock(&r->dbg, on); }
 
 static int camera_ok(const ew_camera *c) {
     for (int i = 0; i < 3; i++)

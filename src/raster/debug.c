@@ -23,13 +23,12 @@ static int nearest_index(const uint8_t *pal, int r, int g, int b, const uint32_t
 }
 
 /* The colours of the modes, distinct from one another within each set. */
-static void pick_colours(ew_renderer *r) {
-    ew_debug *d = &r->dbg;
+static void pick_colours(ew_debug *d, const ew_frame *f, const ew_lightcurve *lc) {
     static const uint8_t mip_rgb[4][3] = {{210, 40, 40}, {40, 180, 40}, {50, 70, 220}, {230, 210, 40}};
     static const uint8_t heat_rgb[EW_DBG_HEAT][3] = {{0, 0, 0},     {20, 30, 150}, {30, 170, 40},
                                                      {230, 220, 40}, {240, 130, 20}, {230, 20, 20}};
-    int eight = r->f.target.bpp == 1;
-    const uint8_t *pal = r->f.palette;
+    int eight = f->target.bpp == 1;
+    const uint8_t *pal = f->palette;
     uint32_t used[16];
     int n = 0;
     for (int k = 0; k < 4; k++) {
@@ -49,21 +48,21 @@ static void pick_colours(ew_renderer *r) {
      * nearest to mid grey, so overbright light shows too. */
     int best = 0, best_d = INT_MAX;
     for (int c = 0; c < 256; c++) {
-        if (pal[c * 3] != pal[c * 3 + 1] || pal[c * 3] != pal[c * 3 + 2] || r->lit.curve.fullbright[c]) continue;
+        if (pal[c * 3] != pal[c * 3 + 1] || pal[c * 3] != pal[c * 3 + 2] || lc->fullbright[c]) continue;
         int dv = abs(pal[c * 3] - 128);
         if (dv < best_d) best_d = dv, best = c;
     }
     d->grey = (uint8_t)best;
 }
 
-void ew_debug_init(ew_renderer *r) {
-    r->dbg.last_leaf = r->dbg.pvs_leaf = -1;
-    pick_colours(r);
+void ew_debug_init(ew_debug *d, const ew_frame *f, const ew_lightcurve *lc) {
+    d->last_leaf = d->pvs_leaf = -1;
+    pick_colours(d, f, lc);
 }
 
-void ew_debug_free(ew_renderer *r) {
-    free(r->dbg.count), free(r->dbg.snap);
-    r->dbg.count = r->dbg.snap = NULL;
+void ew_debug_free(ew_debug *d) {
+    free(d->count), free(d->snap);
+    d->count = d->snap = NULL;
 }
 
 /* Lighting, textures and mips change what a surface is built from. */
@@ -71,29 +70,25 @@ static int changes_surfaces(int mode) {
     return mode == EW_DEBUG_LIGHTING || mode == EW_DEBUG_TEXTURES || mode == EW_DEBUG_MIPS;
 }
 
-int ew_set_debug(ew_renderer *r, ew_debug_mode mode) {
-    int m = (int)mode;
+int ew_debug_set(ew_debug *d, const ew_target *t, int m) {
     if (m < EW_DEBUG_NONE || m > EW_DEBUG_BUILDS) m = EW_DEBUG_NONE;
-    if (m == EW_DEBUG_OVERDRAW && !r->dbg.count) {
-        size_t px = (size_t)r->f.target.width * (size_t)r->f.target.height;
-        r->dbg.count = malloc(px);
-        r->dbg.snap = malloc(px * (size_t)r->f.target.bpp);
-        if (!r->dbg.count || !r->dbg.snap) {
-            ew_debug_free(r);
+    if (m == EW_DEBUG_OVERDRAW && !d->count) {
+        size_t px = (size_t)t->width * (size_t)t->height;
+        d->count = malloc(px);
+        d->snap = malloc(px * (size_t)t->bpp);
+        if (!d->count || !d->snap) {
+            ew_debug_free(d);
             return -1;
         }
     }
-    if (m != r->dbg.mode && (changes_surfaces(m) || changes_surfaces(r->dbg.mode)))
-        r->lit.cache.gen++;  /* surfaces of another mode are never served */
-    r->dbg.mode = m;
-    return 0;
+    int rebuild = m != d->mode && (changes_surfaces(m) || changes_surfaces(d->mode));
+    d->mode = m;
+    return rebuild;
 }
 
-ew_debug_mode ew_get_debug(const ew_renderer *r) { return (ew_debug_mode)r->dbg.mode; }
-
-void ew_set_pvs_lock(ew_renderer *r, int on) {
-    if (on && !r->dbg.pvs_lock) r->dbg.pvs_leaf = r->dbg.last_leaf;  /* -1: the next frame's */
-    r->dbg.pvs_lock = on != 0;
+void ew_debug_pvs_lock(ew_debug *d, int on) {
+    if (on && !d->pvs_lock) d->pvs_leaf = d->last_leaf;  /* -1: the next frame's */
+    d->pvs_lock = on != 0;
 }
 
 /* A colour into pixel x of a row, as the target stores it. */

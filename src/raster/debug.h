@@ -11,6 +11,7 @@
 #ifndef EW_RASTER_DEBUG_H
 #define EW_RASTER_DEBUG_H
 
+#include "light/light.h"
 #include "raster/raster.h"
 
 #include <stdint.h>
@@ -18,8 +19,13 @@
 typedef struct ew_renderer ew_renderer;
 typedef struct ew_band ew_band;
 
-void ew_debug_init(ew_renderer *r);
-void ew_debug_free(ew_renderer *r);
+/* The modes' colours for the frame's target and palette. */
+void ew_debug_init(ew_debug *d, const ew_frame *f, const ew_lightcurve *lc);
+void ew_debug_free(ew_debug *d);
+/* ew_set_debug: mode m (unknown: none); -1 without memory for it, else 1
+ * when surfaces built in the old mode must be rebuilt, 0 when not. */
+int  ew_debug_set(ew_debug *d, const ew_target *t, int m);
+void ew_debug_pvs_lock(ew_debug *d, int on);
 /* A band's spans (band: its number), each in its own colour (instead of
  * ew_draw_spans). */
 void ew_debug_spans(const ew_span_ctx *draw, const ew_band *b, int band);
