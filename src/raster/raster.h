@@ -5,9 +5,10 @@
 #ifndef EW_RASTER_H
 #define EW_RASTER_H
 
-#include "hsr/hsr.h"
+#include "frame.h"
 #include "light/blend.h"
 #include "raster/target.h"
+#include "world/view.h"  /* EW_MAX_POLY, the view's helpers */
 
 /* Screen gradients of a face: s/z, t/z and 1/z are linear in screen space. */
 typedef struct ew_gradients {
