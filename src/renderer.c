@@ -77,7 +77,6 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->f.target.pitch = width * r->f.target.bpp;
     r->f.target.rgba = r->lit.curve.rgba;
     r->f.cfg.use_lit = 1;
-    ew_lightcurve_fit(&r->lit.curve, d.palette, d.colormap);
     r->draw.target = r->zf.target = &r->f.target;
     r->draw.view = &r->f.view;
 
@@ -90,11 +89,6 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->el.max_edges = r->el.max_surfs * 6;
     int max_spans = height * 192;
 
-    int maxlm = 1;
-    for (int i = 0; i < w->numfaces; i++) {
-        int n = ew_face_samples(w, &w->faces[i]);
-        if (!(w->faces[i].flags & (EW_SURF_SKY | EW_SURF_TURB)) && n > maxlm) maxlm = n;
-    }
     r->f.target.pixels = malloc((size_t)px * (size_t)r->f.target.bpp);
     r->f.target.zbuf = malloc(sizeof(float) * (size_t)px);
     r->marks.leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
@@ -117,39 +111,24 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->el.by_row = malloc(sizeof(int32_t) * r->el.max_edges);
     r->el.by_row_last = malloc(sizeof(int32_t) * r->el.max_edges);
     r->el.surfs = malloc(sizeof(ew_surf) * r->el.max_surfs);
-    r->lit.maxlm = maxlm;
     r->el.max_spans = max_spans;
-    r->lit.surf_cache = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs);
-    /* the edge list's surfaces and as many see-through ones (world/divert.c) */
-    r->lit.to_build = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs * 2);
     r->sched.row_cost = malloc(sizeof(float) * ((size_t)height + 1));
     r->zf.row_band = calloc((size_t)height, sizeof(int32_t));
     r->zf.row_span0 = calloc((size_t)height, sizeof(int32_t));
     r->zf.row_nspans = calloc((size_t)height, sizeof(int32_t));
     r->zf.zlo = calloc((size_t)height, sizeof(int32_t));
     r->zf.zhi = calloc((size_t)height, sizeof(int32_t));
-    r->lit.surf_draw = calloc((size_t)r->el.max_surfs, sizeof *r->lit.surf_draw);
-    r->lit.surf_state = malloc((size_t)r->el.max_surfs);
-    r->lit.surf_mip = malloc((size_t)r->el.max_surfs);
-    r->lit.grad_list = malloc(sizeof(int) * (size_t)r->el.max_surfs);
     if (!r->f.target.pixels || !r->f.target.zbuf || !r->marks.leaf_frame || !r->marks.node_frame || !r->marks.vis ||
         !r->marks.leaf_up || !r->marks.node_up ||
         !r->marks.face_frame ||
         !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
         !r->marks.edge_cache_frame || !r->marks.edge_cache_index || !r->marks.edge_cache_down || !r->el.edges ||
         !r->marks.vert_frame || !r->marks.vert_proj ||
-        !r->el.row_first || !r->el.by_row || !r->el.by_row_last || !r->el.surfs || !r->lit.surf_cache ||
-        !r->lit.to_build || !r->sched.row_cost ||
-        !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi || !r->lit.surf_draw ||
-        !r->lit.surf_state || !r->lit.surf_mip || !r->lit.grad_list)
+        !r->el.row_first || !r->el.by_row || !r->el.by_row_last || !r->el.surfs || !r->sched.row_cost ||
+        !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi)
         goto oom;
     for (int i = 0; i < w->numleaves; i++) r->marks.leaf_up[i] = w->leaves[i].parent;
     for (int i = 0; i < w->numnodes; i++) r->marks.node_up[i] = w->nodes[i].parent;
-    r->zf.draw = r->lit.surf_draw;
-    ew_fog_levels(&r->draw.fog);
-    if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
-    if (ew_occ_init(&r->occ, width, height) < 0) goto oom;
-    if (ew_set_threads(r, d.threads) < 0) goto oom;
     /* The cache holds many frames' worth of surfaces at this size, so a
      * walk through a level rebuilds little (16 bytes a pixel, 16..512 MiB),
      * unless the caller chose a size. */
@@ -158,8 +137,12 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     if (budget > ((size_t)512 << 20)) budget = (size_t)512 << 20;
     budget *= (size_t)r->f.target.bpp;  /* true colour: 4 bytes a texel, as many surfaces */
     if (d.cache_mb) budget = (size_t)d.cache_mb << 20;
-    if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
-    r->lit.cache.bpp = r->f.target.bpp;
+    if (ew_lit_init(&r->lit, w, d.palette, d.colormap, r->el.max_surfs, budget, r->f.target.bpp) < 0) goto oom;
+    r->zf.draw = r->lit.surf_draw;
+    ew_fog_levels(&r->draw.fog);
+    if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
+    if (ew_occ_init(&r->occ, width, height) < 0) goto oom;
+    if (ew_set_threads(r, d.threads) < 0) goto oom;
     ew_debug_init(&r->dbg, &r->f, &r->lit.curve);
     r->lit.marks = &r->marks, r->lit.blend = &r->blend, r->lit.dbg = &r->dbg;
     r->models = (ew_models){&r->ents, &r->marks, &r->el, &r->zf, &r->draw, &r->lit};
@@ -185,8 +168,7 @@ static void free_bands(ew_renderer *r) {
     r->zf.bands = NULL;
     r->sched.nbands = 0;
     r->sched.nthreads = 0;
-    free(r->lit.blocklights);
-    r->lit.blocklights = NULL;
+    ew_lit_threads(&r->lit, 0);
 }
 
 int ew_set_threads(ew_renderer *r, int n) {
@@ -213,8 +195,7 @@ int ew_set_threads(ew_renderer *r, int n) {
     r->sched.bands = aligned_alloc(_Alignof(ew_band), sizeof(ew_band) * (size_t)nb);
     r->sched.max_items = ni;
     r->sched.items = aligned_alloc(_Alignof(ew_draw_item), sizeof(ew_draw_item) * (size_t)ni);
-    r->lit.blocklights = malloc(sizeof(int) * 3 * (size_t)r->lit.maxlm * n);  /* RGB */
-    if (!r->sched.bands || !r->sched.items || !r->lit.blocklights) return -1;
+    if (!r->sched.bands || !r->sched.items || ew_lit_threads(&r->lit, n) < 0) return -1;
     memset(r->sched.items, 0, sizeof(ew_draw_item) * (size_t)ni);
     memset(r->sched.bands, 0, sizeof(ew_band) * (size_t)nb);
     r->zf.bands = r->sched.bands;
@@ -230,12 +211,11 @@ int ew_get_threads(const ew_renderer *r) { return r->sched.nthreads; }
 
 void ew_renderer_destroy(ew_renderer *r) {
     if (!r) return;
-    ew_cache_free(&r->lit.cache);
+    ew_lit_free(&r->lit);
     free_bands(r);
-    free(r->lit.surf_cache), free(r->lit.to_build), free(r->sched.row_cost);
+    free(r->sched.row_cost);
     free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
-    free(r->lit.tp_faces), free(r->ref.poly_of);
-    free(r->lit.surf_draw), free(r->lit.grad_list), free(r->lit.surf_state), free(r->lit.surf_mip);
+    free(r->ref.poly_of);
     free(r->f.target.pixels), free(r->f.target.zbuf), free(r->f.face_ids);
     free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame), free(r->marks.vis);
     free(r->marks.leaf_up), free(r->marks.node_up);
@@ -245,7 +225,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
     free(r->marks.vert_frame), free(r->marks.vert_proj);
     free(r->el.edges), free(r->el.row_first), free(r->el.by_row), free(r->el.by_row_last);
-    free(r->el.surfs), free(r->lit.blocklights);
+    free(r->el.surfs);
     free(r->ref.polys), ew_ref_compose_free(r->ref.compose);
     ew_spolys_free(r->spolys);
     free(r->see.polys), free(r->see.order);

@@ -88,6 +88,15 @@ typedef struct ew_lit {
     const ew_debug  *dbg;                        /* the debug modes that change surfaces */
 } ew_lit;
 
+/* light/lit.c: its rooms for max_surfs surfaces of the edge list, the
+ * light curve of palette and colormap, and a cache of budget bytes of
+ * bpp-byte texels (0, or -1 without memory: ew_lit_free then); the
+ * building scratch for nthreads threads (0 frees it). */
+int  ew_lit_init(ew_lit *lit, const ew_world *w, const uint8_t *palette, const uint8_t *colormap, int max_surfs,
+                 size_t budget, int bpp);
+int  ew_lit_threads(ew_lit *lit, int nthreads);
+void ew_lit_free(ew_lit *lit);
+
 /* ---- the surface cache's use in a frame (light/cache.c) ---- */
 /* Finds (or makes room for) the lit surface of a face at a mip level and
  * marks it used this frame; *build is set when its pixels must be built
