@@ -80,21 +80,21 @@ static void draw_all(const ew_model_pose *p, int mode) {
     ew_rows rows = all_rows();
     for (int i = 0; i < N; i++) {
         ew_alias_xf *xf = &XF[i];
-        if (!ew_alias_place(R, M, &p[i], xf)) continue;
+        if (!ew_alias_place(&R->f, M, &p[i], xf)) continue;
         /* sprite-cache as the models pass does it (raster/models.c) */
-        if (mode == EW_ALIAS_SPRITE_CACHE && ew_sprite_cache_reuse(R, &SLOT[i], M, xf, &p[i], ew_sprite_cache_tol(R))) {
-            ew_sprite_cache_draw(R, &SLOT[i], &rows);
+        if (mode == EW_ALIAS_SPRITE_CACHE && ew_sprite_cache_reuse(&R->f, &SLOT[i], M, xf, &p[i], ew_sprite_cache_tol(R->ents.sprite_cache))) {
+            ew_sprite_cache_draw(&R->f, &R->zf, &SLOT[i], &rows);
             continue;
         }
-        ew_alias_pose_verts(R, M, &p[i], xf, XV + (size_t)i * M->numverts);
+        ew_alias_pose_verts(&R->f, M, &p[i], xf, XV + (size_t)i * M->numverts);
         if (mode == EW_ALIAS_SPRITE_CACHE) {
-            ew_sprite_cache_redraw(R, &SLOT[i], M, xf, &p[i]);
+            ew_sprite_cache_redraw(&R->f, &SLOT[i], M, xf, &p[i]);
             if (SLOT[i].use) {
-                ew_sprite_cache_draw(R, &SLOT[i], &rows);
+                ew_sprite_cache_draw(&R->f, &R->zf, &SLOT[i], &rows);
                 continue;
             }
         }
-        ew_alias_draw(R, M, xf, &rows);
+        ew_alias_draw(&R->f, &R->zf, M, xf, &rows);
     }
 }
 
@@ -114,7 +114,7 @@ static void time_modes(const ew_model_pose *p, double us[6]) {
     for (int k = 0; k < 6; k++) us[k] = 1e30;
     for (int rep = 0; rep < REPS; rep++) {
         double t0 = cpu_ms();
-        for (int i = 0; i < N; i++) ew_alias_transform(R, M, &p[i], &XF[i], XV + (size_t)i * M->numverts);
+        for (int i = 0; i < N; i++) ew_alias_transform(&R->f, M, &p[i], &XF[i], XV + (size_t)i * M->numverts);
         double t = (cpu_ms() - t0) * 1000.0 / N;
         if (t < us[0]) us[0] = t;
         time_once(p, EW_ALIAS_AFFINE, &us[1]);
@@ -132,7 +132,7 @@ static double mask_share(const ew_model_pose *p) {
     long small = 0, front = 0;
     for (int i = 0; i < N; i++) {
         ew_alias_xf *xf = &XF[i];
-        if (!ew_alias_transform(R, M, &p[i], xf, XV + (size_t)i * M->numverts) || !xf->accept) continue;
+        if (!ew_alias_transform(&R->f, M, &p[i], xf, XV + (size_t)i * M->numverts) || !xf->accept) continue;
         for (int t = 0; t < M->numtris; t++) {
             const ew_avert *a = &xf->xv[M->tris[t].v[0]].sv, *b = &xf->xv[M->tris[t].v[1]].sv,
                            *c = &xf->xv[M->tris[t].v[2]].sv;
@@ -281,7 +281,7 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
     for (int i = 0; i < N; i++) ew_sprite_cache_slot_free(&SLOT[i]);  /* table 1's images were larger */
     for (size_t pi = 0; pi < sizeof paths / sizeof *paths; pi++)
         for (size_t ti = 0; ti < sizeof tols / sizeof *tols; ti++) {
-            ew_sprite_cache_set_tol(R, &tols[ti]);
+            ew_sprite_cache_set_tol(&R->ents.sprite_cache, &tols[ti]);
             for (int i = 0; i < N; i++) SLOT[i].valid = 0;
             long hits = 0, misses = 0, holes = 0, extra = 0, colour = 0, exact = 0;
             double worst = 0;
@@ -332,7 +332,7 @@ static void table_3(const ew_camera *start, float units_tall, const char *png, c
                images, bytes, images ? (double)bytes / images : 0.0, held);
     }
     ew_sc_tol d = ew_sprite_cache_tol_default();
-    ew_sprite_cache_set_tol(R, &d);
+    ew_sprite_cache_set_tol(&R->ents.sprite_cache, &d);
     if (png) {
         /* A picture: the walking path's third frame (the images of frame 0
          * reused twice): exact | sprite-cache | the difference (holes
@@ -444,7 +444,7 @@ static void lab_raster(ew_araster *ra, const ew_alias_xf *xf) {
 static void draw_pool(const ew_model_pose *p, const ew_mdl_tri *tris, lab_v *pool) {
     for (int i = 0; i < N; i++) {
         ew_alias_xf xf;
-        if (!ew_alias_place(R, M, &p[i], &xf) || !xf.accept) continue;
+        if (!ew_alias_place(&R->f, M, &p[i], &xf) || !xf.accept) continue;
         const ew_mdl_pose *pose = &M->poses[xf.pose];
         for (int v = 0; v < M->numverts; v++) lab_vert(&xf, pose, &p[i], v, &pool[v]);
         ew_araster ra;
@@ -458,7 +458,7 @@ static void draw_stack(const ew_model_pose *p, const stream *st) {
     lab_v stack[64];
     for (int i = 0; i < N; i++) {
         ew_alias_xf xf;
-        if (!ew_alias_place(R, M, &p[i], &xf) || !xf.accept) continue;
+        if (!ew_alias_place(&R->f, M, &p[i], &xf) || !xf.accept) continue;
         const ew_mdl_pose *pose = &M->poses[xf.pose];
         ew_araster ra;
         lab_raster(&ra, &xf);
@@ -715,7 +715,7 @@ int main(int argc, char **argv) {
     R->zf.all = 1;
     R->f.cfg.alias_threshold = 1000;  /* table 1: every size goes through the cache */
     ew_sc_tol tol = ew_sprite_cache_tol_default();
-    ew_sprite_cache_set_tol(R, &tol);  /* the tolerances live in the renderer */
+    ew_sprite_cache_set_tol(&R->ents.sprite_cache, &tol);  /* the tolerances live in the renderer */
     tables_1_2(&R->f.view, units_tall);
     table_3(&views[0], units_tall, argc > 2 ? argv[2] : NULL, a->palette);
     ew_view_setup(&R->f.view, &views[0], R->f.target.width, R->f.target.height);

@@ -16,6 +16,7 @@
 #include "ew_util.h"
 #include "ew_world.h"
 #include "light/light.h"
+#include "renderer.h"
 #include "mapgen.h"
 
 #include <stdio.h>
@@ -344,7 +345,7 @@ static void probe_light(const ew_world *w) {
     for (int i = 0; i < 64; i++) {
         float p[3] = {(float)(i % 8) * 130 + 8, (float)(i / 8) * 100 + 8, 120};
         int rgb[3];
-        int v = ew_light_point_rgb(r, p, rgb);
+        int v = ew_light_point_rgb(&r->f, p, rgb);
         if (v < 0 || v > 255 || rgb[0] < 0 || rgb[0] > 255 || rgb[1] < 0 || rgb[1] > 255 || rgb[2] < 0 || rgb[2] > 255)
             broken("light point range", i);
         ew_fuzz_sink += (unsigned)v + (unsigned)rgb[2];

@@ -4,7 +4,7 @@
 #include "renderer.h"
 #include "ew_util.h"  /* edgewise_tools.h: the public declarations */
 #include "raster/alias.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 /* Rows cut at running-cost targets: band b (of n) ends where the running
  * cost first reaches target(b), after at least 8 rows, or when the bands

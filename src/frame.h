@@ -17,6 +17,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 typedef struct ew_hsr ew_hsr;
 typedef struct ew_band ew_band;
@@ -154,5 +155,53 @@ typedef struct ew_frame {
     int            *face_ids;        /* test hook: per pixel, or NULL */
     int             eye_contents;    /* EW_CONTENTS_* of the eye's leaf this frame */
 } ew_frame;
+
+enum { EW_DBG_HEAT = 6 };  /* overdraw colours: 0, 1, ... 5 or more writes */
+
+/* Debug modes (ew_set_debug, ew_set_pvs_lock; raster/debug.c): set
+ * between frames, read by the stages they change (light, world/pvs.c,
+ * raster, the pass list). */
+typedef struct ew_debug {
+    int      mode;                 /* ew_debug_mode */
+    int      pvs_lock, pvs_leaf;   /* locked: the leaf whose PVS is marked (-1: the next frame's) */
+    int      last_leaf;            /* the eye's leaf at the last frame, -1 before one */
+    uint8_t  grey;                 /* lighting: the flat texture's palette index */
+    /* colours as the target stores them: a palette index (8-bit) or ew_rgba */
+    uint32_t mip[4], build, edge, heat[EW_DBG_HEAT];
+    uint8_t *count;                /* overdraw: writes per pixel */
+    uint8_t *snap;                 /* overdraw: a band's pixels before a pass */
+} ew_debug;
+
+/* Modes that show the structure of the frame: no underwater warp. */
+static inline int ew_debug_structure(const ew_debug *d) {
+    return d->mode >= 1 && d->mode <= 3;  /* spans, edges, overdraw */
+}
+
+/* ---- 32-bit pixels (true colour), for every stage that writes them ---- */
+static inline uint32_t ew_get32(const uint8_t *row, int x) {
+    uint32_t v;
+    memcpy(&v, row + (size_t)x * 4, 4);
+    return v;
+}
+static inline void ew_set32(uint8_t *row, int x, uint32_t v) { memcpy(row + (size_t)x * 4, &v, 4); }
+/* Alpha 0: a fence texture's hole in a true-colour lit surface. */
+static inline int ew_rgba_clear(uint32_t v) {
+    uint8_t px[4];
+    memcpy(px, &v, 4);
+    return px[3] == 0;
+}
+/* A true-colour pixel: the bytes R, G, B, A (255) in memory, as
+ * ew_palette_rgba (so a frame goes to a display or a PNG as it is). */
+static inline uint32_t ew_rgba(int r, int g, int b) {
+    uint8_t px[4] = {(uint8_t)r, (uint8_t)g, (uint8_t)b, 255};
+    uint32_t v;
+    memcpy(&v, px, 4);
+    return v;
+}
+static inline void ew_rgba_split(uint32_t v, int rgb[3]) {
+    uint8_t px[4];
+    memcpy(px, &v, 4);
+    rgb[0] = px[0], rgb[1] = px[1], rgb[2] = px[2];
+}
 
 #endif

@@ -4,7 +4,8 @@
  * spans and the passes over the world (renderer.h, docs/architecture.md). */
 #include "renderer.h"
 #include "ew_util.h"
-#include "scene/scene.h"
+#include "overlay/overlay.h"
+#include "asset/scene.h"
 #include "world/edge_math.h"  /* ew_proj */
 
 #include <math.h>
@@ -104,7 +105,6 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->f.target.pitch = width * r->f.target.bpp;
     r->f.target.rgba = r->lit.curve.rgba;
     r->f.cfg.use_lit = 1;
-    ew_lightcurve_fit(&r->lit.curve, d.palette, d.colormap);
     r->draw.target = r->zf.target = &r->f.target;
     r->draw.view = &r->f.view;
 
@@ -117,11 +117,6 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->el.max_edges = r->el.max_surfs * 6;
     int max_spans = height * 192;
 
-    int maxlm = 1;
-    for (int i = 0; i < w->numfaces; i++) {
-        int n = ew_face_samples(w, &w->faces[i]);
-        if (!(w->faces[i].flags & (EW_SURF_SKY | EW_SURF_TURB)) && n > maxlm) maxlm = n;
-    }
     r->f.target.pixels = malloc((size_t)px * (size_t)r->f.target.bpp);
     r->f.target.zbuf = malloc(sizeof(float) * (size_t)px);
     r->marks.leaf_frame = calloc((size_t)w->numleaves + 1, sizeof(int));
@@ -144,39 +139,24 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->el.by_row = malloc(sizeof(int32_t) * r->el.max_edges);
     r->el.by_row_last = malloc(sizeof(int32_t) * r->el.max_edges);
     r->el.surfs = malloc(sizeof(ew_surf) * r->el.max_surfs);
-    r->lit.maxlm = maxlm;
     r->el.max_spans = max_spans;
-    r->lit.surf_cache = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs);
-    /* the edge list's surfaces and as many see-through ones (world/divert.c) */
-    r->lit.to_build = malloc(sizeof(ew_cached_surf *) * r->el.max_surfs * 2);
     r->sched.row_cost = malloc(sizeof(float) * ((size_t)height + 1));
     r->zf.row_band = calloc((size_t)height, sizeof(int32_t));
     r->zf.row_span0 = calloc((size_t)height, sizeof(int32_t));
     r->zf.row_nspans = calloc((size_t)height, sizeof(int32_t));
     r->zf.zlo = calloc((size_t)height, sizeof(int32_t));
     r->zf.zhi = calloc((size_t)height, sizeof(int32_t));
-    r->lit.surf_draw = calloc((size_t)r->el.max_surfs, sizeof *r->lit.surf_draw);
-    r->lit.surf_state = malloc((size_t)r->el.max_surfs);
-    r->lit.surf_mip = malloc((size_t)r->el.max_surfs);
-    r->lit.grad_list = malloc(sizeof(int) * (size_t)r->el.max_surfs);
     if (!r->f.target.pixels || !r->f.target.zbuf || !r->marks.leaf_frame || !r->marks.node_frame || !r->marks.vis ||
         !r->marks.leaf_up || !r->marks.node_up ||
         !r->marks.face_frame ||
         !r->marks.leaf_key || !r->marks.leaf_keyframe || !r->marks.face_dlframe || !r->marks.face_dlbits ||
         !r->marks.edge_cache_frame || !r->marks.edge_cache_index || !r->marks.edge_cache_down || !r->el.edges ||
         !r->marks.vert_frame || !r->marks.vert_proj ||
-        !r->el.row_first || !r->el.by_row || !r->el.by_row_last || !r->el.surfs || !r->lit.surf_cache ||
-        !r->lit.to_build || !r->sched.row_cost ||
-        !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi || !r->lit.surf_draw ||
-        !r->lit.surf_state || !r->lit.surf_mip || !r->lit.grad_list)
+        !r->el.row_first || !r->el.by_row || !r->el.by_row_last || !r->el.surfs || !r->sched.row_cost ||
+        !r->zf.row_band || !r->zf.row_span0 || !r->zf.row_nspans || !r->zf.zlo || !r->zf.zhi)
         goto oom;
     for (int i = 0; i < w->numleaves; i++) r->marks.leaf_up[i] = w->leaves[i].parent;
     for (int i = 0; i < w->numnodes; i++) r->marks.node_up[i] = w->nodes[i].parent;
-    r->zf.draw = r->lit.surf_draw;
-    ew_fog_levels(&r->draw.fog);
-    if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
-    if (ew_occ_init(&r->occ, width, height) < 0) goto oom;
-    if (ew_set_threads(r, d.threads) < 0) goto oom;
     /* The cache holds many frames' worth of surfaces at this size, so a
      * walk through a level rebuilds little (16 bytes a pixel, 16..512 MiB),
      * unless the caller chose a size. */
@@ -185,9 +165,19 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     if (budget > ((size_t)512 << 20)) budget = (size_t)512 << 20;
     budget *= (size_t)r->f.target.bpp;  /* true colour: 4 bytes a texel, as many surfaces */
     if (d.cache_mb) budget = (size_t)d.cache_mb << 20;
-    if (ew_cache_init(&r->lit.cache, w->numfaces, budget) < 0) goto oom;
-    r->lit.cache.bpp = r->f.target.bpp;
-    ew_debug_init(r);
+    if (ew_lit_init(&r->lit, w, d.palette, d.colormap, r->el.max_surfs, budget, r->f.target.bpp) < 0) goto oom;
+    r->zf.draw = r->lit.surf_draw;
+    ew_fog_levels(&r->draw.fog);
+    if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
+    if (ew_occ_init(&r->occ, width, height) < 0) goto oom;
+    if (ew_set_threads(r, d.threads) < 0) goto oom;
+    ew_debug_init(&r->dbg, &r->f, &r->lit.curve);
+    r->lit.marks = &r->marks, r->lit.blend = &r->blend, r->lit.dbg = &r->dbg;
+    r->models = (ew_models){&r->ents, &r->marks, &r->el, &r->zf, &r->draw, &r->lit};
+    r->passes.ctx = (ew_pass_ctx){
+        .f = &r->f, .r = r, .draw = &r->draw, .zf = &r->zf, .blend = &r->blend, .see = &r->see,
+        .warp = &r->warp, .dbg = &r->dbg, .el = &r->el, .lit = &r->lit, .models = &r->models, .hsr = &r->hsr,
+    };
     hsr_ctx_setup(r);
     return r;
 oom:
@@ -207,8 +197,7 @@ static void free_bands(ew_renderer *r) {
     r->zf.bands = NULL;
     r->sched.nbands = 0;
     r->sched.nthreads = 0;
-    free(r->lit.blocklights);
-    r->lit.blocklights = NULL;
+    ew_lit_threads(&r->lit, 0);
 }
 
 int ew_set_threads(ew_renderer *r, int n) {
@@ -235,8 +224,7 @@ int ew_set_threads(ew_renderer *r, int n) {
     r->sched.bands = aligned_alloc(_Alignof(ew_band), sizeof(ew_band) * (size_t)nb);
     r->sched.max_items = ni;
     r->sched.items = aligned_alloc(_Alignof(ew_draw_item), sizeof(ew_draw_item) * (size_t)ni);
-    r->lit.blocklights = malloc(sizeof(int) * 3 * (size_t)r->lit.maxlm * n);  /* RGB */
-    if (!r->sched.bands || !r->sched.items || !r->lit.blocklights) return -1;
+    if (!r->sched.bands || !r->sched.items || ew_lit_threads(&r->lit, n) < 0) return -1;
     memset(r->sched.items, 0, sizeof(ew_draw_item) * (size_t)ni);
     memset(r->sched.bands, 0, sizeof(ew_band) * (size_t)nb);
     r->zf.bands = r->sched.bands;
@@ -252,26 +240,25 @@ int ew_get_threads(const ew_renderer *r) { return r->sched.nthreads; }
 
 void ew_renderer_destroy(ew_renderer *r) {
     if (!r) return;
-    ew_cache_free(&r->lit.cache);
+    ew_lit_free(&r->lit);
     free_bands(r);
-    free(r->lit.surf_cache), free(r->lit.to_build), free(r->sched.row_cost);
+    free(r->sched.row_cost);
     free(r->zf.row_band), free(r->zf.row_span0), free(r->zf.row_nspans), free(r->zf.zlo), free(r->zf.zhi);
-    free(r->lit.tp_faces);
-    free(r->lit.surf_draw), free(r->lit.grad_list), free(r->lit.surf_state), free(r->lit.surf_mip);
     free(r->f.target.pixels), free(r->f.target.zbuf), free(r->f.face_ids);
     free(r->marks.leaf_frame), free(r->marks.node_frame), free(r->marks.face_frame), free(r->marks.vis);
     free(r->marks.leaf_up), free(r->marks.node_up);
     free(r->marks.leaf_key), free(r->marks.leaf_keyframe), free(r->ents.ent_views), free(r->ents.ent_frame);
-    ew_free_box_surfs(r);
+    ew_box_surfs_free(r->ents.box_surfs, r->ents.nbox_surfs);
     free(r->marks.face_dlframe), free(r->marks.face_dlbits);
     free(r->marks.edge_cache_frame), free(r->marks.edge_cache_index), free(r->marks.edge_cache_down);
     free(r->marks.vert_frame), free(r->marks.vert_proj);
     free(r->el.edges), free(r->el.row_first), free(r->el.by_row), free(r->el.by_row_last);
-    free(r->el.surfs), free(r->lit.blocklights);
+    free(r->el.surfs);
     ew_hsr_ctx_free(&r->hsr);
-    free(r->see.polys), free(r->see.order), free(r->warp_copy);
+    free(r->see.polys), free(r->see.order);
+    ew_warp_free(&r->warp);
     ew_blend_free(&r->blend);
-    ew_debug_free(r);
+    ew_debug_free(&r->dbg);
     ew_front_par_free(r->fpar);
     ew_occ_free(&r->occ);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
@@ -305,9 +292,6 @@ void ew_set_dither(ew_renderer *r, int on) {
     if (r->f.cfg.dither != (on != 0)) r->f.cfg.dither = on != 0, relight(r);
 }
 
-int ew_use_rgb_light(const ew_renderer *r, const ew_world *w) {
-    return w == r->f.world && w->rgblight && r->f.cfg.use_lit && !r->f.cfg.classic;
-}
 const float *ew_frame_zbuffer(ew_renderer *r) {
     ew_zfill_rect(&r->zf, 0, 0, r->f.target.width, r->f.target.height);  /* the rest of the world's 1/z */
     return r->f.target.zbuf;
@@ -413,6 +397,61 @@ void ew_enable_face_ids(ew_renderer *r, int on) {
     if (!r->f.face_ids) r->f.cfg.face_ids_on = 0;
 }
 
+int ew_draw_text(ew_renderer *r, int x, int y, int scale, const char *text, const ew_text_style *style) {
+    return r ? ew_text_draw(&r->f.target, r->f.palette, x, y, scale, text, style) : -1;
+}
+int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_overlay_info *extra) {
+    return r ? ew_stats_overlay_draw(&r->f.target, r->f.palette, st, extra) : -1;
+}
+
+void ew_set_scene(ew_renderer *r, const ew_scene *s) {
+    ew_box_surfs_free(r->ents.box_surfs, r->ents.nbox_surfs);  /* they belong to the old scene's models */
+    r->ents.box_surfs = NULL, r->ents.nbox_surfs = 0;
+    r->ents.scene = r->lit.scene = s;
+    int need = s ? s->nents : 0;
+    if (need > r->ents.max_ent_views) {
+        ew_view *v = realloc(r->ents.ent_views, sizeof *v * (size_t)need);
+        if (v) r->ents.ent_views = v, r->ents.max_ent_views = need;
+    }
+}
+
+/* The stages' calls for callers that still hold the renderer (renderer.h). */
+ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
+    return ew_lit_lookup(&r->lit, &r->f, face, mip, build);
+}
+void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch) { ew_lit_build(&r->lit, &r->f, e, scratch); }
+void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade) {
+    ew_light_model(&r->f, r->ents.scene, origin, ambient, shade);
+}
+int ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]) {
+    return ew_light_tint(&r->f, origin, tint);
+}
+int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
+    return ew_box_surfs_prepare(&r->ents.box_surfs, &r->ents.nbox_surfs, &r->lit, &r->f, mi, bw);
+}
+int ew_boxes_reserve(ew_renderer *r, int nents, int nfaces) { return ew_boxes_grow(&r->ents, nents, nfaces); }
+int ew_sprite_cache_reserve(ew_renderer *r, int n) { return ew_sprite_cache_grow(&r->ents.sprite_cache, &r->f, n); }
+int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
+    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
+    return ew_draw_alias_rows(&r->f, &r->zf, m, p, &all);
+}
+int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
+    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
+    return ew_draw_sprite_rows(&r->f, &r->zf, s, p, &all);
+}
+void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
+    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
+    ew_draw_particles_rows(&r->f, &r->zf, p, n, &all);
+}
+
+int ew_set_debug(ew_renderer *r, ew_debug_mode mode) {
+    int rc = ew_debug_set(&r->dbg, &r->f.target, (int)mode);
+    if (rc > 0) r->lit.cache.gen++;  /* surfaces of another mode are never served */
+    return rc < 0 ? -1 : 0;
+}
+ew_debug_mode ew_get_debug(const ew_renderer *r) { return (ew_debug_mode)r->dbg.mode; }
+void ew_set_pvs_lock(ew_renderer *r, int on) { ew_debug_pvs_lock(&r->dbg, on); }
+
 static int camera_ok(const ew_camera *c) {
     for (int i = 0; i < 3; i++)
         if (!isfinite(c->origin[i]) || !isfinite(c->angles[i]) || fabsf(c->origin[i]) > 1e6f) return 0;
@@ -451,10 +490,10 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->draw.rgba = r->lit.curve.rgba;
     /* 8-bit coloured light needs the nearest-colour cube (built once). */
     if (!r->lit.nearest && r->f.target.bpp == 1 && !r->f.cfg.classic &&
-        (ew_use_rgb_light(r, r->f.world) || coloured_dlights(r->ents.scene)))
+        (ew_use_rgb_light(&r->f, r->f.world) || coloured_dlights(r->ents.scene)))
         r->lit.nearest = ew_blend_cube(&r->blend);
     /* Two-pass lighting's inputs, and its per-surface room (made on first use). */
-    ew_tp_begin(&r->lit.tp, w, r->f.palette, r->f.colormap, r->f.cfg.lightstyle, ew_use_rgb_light(r, w), r->f.target.bpp,
+    ew_tp_begin(&r->lit.tp, w, r->f.palette, r->f.colormap, r->f.cfg.lightstyle, ew_use_rgb_light(&r->f, w), r->f.target.bpp,
                 r->f.cfg.classic);
     r->draw.tp = &r->lit.tp;
     if (two_pass(r) && !r->lit.tp_faces) r->lit.tp_faces = malloc(sizeof *r->lit.tp_faces * (size_t)r->el.max_surfs);
@@ -576,8 +615,8 @@ static void job_build(void *ctx, int thread) {
     const ew_world *w = r->f.world;
     int *scratch = r->lit.blocklights + (size_t)r->lit.maxlm * 3 * thread;
     for (int k; (k = atomic_fetch_add(&r->sched.next_build, 1)) < r->lit.nbuild;)
-        ew_cache_build(r, r->lit.to_build[k], scratch);
-    ew_passes_work(r);  /* e.g. alias models posed once for every band */
+        ew_lit_build(&r->lit, &r->f, r->lit.to_build[k], scratch);
+    ew_passes_work(&r->passes);  /* e.g. alias models posed once for every band */
     enum { CHUNK = 32 };
     for (int k; (k = atomic_fetch_add(&r->sched.next_grad, CHUNK)) < r->lit.ngrad;) {
         int end = k + CHUNK < r->lit.ngrad ? k + CHUNK : r->lit.ngrad;
@@ -597,23 +636,14 @@ static void job_build(void *ctx, int thread) {
     }
 }
 
-/* The underwater warp, band by band, from the copy of the whole frame. */
-static void job_warp(void *ctx, int thread) {
-    (void)thread;
-    ew_renderer *r = ctx;
-    for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;)
-        ew_warp_rows(r, r->sched.bands[i].y0, r->sched.bands[i].y1);
-}
-
-/* True colour: the output gamma, band by band. */
-static void job_gamma(void *ctx, int thread) {
+/* The whole-frame passes (the underwater warp, the gamma), band by band,
+ * once every band is drawn. */
+static void job_after(void *ctx, int thread) {
     (void)thread;
     ew_renderer *r = ctx;
     for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nbands;) {
-        const ew_band *b = &r->sched.bands[i];
-        size_t w = (size_t)r->f.target.width;
-        ew_gamma_pixels((uint32_t *)(void *)r->f.target.pixels + (size_t)b->y0 * w, (size_t)(b->y1 - b->y0) * w,
-                        r->f.cfg.gamma_lut);
+        ew_rows rows = {r->sched.bands[i].y0, r->sched.bands[i].y1, &r->f.stats, 0};
+        ew_passes_after(&r->passes, &rows);
     }
 }
 
@@ -646,7 +676,7 @@ static void job_draw(void *ctx, int thread) {
         double t0 = ew_now_ms();
         ew_draw_item *it = &r->sched.items[i];
         if (r->dbg.mode == EW_DEBUG_SPANS) {
-            ew_debug_spans(r, &r->sched.bands[i]);
+            ew_debug_spans(&r->draw, &r->sched.bands[i], i);
         } else {
             /* Rows whose spans follow each other in one band: one call. */
             for (int y = it->y0, y1; y < it->y1; y = y1) {
@@ -659,10 +689,7 @@ static void job_draw(void *ctx, int thread) {
         double t1 = ew_now_ms();
         memset(&it->stats, 0, sizeof it->stats);
         ew_rows rows = {it->y0, it->y1, &it->stats, i == 0};
-        if (r->dbg.mode)
-            ew_debug_passes(r, &r->sched.bands[i], &rows);
-        else
-            ew_passes_draw(r, &rows);
+        ew_passes_draw(&r->passes, r->dbg.mode ? &r->sched.bands[i] : NULL, &rows);
         it->model_ms = ew_now_ms() - t1;
         it->ms = ew_now_ms() - t0;
     }
@@ -716,7 +743,7 @@ static void job_surf_peek(void *ctx, int thread) {
                 r->lit.surf_state[s] = SURF_MISS;
                 continue;
             }
-            const ew_cached_surf *e = r->lit.surf_cache[s] = ew_cache_peek(r, sf->face, mip);
+            const ew_cached_surf *e = r->lit.surf_cache[s] = ew_lit_peek(&r->lit, &r->f, sf->face, mip);
             r->lit.surf_state[s] = e ? SURF_HIT : SURF_MISS;
             if (e) prefetch_texels(r, e);
         }
@@ -740,7 +767,7 @@ static void prepare_surfaces(ew_renderer *r) {
             d->kind = f->flags & EW_SURF_SKY ? EW_DRAW_SKY : EW_DRAW_TURB;
             d->tex = ew_face_texture(w, f, r->f.view.time);
         } else if (state == SURF_HIT) {
-            ew_cache_touch(r, r->lit.surf_cache[s]);
+            ew_lit_touch(&r->lit, &r->f, r->lit.surf_cache[s]);
         }
     }
     int tp = two_pass(r) && r->lit.tp_faces;
@@ -755,7 +782,7 @@ static void prepare_surfaces(ew_renderer *r) {
         ew_cached_surf *e = r->lit.surf_cache[s];
         int build = 0;
         if (state == SURF_MISS)
-            e = r->lit.surf_cache[s] = ew_cache_lookup(r, r->el.surfs[s].face, r->lit.surf_mip[s], &build);
+            e = r->lit.surf_cache[s] = ew_lit_lookup(&r->lit, &r->f, r->el.surfs[s].face, r->lit.surf_mip[s], &build);
         if (!e) {
             r->f.stats.dropped++;
             d->kind = EW_DRAW_FLAT;
@@ -768,77 +795,41 @@ static void prepare_surfaces(ew_renderer *r) {
             if (r->dbg.mode == EW_DEBUG_BUILDS) d->kind = EW_DRAW_DEBUG, d->flat = r->dbg.build;
         }
     }
+    r->f.stats.surfaces_shown = r->lit.ngrad;  /* the surfaces with a span */
 }
 
-/* The serial time of the frame's phases: wall time between two marks less
- * the time spent inside ew_pool_run (the parallel sections) in between. */
-typedef struct serial_clock { double t, par; } serial_clock;
-static double serial_lap(const ew_renderer *r, serial_clock *c) {
+/* The frame's clocks (ew_stats' times): a mark at the end of each serial
+ * step, with the serial time since the last mark, wall time between two
+ * marks less the time spent inside ew_pool_run (the parallel sections). */
+enum { MARK_START, MARK_BEGUN, MARK_SCANNED, MARK_SURFACES, MARK_PASSES, MARK_DRAWN, NMARKS };
+typedef struct frame_clock {
+    double at[NMARKS], serial[NMARKS];
+    double t, par;                   /* the last mark: wall time and parallel time then */
+    double par0;                     /* parallel time at the start */
+    double front_ms, walk_ms, brush_ms, tail_ms;  /* the front end (front_end) */
+    double serial_in_run;            /* serial steps inside the front end's pool run */
+} frame_clock;
+
+static double serial_lap(const ew_renderer *r, frame_clock *c) {
     double t = ew_now_ms(), par = ew_pool_parallel_ms(r->sched.pool);
     double ms = (t - c->t) - (par - c->par);
     c->t = t, c->par = par;
     return ms;
 }
+static void clock_mark(const ew_renderer *r, frame_clock *c, int mark) {
+    if (mark == MARK_START) {
+        c->t = c->at[MARK_START] = ew_now_ms();
+        c->par = c->par0 = ew_pool_parallel_ms(r->sched.pool);
+        return;
+    }
+    c->at[mark] = ew_now_ms();
+    c->serial[mark] = serial_lap(r, c);
+}
 
-int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
-    double t0 = ew_now_ms();
-    serial_clock sc = {t0, ew_pool_parallel_ms(r->sched.pool)}, sc0 = sc;
-    double ser[6];  /* begin, walk, brush, prepare, passes; then all */
-    if (ew_frame_begin(r, cam) < 0) return -1;
-    ew_pool_wake(r->sched.pool);
-    ew_mark_dlights(r);  /* before the walk: a method may look up lit surfaces as faces arrive */
-    ser[0] = serial_lap(r, &sc);
-    /* The walk, brush models, then the bands scanned.  On more than one
-     * thread (or with EW_FRONT_PHASES) the walk, the faces' clipping and
-     * edge setup run on every thread, the scan follows in the same pool
-     * run (world/front_par.c); one thread walks in one loop below.  The
-     * serial steps in that run (its layout and numbering, the brush models,
-     * band placement) are counted in ms_serial by their own clocks. */
-    front_tail_arg ft = {r, 0, 0};
-    double tw = ew_now_ms(), serial_in_run = 0, front_serial[2] = {0, 0};
-    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, front_serial) < 0) {
-        ew_pvs_finish(r);
-        ew_walk_world(r);
-        double tb = ew_now_ms();
-        ew_walk_brush_models(r);
-        front_tail(&ft);
-        serial_lap(r, &sc);
-        ew_pool_run(r->sched.pool, job_scan, r);
-        ser[1] = tb - tw, ser[2] = ft.t1 - tb;
-    } else {
-        serial_in_run = front_serial[0] + front_serial[1] + (ft.t_end - ft.t1);
-        ser[1] = front_serial[0], ser[2] = front_serial[1];
-    }
-    ser[3] = ft.t_end - ft.t1;
-    double t1 = ft.t1;
-    double t2 = ew_now_ms();
-    serial_lap(r, &sc);
-    prepare_surfaces(r);
-    r->f.stats.surfaces_shown = r->lit.ngrad;  /* the surfaces with a span */
-    ser[3] += serial_lap(r, &sc);
-    double te = ew_now_ms();
-    ew_passes_prepare(r);
-    double prep_ms = ew_now_ms() - te;
-    ser[4] = serial_lap(r, &sc);
-    atomic_store(&r->sched.next_build, 0);
-    atomic_store(&r->sched.next_grad, 0);
-    ew_pool_run(r->sched.pool, job_build, r);
-    place_draw(r);
-    atomic_store(&r->sched.next_band, 0);
-    ew_pool_run(r->sched.pool, job_draw, r);
-    r->sched.bands_sized_for = r->sched.nbands;
-    if (!ew_debug_structure(&r->dbg) && ew_warp_begin(r)) {
-        atomic_store(&r->sched.next_band, 0);
-        ew_pool_run(r->sched.pool, job_warp, r);
-    }
-    if (r->f.target.bpp == 4 && r->f.cfg.gamma != 1) {
-        atomic_store(&r->sched.next_band, 0);
-        ew_pool_run(r->sched.pool, job_gamma, r);
-    }
-    double t3 = ew_now_ms();
-    if (r->ents.scene) ew_scene_counts(r->ents.scene, NULL, &r->f.stats.entities_unknown, &r->f.stats.models_missing);
-
+/* The frame's counters from the bands' and the draw's items', and its times. */
+static void frame_stats(ew_renderer *r, const frame_clock *c) {
     ew_stats *st = &r->f.stats;
+    if (r->ents.scene) ew_scene_counts(r->ents.scene, NULL, &st->entities_unknown, &st->models_missing);
     st->pixels = (long)r->f.target.width * r->f.target.height;
     st->edges = r->el.nedges;
     st->surfaces = r->el.nsurfs - 1;
@@ -868,15 +859,71 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     /* Models are drawn inside the bands' draw step; ms_models is their
      * time summed over bands, per thread (the wall time they took), plus
      * the serial per-frame entity pass. */
-    models_ms = models_ms / r->sched.nthreads + prep_ms;
+    const double *at = c->at;
+    double t0 = at[MARK_START], t1 = c->front_ms, t2 = at[MARK_SCANNED], t3 = at[MARK_DRAWN];
+    models_ms = models_ms / r->sched.nthreads + (at[MARK_PASSES] - at[MARK_SURFACES]);
     st->ms_front = t1 - t0, st->ms_scan = t2 - t1, st->ms_draw = t3 - t2 - models_ms;
     st->ms_models = models_ms, st->ms_total = t3 - t0;
     /* Serial: from the start of the frame to here, outside ew_pool_run. */
-    ser[5] = serial_lap(r, &sc0) + serial_in_run;
-    st->ms_serial = ser[5];
-    st->ms_serial_begin = ser[0], st->ms_serial_walk = ser[1], st->ms_serial_brush = ser[2];
-    st->ms_serial_prepare = ser[3], st->ms_serial_passes = ser[4];
-    if (stats) *stats = *st;
+    st->ms_serial = (ew_now_ms() - t0) - (ew_pool_parallel_ms(r->sched.pool) - c->par0) + c->serial_in_run;
+    st->ms_serial_begin = c->serial[MARK_BEGUN], st->ms_serial_walk = c->walk_ms, st->ms_serial_brush = c->brush_ms;
+    st->ms_serial_prepare = c->tail_ms + c->serial[MARK_SURFACES], st->ms_serial_passes = c->serial[MARK_PASSES];
+}
+
+/* The walk, brush models, then the bands scanned.  On more than one
+ * thread (or with EW_FRONT_PHASES) the walk, the faces' clipping and edge
+ * setup run on every thread, the scan follows in the same pool run
+ * (world/front_par.c); one thread walks in one loop below.  The serial
+ * steps in that run (its layout and numbering, the brush models, band
+ * placement) are counted in ms_serial by their own clocks. */
+static void front_end(ew_renderer *r, frame_clock *c) {
+    front_tail_arg ft = {r, 0, 0};
+    double tw = ew_now_ms(), front_serial[2] = {0, 0};
+    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, front_serial) < 0) {
+        ew_pvs_finish(r);
+        ew_walk_world(r);
+        double tb = ew_now_ms();
+        ew_walk_brush_models(r);
+        front_tail(&ft);
+        serial_lap(r, c);
+        ew_pool_run(r->sched.pool, job_scan, r);
+        c->walk_ms = tb - tw, c->brush_ms = ft.t1 - tb;
+        c->serial_in_run = 0;
+    } else {
+        c->serial_in_run = front_serial[0] + front_serial[1] + (ft.t_end - ft.t1);
+        c->walk_ms = front_serial[0], c->brush_ms = front_serial[1];
+    }
+    c->tail_ms = ft.t_end - ft.t1;
+    c->front_ms = ft.t1;
+}
+
+int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
+    frame_clock clock;
+    clock_mark(r, &clock, MARK_START);
+    if (ew_frame_begin(r, cam) < 0) return -1;
+    ew_pool_wake(r->sched.pool);
+    ew_mark_dlights(&r->marks, &r->f, r->ents.scene);  /* before the walk: a method may look up lit surfaces as faces arrive */
+    clock_mark(r, &clock, MARK_BEGUN);
+    front_end(r, &clock);
+    clock_mark(r, &clock, MARK_SCANNED);
+    prepare_surfaces(r);
+    clock_mark(r, &clock, MARK_SURFACES);
+    ew_passes_prepare(&r->passes);
+    clock_mark(r, &clock, MARK_PASSES);
+    atomic_store(&r->sched.next_build, 0);
+    atomic_store(&r->sched.next_grad, 0);
+    ew_pool_run(r->sched.pool, job_build, r);
+    place_draw(r);
+    atomic_store(&r->sched.next_band, 0);
+    ew_pool_run(r->sched.pool, job_draw, r);
+    r->sched.bands_sized_for = r->sched.nbands;
+    if (ew_passes_after_begin(&r->passes)) {  /* the underwater warp, the gamma */
+        atomic_store(&r->sched.next_band, 0);
+        ew_pool_run(r->sched.pool, job_after, r);
+    }
+    clock_mark(r, &clock, MARK_DRAWN);
+    frame_stats(r, &clock);
+    if (stats) *stats = r->f.stats;
     return 0;
 }
 

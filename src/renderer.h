@@ -21,7 +21,8 @@
 #include "light/twopass.h"
 #include "output/gamma.h"
 #include "pool.h"
-#include "raster/blend.h"
+#include "raster/alias.h"
+#include "light/blend.h"
 #include "raster/debug.h"
 #include "raster/raster.h"
 #include "raster/zfill.h"
@@ -56,53 +57,10 @@ typedef struct ew_sched {
     _Alignas(64) _Atomic int next_band;           /* work handed out in a phase */
     _Alignas(64) _Atomic int next_build;
     _Alignas(64) _Atomic int next_grad;
-    _Alignas(64) _Atomic int next_item;           /* the passes' parallel preparation */
-    int      pass_items[8], npass_items;          /* per pass, its work items this frame */
+    _Alignas(64) _Atomic int next_item;           /* the surfaces' lookup */
     _Alignas(64) char end;
 } ew_sched;
 
-/* This frame's lit surfaces: per surface of the edge list, its cache entry
- * (normal surfaces only) and how its spans are drawn. */
-typedef struct ew_lit {
-    ew_surf_cache    cache;
-    ew_cached_surf **surf_cache;
-    ew_surf_draw    *surf_draw;
-    ew_cached_surf **to_build;  int nbuild;
-    int             *grad_list; int ngrad;       /* surfaces whose gradients are needed */
-    uint8_t         *surf_state, *surf_mip;      /* per surface: prepare_surfaces' read-only findings */
-    int              maxlm;                      /* largest light map, in samples */
-    int             *blocklights;                /* building scratch, maxlm * 3 per thread */
-    ew_lightcurve    curve;                      /* palette colour x light (light/curve.c) */
-    const uint8_t   *nearest;                    /* 8-bit coloured light: RGB cube -> index */
-    ew_twopass       tp;                         /* two-pass lighting: this frame's inputs */
-    ew_tp_face      *tp_faces;                   /* two-pass lighting: per surface (max_surfs) */
-} ew_lit;
-
-/* The scene drawn with the world, and what this frame knows of it. */
-typedef struct ew_ents {
-    const struct ew_scene *scene;               /* or NULL */
-    ew_view      *ent_views;  int max_ent_views; /* camera in each brush entity's space */
-    ew_ent_frame *ent_frame;  int nent_frame, max_ent_frame;
-    int           tested_frame;                 /* frame whose entities were tested in the front end */
-    ew_box_surfs **box_surfs; int nbox_surfs;   /* per scene model: item box surfaces, or NULL */
-    /* item boxes projected once a frame for every piece of the draw
-     * (raster/models.c): per entity its frame, the faces to fill of all of
-     * them, and the visible boxes, the parallel work after the alias models */
-    struct ew_box_frame *box_frame; int max_box_frame;
-    struct ew_box_face  *box_faces; int max_box_faces;
-    int          *box_list;   int nbox;
-    /* alias models posed once a frame for every band (raster/alias.h) */
-    struct ew_alias_xf *xf;   int max_xf;       /* per entity */
-    struct ew_xvert *xverts;  size_t max_xverts; /* their vertices, one run per visible model */
-    int          *alias_list; int nalias;       /* visible alias entities, the parallel work first */
-    uint32_t     *tint_rgba;                    /* per entity, 256: the palette in its light's colour */
-    uint8_t      *tint_remap;                   /* per entity, 256: 8-bit, the nearest colours of that */
-    /* EW_ALIAS_SPRITE_CACHE: per entity, its image kept across frames
-     * (raster/alias_sprite_cache.c; sized in the prepare, slot i written only
-     * by the pose work of entity i, read by the bands) */
-    struct ew_sprite_cache *sprite_cache;
-} ew_ents;
-void ew_sprite_cache_free(struct ew_sprite_cache *c);
 
 struct ew_renderer {
     ew_frame    f;                               /* the frame's shared state (frame.h) */
@@ -111,13 +69,13 @@ struct ew_renderer {
     ew_span_ctx draw;
     ew_zfill    zf;
     ew_lit      lit;
-    ew_ents     ents;
+    ew_ents     ents;                            /* the scene's entities this frame (raster/alias.h) */
+    ew_models   models;                          /* the models pass's parts (raster/models.c) */
     ew_hsr_ctx  hsr;                             /* what the hidden-surface method sees of the frame (hsr/hsr.h) */
     ew_see      see;
     ew_blend    blend;                           /* 8-bit blend, fog and tint tables */
-    uint8_t    *warp_copy;                       /* the underwater warp's source frame and shifts */
-    const uint8_t *warp_tint;                    /* and its tint table this frame */
-    int         warp_rgb[3], warp_amount;        /* true colour: the tint itself */
+    ew_warp     warp;                            /* the underwater warp (raster/warp.c) */
+    ew_passes   passes;                          /* what is drawn over the world, and after (scene/passes.c) */
     ew_sched    sched;
     ew_debug    dbg;                             /* debug modes (raster/debug.c) */
     struct ew_front_par *fpar;                   /* the parallel front end's lists (world/front_par.c), or NULL */
@@ -129,6 +87,20 @@ struct ew_renderer {
  * is scratch), from the scan's spans and the posed models, for placing the
  * draw's items. */
 void ew_estimate_draw_costs(const ew_renderer *r, float *cost);
+
+/* renderer.c: the stages' calls as they were, for callers in world/ and
+ * hsr/ that still hold the renderer (light/light.h has the stages' own). */
+ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
+void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
+void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade);
+int  ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]);
+int  ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw);
+int  ew_boxes_reserve(ew_renderer *r, int nents, int nfaces);
+int  ew_sprite_cache_reserve(ew_renderer *r, int n);
+/* The whole frame's rows (the tests' calls; raster/alias.h draws a band's). */
+int  ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p);
+int  ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p);
+void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n);
 
 /* renderer.c: new frame number, view, per-frame tables, PVS marks, and the
  * hidden-surface method's begin. */

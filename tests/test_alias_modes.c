@@ -180,18 +180,18 @@ static void draw_models(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p,
                         ew_xvert *xv, ew_sc_slot *slot) {
     ew_rows rows = {0, r->f.target.height, &r->f.stats, 1};
     for (int i = 0; i < n; i++) {
-        if (!ew_alias_place(r, m, &p[i], &xf[i])) continue;
+        if (!ew_alias_place(&r->f, m, &p[i], &xf[i])) continue;
         int sc = r->f.cfg.alias_raster == EW_ALIAS_SPRITE_CACHE;
-        if (sc && ew_sprite_cache_reuse(r, &slot[i], m, &xf[i], &p[i], ew_sprite_cache_tol(r))) {
-            ew_sprite_cache_draw(r, &slot[i], &rows);
+        if (sc && ew_sprite_cache_reuse(&r->f, &slot[i], m, &xf[i], &p[i], ew_sprite_cache_tol(r->ents.sprite_cache))) {
+            ew_sprite_cache_draw(&r->f, &r->zf, &slot[i], &rows);
             continue;
         }
-        ew_alias_pose_verts(r, m, &p[i], &xf[i], xv + (size_t)i * m->numverts);
-        if (sc) ew_sprite_cache_redraw(r, &slot[i], m, &xf[i], &p[i]);
+        ew_alias_pose_verts(&r->f, m, &p[i], &xf[i], xv + (size_t)i * m->numverts);
+        if (sc) ew_sprite_cache_redraw(&r->f, &slot[i], m, &xf[i], &p[i]);
         if (sc && slot[i].use)
-            ew_sprite_cache_draw(r, &slot[i], &rows);
+            ew_sprite_cache_draw(&r->f, &r->zf, &slot[i], &rows);
         else
-            ew_alias_draw(r, m, &xf[i], &rows);
+            ew_alias_draw(&r->f, &r->zf, m, &xf[i], &rows);
     }
 }
 
@@ -254,7 +254,7 @@ static void test_sphere(ew_renderer *r) {
     r->f.cfg.alias_threshold = 1000;
     ew_sc_tol tol = ew_sprite_cache_tol_default();
     tol.max_reuse = 1000;  /* the camera moves decide alone */
-    ew_sprite_cache_set_tol(r, &tol);
+    ew_sprite_cache_set_tol(&r->ents.sprite_cache, &tol);
     long masks_differ = 0, aff_twice = 0, sc_holes = 0, sc_extra = 0, sc_twice = 0, sc_colour = 0, area = 0;
     long moved_holes = 0, moved_extra = 0, moved_area = 0, hits = 0;
     int poses = 0;
@@ -324,7 +324,7 @@ static void test_sphere(ew_renderer *r) {
            "steps: holes %.2f%%, extra %.2f%% of %ld px\n",
            poses, aff_twice, area, hits, poses * 3, hp, xp, moved_area);
     tol = ew_sprite_cache_tol_default();
-    ew_sprite_cache_set_tol(r, &tol);
+    ew_sprite_cache_set_tol(&r->ents.sprite_cache, &tol);
     r->zf.all = 0;
     r->f.cfg.alias_raster = EW_ALIAS_AUTO, r->f.cfg.alias_threshold = 40;
     ew_sprite_cache_slot_free(&slot);
@@ -376,7 +376,7 @@ static void test_soldiers(ew_renderer *r, const ew_camera *start) {
     r->zf.all = 1;
     r->f.cfg.alias_threshold = 40;
     ew_sc_tol tol = ew_sprite_cache_tol_default();
-    ew_sprite_cache_set_tol(r, &tol);
+    ew_sprite_cache_set_tol(&r->ents.sprite_cache, &tol);
     /* masks = affine on the whole scene */
     clear(r);
     r->f.cfg.alias_raster = EW_ALIAS_AFFINE;

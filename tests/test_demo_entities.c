@@ -10,7 +10,7 @@
 #include "util.h"
 #include "renderer.h"
 #include "mapgen.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <math.h>
 #include <stdlib.h>

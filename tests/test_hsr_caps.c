@@ -168,7 +168,7 @@ static void check_map(const char *map, tally *t) {
             tm->fence_surfs += fence_surfaces(r1);
             int nsurfs = r1->el.nsurfs, under = r1->f.eye_contents != EW_CONTENTS_EMPTY;
             /* OWN_COMPOSE: the pass list */
-            int own = ew_pass_count(r1) == 2 && strcmp(ew_pass_name(r1, 1), "compose") == 0;
+            int own = ew_pass_count(&r1->passes) >= 2 && strcmp(ew_pass_name(&r1->passes, 1), "compose") == 0;
             CHECK(own == !!(fl & EW_HSR_OWN_COMPOSE), "%s: its pass list %s its own compose, flags %#x", h->name,
                   own ? "is" : "is not", fl);
             /* occlusion culling on */

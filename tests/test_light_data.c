@@ -10,6 +10,7 @@
 #include "util.h"
 #include "ew_world.h"
 #include "light/light.h"
+#include "renderer.h"
 #include "mapgen_util.h"
 
 #include <math.h>
@@ -296,8 +297,8 @@ static void test_layouts(void) {
         int nv = ew_benchmark_views(pw, views), eq = 1;
         for (int i = 0; r4 && rp && i < nv; i++) {
             int rgb[3];
-            int a = ew_light_point_rgb(r4, views[i].origin, rgb);
-            eq &= a == ew_light_point(rp, views[i].origin) && rgb[0] == a && rgb[1] == a && rgb[2] == a;
+            int a = ew_light_point_rgb(&r4->f, views[i].origin, rgb);
+            eq &= a == ew_light_point(&rp->f, views[i].origin) && rgb[0] == a && rgb[1] == a && rgb[2] == a;
         }
         CHECK(r4 && rp && nv > 0 && eq, "light point differs on the LMSHIFT 4 map");
         ew_renderer_destroy(r4), ew_renderer_destroy(rp);

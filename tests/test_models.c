@@ -367,7 +367,7 @@ static void test_in_frame(void) {
     for (int k = 0; k < 3; k++) p.origin[k] = v->origin[k] + v->forward[k] * dist;
     p.origin[2] -= 10;
     p.angles[1] = cam.angles[1] + 180;  /* facing the camera */
-    int light = ew_light_point(r, p.origin);
+    int light = ew_light_point(&r->f, p.origin);
     CHECK(light >= 0 && light <= 255, "light %d", light);
     p.ambient = light < 24 ? 24 : light, p.shade = 64;
 
@@ -431,21 +431,21 @@ static void test_in_frame(void) {
     /* Light under the soldier: style scaling, and nothing hit outside. */
     {
         ew_set_lightstyle(r, 0, 256);  /* the light map as compiled (the game's 'm' is 264) */
-        int base = ew_light_point(r, p.origin);
+        int base = ew_light_point(&r->f, p.origin);
         ew_set_lightstyle(r, 0, 512);
-        int twice = ew_light_point(r, p.origin);
+        int twice = ew_light_point(&r->f, p.origin);
         ew_set_lightstyle(r, 0, 0);
-        int dark = ew_light_point(r, p.origin);
+        int dark = ew_light_point(&r->f, p.origin);
         ew_set_lightstyle(r, 0, 256);
         printf("light under the soldier: %d (style 0 doubled: %d, off: %d)\n", base, twice, dark);
         CHECK(base > 0 && base <= 255, "light %d", base);
         CHECK(twice >= base && (base > 127 || twice >= 2 * base - 2), "doubled style: %d from %d", twice, base);
         CHECK(dark <= base, "style off: %d from %d", dark, base);
         float outside[3] = {1e5f, 1e5f, 1e5f};
-        CHECK(ew_light_point(r, outside) == 0, "light outside the map");
+        CHECK(ew_light_point(&r->f, outside) == 0, "light outside the map");
         /* every view's eye has a floor under it somewhere within 2048 */
         int lit = 0;
-        for (int i = 0; i < nv; i++) lit += ew_light_point(r, views[i].origin) > 0;
+        for (int i = 0; i < nv; i++) lit += ew_light_point(&r->f, views[i].origin) > 0;
         CHECK(lit * 2 >= nv, "only %d of %d views have light under them", lit, nv);
     }
     measure(r, &cam, soldier);

@@ -5,7 +5,7 @@
 #include "edgewise_tools.h"
 #include "util.h"
 #include "renderer.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -221,7 +221,7 @@ int main(void) {
             float dist = sqrtf(dx * dx + dy * dy + dz * dz);
             if (dist < closest) closest = dist;
         }
-        int marked = ew_face_dlights(r, fi) != 0;
+        int marked = ew_face_dlights(&r->marks, fi) != 0;
         lit += marked;
         lit_far += marked && d > radius;
         near_unlit += !marked && closest < radius;

@@ -12,7 +12,7 @@
 #include "ew_world.h"
 #include "edgewise_tools.h"
 #include "mapgen/mapgen.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 #include "util.h"
 
 #include <math.h>

@@ -13,7 +13,7 @@
  * that may hold one and splits off the rest.  So once the slabs have
  * settled, building and evicting surfaces allocates nothing.  Blocks never
  * move, so a surface's pixels stay put for the whole frame. */
-#include "renderer.h"
+#include "light/light.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -181,44 +181,46 @@ void ew_cache_free(ew_surf_cache *c) {
 }
 
 /* The entry's texture and light styles as they are this frame. */
-static int current_look(const ew_renderer *r, const ew_face *f, int light[4]) {
-    const ew_world *w = r->f.world;
-    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : r->f.cfg.lightstyle[f->styles[k] & 63];
-    return (int)(ew_face_texture(w, f, r->f.view.time) - w->textures);
+static int current_look(const ew_frame *fr, const ew_face *f, int light[4]) {
+    const ew_world *w = fr->world;
+    for (int k = 0; k < 4; k++) light[k] = f->styles[k] == 255 ? 0 : fr->cfg.lightstyle[f->styles[k] & 63];
+    return (int)(ew_face_texture(w, f, fr->view.time) - w->textures);
 }
 
-ew_cached_surf *ew_cache_peek(const ew_renderer *r, int face, int mip) {
-    const ew_surf_cache *c = &r->lit.cache;
+ew_cached_surf *ew_lit_peek(const ew_lit *lit, const ew_frame *fr, int face, int mip) {
+    const ew_surf_cache *c = &lit->cache;
     ew_cached_surf *e = c->slot[face * 4 + mip];
     if (!e) return NULL;
-    int light[4], texture = current_look(r, &r->f.world->faces[face], light);
-    unsigned dl = ew_face_dlights(r, face);
+    int light[4], texture = current_look(fr, &fr->world->faces[face], light);
+    unsigned dl = ew_face_dlights(lit->marks, face);
     /* A dynamically lit surface is good only for the frame that built it. */
     if (e->texture == texture && memcmp(e->light, light, sizeof light) == 0 && e->dlights == dl && e->gen == c->gen &&
-        (!dl || e->last_frame == r->marks.framecount))
+        (!dl || e->last_frame == lit->marks->framecount))
         return e;
     return NULL;
 }
 
-void ew_cache_touch(ew_renderer *r, ew_cached_surf *e) {
-    ew_surf_cache *c = &r->lit.cache;
-    if (e->last_frame != r->marks.framecount) r->f.stats.surfaces_cached++;
+void ew_lit_touch(ew_lit *lit, ew_frame *fr, ew_cached_surf *e) {
+    ew_surf_cache *c = &lit->cache;
+    int frame = lit->marks->framecount;
+    if (e->last_frame != frame) fr->stats.surfaces_cached++;
     lru_unlink(c, e);
     lru_push_front(c, e);
-    e->last_frame = r->marks.framecount;
+    e->last_frame = frame;
 }
 
-ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
-    ew_surf_cache *c = &r->lit.cache;
-    const ew_face *f = &r->f.world->faces[face];
+ew_cached_surf *ew_lit_lookup(ew_lit *lit, ew_frame *fr, int face, int mip, int *build) {
+    ew_surf_cache *c = &lit->cache;
+    const ew_face *f = &fr->world->faces[face];
+    const int frame = lit->marks->framecount;
     *build = 0;
-    ew_cached_surf *e = ew_cache_peek(r, face, mip);
+    ew_cached_surf *e = ew_lit_peek(lit, fr, face, mip);
     if (e) {
-        ew_cache_touch(r, e);
+        ew_lit_touch(lit, fr, e);
         return e;
     }
-    int light[4], texture = current_look(r, f, light);
-    unsigned dl = ew_face_dlights(r, face);
+    int light[4], texture = current_look(fr, f, light);
+    unsigned dl = ew_face_dlights(lit->marks, face);
     e = c->slot[face * 4 + mip];
     int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
     unsigned old_dl = 0;
@@ -239,7 +241,7 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
      * is refused (drawn flat, counted in dropped), so no map can make the
      * cache grow without bound. */
     size_t need = (size_t)width * height * c->bpp;
-    while (c->bytes + need > c->budget && c->lru_tail && c->lru_tail->last_frame != r->marks.framecount)
+    while (c->bytes + need > c->budget && c->lru_tail && c->lru_tail->last_frame != frame)
         evict(c, c->lru_tail);
     if (c->bytes + need > 2 * c->budget) {
         c->slot[face * 4 + mip] = NULL;
@@ -254,21 +256,21 @@ ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
         e->pixels = (uint8_t *)(e + 1);
         c->slot[face * 4 + mip] = e;
     }
-    if (dl || old_dl) r->f.stats.surfaces_rebuilt_by_dlights++;
+    if (dl || old_dl) fr->stats.surfaces_rebuilt_by_dlights++;
     e->width = width, e->height = height, e->texture = texture, e->dlights = dl, e->gen = c->gen;
     memcpy(e->light, light, sizeof light);
     c->bytes += need;
     lru_push_front(c, e);
-    e->last_frame = r->marks.framecount;
-    while (c->bytes > c->budget && c->lru_tail && c->lru_tail->last_frame != r->marks.framecount)
+    e->last_frame = frame;
+    while (c->bytes > c->budget && c->lru_tail && c->lru_tail->last_frame != frame)
         evict(c, c->lru_tail);
-    r->f.stats.surfaces_built++;
+    fr->stats.surfaces_built++;
     *build = 1;
     return e;
 }
 
-void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch) {
-    const ew_face *f = &r->f.world->faces[e->face];
-    ew_build_surface(r, r->f.world, f, &r->f.world->textures[e->texture], e->mip, e->light, e->dlights, e->pixels,
+void ew_lit_build(const ew_lit *lit, const ew_frame *fr, ew_cached_surf *e, int *scratch) {
+    const ew_face *f = &fr->world->faces[e->face];
+    ew_build_surface(lit, fr, fr->world, f, &fr->world->textures[e->texture], e->mip, e->light, e->dlights, e->pixels,
                      scratch);
 }

@@ -6,7 +6,7 @@
  * (the colormap's own quirks, such as bright rows moving a colour to
  * another ramp, are kept), and coloured light reads each channel from its
  * own level. */
-#include "renderer.h"
+#include "light/light.h"
 
 void ew_lightcurve_fit(ew_lightcurve *lc, const uint8_t palette[768], const uint8_t *colormap) {
     lc->palette = palette;

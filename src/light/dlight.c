@@ -4,9 +4,9 @@
  * rebuilt with the light added; a surface built with a light is rebuilt once
  * more when the light has gone.  Faces the light does not reach keep their
  * cached surfaces. */
-#include "renderer.h"
+#include "light/light.h"
 #include "ew_util.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <math.h>
 
@@ -14,8 +14,7 @@
  * limit) times 256, so 32 lights on a sample stay inside int. */
 #define EW_DLIGHT_MAX_ADD 25600000
 
-static void mark(ew_renderer *r, const float p[3], float radius, int bit, int node, int depth) {
-    const ew_world *w = r->f.world;
+static void mark(ew_marks *m, const ew_world *w, const float p[3], float radius, int bit, int node, int depth) {
     while (node >= 0 && depth++ < 4096) {
         const ew_node *n = &w->nodes[node];
         const ew_plane *pl = &w->planes[n->plane];
@@ -30,24 +29,23 @@ static void mark(ew_renderer *r, const float p[3], float radius, int bit, int no
         }
         for (int i = 0; i < n->numfaces; i++) {
             int fi = n->firstface + i;
-            if (r->marks.face_dlframe[fi] != r->marks.framecount) {
-                r->marks.face_dlframe[fi] = r->marks.framecount;
-                r->marks.face_dlbits[fi] = 0;
+            if (m->face_dlframe[fi] != m->framecount) {
+                m->face_dlframe[fi] = m->framecount;
+                m->face_dlbits[fi] = 0;
             }
-            r->marks.face_dlbits[fi] |= 1u << bit;
+            m->face_dlbits[fi] |= 1u << bit;
         }
-        mark(r, p, radius, bit, n->children[0], depth);
+        mark(m, w, p, radius, bit, n->children[0], depth);
         node = n->children[1];
     }
 }
 
-void ew_mark_dlights(ew_renderer *r) {
-    const struct ew_scene *sc = r->ents.scene;
+void ew_mark_dlights(ew_marks *m, const ew_frame *f, const struct ew_scene *sc) {
     if (!sc) return;
-    const ew_world *w = r->f.world;
+    const ew_world *w = f->world;
     for (int i = 0; i < sc->ndlights; i++) {
         const ew_dlight *dl = &sc->dlights[i];
-        mark(r, dl->origin, dl->radius, i, w->models[0].headnode, 0);
+        mark(m, w, dl->origin, dl->radius, i, w->models[0].headnode, 0);
         /* Brush entities: the light in each one's own space. */
         for (int e = 0; e < sc->nents; e++) {
             const ew_scene_entity *en = &sc->ents[e];
@@ -57,19 +55,18 @@ void ew_mark_dlights(ew_renderer *r) {
             ew_entity_axes(en->angles, ax);
             for (int k = 0; k < 3; k++) d[k] = dl->origin[k] - en->origin[k];
             for (int k = 0; k < 3; k++) p[k] = ax[0][k] * d[0] + ax[1][k] * d[1] + ax[2][k] * d[2];
-            mark(r, p, dl->radius, i, w->models[sub].headnode, 0);
+            mark(m, w, p, dl->radius, i, w->models[sub].headnode, 0);
         }
     }
 }
 
-unsigned ew_face_dlights(const ew_renderer *r, int face) {
-    return r->marks.face_dlframe[face] == r->marks.framecount ? r->marks.face_dlbits[face] : 0;
+unsigned ew_face_dlights(const ew_marks *m, int face) {
+    return m->face_dlframe[face] == m->framecount ? m->face_dlbits[face] : 0;
 }
 
-void ew_add_dlights(const ew_renderer *r, const ew_face *f, unsigned bits, int *bl, int nc, int smax, int tmax,
-                    const float (*st_to_lm)[3]) {
-    const struct ew_scene *sc = r->ents.scene;
-    const ew_world *w = r->f.world;
+void ew_add_dlights(const ew_frame *fr, const struct ew_scene *sc, const ew_face *f, unsigned bits, int *bl, int nc,
+                    int smax, int tmax, const float (*st_to_lm)[3]) {
+    const ew_world *w = fr->world;
     if (!sc || !bits) return;
     const ew_plane *pl = &w->planes[f->plane];
     const ew_texinfo *ti = &w->texinfo[f->texinfo];

@@ -3,15 +3,14 @@
  * that face's light map at the crossing, the way the game lit its models
  * from the floor they stood on. */
 #include "light/light.h"
-#include "raster/alias.h"
 
 #include <math.h>
 
 /* The light of face f at texture point (fs, ft), styles applied: mono
  * returned, rgb filled (the mono level three times without coloured
  * light).  Quake's 16-texel grid, or the face's own layout (facelm). */
-static int face_light(const ew_renderer *r, const ew_face *f, int fi, float fs, float ft, int rgb[3]) {
-    const ew_world *w = r->f.world;
+static int face_light(const ew_frame *fr, const ew_face *f, int fi, float fs, float ft, int rgb[3]) {
+    const ew_world *w = fr->world;
     long at, step;
     if (w->facelm) {
         const ew_facelm *lm = &w->facelm[fi];
@@ -34,7 +33,7 @@ static int face_light(const ew_renderer *r, const ew_face *f, int fi, float fs, 
     for (int k = 0; k < 4 && f->styles[k] != 255; k++, at += step) {
         if (at < 0 || at >= w->lightsize) break;
         int style = f->styles[k];
-        int scale = style < 64 ? r->f.cfg.lightstyle[style] : 256;
+        int scale = style < 64 ? fr->cfg.lightstyle[style] : 256;
         sum += (long)w->lighting[at] * scale;
         if (w->rgblight)
             for (int j = 0; j < 3; j++) c[j] += (long)w->rgblight[3 * at + j] * scale;
@@ -49,9 +48,9 @@ static int face_light(const ew_renderer *r, const ew_face *f, int fi, float fs, 
 }
 
 /* -1: nothing hit on this part of the segment. */
-static int trace(const ew_renderer *r, int node, const float start[3], const float end[3], int depth,
+static int trace(const ew_frame *fr, int node, const float start[3], const float end[3], int depth,
                  int rgb[3]) {
-    const ew_world *w = r->f.world;
+    const ew_world *w = fr->world;
     float a[3] = {start[0], start[1], start[2]};
     while (node >= 0) {
         if (depth++ > w->numnodes + 1) return -1;  /* the loader rejected cycles; a guard */
@@ -67,7 +66,7 @@ static int trace(const ew_renderer *r, int node, const float start[3], const flo
         float frac = front / (front - back);
         float mid[3];
         for (int i = 0; i < 3; i++) mid[i] = a[i] + frac * (end[i] - a[i]);
-        int lit = trace(r, nd->children[side], a, mid, depth, rgb);
+        int lit = trace(fr, nd->children[side], a, mid, depth, rgb);
         if (lit >= 0) return lit;
 
         /* The crossing point on this node's plane: a face of the node there? */
@@ -81,7 +80,7 @@ static int trace(const ew_renderer *r, int node, const float start[3], const flo
             int ds = (int)fs - f->texturemins[0], dt = (int)ft - f->texturemins[1];
             if (ds < 0 || dt < 0 || ds > f->extents[0] || dt > f->extents[1]) continue;
             if (!w->lighting) return rgb[0] = rgb[1] = rgb[2] = 255;
-            return face_light(r, f, nd->firstface + fi, fs, ft, rgb);
+            return face_light(fr, f, nd->firstface + fi, fs, ft, rgb);
         }
         /* Go on down the far side. */
         for (int i = 0; i < 3; i++) a[i] = mid[i];
@@ -90,16 +89,16 @@ static int trace(const ew_renderer *r, int node, const float start[3], const flo
     return -1;
 }
 
-int ew_light_point_rgb(const ew_renderer *r, const float p[3], int rgb[3]) {
+int ew_light_point_rgb(const ew_frame *fr, const float p[3], int rgb[3]) {
     int scratch[3];
     if (!rgb) rgb = scratch;
     rgb[0] = rgb[1] = rgb[2] = 0;
-    if (!r || !r->f.world || !p || r->f.world->nummodels < 1) return 0;
+    if (!fr || !fr->world || !p || fr->world->nummodels < 1) return 0;
     if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) return 0;
     float end[3] = {p[0], p[1], p[2] - 2048.0f};
-    int lit = trace(r, r->f.world->models[0].headnode, p, end, 0, rgb);
+    int lit = trace(fr, fr->world->models[0].headnode, p, end, 0, rgb);
     if (lit < 0) rgb[0] = rgb[1] = rgb[2] = 0;
     return lit < 0 ? 0 : lit;
 }
 
-int ew_light_point(const ew_renderer *r, const float p[3]) { return ew_light_point_rgb(r, p, NULL); }
+int ew_light_point(const ew_frame *fr, const float p[3]) { return ew_light_point_rgb(fr, p, NULL); }

@@ -1,15 +1,14 @@
 /* The light an alias model is drawn with (see light/lightpoint.c). */
-#include "renderer.h"
+#include "light/light.h"
 #include "ew_util.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <math.h>
 
 /* Light on a model: the floor under it, plus dynamic lights in reach, held
  * to a floor of 24 and a ceiling so shading keeps some contrast. */
-void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade) {
-    const struct ew_scene *sc = r->ents.scene;
-    int l = ew_light_point(r, origin);
+void ew_light_model(const ew_frame *f, const struct ew_scene *sc, const float origin[3], int *ambient, int *shade) {
+    int l = ew_light_point(f, origin);
     for (int i = 0; i < sc->ndlights; i++) {
         const ew_dlight *d = &sc->dlights[i];
         float dx = origin[0] - d->origin[0], dy = origin[1] - d->origin[1], dz = origin[2] - d->origin[2];
@@ -21,11 +20,11 @@ void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, i
     *ambient = a, *shade = s;
 }
 
-int ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]) {
+int ew_light_tint(const ew_frame *f, const float origin[3], int tint[3]) {
     tint[0] = tint[1] = tint[2] = 256;
-    if (!ew_use_rgb_light(r, r->f.world)) return 0;
+    if (!ew_use_rgb_light(f, f->world)) return 0;
     int rgb[3];
-    ew_light_point_rgb(r, origin, rgb);
+    ew_light_point_rgb(f, origin, rgb);
     /* The hue of the light under the model, its brightness left to the
      * white level (ambient and shade): channel over the channels' mean. */
     int sum = rgb[0] + rgb[1] + rgb[2];

@@ -10,7 +10,8 @@
  *   - true colour: the palette colour times the light curve per channel.
  * The light curve is fitted to the colormap itself (light/curve.c), so white
  * light in true colour looks like the 8-bit frame, only smoother. */
-#include "renderer.h"
+#include "light/light.h"
+#include "ew_util.h"  /* ew_debug_mode, ew_light_fault */
 
 #include <string.h>
 
@@ -91,10 +92,10 @@ static inline int light_row(int bl) {
 /* The samples of a face, nc channels interleaved (1: white, 3: RGB), as
  * colormap rows; with nc 3 and rgbsrc 0 the white light in all three (for
  * coloured dynamic lights on it).  Returns 1 if every sample is grey (r = g = b). */
-static int gather(const ew_renderer *r, const ew_world *w, const ew_face *f, const lm_layout *L,
+static int gather(const ew_lit *lit, const ew_frame *fr, const ew_world *w, const ew_face *f, const lm_layout *L,
                   const int light[4], unsigned dlights, int nc, int rgbsrc, int *bl) {
     int size = L->smax * L->tmax, n = size * nc, grey = 1;
-    if (!w->lighting || r->dbg.mode == EW_DEBUG_TEXTURES) {
+    if (!w->lighting || lit->dbg->mode == EW_DEBUG_TEXTURES) {
         for (int i = 0; i < n; i++) bl[i] = 32 << 8;  /* unlit map (or textures only): colours as they are */
         return 1;
     }
@@ -115,7 +116,7 @@ static int gather(const ew_renderer *r, const ew_world *w, const ew_face *f, con
                 for (int i = 0; i < n; i++) bl[i] += lm[i] * light[k];
         }
     }
-    if (w == r->f.world) ew_add_dlights(r, f, dlights, bl, nc, L->smax, L->tmax, L->st_to_lm);
+    if (w == fr->world) ew_add_dlights(fr, lit->scene, f, dlights, bl, nc, L->smax, L->tmax, L->st_to_lm);
     if (nc == 3)
         for (int i = 0; i < size && grey; i++) grey = bl[i * 3] == bl[i * 3 + 1] && bl[i * 3] == bl[i * 3 + 2];
     for (int i = 0; i < n; i++) bl[i] = light_row(bl[i]);
@@ -326,39 +327,53 @@ CMAP_BLOCKS(8, 3)
 CMAP_BLOCKS(4, 2)
 CMAP_BLOCKS(2, 1)
 
-void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
+/* A lit surface of width x height texels in mip's colour (the mips debug mode). */
+static void mip_surface(const ew_debug *dbg, int bpp, int mip, uint8_t *out, int width, int height) {
+    size_t n = (size_t)width * (size_t)height;
+    if (bpp == 1) {
+        memset(out, (int)(uint8_t)dbg->mip[mip & 3], n);
+        return;
+    }
+    for (size_t i = 0; i < n; i++) ew_set32(out, (int)i, dbg->mip[mip & 3]);
+}
+
+int ew_use_rgb_light(const ew_frame *f, const ew_world *w) {
+    return w == f->world && w->rgblight && f->cfg.use_lit && !f->cfg.classic;
+}
+
+void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, const ew_face *f,
                       const ew_texture *tex, int mip, const int light[4], unsigned dlights,
                       uint8_t *out, int *scratch) {
-    if (r->dbg.mode == EW_DEBUG_MIPS) {  /* one colour per mip level */
-        ew_debug_mip_surface(r, mip, out, f->extents[0] >> mip, f->extents[1] >> mip);
+    if (lit->dbg->mode == EW_DEBUG_MIPS) {  /* one colour per mip level */
+        mip_surface(lit->dbg, fr->target.bpp, mip, out, f->extents[0] >> mip, f->extents[1] >> mip);
         return;
     }
     lm_layout L = face_layout(w, f);
-    int truecolor = r->f.target.bpp == 4;
-    int rgbsrc = ew_use_rgb_light(r, w);
+    int truecolor = fr->target.bpp == 4;
+    int rgbsrc = ew_use_rgb_light(fr, w);
     /* True colour lights in RGB where dynamic lights reach, even under
      * white light: they may be coloured. */
     /* Dynamic lights may be coloured: RGB where they reach (a white one
      * leaves the samples grey, and grey takes the white path below). */
-    int rgb = rgbsrc || (dlights && w == r->f.world && !r->f.cfg.classic && (truecolor || r->lit.nearest));
+    int rgb = rgbsrc || (dlights && w == fr->world && !fr->cfg.classic && (truecolor || lit->nearest));
     int *bl = scratch;
-    int grey = gather(r, w, f, &L, light, dlights, rgb ? 3 : 1, rgbsrc, bl);
+    int grey = gather(lit, fr, w, f, &L, light, dlights, rgb ? 3 : 1, rgbsrc, bl);
     int nc = rgb ? 3 : 1;
-    if (r->f.cfg.light_fault) light_fault(r->f.cfg.light_fault, bl, L.smax, L.tmax, nc);
+    if (fr->cfg.light_fault) light_fault(fr->cfg.light_fault, bl, L.smax, L.tmax, nc);
     if (rgb && grey) {  /* white after all: one channel, so 8-bit takes the colormap path exactly */
         for (int i = 0, n = L.smax * L.tmax; i < n; i++) bl[i] = bl[i * 3];
         nc = 1;
     }
     emitter e = {truecolor ? OUT_RGBA : nc == 3 ? OUT_NEAREST : OUT_CMAP, nc,
-                 (tex->flags & EW_SURF_FENCE) && !r->f.cfg.classic, r->f.colormap, &r->lit.curve, NULL, NULL,
-                 r->f.cfg.dither};
-    if (e.mode == OUT_NEAREST && !r->lit.nearest) e.mode = OUT_CMAP;  /* no table: white */
-    e.cube = &r->blend;
-    e.hue = r->blend.hue ? r->blend.hue : r->lit.nearest;  /* no memory for the hue cube: plain nearest */
+                 (tex->flags & EW_SURF_FENCE) && !fr->cfg.classic, fr->colormap, &lit->curve, NULL, NULL,
+                 fr->cfg.dither};
+    if (e.mode == OUT_NEAREST && !lit->nearest) e.mode = OUT_CMAP;  /* no table: white */
+    e.cube = lit->blend;
+    e.hue = lit->blend->hue ? lit->blend->hue : lit->nearest;  /* no memory for the hue cube: plain nearest */
 
     int tw = tex->width >> mip, th = tex->height >> mip;
     const uint8_t *tp = tex->mip[mip];
-    if (r->dbg.mode == EW_DEBUG_LIGHTING) tp = &r->dbg.grey, tw = th = 1;  /* light maps only: a flat grey texture */
+    if (lit->dbg->mode == EW_DEBUG_LIGHTING) tp = &lit->dbg->grey, tw = th = 1;  /* light maps only: a flat grey texture */
     int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
     int s0 = wrap(f->texturemins[0] >> mip, tw), t0 = wrap(f->texturemins[1] >> mip, th);
     uint32_t *out32 = (uint32_t *)(void *)out;
@@ -398,7 +413,7 @@ void ew_build_surface(const ew_renderer *r, const ew_world *w, const ew_face *f,
     if (e.mode == OUT_CMAP) {  /* the original's path, kept tight */
         /* The block size as a constant in each copy, so the texel loops unroll. */
         cmap_block_fn *fn = mip == 0 ? cmap_blocks16 : mip == 1 ? cmap_blocks8 : mip == 2 ? cmap_blocks4 : cmap_blocks2;
-        fn(out, width, bl, smax, tmax, tp, tw, th, s0, t0, r->f.colormap);
+        fn(out, width, bl, smax, tmax, tp, tw, th, s0, t0, fr->colormap);
         return;
     }
     /* The same stepping per channel, each texel through the emitter. */

@@ -7,6 +7,7 @@
 
 #include <stdint.h>
 
+#include "edgewise.h"
 #include "raster/target.h"
 
 /* The font: fixed width, a 5x7 glyph in a 6x8 cell (one column and one row
@@ -36,5 +37,11 @@ typedef struct ew_text_ink {
  * scale x scale frame pixels, clipped to the target.  0, or -1 for a bad
  * scale (1..EW_TEXT_MAX_SCALE) or NULL text. */
 int ew_target_text(const ew_target *t, int x, int y, int scale, const char *text, const ew_text_ink *ink);
+
+/* ew_draw_text and ew_draw_stats_overlay into a target whose 8-bit colours
+ * are indices of pal (the renderer's public calls, renderer.c). */
+int ew_text_draw(const ew_target *t, const uint8_t *pal, int x, int y, int scale, const char *text,
+                 const ew_text_style *style);
+int ew_stats_overlay_draw(const ew_target *t, const uint8_t *pal, const ew_stats *st, const ew_overlay_info *extra);
 
 #endif

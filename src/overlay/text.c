@@ -5,7 +5,6 @@
 #include <stdio.h>
 
 #include "edgewise.h"
-#include "renderer.h"
 
 /* The palette colour nearest to rgb (squared distance), 0..254: 255 is the
  * fence textures' hole colour. */
@@ -137,11 +136,11 @@ int ew_text_size(const char *text, int scale, int *w, int *h) {
     return 0;
 }
 
-int ew_draw_text(ew_renderer *r, int x, int y, int scale, const char *text, const ew_text_style *style) {
-    if (!r || !text) return -1;
+int ew_text_draw(const ew_target *t, const uint8_t *pal, int x, int y, int scale, const char *text,
+                 const ew_text_style *style) {
+    if (!text) return -1;
     static const ew_text_style def = {{255, 255, 255}, 0, 0, EW_TEXT_SHADOW | EW_TEXT_BOX};
     if (!style) style = &def;
-    const uint8_t *pal = r->f.palette;
     ew_text_ink ink;
     ink.flags = style->flags;
     ink.palette = pal;
@@ -149,7 +148,7 @@ int ew_draw_text(ew_renderer *r, int x, int y, int scale, const char *text, cons
     ink.dark = nearest_index(pal, 0, 0, 0);
     ink.fg_rgba = ew_rgba(style->rgb[0], style->rgb[1], style->rgb[2]);
     ink.dark_rgba = ew_rgba(0, 0, 0);
-    return ew_target_text(&r->f.target, x, y, scale, text, &ink);
+    return ew_target_text(t, x, y, scale, text, &ink);
 }
 
 int ew_format_stats_overlay(char *buf, size_t size, const ew_stats *st, const ew_overlay_info *extra) {
@@ -178,12 +177,12 @@ int ew_format_stats_overlay(char *buf, size_t size, const ew_stats *st, const ew
                     st->visible_leaves, cam);
 }
 
-int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_overlay_info *extra) {
-    if (!r || !st) return -1;
+int ew_stats_overlay_draw(const ew_target *t, const uint8_t *pal, const ew_stats *st, const ew_overlay_info *extra) {
+    if (!st) return -1;
     int corner = extra ? extra->corner : 0, scale = extra ? extra->scale : 0;
     if (corner < 0 || corner > 3 || scale < 0 || scale > EW_TEXT_MAX_SCALE) return -1;
     if (!scale) {
-        scale = r->f.target.height / 480;
+        scale = t->height / 480;
         scale = scale < 1 ? 1 : scale > 4 ? 4 : scale;
     }
     char text[1024];
@@ -191,7 +190,7 @@ int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_overlay_i
     int w, h;
     if (ew_text_size(text, scale, &w, &h) < 0) return -1;
     int m = 4 * scale;
-    int x = corner & 1 ? r->f.target.width - m - w : m;
-    int y = corner & 2 ? r->f.target.height - m - h : m;
-    return ew_draw_text(r, x, y, scale, text, NULL);
+    int x = corner & 1 ? t->width - m - w : m;
+    int y = corner & 2 ? t->height - m - h : m;
+    return ew_text_draw(t, pal, x, y, scale, text, NULL);
 }

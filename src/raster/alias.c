@@ -301,12 +301,12 @@ static int clip_poly(const clip_planes *cp, int mask, cvert *in, int n, cvert *s
     return n;
 }
 
-int ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf) {
+int ew_alias_place(const ew_frame *fr, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf) {
     xf->visible = xf->hidden = 0;
     xf->rgba = NULL, xf->remap = NULL;
     for (int k = 0; k < 3; k++)
         if (!isfinite(p->origin[k]) || !isfinite(p->angles[k]) || fabsf(p->origin[k]) > 1e6f) return 0;
-    const ew_view *v = &r->f.view;
+    const ew_view *v = &fr->view;
 
     int frame = p->frame < 0 || p->frame >= m->numframes ? 0 : p->frame;
     int skin = p->skin < 0 || p->skin >= m->numskins ? 0 : p->skin;
@@ -356,8 +356,8 @@ int ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p
     }
     if (and_flags) return 0;
     int accept = or_flags == 0;
-    int subdiv = accept && (r->f.cfg.alias_raster == EW_ALIAS_SUBDIV ||
-                            (r->f.cfg.alias_raster == EW_ALIAS_AUTO && vmax - vmin < r->f.cfg.alias_threshold));
+    int subdiv = accept && (fr->cfg.alias_raster == EW_ALIAS_SUBDIV ||
+                            (fr->cfg.alias_raster == EW_ALIAS_AUTO && vmax - vmin < fr->cfg.alias_threshold));
 
     /* Byte vertex -> view space. */
     for (int i = 0; i < 3; i++) {
@@ -379,9 +379,9 @@ int ew_alias_place(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p
     return 1;
 }
 
-void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+void ew_alias_pose_verts(const ew_frame *fr, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
                          ew_xvert *xv) {
-    const ew_view *v = &r->f.view;
+    const ew_view *v = &fr->view;
     const ew_mdl_pose *pose = &m->poses[xf->pose];
     const clip_planes cp = xf->cp;
     int accept = xf->accept;
@@ -437,20 +437,20 @@ void ew_alias_pose_verts(const ew_renderer *r, const ew_mdl *m, const ew_model_p
     xf->xv = xv;
 }
 
-int ew_alias_transform(const ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
+int ew_alias_transform(const ew_frame *fr, const ew_mdl *m, const ew_model_pose *p, ew_alias_xf *xf,
                        ew_xvert *xv) {
-    if (!ew_alias_place(r, m, p, xf)) return 0;
-    ew_alias_pose_verts(r, m, p, xf, xv);
+    if (!ew_alias_place(fr, m, p, xf)) return 0;
+    ew_alias_pose_verts(fr, m, p, xf, xv);
     return 1;
 }
 
-int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const ew_rows *rows) {
+int ew_alias_draw(const ew_frame *fr, ew_zfill *zf, const ew_mdl *m, const ew_alias_xf *xf, const ew_rows *rows) {
     if (!xf->visible) return 0;
-    const ew_view *v = &r->f.view;
+    const ew_view *v = &fr->view;
     const clip_planes cp = xf->cp;
     const xvert *xv = xf->xv;
     int accept = xf->accept, behind = xf->behind, subdiv = xf->subdiv, image = xf->image;
-    int masks = r->f.cfg.alias_raster == EW_ALIAS_MASKS;
+    int masks = fr->cfg.alias_raster == EW_ALIAS_MASKS;
     float umin = xf->umin, umax = xf->umax, vmin = xf->vmin, vmax = xf->vmax;
     int minx = xf->minx, miny = xf->miny, maxx = xf->maxx, maxy = xf->maxy;
     int32_t smax = xf->smax, tmax = xf->tmax;
@@ -463,28 +463,28 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
     if (accept && minx <= maxx) {
         /* Wholly in view, every pixel it draws is within its snapped
          * vertices' box, often a good deal smaller than its bounds'. */
-        ew_zfill_rect(&r->zf, minx, miny > rows->y0 ? miny : rows->y0, maxx + 1, maxy + 1 < rows->y1 ? maxy + 1 : rows->y1);
+        ew_zfill_rect(zf, minx, miny > rows->y0 ? miny : rows->y0, maxx + 1, maxy + 1 < rows->y1 ? maxy + 1 : rows->y1);
     } else if (behind || !(umin <= umax && vmin <= vmax)) {
-        ew_zfill_rect(&r->zf, 0, rows->y0, r->f.target.width, rows->y1);
+        ew_zfill_rect(zf, 0, rows->y0, fr->target.width, rows->y1);
     } else {
         /* Clamped first: a corner just in front of the eye projects far out. */
-        float w = (float)r->f.target.width, h = (float)r->f.target.height;
+        float w = (float)fr->target.width, h = (float)fr->target.height;
         int zx0 = (int)floorf(fminf(fmaxf(umin, -2), w)) - 1, zx1 = (int)ceilf(fminf(fmaxf(umax, -2), w)) + 2;
         int zy0 = (int)floorf(fminf(fmaxf(vmin, -2), h)) - 1, zy1 = (int)ceilf(fminf(fmaxf(vmax, -2), h)) + 2;
-        ew_zfill_rect(&r->zf, zx0, zy0 > rows->y0 ? zy0 : rows->y0, zx1, zy1 < rows->y1 ? zy1 : rows->y1);
+        ew_zfill_rect(zf, zx0, zy0 > rows->y0 ? zy0 : rows->y0, zx1, zy1 < rows->y1 ? zy1 : rows->y1);
     }
-    int top = vmin < 0 ? 0 : vmin >= r->f.target.height ? r->f.target.height - 1 : (int)vmin;
+    int top = vmin < 0 ? 0 : vmin >= fr->target.height ? fr->target.height - 1 : (int)vmin;
     int counts = accept ? (top >= rows->y0 && top < rows->y1) : rows->first;
 
     ew_araster ra;
     memset(&ra, 0, sizeof ra);
-    ra.target = &r->f.target;
-    ra.rgba = xf->rgba ? xf->rgba : r->f.target.rgba;
-    ra.remap = r->f.target.bpp == 1 ? xf->remap : NULL;
-    ra.x0 = 0, ra.y0 = rows->y0, ra.x1 = r->f.target.width, ra.y1 = rows->y1;
+    ra.target = &fr->target;
+    ra.rgba = xf->rgba ? xf->rgba : fr->target.rgba;
+    ra.remap = fr->target.bpp == 1 ? xf->remap : NULL;
+    ra.x0 = 0, ra.y0 = rows->y0, ra.x1 = fr->target.width, ra.y1 = rows->y1;
     ra.skin = m->skinpixels + (size_t)image * m->skinwidth * m->skinheight;
     ra.skinw = m->skinwidth, ra.skinh = m->skinheight;
-    ra.colormap = r->f.colormap;
+    ra.colormap = fr->colormap;
     /* Subdivision draws into a tile over the model's screen bounds. */
     _Alignas(float) uint8_t stack_tile[STACK_TILE];
     void *tile = NULL;
@@ -564,18 +564,14 @@ int ew_alias_draw(ew_renderer *r, const ew_mdl *m, const ew_alias_xf *xf, const 
     return 1;
 }
 
-int ew_draw_alias_rows(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p, const ew_rows *rows) {
-    if (!r || !m || !p) return 0;
+int ew_draw_alias_rows(const ew_frame *fr, ew_zfill *zf, const ew_mdl *m, const ew_model_pose *p,
+                       const ew_rows *rows) {
+    if (!fr || !m || !p) return 0;
     xvert stack_verts[STACK_VERTS];
     xvert *xv = m->numverts <= STACK_VERTS ? stack_verts : malloc(sizeof(xvert) * (size_t)m->numverts);
     if (!xv) return 0;
     ew_alias_xf xf;
-    int drawn = ew_alias_transform(r, m, p, &xf, xv) ? ew_alias_draw(r, m, &xf, rows) : 0;
+    int drawn = ew_alias_transform(fr, m, p, &xf, xv) ? ew_alias_draw(fr, zf, m, &xf, rows) : 0;
     if (xv != stack_verts) free(xv);
     return drawn;
-}
-
-int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
-    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
-    return ew_draw_alias_rows(r, m, p, &all);
 }

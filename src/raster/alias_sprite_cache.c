@@ -43,33 +43,33 @@ void ew_sprite_cache_free(struct ew_sprite_cache *c) {
     free(c);
 }
 
-static struct ew_sprite_cache *cache_of(ew_renderer *r) {
-    struct ew_sprite_cache *c = r->ents.sprite_cache;
+static struct ew_sprite_cache *cache_of(struct ew_sprite_cache **cp) {
+    struct ew_sprite_cache *c = *cp;
     if (!c) {
         c = calloc(1, sizeof *c);
         if (!c) return NULL;
         c->tol = ew_sprite_cache_tol_default();
-        r->ents.sprite_cache = c;
+        *cp = c;
     }
     return c;
 }
 
-int ew_sprite_cache_set_tol(ew_renderer *r, const ew_sc_tol *tol) {
-    struct ew_sprite_cache *c = cache_of(r);
+int ew_sprite_cache_set_tol(struct ew_sprite_cache **cp, const ew_sc_tol *tol) {
+    struct ew_sprite_cache *c = cache_of(cp);
     if (!c) return -1;
     c->tol = *tol;
     for (int i = 0; i < c->n; i++) c->slots[i].valid = 0;  /* images made under other rules */
     return 0;
 }
 
-const ew_sc_tol *ew_sprite_cache_tol(const ew_renderer *r) {
+const ew_sc_tol *ew_sprite_cache_tol(const struct ew_sprite_cache *c) {
     static const ew_sc_tol none = {0, 0, 0, 0};
-    return r->ents.sprite_cache ? &r->ents.sprite_cache->tol : &none;
+    return c ? &c->tol : &none;
 }
 
-int ew_sprite_cache_reserve(ew_renderer *r, int n) {
-    if (r->f.cfg.alias_raster != EW_ALIAS_SPRITE_CACHE) return 0;
-    struct ew_sprite_cache *c = cache_of(r);
+int ew_sprite_cache_grow(struct ew_sprite_cache **cp, const ew_frame *f, int n) {
+    if (f->cfg.alias_raster != EW_ALIAS_SPRITE_CACHE) return 0;
+    struct ew_sprite_cache *c = cache_of(cp);
     if (!c) return -1;
     if (n <= c->n) return 0;
     ew_sc_slot *s = realloc(c->slots, sizeof *s * (size_t)n);
@@ -79,9 +79,8 @@ int ew_sprite_cache_reserve(ew_renderer *r, int n) {
     return 0;
 }
 
-ew_sc_slot *ew_sprite_cache_slot(ew_renderer *r, int i) {
-    const struct ew_sprite_cache *c = r->ents.sprite_cache;
-    if (r->f.cfg.alias_raster != EW_ALIAS_SPRITE_CACHE || !c || i < 0 || i >= c->n) return NULL;
+ew_sc_slot *ew_sprite_cache_slot(const struct ew_sprite_cache *c, const ew_frame *f, int i) {
+    if (f->cfg.alias_raster != EW_ALIAS_SPRITE_CACHE || !c || i < 0 || i >= c->n) return NULL;
     return &c->slots[i];
 }
 
@@ -121,8 +120,8 @@ static void origin_on_screen(const ew_view *v, const float o[3], float *x, float
 
 /* Draws the model into the slot's image: the affine filler over a target
  * the size of its projected box. */
-static int redraw(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew_alias_xf *xf) {
-    int w = xf->maxx - xf->minx + 1, h = xf->maxy - xf->miny + 1, bpp = r->f.target.bpp;
+static int redraw(const ew_frame *f, ew_sc_slot *s, const ew_mdl *m, const ew_alias_xf *xf) {
+    int w = xf->maxx - xf->minx + 1, h = xf->maxy - xf->miny + 1, bpp = f->target.bpp;
     if (w <= 0 || h <= 0 || (long)w * h > MAX_IMAGE_PIXELS) return 0;
     size_t n = (size_t)w * h;
     if (n > s->cap || bpp != s->bpp) {
@@ -138,16 +137,16 @@ static int redraw(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew
     }
     s->x0 = xf->minx, s->y0 = xf->miny, s->w = w, s->h = h, s->bpp = bpp;
     memset(s->zi, 0, n * sizeof *s->zi);
-    ew_target t = {s->pix, s->zi, w, h, w * bpp, bpp, r->f.target.rgba};
+    ew_target t = {s->pix, s->zi, w, h, w * bpp, bpp, f->target.rgba};
     ew_araster ra;
     memset(&ra, 0, sizeof ra);
     ra.target = &t;
-    ra.rgba = xf->rgba ? xf->rgba : r->f.target.rgba;
+    ra.rgba = xf->rgba ? xf->rgba : f->target.rgba;
     ra.remap = bpp == 1 ? xf->remap : NULL;
     ra.x0 = 0, ra.y0 = 0, ra.x1 = w, ra.y1 = h;
     ra.skin = m->skinpixels + (size_t)xf->image * m->skinwidth * m->skinheight;
     ra.skinw = m->skinwidth, ra.skinh = m->skinheight;
-    ra.colormap = r->f.colormap;
+    ra.colormap = f->colormap;
     int ntris = 0;
     for (int ti = 0; ti < m->numtris; ti++) {
         const ew_mdl_tri *tri = &m->tris[ti];
@@ -165,20 +164,20 @@ static int redraw(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew
 }
 
 /* Small models wholly in view (their image is their whole box). */
-static int cacheable(const ew_renderer *r, const ew_alias_xf *xf) {
-    return xf->visible && xf->accept && xf->vmax - xf->vmin < r->f.cfg.alias_threshold && xf->org[2] > 0;
+static int cacheable(const ew_frame *f, const ew_alias_xf *xf) {
+    return xf->visible && xf->accept && xf->vmax - xf->vmin < f->cfg.alias_threshold && xf->org[2] > 0;
 }
 
-int ew_sprite_cache_reuse(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew_alias_xf *xf,
+int ew_sprite_cache_reuse(const ew_frame *f, ew_sc_slot *s, const ew_mdl *m, const ew_alias_xf *xf,
                           const ew_model_pose *p, const ew_sc_tol *tol) {
     s->use = 0, s->hit = 0;
-    if (!cacheable(r, xf)) return 0;
+    if (!cacheable(f, xf)) return 0;
     float dist = sqrtf(xf->org[0] * xf->org[0] + xf->org[1] * xf->org[1] + xf->org[2] * xf->org[2]);
     float dir[3] = {xf->org[0] / dist, xf->org[1] / dist, xf->org[2] / dist};
-    uint32_t tint = hash_tint(xf->rgba, r->f.target.bpp == 1 ? xf->remap : NULL);
+    uint32_t tint = hash_tint(xf->rgba, f->target.bpp == 1 ? xf->remap : NULL);
     if (!key_holds(s, m, xf, p, tint, dir, dist, tol)) return 0;
     float ox, oy;
-    origin_on_screen(&r->f.view, xf->org, &ox, &oy);
+    origin_on_screen(&f->view, xf->org, &ox, &oy);
     s->reused++;
     s->use = 1, s->hit = 1;
     s->dx = (int)lrintf(ox - s->ox), s->dy = (int)lrintf(oy - s->oy);
@@ -186,15 +185,15 @@ int ew_sprite_cache_reuse(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, 
     return 1;
 }
 
-void ew_sprite_cache_redraw(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m, const ew_alias_xf *xf,
+void ew_sprite_cache_redraw(const ew_frame *f, ew_sc_slot *s, const ew_mdl *m, const ew_alias_xf *xf,
                             const ew_model_pose *p) {
     s->use = 0, s->hit = 0, s->valid = 0;
-    if (!cacheable(r, xf) || xf->maxx < xf->minx || !redraw(r, s, m, xf)) return;
+    if (!cacheable(f, xf) || xf->maxx < xf->minx || !redraw(f, s, m, xf)) return;
     float dist = sqrtf(xf->org[0] * xf->org[0] + xf->org[1] * xf->org[1] + xf->org[2] * xf->org[2]);
     float dir[3] = {xf->org[0] / dist, xf->org[1] / dist, xf->org[2] / dist};
-    uint32_t tint = hash_tint(xf->rgba, r->f.target.bpp == 1 ? xf->remap : NULL);
+    uint32_t tint = hash_tint(xf->rgba, f->target.bpp == 1 ? xf->remap : NULL);
     float ox, oy;
-    origin_on_screen(&r->f.view, xf->org, &ox, &oy);
+    origin_on_screen(&f->view, xf->org, &ox, &oy);
     s->valid = 1, s->model = m, s->pose = xf->pose, s->image = xf->image, s->tint = tint;
     s->ambient = p->ambient, s->shade = p->shade, s->reused = 0;
     memcpy(s->rot, xf->rot, sizeof s->rot);
@@ -203,18 +202,18 @@ void ew_sprite_cache_redraw(const ew_renderer *r, ew_sc_slot *s, const ew_mdl *m
     s->use = 1, s->dx = s->dy = 0, s->dz = 0;
 }
 
-void ew_sprite_cache_draw(ew_renderer *r, const ew_sc_slot *s, const ew_rows *rows) {
+void ew_sprite_cache_draw(const ew_frame *f, ew_zfill *zf, const ew_sc_slot *s, const ew_rows *rows) {
     if (!s->use) return;
     if (rows->first) {
         if (s->hit) rows->stats->alias_sprite_hits++;
         else rows->stats->alias_sprite_misses++, rows->stats->alias_tris += s->ntris;
     }
-    const ew_target *t = &r->f.target;
+    const ew_target *t = &f->target;
     int x0 = s->x0 + s->dx, y0 = s->y0 + s->dy;
     int xa = x0 < 0 ? 0 : x0, xb = x0 + s->w > t->width ? t->width : x0 + s->w;
     int ya = y0 > rows->y0 ? y0 : rows->y0, yb = y0 + s->h < rows->y1 ? y0 + s->h : rows->y1;
     if (xa >= xb || ya >= yb) return;
-    ew_zfill_rect(&r->zf, xa, ya, xb, yb);
+    ew_zfill_rect(zf, xa, ya, xb, yb);
     const int bpp = t->bpp;
     const float dz = s->dz;
     long n = 0;

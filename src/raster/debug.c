@@ -23,13 +23,12 @@ static int nearest_index(const uint8_t *pal, int r, int g, int b, const uint32_t
 }
 
 /* The colours of the modes, distinct from one another within each set. */
-static void pick_colours(ew_renderer *r) {
-    ew_debug *d = &r->dbg;
+static void pick_colours(ew_debug *d, const ew_frame *f, const ew_lightcurve *lc) {
     static const uint8_t mip_rgb[4][3] = {{210, 40, 40}, {40, 180, 40}, {50, 70, 220}, {230, 210, 40}};
     static const uint8_t heat_rgb[EW_DBG_HEAT][3] = {{0, 0, 0},     {20, 30, 150}, {30, 170, 40},
                                                      {230, 220, 40}, {240, 130, 20}, {230, 20, 20}};
-    int eight = r->f.target.bpp == 1;
-    const uint8_t *pal = r->f.palette;
+    int eight = f->target.bpp == 1;
+    const uint8_t *pal = f->palette;
     uint32_t used[16];
     int n = 0;
     for (int k = 0; k < 4; k++) {
@@ -49,21 +48,21 @@ static void pick_colours(ew_renderer *r) {
      * nearest to mid grey, so overbright light shows too. */
     int best = 0, best_d = INT_MAX;
     for (int c = 0; c < 256; c++) {
-        if (pal[c * 3] != pal[c * 3 + 1] || pal[c * 3] != pal[c * 3 + 2] || r->lit.curve.fullbright[c]) continue;
+        if (pal[c * 3] != pal[c * 3 + 1] || pal[c * 3] != pal[c * 3 + 2] || lc->fullbright[c]) continue;
         int dv = abs(pal[c * 3] - 128);
         if (dv < best_d) best_d = dv, best = c;
     }
     d->grey = (uint8_t)best;
 }
 
-void ew_debug_init(ew_renderer *r) {
-    r->dbg.last_leaf = r->dbg.pvs_leaf = -1;
-    pick_colours(r);
+void ew_debug_init(ew_debug *d, const ew_frame *f, const ew_lightcurve *lc) {
+    d->last_leaf = d->pvs_leaf = -1;
+    pick_colours(d, f, lc);
 }
 
-void ew_debug_free(ew_renderer *r) {
-    free(r->dbg.count), free(r->dbg.snap);
-    r->dbg.count = r->dbg.snap = NULL;
+void ew_debug_free(ew_debug *d) {
+    free(d->count), free(d->snap);
+    d->count = d->snap = NULL;
 }
 
 /* Lighting, textures and mips change what a surface is built from. */
@@ -71,29 +70,25 @@ static int changes_surfaces(int mode) {
     return mode == EW_DEBUG_LIGHTING || mode == EW_DEBUG_TEXTURES || mode == EW_DEBUG_MIPS;
 }
 
-int ew_set_debug(ew_renderer *r, ew_debug_mode mode) {
-    int m = (int)mode;
+int ew_debug_set(ew_debug *d, const ew_target *t, int m) {
     if (m < EW_DEBUG_NONE || m > EW_DEBUG_BUILDS) m = EW_DEBUG_NONE;
-    if (m == EW_DEBUG_OVERDRAW && !r->dbg.count) {
-        size_t px = (size_t)r->f.target.width * (size_t)r->f.target.height;
-        r->dbg.count = malloc(px);
-        r->dbg.snap = malloc(px * (size_t)r->f.target.bpp);
-        if (!r->dbg.count || !r->dbg.snap) {
-            ew_debug_free(r);
+    if (m == EW_DEBUG_OVERDRAW && !d->count) {
+        size_t px = (size_t)t->width * (size_t)t->height;
+        d->count = malloc(px);
+        d->snap = malloc(px * (size_t)t->bpp);
+        if (!d->count || !d->snap) {
+            ew_debug_free(d);
             return -1;
         }
     }
-    if (m != r->dbg.mode && (changes_surfaces(m) || changes_surfaces(r->dbg.mode)))
-        r->lit.cache.gen++;  /* surfaces of another mode are never served */
-    r->dbg.mode = m;
-    return 0;
+    int rebuild = m != d->mode && (changes_surfaces(m) || changes_surfaces(d->mode));
+    d->mode = m;
+    return rebuild;
 }
 
-ew_debug_mode ew_get_debug(const ew_renderer *r) { return (ew_debug_mode)r->dbg.mode; }
-
-void ew_set_pvs_lock(ew_renderer *r, int on) {
-    if (on && !r->dbg.pvs_lock) r->dbg.pvs_leaf = r->dbg.last_leaf;  /* -1: the next frame's */
-    r->dbg.pvs_lock = on != 0;
+void ew_debug_pvs_lock(ew_debug *d, int on) {
+    if (on && !d->pvs_lock) d->pvs_leaf = d->last_leaf;  /* -1: the next frame's */
+    d->pvs_lock = on != 0;
 }
 
 /* A colour into pixel x of a row, as the target stores it. */
@@ -113,16 +108,6 @@ void ew_debug_fill_span(const ew_span_ctx *c, const ew_span *sp, uint32_t color)
     for (int x = 0; x < sp->count; x++) ew_set32(row, x, color);
 }
 
-void ew_debug_mip_surface(const ew_renderer *r, int mip, uint8_t *out, int width, int height) {
-    const ew_target *t = &r->f.target;
-    size_t n = (size_t)width * (size_t)height;
-    if (t->bpp == 1) {
-        memset(out, (int)(uint8_t)r->dbg.mip[mip & 3], n);
-        return;
-    }
-    for (size_t i = 0; i < n; i++) ew_set32(out, (int)i, r->dbg.mip[mip & 3]);
-}
-
 static uint32_t hash32(uint32_t x) {
     x ^= x >> 16, x *= 0x7feb352dU;
     x ^= x >> 15, x *= 0x846ca68bU;
@@ -137,9 +122,9 @@ static uint32_t span_colour(const ew_target *t, uint32_t n) {
     return ew_rgba(48 + (int)(h & 0xBF), 48 + (int)((h >> 8) & 0xBF), 48 + (int)((h >> 16) & 0xBF));
 }
 
-void ew_debug_spans(ew_renderer *r, const ew_band *b) {
-    const ew_target *t = &r->f.target;
-    uint32_t base = (uint32_t)(b - r->sched.bands) << 20;
+void ew_debug_spans(const ew_span_ctx *draw, const ew_band *b, int band) {
+    const ew_target *t = draw->target;
+    uint32_t base = (uint32_t)band << 20;
     uint32_t prev = 0;
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
@@ -147,7 +132,7 @@ void ew_debug_spans(ew_renderer *r, const ew_band *b) {
         /* A span touching the one before it in its row never shares its colour. */
         for (uint32_t k = 1; i > 0 && c == prev && b->spans[i - 1].v == sp->v; k++)
             c = span_colour(t, base + (uint32_t)i + (k << 28));
-        ew_debug_fill_span(&r->draw, sp, c);
+        ew_debug_fill_span(draw, sp, c);
         prev = c;
     }
 }
@@ -170,12 +155,14 @@ static void draw_edges(ew_renderer *r, int y0, int y1) {
     }
 }
 
+void ew_debug_edges(ew_renderer *r, const ew_rows *rows) { draw_edges(r, rows->y0, rows->y1); }
+
 /* Overdraw: the band's world spans counted, then each pass over the world
- * (fog aside) counted where it changed a pixel, then the counts painted. */
-static void draw_overdraw(ew_renderer *r, const ew_band *b, const ew_rows *rows) {
-    const ew_target *t = &r->f.target;
-    int w = t->width, bpp = t->bpp;
-    uint8_t *count = r->dbg.count;
+ * (fog aside) counted where it changed a pixel (scene/passes.c), then the
+ * counts painted. */
+void ew_debug_count_spans(ew_debug *d, const ew_target *t, const ew_band *b, const ew_rows *rows) {
+    int w = t->width;
+    uint8_t *count = d->count;
     memset(count + (size_t)rows->y0 * w, 0, (size_t)(rows->y1 - rows->y0) * w);
     for (int i = 0; i < b->nspans; i++) {
         const ew_span *sp = &b->spans[i];
@@ -183,37 +170,28 @@ static void draw_overdraw(ew_renderer *r, const ew_band *b, const ew_rows *rows)
         uint8_t *c = count + (size_t)sp->v * w + sp->u;
         for (int k = 0; k < sp->count; k++) c[k] += c[k] < 255;
     }
+}
+
+void ew_debug_snap(ew_debug *d, const ew_target *t, const ew_rows *rows) {
     size_t off = (size_t)rows->y0 * t->pitch, bytes = (size_t)(rows->y1 - rows->y0) * t->pitch;
-    for (int p = 0; p < ew_pass_count(r); p++) {
-        if (strcmp(ew_pass_name(r, p), "fog") == 0) continue;
-        memcpy(r->dbg.snap + off, t->pixels + off, bytes);
-        ew_pass_draw(r, rows, p);
-        for (int y = rows->y0; y < rows->y1; y++) {
-            const uint8_t *now = ew_target_at(t, 0, y), *was = r->dbg.snap + (size_t)y * t->pitch;
-            uint8_t *c = count + (size_t)y * w;
-            for (int x = 0; x < w; x++)
-                if (memcmp(now + (size_t)x * bpp, was + (size_t)x * bpp, (size_t)bpp) != 0) c[x] += c[x] < 255;
-        }
-    }
+    memcpy(d->snap + off, t->pixels + off, bytes);
+}
+
+void ew_debug_count_changes(ew_debug *d, const ew_target *t, const ew_rows *rows) {
+    int w = t->width, bpp = t->bpp;
     for (int y = rows->y0; y < rows->y1; y++) {
-        uint8_t *row = ew_target_at(t, 0, y);
-        const uint8_t *c = count + (size_t)y * w;
-        for (int x = 0; x < w; x++) put(t, row, x, r->dbg.heat[c[x] < EW_DBG_HEAT ? c[x] : EW_DBG_HEAT - 1]);
+        const uint8_t *now = ew_target_at(t, 0, y), *was = d->snap + (size_t)y * t->pitch;
+        uint8_t *c = d->count + (size_t)y * w;
+        for (int x = 0; x < w; x++)
+            if (memcmp(now + (size_t)x * bpp, was + (size_t)x * bpp, (size_t)bpp) != 0) c[x] += c[x] < 255;
     }
 }
 
-void ew_debug_passes(ew_renderer *r, const ew_band *b, const ew_rows *rows) {
-    switch (r->dbg.mode) {
-    case EW_DEBUG_SPANS:
-        return;  /* the spans alone */
-    case EW_DEBUG_OVERDRAW:
-        draw_overdraw(r, b, rows);
-        return;
-    case EW_DEBUG_EDGES:
-        ew_passes_draw(r, rows);
-        draw_edges(r, rows->y0, rows->y1);
-        return;
-    default:
-        ew_passes_draw(r, rows);
+void ew_debug_paint_heat(const ew_debug *d, const ew_target *t, const ew_rows *rows) {
+    int w = t->width;
+    for (int y = rows->y0; y < rows->y1; y++) {
+        uint8_t *row = ew_target_at(t, 0, y);
+        const uint8_t *c = d->count + (size_t)y * w;
+        for (int x = 0; x < w; x++) put(t, row, x, d->heat[c[x] < EW_DBG_HEAT ? c[x] : EW_DBG_HEAT - 1]);
     }
 }

@@ -1,16 +1,17 @@
 /* Debug modes (internal): the pipeline made visible (ew_set_debug,
  * ew_set_pvs_lock; raster/debug.c).  The hooks elsewhere are a branch per
  * band, surface or frame, never per pixel:
- *   renderer.c   job_draw: spans drawn by ew_debug_spans, the passes by
- *                ew_debug_passes (overdraw counts, edges drawn over);
- *                prepare_surfaces: built surfaces become EW_DRAW_DEBUG;
- *                ew_render: no underwater warp in the structure modes
+ *   renderer.c   job_draw: spans drawn by ew_debug_spans;
+ *                prepare_surfaces: built surfaces become EW_DRAW_DEBUG
+ *   scene/passes.c  the passes drawn the mode's way (overdraw counts,
+ *                edges drawn over); no underwater warp in the structure modes
  *   light/surface.c  ew_build_surface: flat grey texture, mip tints;
  *                gather: normal light everywhere
  *   world/pvs.c  ew_pvs_mark: the locked leaf's PVS */
 #ifndef EW_RASTER_DEBUG_H
 #define EW_RASTER_DEBUG_H
 
+#include "light/light.h"
 #include "raster/raster.h"
 
 #include <stdint.h>
@@ -18,33 +19,26 @@
 typedef struct ew_renderer ew_renderer;
 typedef struct ew_band ew_band;
 
-enum { EW_DBG_HEAT = 6 };  /* overdraw colours: 0, 1, ... 5 or more writes */
-
-typedef struct ew_debug {
-    int      mode;                 /* ew_debug_mode */
-    int      pvs_lock, pvs_leaf;   /* locked: the leaf whose PVS is marked (-1: the next frame's) */
-    int      last_leaf;            /* the eye's leaf at the last frame, -1 before one */
-    uint8_t  grey;                 /* lighting: the flat texture's palette index */
-    /* colours as the target stores them: a palette index (8-bit) or ew_rgba */
-    uint32_t mip[4], build, edge, heat[EW_DBG_HEAT];
-    uint8_t *count;                /* overdraw: writes per pixel */
-    uint8_t *snap;                 /* overdraw: a band's pixels before a pass */
-} ew_debug;
-
-/* Modes that show the structure of the frame: no underwater warp. */
-static inline int ew_debug_structure(const ew_debug *d) {
-    return d->mode >= 1 && d->mode <= 3;  /* spans, edges, overdraw */
-}
-
-void ew_debug_init(ew_renderer *r);
-void ew_debug_free(ew_renderer *r);
-/* A band's spans, each in its own colour (instead of ew_draw_spans). */
-void ew_debug_spans(ew_renderer *r, const ew_band *b);
-/* What a mode draws over a band's world instead of ew_passes_draw. */
-void ew_debug_passes(ew_renderer *r, const ew_band *b, const ew_rows *rows);
+/* The modes' colours for the frame's target and palette. */
+void ew_debug_init(ew_debug *d, const ew_frame *f, const ew_lightcurve *lc);
+void ew_debug_free(ew_debug *d);
+/* ew_set_debug: mode m (unknown: none); -1 without memory for it, else 1
+ * when surfaces built in the old mode must be rebuilt, 0 when not. */
+int  ew_debug_set(ew_debug *d, const ew_target *t, int m);
+void ew_debug_pvs_lock(ew_debug *d, int on);
+/* A band's spans (band: its number), each in its own colour (instead of
+ * ew_draw_spans). */
+void ew_debug_spans(const ew_span_ctx *draw, const ew_band *b, int band);
+/* What the modes draw over a band's world, by the pass list
+ * (scene/passes.c): the edges drawn over its rows; overdraw: the band's
+ * spans counted, a pass's rows kept before it draws and the pixels it
+ * changed counted after, then the counts painted. */
+void ew_debug_edges(ew_renderer *r, const ew_rows *rows);
+void ew_debug_count_spans(ew_debug *d, const ew_target *t, const ew_band *b, const ew_rows *rows);
+void ew_debug_snap(ew_debug *d, const ew_target *t, const ew_rows *rows);
+void ew_debug_count_changes(ew_debug *d, const ew_target *t, const ew_rows *rows);
+void ew_debug_paint_heat(const ew_debug *d, const ew_target *t, const ew_rows *rows);
 /* A span of one colour (EW_DRAW_DEBUG surfaces: colour in d->flat). */
 void ew_debug_fill_span(const ew_span_ctx *c, const ew_span *sp, uint32_t color);
-/* A lit surface of width x height texels in mip's colour. */
-void ew_debug_mip_surface(const ew_renderer *r, int mip, uint8_t *out, int width, int height);
 
 #endif

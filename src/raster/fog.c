@@ -1,9 +1,9 @@
 /* Fog by depth, as today's source ports draw worldspawn "fog": a colour
  * at view depth z moves towards the fog colour by 1 - exp(-(density z /
  * 64)^2).  In an 8-bit frame the fogged colour is the nearest palette
- * colour, from a table per fog level (raster/blend.h).  The sky is fogged
+ * colour, from a table per fog level (light/blend.h).  The sky is fogged
  * half way, whatever its depth, as the ports do by default. */
-#include "renderer.h"
+#include "raster/zfill.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -18,20 +18,18 @@ void ew_fog_levels(ew_fog *f) {
     f->sky_level = (EW_FOG_LEVELS - 1) / 2;
 }
 
-int ew_fog_prepare(ew_renderer *r) {
-    ew_fog *fog = &r->draw.fog;
+void ew_fog_prepare(ew_fog *fog, ew_frame *f, ew_blend *blend) {
     fog->table = NULL;
-    if (r->f.cfg.classic) return 0;
-    const float *rgb = r->f.cfg.fog_density >= 0 ? r->f.cfg.fog_rgb : r->f.world->worldspawn.fog_rgb;
-    float d = r->f.cfg.fog_density >= 0 ? r->f.cfg.fog_density : r->f.world->worldspawn.fog_density;
-    if (!(d > 0)) return 0;
+    if (f->cfg.classic) return;
+    const float *rgb = f->cfg.fog_density >= 0 ? f->cfg.fog_rgb : f->world->worldspawn.fog_rgb;
+    float d = f->cfg.fog_density >= 0 ? f->cfg.fog_density : f->world->worldspawn.fog_density;
+    if (!(d > 0)) return;
     for (int k = 0; k < 3; k++) fog->rgb[k] = (int)(rgb[k] * 255 + 0.5f);
-    if (!(fog->table = ew_blend_fog(&r->blend, rgb))) {  /* the 8-bit tables; also "fog on" in true colour */
-        r->f.stats.dropped++;
-        return 0;
+    if (!(fog->table = ew_blend_fog(blend, rgb))) {  /* the 8-bit tables; also "fog on" in true colour */
+        f->stats.dropped++;
+        return;
     }
     fog->w = (d / 64) * (d / 64);
-    return 0;
 }
 
 /* Pixel x of a row fogged by level k, in either pixel format. */
@@ -53,14 +51,14 @@ static long fog_run(const ew_fog *f, int bpp, float *zr, uint8_t *px, int x0, in
 /* Span by span (they cover the row once): the sky's own pixels, where
  * nothing nearer was drawn over it, are found by their 1/z, recomputed
  * exactly as the z-fill wrote it, and take the sky's level. */
-static long fog_spans(const ew_renderer *r, const ew_fog *fog, const ew_span *spans, int nspans) {
-    const ew_target *t = &r->f.target;
+static long fog_spans(const ew_target *t, const ew_surf_draw *surf_draw, const ew_fog *fog, const ew_span *spans,
+                      int nspans) {
     long n = 0;
     for (int i = 0; i < nspans; i++) {
         const ew_span *sp = &spans[i];
         float *zr = ew_target_z(t, 0, sp->v);
         uint8_t *px = ew_target_at(t, 0, sp->v);
-        const ew_surf_draw *d = &r->lit.surf_draw[sp->surf];
+        const ew_surf_draw *d = &surf_draw[sp->surf];
         if (d->kind != EW_DRAW_SKY) {
             n += fog_run(fog, t->bpp, zr, px, sp->u, sp->u + sp->count);
             continue;
@@ -83,7 +81,8 @@ static long fog_spans(const ew_renderer *r, const ew_fog *fog, const ew_span *sp
  * span over it (the one drawn on top), found by walking the spans from the
  * last and skipping pixels already done.  Fogging every span's pixels would
  * fog a pixel again for each polygon drawn over it. */
-static long fog_unsorted(const ew_renderer *r, const ew_fog *fog, const ew_span *spans, int nspans, uint8_t *done) {
+static long fog_unsorted(const ew_target *t, const ew_surf_draw *surf_draw, const ew_fog *fog, const ew_span *spans,
+                         int nspans, uint8_t *done) {
     long n = 0;
     int v = spans[0].v;
     for (int i = nspans - 1; i >= 0; i--) {
@@ -94,7 +93,7 @@ static long fog_unsorted(const ew_renderer *r, const ew_fog *fog, const ew_span 
             while (x < end && !done[x]) done[x++] = 1;
             if (x > x0) {
                 ew_span one = {x0, v, x - x0, sp->surf};
-                n += fog_spans(r, fog, &one, 1);
+                n += fog_spans(t, surf_draw, fog, &one, 1);
             }
         }
     }
@@ -102,13 +101,11 @@ static long fog_unsorted(const ew_renderer *r, const ew_fog *fog, const ew_span 
     return n;
 }
 
-void ew_draw_fog(ew_renderer *r, const ew_rows *rows) {
-    const ew_fog *fog = &r->draw.fog;
+void ew_draw_fog(const ew_fog *fog, const ew_target *t, ew_zfill *zf, const ew_surf_draw *surf_draw,
+                 const ew_rows *rows) {
     if (!fog->table) return;
-    const ew_target *t = &r->f.target;
-    ew_zfill_rect(&r->zf, 0, rows->y0, t->width, rows->y1);  /* every pixel's depth */
+    ew_zfill_rect(zf, 0, rows->y0, t->width, rows->y1);  /* every pixel's depth */
     long n = 0;
-    const ew_zfill *zf = &r->zf;
     uint8_t *done = NULL;  /* unsorted rows: pixels fogged, allocated on the first */
     for (int y = rows->y0; y < rows->y1; y++) {
         if (zf->row_nspans[y] == 0) {  /* no spans (the reference method): depth everywhere */
@@ -122,9 +119,9 @@ void ew_draw_fog(ew_renderer *r, const ew_rows *rows) {
                 rows->stats->dropped++;
                 break;
             }
-            n += fog_unsorted(r, fog, spans, zf->row_nspans[y], done);
+            n += fog_unsorted(t, surf_draw, fog, spans, zf->row_nspans[y], done);
         } else {
-            n += fog_spans(r, fog, spans, zf->row_nspans[y]);
+            n += fog_spans(t, surf_draw, fog, spans, zf->row_nspans[y]);
         }
     }
     free(done);

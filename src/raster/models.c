@@ -4,11 +4,10 @@
  * light were settled once for the frame (world/entities.c); alias models
  * are posed and item boxes projected once for the frame too, in the pass's
  * parallel work, so a piece only rasterizes. */
-#include "renderer.h"
 #include "ew_util.h"
 #include "raster/alias.h"
 #include "world/edge_math.h"  /* ew_project */
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <limits.h>
 #include <math.h>
@@ -61,8 +60,7 @@ static const box_corner *box_corner_at(const ew_view *v, const ew_world *bw, con
     return bc;
 }
 
-int ew_boxes_reserve(ew_renderer *r, int nents, int nfaces) {
-    ew_ents *en = &r->ents;
+int ew_boxes_grow(ew_ents *en, int nents, int nfaces) {
     if (nents > en->max_box_frame) {
         ew_box_frame *bf = realloc(en->box_frame, sizeof *bf * (size_t)nents);
         if (bf) en->box_frame = bf;
@@ -88,13 +86,13 @@ int ew_boxes_reserve(ew_renderer *r, int nents, int nfaces) {
  * span 1/z is linear (and its rounded values monotone), so a span's two
  * ends bound it.  A row with no spans indexed, or a span of the background
  * (1/z 0), hides nothing. */
-static int world_hides(const ew_renderer *r, int x0, int y0, int x1, int y1, float zi) {
-    const ew_zfill *z = &r->zf;
-    const ew_world *w = r->f.world;
+static int world_hides(const ew_models *md, const ew_frame *fr, int x0, int y0, int x1, int y1, float zi) {
+    const ew_zfill *z = md->zf;
+    const ew_world *w = fr->world;
     if (x0 < 0) x0 = 0;
     if (y0 < 0) y0 = 0;
-    if (x1 > r->f.target.width) x1 = r->f.target.width;
-    if (y1 > r->f.target.height) y1 = r->f.target.height;
+    if (x1 > fr->target.width) x1 = fr->target.width;
+    if (y1 > fr->target.height) y1 = fr->target.height;
     if (x0 >= x1 || y0 >= y1) return 0;
     /* The planes of the last few surfaces met: a thing's rows cross few. */
     enum { NPLANES = 8 };
@@ -109,7 +107,7 @@ static int world_hides(const ew_renderer *r, int x0, int y0, int x1, int y1, flo
             if (sp->u >= x1 && sorted) break;
             int a = sp->u > x0 ? sp->u : x0, e = sp->u + sp->count < x1 ? sp->u + sp->count : x1;
             if (a >= e) continue;
-            const ew_surf *sf = &r->el.surfs[sp->surf];
+            const ew_surf *sf = &md->el->surfs[sp->surf];
             if (sp->surf == 0 || sf->face < 0) return 0;
             int slot = sp->surf & (NPLANES - 1);
             if (psurf[slot] != sp->surf) {
@@ -132,34 +130,34 @@ static int world_hides(const ew_renderer *r, int x0, int y0, int x1, int y1, flo
  * vertices' that are at most zi_near, and 2% covers that arithmetic's
  * rounding many times over, so the test never hides a pixel that would
  * pass the z test. */
-static int screen_box_hidden(const ew_renderer *r, float umin, float umax, float vmin, float vmax, float zi_near) {
-    if (!r->f.cfg.hide_occluded || !(umin <= umax && vmin <= vmax) || !(zi_near < 1e30f)) return 0;
-    float wd = (float)r->f.target.width, ht = (float)r->f.target.height;
+static int screen_box_hidden(const ew_models *md, const ew_frame *fr, float umin, float umax, float vmin, float vmax, float zi_near) {
+    if (!fr->cfg.hide_occluded || !(umin <= umax && vmin <= vmax) || !(zi_near < 1e30f)) return 0;
+    float wd = (float)fr->target.width, ht = (float)fr->target.height;
     int x0 = (int)floorf(fminf(fmaxf(umin, -2), wd)) - 1, x1 = (int)ceilf(fminf(fmaxf(umax, -2), wd)) + 2;
     int y0 = (int)floorf(fminf(fmaxf(vmin, -2), ht)) - 1, y1 = (int)ceilf(fminf(fmaxf(vmax, -2), ht)) + 2;
-    return world_hides(r, x0, y0, x1, y1, zi_near * 1.02f);
+    return world_hides(md, fr, x0, y0, x1, y1, zi_near * 1.02f);
 }
 
 /* An alias model placed (ew_alias_place): its bounds' screen box and
  * nearest corner. */
-static int alias_hidden(const ew_renderer *r, const ew_alias_xf *xf) {
-    return !xf->behind && screen_box_hidden(r, xf->umin, xf->umax, xf->vmin, xf->vmax, xf->zi_near);
+static int alias_hidden(const ew_models *md, const ew_frame *fr, const ew_alias_xf *xf) {
+    return !xf->behind && screen_box_hidden(md, fr, xf->umin, xf->umax, xf->vmin, xf->vmax, xf->zi_near);
 }
 
 /* A world-space box, every corner more than a unit in front of the eye
  * (ew_project clamps a corner to the frame's border, as the test's box is
  * clamped anyway). */
-static int box_hidden(const ew_renderer *r, const float lo[3], const float hi[3]) {
+static int box_hidden(const ew_models *md, const ew_frame *fr, const float lo[3], const float hi[3]) {
     float umin = 1e30f, umax = -1e30f, vmin = 1e30f, vmax = -1e30f, zi_near = 0;
     for (int c = 0; c < 8; c++) {
         const float p[3] = {c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]};
         ew_proj j;
-        ew_project(&r->f.view, p, &j);
+        ew_project(&fr->view, p, &j);
         if (!(j.zi < 1.0f)) return 0;  /* near the eye or behind it (or NaN) */
         umin = fminf(umin, j.u), umax = fmaxf(umax, j.u), vmin = fminf(vmin, j.v), vmax = fmaxf(vmax, j.v);
         zi_near = fmaxf(zi_near, j.zi);
     }
-    return screen_box_hidden(r, umin, umax, vmin, vmax, zi_near);
+    return screen_box_hidden(md, fr, umin, umax, vmin, vmax, zi_near);
 }
 
 /* Item box entity ei this frame: its corners moved and projected once for
@@ -167,16 +165,16 @@ static int box_hidden(const ew_renderer *r, const float lo[3], const float hi[3]
  * oriented, the rows they reach, and the faces left to fill (those with a
  * pixel centre inside and a surface to draw).  Once a frame, on any
  * thread; the pieces of the draw only fill (draw_box). */
-static void prepare_box(ew_renderer *r, int ei) {
-    const struct ew_scene *sc = r->ents.scene;
+static void prepare_box(const ew_models *md, const ew_frame *fr, int ei) {
+    const struct ew_scene *sc = md->ents->scene;
     const ew_scene_entity *e = &sc->ents[ei];
     const ew_world *bw = sc->models[e->model].data;
-    const ew_box_surfs *surfs = e->model < r->ents.nbox_surfs ? r->ents.box_surfs[e->model] : NULL;
+    const ew_box_surfs *surfs = e->model < md->ents->nbox_surfs ? md->ents->box_surfs[e->model] : NULL;
     const ew_model *m = &bw->models[0];
-    ew_box_frame *bf = &r->ents.box_frame[ei];
-    ew_box_face *out = r->ents.box_faces + bf->face0;
-    const int h = r->f.target.height;
-    bf->frame = r->marks.framecount;
+    ew_box_frame *bf = &md->ents->box_frame[ei];
+    ew_box_face *out = md->ents->box_faces + bf->face0;
+    const int h = fr->target.height;
+    bf->frame = md->marks->framecount;
     bf->in_view = bf->nfaces = bf->dropped = bf->zrect = bf->hidden = 0;
     bf->y0 = bf->y1 = 0;
     float ax[3][3];
@@ -186,12 +184,12 @@ static void prepare_box(ew_renderer *r, int ei) {
     const ew_scene_model *sm = &sc->models[e->model];
     float lo[3], hi[3];
     ew_moved_box(ax, e->origin, sm->lo, sm->hi, lo, hi);
-    if (ew_cull_box(&r->f.view, lo, hi, 15) < 0) return;
-    if (box_hidden(r, lo, hi)) {
+    if (ew_cull_box(&fr->view, lo, hi, 15) < 0) return;
+    if (box_hidden(md, fr, lo, hi)) {
         bf->hidden = 1;
         return;
     }
-    ew_view_to_model(&r->f.view, ax, e->origin, &bf->mv);
+    ew_view_to_model(&fr->view, ax, e->origin, &bf->mv);
     box_corner corner[BOX_CORNERS];
     uint8_t made[BOX_CORNERS];
     int16_t front[BOX_FACES];
@@ -209,7 +207,7 @@ static void prepare_box(ew_renderer *r, int ei) {
             if (!box_face_front(bw, f, &bf->mv)) continue;
             front[nfront++] = (int16_t)i;
             for (int k = 0; k < f->numedges; k++) {  /* every one, for the faces below */
-                const box_corner *bc = box_corner_at(&r->f.view, bw, ax, e->origin, corner, made, ew_face_vertex(bw, f, k));
+                const box_corner *bc = box_corner_at(&fr->view, bw, ax, e->origin, corner, made, ew_face_vertex(bw, f, k));
                 cut |= bc->out;
                 if (cut) continue;
                 if (bc->u < umin) umin = bc->u;
@@ -253,11 +251,11 @@ static void prepare_box(ew_renderer *r, int ei) {
         if (!shared || cut) {
             float p[EW_MAX_POLY][3];
             for (int k = 0; k < n; k++) box_move(ax, e->origin, bw->verts[ew_face_vertex(bw, f, k)], p[k]);
-            if (!ew_zpoly_project(&r->f.view, p, n, zp)) continue;
+            if (!ew_zpoly_project(&fr->view, p, n, zp)) continue;
             holds = zp->x0 <= zp->x1 && zp->y0 <= zp->y1;
         } else {
             if (n < 3) continue;
-            holds = ew_zpoly_rect(&r->f.view, zp, n, umin, umax, vmin, vmax);
+            holds = ew_zpoly_rect(&fr->view, zp, n, umin, umax, vmin, vmax);
             /* Most faces of a far box fall between pixel centres: once the
              * box is known to be in view (and no surface is missing, which
              * is counted below), their orientation tells nothing. */
@@ -282,90 +280,90 @@ static void prepare_box(ew_renderer *r, int ei) {
 
 /* An item box in the rows of one piece of the draw: its prepared faces
  * filled, z-buffered; whether it is in view. */
-static int draw_box(ew_renderer *r, const ew_world *bw, const ew_box_surfs *surfs, int ei, const ew_rows *rows) {
-    if (ei >= r->ents.max_box_frame || r->ents.box_frame[ei].frame != r->marks.framecount) return 0;
-    const ew_box_frame *bf = &r->ents.box_frame[ei];
+static int draw_box(const ew_models *md, const ew_frame *fr, const ew_world *bw, const ew_box_surfs *surfs, int ei, const ew_rows *rows) {
+    if (ei >= md->ents->max_box_frame || md->ents->box_frame[ei].frame != md->marks->framecount) return 0;
+    const ew_box_frame *bf = &md->ents->box_frame[ei];
     if (rows->first) rows->stats->dropped += bf->dropped;
     if (bf->y1 <= rows->y0 || bf->y0 >= rows->y1) return bf->in_view;
     if (bf->zrect)
-        ew_zfill_rect(&r->zf, bf->zx0, bf->zy0 > rows->y0 ? bf->zy0 : rows->y0, bf->zx1,
+        ew_zfill_rect(md->zf, bf->zx0, bf->zy0 > rows->y0 ? bf->zy0 : rows->y0, bf->zx1,
                       bf->zy1 < rows->y1 ? bf->zy1 : rows->y1);
     const ew_model *m = &bw->models[0];
     long won = 0;
     for (int k = 0; k < bf->nfaces; k++) {
-        const ew_box_face *bx = &r->ents.box_faces[bf->face0 + k];
+        const ew_box_face *bx = &md->ents->box_faces[bf->face0 + k];
         const ew_zpoly *zp = &bx->zp;
         if (zp->y1 < rows->y0 || zp->y0 >= rows->y1) continue;  /* another piece's rows */
         const ew_face *f = &bw->faces[m->firstface + bx->face];
-        ew_zpoly_look look = {bw, f, &bf->mv, ew_face_texture(bw, f, r->f.view.time), NULL, 0, 0, 1, EW_ZP_OPAQUE,
+        ew_zpoly_look look = {bw, f, &bf->mv, ew_face_texture(bw, f, fr->view.time), NULL, 0, 0, 1, EW_ZP_OPAQUE,
                               NULL, 256};
         if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB))) {
             const ew_box_surf *bs = &surfs->face[bx->face];  /* built: prepare_box kept only such */
-            look.mip = ew_face_mip(&r->f.view, bw, f, zp->nearzi);
+            look.mip = ew_face_mip(&fr->view, bw, f, zp->nearzi);
             look.surf = bs->pixels[look.mip], look.surf_width = bs->width[look.mip];
         }
         if (!bf->zrect)
-            ew_zfill_rect(&r->zf, zp->x0, zp->y0 > rows->y0 ? zp->y0 : rows->y0, zp->x1 + 1,
+            ew_zfill_rect(md->zf, zp->x0, zp->y0 > rows->y0 ? zp->y0 : rows->y0, zp->x1 + 1,
                           zp->y1 + 1 < rows->y1 ? zp->y1 + 1 : rows->y1);
-        won += ew_zpoly_fill(&r->draw, zp, &look, NULL, 0, rows->y0, rows->y1);
+        won += ew_zpoly_fill(md->draw, zp, &look, NULL, 0, rows->y0, rows->y1);
     }
     rows->stats->alias_pixels += won;
     return bf->in_view;
 }
 
-static void tint_palette(ew_renderer *r, const ew_ent_frame *ef, int i, ew_alias_xf *xf);
+static void tint_palette(const ew_models *md, const ew_ent_frame *ef, int i, ew_alias_xf *xf);
 
 /* An entity's pose this frame. */
-static ew_model_pose entity_pose(const ew_renderer *r, const ew_scene_entity *e, const ew_scene_model *m,
+static ew_model_pose entity_pose(const ew_frame *fr, const ew_scene_entity *e, const ew_scene_model *m,
                                  const ew_ent_frame *ef) {
     ew_model_pose pose = {{e->origin[0], e->origin[1], e->origin[2]},
                           {e->angles[0], e->angles[1], e->angles[2]},
-                          e->frame, e->skin, r->f.view.time, ef->ambient, ef->shade};
+                          e->frame, e->skin, fr->view.time, ef->ambient, ef->shade};
     if (m->kind == EW_MODEL_ALIAS) {
         /* Time walks a model through its frames at the game's 10 a second
          * (frame groups animate by their own intervals too). */
         const ew_mdl *mdl = m->data;
-        if (r->f.view.time > 0 && mdl->numframes > 1)
-            pose.frame = (int)(((long long)ew_int_checked(r->f.view.time * 10, 0, INT_MAX, 0) + e->frame) % mdl->numframes);
+        if (fr->view.time > 0 && mdl->numframes > 1)
+            pose.frame = (int)(((long long)ew_int_checked(fr->view.time * 10, 0, INT_MAX, 0) + e->frame) % mdl->numframes);
     }
     return pose;
 }
 
 /* The models pass's work: the frame's visible alias models posed, then its
  * item boxes projected. */
-void ew_models_work(ew_renderer *r, int item) {
-    if (item >= r->ents.nalias) {
-        prepare_box(r, r->ents.box_list[item - r->ents.nalias]);
+void ew_models_work(const ew_models *md, const ew_frame *fr, int item) {
+    if (item >= md->ents->nalias) {
+        prepare_box(md, fr, md->ents->box_list[item - md->ents->nalias]);
         return;
     }
-    const struct ew_scene *sc = r->ents.scene;
-    int i = r->ents.alias_list[item];
+    const struct ew_scene *sc = md->ents->scene;
+    int i = md->ents->alias_list[item];
     const ew_scene_entity *e = &sc->ents[i];
     const ew_scene_model *m = &sc->models[e->model];
-    const ew_ent_frame *ef = &r->ents.ent_frame[i];
-    ew_model_pose pose = entity_pose(r, e, m, ef);
-    ew_alias_xf *xf = &r->ents.xf[i];
+    const ew_ent_frame *ef = &md->ents->ent_frame[i];
+    ew_model_pose pose = entity_pose(fr, e, m, ef);
+    ew_alias_xf *xf = &md->ents->xf[i];
     /* Sprite-cache: a reused image needs no vertex posed. */
-    ew_sc_slot *slot = ew_sprite_cache_slot(r, i);
+    ew_sc_slot *slot = ew_sprite_cache_slot(md->ents->sprite_cache, fr, i);
     if (slot) slot->use = 0;  /* not last frame's decision, whatever happens below */
-    if (!ew_alias_place(r, m->data, &pose, xf)) return;
-    if (alias_hidden(r, xf)) {
+    if (!ew_alias_place(fr, m->data, &pose, xf)) return;
+    if (alias_hidden(md, fr, xf)) {
         xf->visible = 0, xf->hidden = 1;  /* nothing to pose or draw */
         return;
     }
-    if (ef->tinted) tint_palette(r, ef, i, xf);
-    if (slot && ew_sprite_cache_reuse(r, slot, m->data, xf, &pose, ew_sprite_cache_tol(r))) return;
-    ew_alias_pose_verts(r, m->data, &pose, xf, r->ents.xverts + ef->xvert0);
-    if (slot) ew_sprite_cache_redraw(r, slot, m->data, xf, &pose);
+    if (ef->tinted) tint_palette(md, ef, i, xf);
+    if (slot && ew_sprite_cache_reuse(fr, slot, m->data, xf, &pose, ew_sprite_cache_tol(md->ents->sprite_cache))) return;
+    ew_alias_pose_verts(fr, m->data, &pose, xf, md->ents->xverts + ef->xvert0);
+    if (slot) ew_sprite_cache_redraw(fr, slot, m->data, xf, &pose);
 }
 
 /* The palette in the colour of the light under model i. */
-static void tint_palette(ew_renderer *r, const ew_ent_frame *ef, int i, ew_alias_xf *xf) {
+static void tint_palette(const ew_models *md, const ew_ent_frame *ef, int i, ew_alias_xf *xf) {
     /* The palette in the colour of the light under the model: a pixel table
      * in true colour, the nearest colours in 8-bit. */
-    const ew_lightcurve *lc = &r->lit.curve;
-    uint32_t *rgba = r->ents.tint_rgba + (size_t)i * 256;
-    uint8_t *remap = r->ents.tint_remap + (size_t)i * 256;
+    const ew_lightcurve *lc = &md->lit->curve;
+    uint32_t *rgba = md->ents->tint_rgba + (size_t)i * 256;
+    uint8_t *remap = md->ents->tint_remap + (size_t)i * 256;
     for (int c = 0; c < 256; c++) {
         int v[3];
         for (int k = 0; k < 3; k++) {
@@ -373,49 +371,49 @@ static void tint_palette(ew_renderer *r, const ew_ent_frame *ef, int i, ew_alias
             v[k] = x > 255 ? 255 : x;
         }
         rgba[c] = ew_rgba(v[0], v[1], v[2]);
-        remap[c] = lc->fullbright[c] || !r->lit.nearest ? (uint8_t)c : r->lit.nearest[ew_blend_at(&r->blend, v[0], v[1], v[2])];
+        remap[c] = lc->fullbright[c] || !md->lit->nearest ? (uint8_t)c : md->lit->nearest[ew_blend_at(md->lit->blend, v[0], v[1], v[2])];
     }
     xf->rgba = rgba, xf->remap = remap;
 }
 
 /* Entity i (of model kind) was left out because the world hides it. */
-static int entity_hidden(const ew_renderer *r, int i, int kind) {
-    if (kind == EW_MODEL_ALIAS) return r->ents.nalias && r->ents.xf[i].hidden;
-    return kind == EW_MODEL_BOX && i < r->ents.max_box_frame && r->ents.box_frame[i].frame == r->marks.framecount &&
-           r->ents.box_frame[i].hidden;
+static int entity_hidden(const ew_models *md, int i, int kind) {
+    if (kind == EW_MODEL_ALIAS) return md->ents->nalias && md->ents->xf[i].hidden;
+    return kind == EW_MODEL_BOX && i < md->ents->max_box_frame && md->ents->box_frame[i].frame == md->marks->framecount &&
+           md->ents->box_frame[i].hidden;
 }
 
-void ew_draw_models(ew_renderer *r, const ew_rows *rows) {
-    const struct ew_scene *sc = r->ents.scene;
+void ew_draw_models(const ew_models *md, const ew_frame *fr, const ew_rows *rows) {
+    const struct ew_scene *sc = md->ents->scene;
     if (!sc) return;
-    for (int i = 0; i < r->ents.nent_frame && i < sc->nents; i++) {
+    for (int i = 0; i < md->ents->nent_frame && i < sc->nents; i++) {
         const ew_scene_entity *e = &sc->ents[i];
-        const ew_ent_frame *ef = &r->ents.ent_frame[i];
+        const ew_ent_frame *ef = &md->ents->ent_frame[i];
         if (!ef->visible) continue;
         const ew_scene_model *m = &sc->models[e->model];
-        ew_model_pose pose = entity_pose(r, e, m, ef);
+        ew_model_pose pose = entity_pose(fr, e, m, ef);
         int drawn = 0;
         if (m->kind == EW_MODEL_ALIAS) {
             /* Posed once for the frame (ew_pose_alias), unless that had no
              * memory; from its cached image in sprite-cache mode. */
-            const ew_sc_slot *slot = r->ents.nalias ? ew_sprite_cache_slot(r, i) : NULL;
+            const ew_sc_slot *slot = md->ents->nalias ? ew_sprite_cache_slot(md->ents->sprite_cache, fr, i) : NULL;
             if (slot && slot->use) {
-                ew_sprite_cache_draw(r, slot, rows);
+                ew_sprite_cache_draw(fr, md->zf, slot, rows);
                 drawn = 1;
             } else {
-                drawn = r->ents.nalias ? ew_alias_draw(r, m->data, &r->ents.xf[i], rows)
-                                       : ew_draw_alias_rows(r, m->data, &pose, rows);
+                drawn = md->ents->nalias ? ew_alias_draw(fr, md->zf, m->data, &md->ents->xf[i], rows)
+                                       : ew_draw_alias_rows(fr, md->zf, m->data, &pose, rows);
             }
         } else if (m->kind == EW_MODEL_SPRITE) {
-            drawn = ew_draw_sprite_rows(r, m->data, &pose, rows);
+            drawn = ew_draw_sprite_rows(fr, md->zf, m->data, &pose, rows);
         } else if (m->kind == EW_MODEL_BOX) {
-            drawn = draw_box(r, m->data, e->model < r->ents.nbox_surfs ? r->ents.box_surfs[e->model] : NULL, i, rows);
+            drawn = draw_box(md, fr, m->data, e->model < md->ents->nbox_surfs ? md->ents->box_surfs[e->model] : NULL, i, rows);
         }
         if (rows->first) {
             if (drawn) rows->stats->entities_drawn++;
             else rows->stats->entities_culled++;
-            if (!drawn && entity_hidden(r, i, m->kind)) rows->stats->entities_hidden++;
+            if (!drawn && entity_hidden(md, i, m->kind)) rows->stats->entities_hidden++;
         }
     }
-    if (sc->nparticles) ew_draw_particles_rows(r, sc->particles, sc->nparticles, rows);
+    if (sc->nparticles) ew_draw_particles_rows(fr, md->zf, sc->particles, sc->nparticles, rows);
 }

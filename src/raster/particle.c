@@ -7,9 +7,9 @@
 
 #define PARTICLE_NEAR 4.0f
 
-void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const ew_rows *rows) {
-    if (!r || !p || n <= 0) return;
-    const ew_view *v = &r->f.view;
+void ew_draw_particles_rows(const ew_frame *f, ew_zfill *zf, const ew_particle *p, int n, const ew_rows *rows) {
+    if (!f || !p || n <= 0) return;
+    const ew_view *v = &f->view;
     float k = v->xscale * 0.625f;          /* size in pixels = k / z */
     int maxsize = v->width / 80 > 4 ? v->width / 80 : 4;
     long pixels = 0;
@@ -36,12 +36,12 @@ void ew_draw_particles_rows(ew_renderer *r, const ew_particle *p, int n, const e
         if (y1 > rows->y1) y1 = rows->y1;
         if (y0 >= y1) continue;
         uint8_t color = p[i].color;
-        const int bpp = r->f.target.bpp;  /* read once: the stores could alias the renderer */
-        const uint32_t *rgba = r->f.target.rgba;
-        ew_zfill_rect(&r->zf, x0, y0, x1, y1);
+        const int bpp = f->target.bpp;  /* read once: the stores could alias the renderer */
+        const uint32_t *rgba = f->target.rgba;
+        ew_zfill_rect(zf, x0, y0, x1, y1);
         for (int y = y0; y < y1; y++) {
-            float *zr = ew_target_z(&r->f.target, 0, y);
-            uint8_t *fr = ew_target_at(&r->f.target, 0, y);
+            float *zr = ew_target_z(&f->target, 0, y);
+            uint8_t *fr = ew_target_at(&f->target, 0, y);
             for (int x = x0; x < x1; x++) {
                 if (zi >= zr[x]) {
                     zr[x] = zi;
@@ -74,9 +74,4 @@ int ew_particle_field(ew_particle *out, int n, const float center[3], float radi
         out[i].color = (uint8_t)(0x60 + ((s >> 24) & 15));  /* one 16-colour ramp */
     }
     return n;
-}
-
-void ew_draw_particles(ew_renderer *r, const ew_particle *p, int n) {
-    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
-    ew_draw_particles_rows(r, p, n, &all);
 }

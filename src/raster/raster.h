@@ -5,9 +5,10 @@
 #ifndef EW_RASTER_H
 #define EW_RASTER_H
 
-#include "world/view.h"  /* the frame's types, EW_MAX_POLY */
-#include "raster/blend.h"
+#include "frame.h"
+#include "light/blend.h"
 #include "raster/target.h"
+#include "world/view.h"  /* EW_MAX_POLY, the view's helpers */
 
 /* Screen gradients of a face: s/z, t/z and 1/z are linear in screen space. */
 typedef struct ew_gradients {
@@ -48,7 +49,7 @@ typedef struct ew_surf_draw {
 #define EW_FOG_QSCALE 512.0f
 #define EW_FOG_QSTEPS 4096    /* QMAX * QSCALE */
 typedef struct ew_fog {
-    const uint8_t *table;     /* EW_FOG_LEVELS x 256 (raster/blend.h), NULL: no fog */
+    const uint8_t *table;     /* EW_FOG_LEVELS x 256 (light/blend.h), NULL: no fog */
     float   w;                /* (density / 64)^2, so q = w / zi^2 = (density z / 64)^2 */
     int     sky_level;        /* the sky is fogged half way, as the ports do */
     int     rgb[3];           /* true colour: the fog colour, 0..255 */
@@ -141,9 +142,6 @@ typedef struct ew_box_face {
     ew_zpoly zp;                    /* projected and oriented */
     int      face;                  /* of the box model */
 } ew_box_face;
-/* Room for the frame's item boxes: nents entity frames and list slots
- * (before the entities are listed), then nfaces faces; -1 without memory. */
-int  ew_boxes_reserve(ew_renderer *r, int nents, int nfaces);
 
 typedef struct ew_zpoly_look {
     const ew_world   *world;
@@ -164,22 +162,6 @@ enum {
     EW_ZP_BLEND     /* z-tested, blended over what is there through look->blend, fogged at
                        its own depth first; no z written */
 };
-/* See-through polygons of this frame (world/divert.c collects them from the
- * front end, raster/seethrough.c draws them): fences first, then the
- * translucent ones back to front. */
-enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
-typedef struct ew_see_poly {
-    ew_zpoly       p;           /* clipped and projected */
-    ew_zpoly_look  look;        /* its texels and how it is drawn */
-    int            face, key, kind;
-    float          alpha;
-} ew_see_poly;
-typedef struct ew_see {
-    ew_see_poly *polys; int n, cap;
-    int         *order;  int cap_order;  /* fences, then translucent far to near */
-    int          n_drawn, nfences;       /* in order[]: all, and the fences among them */
-} ew_see;
-
 /* Clips (whole frustum) and projects a world-space polygon; 0 if nothing is left. */
 int  ew_zpoly_project(const ew_view *v, float (*in)[3], int n, ew_zpoly *p);
 /* Its two halves, for a caller that shares projected corners between
@@ -198,5 +180,53 @@ int  ew_zpoly_orient(ew_zpoly *p);
  * = id where it wins (ids may be NULL).  Returns the pixels won. */
 long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,
                    int y0, int y1);
+
+/* See-through polygons of this frame (world/divert.c collects them from the
+ * front end, raster/seethrough.c draws them): fences first, then the
+ * translucent ones back to front. */
+enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
+typedef struct ew_see_poly {
+    ew_zpoly       p;           /* clipped and projected */
+    ew_zpoly_look  look;        /* its texels and how it is drawn */
+    int            face, key, kind;
+    float          alpha;
+} ew_see_poly;
+typedef struct ew_see {
+    ew_see_poly *polys; int n, cap;
+    int         *order;  int cap_order;  /* fences, then translucent far to near */
+    int          n_drawn, nfences;       /* in order[]: all, and the fences among them */
+} ew_see;
+
+struct ew_zfill;
+
+/* raster/seethrough.c: fence textures (alpha-tested, z-written), then
+ * translucent surfaces (blended far to near, no z), as the front end
+ * collected them (world/divert.c). */
+struct ew_lit;
+void ew_see_prepare(ew_see *see, ew_frame *f, struct ew_lit *lit);
+void ew_draw_fences(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, struct ew_zfill *zf,
+                    const ew_rows *rows);
+void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, struct ew_zfill *zf,
+                         const ew_rows *rows);
+
+/* raster/fog.c: fog over what is opaque by its depth (the translucent
+ * surfaces fog their own texels as they blend).  The prepare sets this
+ * frame's fog (fog->table NULL: none). */
+void ew_fog_prepare(ew_fog *fog, ew_frame *f, ew_blend *blend);
+void ew_draw_fog(const ew_fog *fog, const ew_target *t, struct ew_zfill *zf, const ew_surf_draw *surf_draw,
+                 const ew_rows *rows);
+
+/* raster/warp.c: the underwater view, after every band is drawn (it reads
+ * rows of other bands): the frame warped and tinted by the liquid the eye
+ * is in, from a copy of it.  ew_warp_begin (serial) returns 0 when there
+ * is nothing to do. */
+typedef struct ew_warp {
+    uint8_t       *copy;            /* the source frame, then per row its x shift, per column its y shift */
+    const uint8_t *tint;            /* 8-bit: the tint table this frame */
+    int            rgb[3], amount;  /* true colour: the tint itself */
+} ew_warp;
+int  ew_warp_begin(ew_warp *w, ew_frame *f, ew_blend *blend);
+void ew_warp_rows(const ew_warp *w, const ew_target *t, int y0, int y1);
+void ew_warp_free(ew_warp *w);
 
 #endif

@@ -6,7 +6,8 @@
  * monster in front of it hides it.  Then translucent surfaces, far to near
  * in BSP order, each blended over what is there and writing no z (a monster
  * under water shows, tinted by it). */
-#include "renderer.h"
+#include "light/light.h"
+#include "raster/zfill.h"
 
 #include <stdlib.h>
 
@@ -21,18 +22,17 @@ static int by_order(const void *pa, const void *pb) {
     return *(const int *)pa - *(const int *)pb;  /* stable: the order they came in */
 }
 
-int ew_see_prepare(ew_renderer *r) {
-    ew_see *see = &r->see;
-    const ew_world *w = r->f.world;
+void ew_see_prepare(ew_see *see, ew_frame *fr, ew_lit *lit) {
+    const ew_world *w = fr->world;
     see->nfences = see->n_drawn = 0;
-    r->f.stats.seethrough_surfaces = 0;
-    if (see->n == 0) return 0;
+    fr->stats.seethrough_surfaces = 0;
+    if (see->n == 0) return;
     if (see->n > see->cap_order) {
         int *o = realloc(see->order, sizeof *o * (size_t)see->cap);
         if (!o) {
-            r->f.stats.dropped += see->n;
+            fr->stats.dropped += see->n;
             see->n = 0;
-            return 0;
+            return;
         }
         see->order = o, see->cap_order = see->cap;
     }
@@ -41,26 +41,26 @@ int ew_see_prepare(ew_renderer *r) {
         ew_see_poly *sp = &see->polys[i];
         const ew_face *f = &w->faces[sp->face];
         ew_zpoly_look *look = &sp->look;
-        look->tex = ew_face_texture(w, f, r->f.view.time);
+        look->tex = ew_face_texture(w, f, fr->view.time);
         /* Less than half the finest 8-bit step: invisible (maps use a
          * tiny "alpha" to hide a brush entity). */
         if (sp->kind == EW_SEE_BLEND && sp->alpha < 0.5f / EW_BLEND_LEVELS) continue;
         look->mode = sp->kind == EW_SEE_FENCE ? EW_ZP_FENCE : EW_ZP_BLEND;
         look->alpha256 = (int)(sp->alpha * 256 + 0.5f);
-        if (sp->kind == EW_SEE_BLEND && r->f.target.bpp == 1 &&
-            !(look->blend = ew_blend_alpha(&r->blend, ew_blend_level(sp->alpha)))) {
-            r->f.stats.dropped++;
+        if (sp->kind == EW_SEE_BLEND && fr->target.bpp == 1 &&
+            !(look->blend = ew_blend_alpha(lit->blend, ew_blend_level(sp->alpha)))) {
+            fr->stats.dropped++;
             continue;
         }
         if (!(f->flags & EW_SURF_TURB)) {  /* a lit surface, through the cache like the world's */
             int build;
-            look->mip = ew_face_mip(&r->f.view, w, f, sp->p.nearzi);
-            ew_cached_surf *e = ew_cache_lookup(r, sp->face, look->mip, &build);
+            look->mip = ew_face_mip(&fr->view, w, f, sp->p.nearzi);
+            ew_cached_surf *e = ew_lit_lookup(lit, fr, sp->face, look->mip, &build);
             if (!e) {
-                r->f.stats.dropped++;
+                fr->stats.dropped++;
                 continue;
             }
-            if (build) r->lit.to_build[r->lit.nbuild++] = e;  /* built with the world's */
+            if (build) lit->to_build[lit->nbuild++] = e;  /* built with the world's */
             look->surf = e->pixels, look->surf_width = e->width;
         }
         see->order[n++] = i;
@@ -69,29 +69,30 @@ int ew_see_prepare(ew_renderer *r) {
     sort_base = see->polys;  /* serial: no other thread sorts */
     qsort(see->order, (size_t)n, sizeof *see->order, by_order);
     see->n_drawn = n;
-    r->f.stats.seethrough_surfaces = n;
-    return 0;
+    fr->stats.seethrough_surfaces = n;
 }
 
-static void draw_range(ew_renderer *r, const ew_rows *rows, int from, int to, long *count) {
-    const ew_see *see = &r->see;
+static void draw_range(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, ew_zfill *zf,
+                       const ew_rows *rows, int from, int to, long *count) {
     long px = 0;
     for (int k = from; k < to; k++) {
         const ew_see_poly *sp = &see->polys[see->order[k]];
         const ew_zpoly *p = &sp->p;
         if (p->y1 < rows->y0 || p->y0 >= rows->y1) continue;  /* another band's rows */
-        ew_zfill_rect(&r->zf, p->x0, p->y0 > rows->y0 ? p->y0 : rows->y0, p->x1 + 1,
+        ew_zfill_rect(zf, p->x0, p->y0 > rows->y0 ? p->y0 : rows->y0, p->x1 + 1,
                       p->y1 + 1 < rows->y1 ? p->y1 + 1 : rows->y1);
-        px += ew_zpoly_fill(&r->draw, p, &sp->look, r->f.cfg.face_ids_on ? r->f.face_ids : NULL, sp->face, rows->y0,
+        px += ew_zpoly_fill(draw, p, &sp->look, f->cfg.face_ids_on ? f->face_ids : NULL, sp->face, rows->y0,
                             rows->y1);
     }
     *count += px;
 }
 
-void ew_draw_fences(ew_renderer *r, const ew_rows *rows) {
-    draw_range(r, rows, 0, r->see.nfences, &rows->stats->fence_pixels);
+void ew_draw_fences(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, ew_zfill *zf,
+                    const ew_rows *rows) {
+    draw_range(see, f, draw, zf, rows, 0, see->nfences, &rows->stats->fence_pixels);
 }
 
-void ew_draw_translucent(ew_renderer *r, const ew_rows *rows) {
-    draw_range(r, rows, r->see.nfences, r->see.n_drawn, &rows->stats->translucent_pixels);
+void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, ew_zfill *zf,
+                         const ew_rows *rows) {
+    draw_range(see, f, draw, zf, rows, see->nfences, see->n_drawn, &rows->stats->translucent_pixels);
 }

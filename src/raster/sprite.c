@@ -59,11 +59,12 @@ static inline float dot3(const float a[3], const float b[3]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p, const ew_rows *rows) {
-    if (!r || !s || !p) return 0;
+int ew_draw_sprite_rows(const ew_frame *f, ew_zfill *zf, const ew_spr *s, const ew_model_pose *p,
+                        const ew_rows *rows) {
+    if (!f || !s || !p) return 0;
     for (int k = 0; k < 3; k++)
         if (!isfinite(p->origin[k]) || !isfinite(p->angles[k]) || fabsf(p->origin[k]) > 1e6f) return 0;
-    const ew_view *v = &r->f.view;
+    const ew_view *v = &f->view;
     const ew_spr_pic *pic = ew_spr_pick(s, p->frame, p->time);
     float wr[3], wu[3];
     sprite_axes(v, s, p, wr, wu);
@@ -127,7 +128,7 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     if (y1 > rows->y1) y1 = rows->y1;
     if (x0 >= x1) return 0;
     if (y0 >= y1) return 1;  /* in view, but not in these rows */
-    ew_zfill_rect(&r->zf, x0, y0, x1, y1);
+    ew_zfill_rect(zf, x0, y0, x1, y1);
 
     /* Per pixel: d = ((u - xc) / xs, -(v - yc) / ys, 1);  1/z = N.d / N.O;
      * a = (R.d) z - R.O, b = (U.d) z - U.O. */
@@ -140,11 +141,11 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     float uu = dot3(U, du), uv = dot3(U, dv), u0 = dot3(U, d0), uo = dot3(U, O);
     int pw = pic->width, ph = pic->height;
     long count = 0;
-    const int bpp = r->f.target.bpp;  /* read once: the stores could alias the renderer */
-    const uint32_t *rgba = r->f.target.rgba;
+    const int bpp = f->target.bpp;  /* read once: the stores could alias the renderer */
+    const uint32_t *rgba = f->target.rgba;
     for (int y = y0; y < y1; y++) {
-        float *zr = ew_target_z(&r->f.target, 0, y);
-        uint8_t *fr = ew_target_at(&r->f.target, 0, y);
+        float *zr = ew_target_z(&f->target, 0, y);
+        uint8_t *fr = ew_target_at(&f->target, 0, y);
         float fy = (float)y;
         for (int x = x0; x < x1; x++) {
             float fx = (float)x;
@@ -163,9 +164,4 @@ int ew_draw_sprite_rows(ew_renderer *r, const ew_spr *s, const ew_model_pose *p,
     }
     rows->stats->alias_pixels += count;
     return 1;
-}
-
-int ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p) {
-    ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
-    return ew_draw_sprite_rows(r, s, p, &all);
 }

@@ -3,7 +3,7 @@
  * sines that drift with time, the picture shrunk a little so no edge shows)
  * and takes on the liquid's colour, as the original renderer did.  It reads
  * pixels of other rows, so it runs after every band is drawn, from a copy. */
-#include "renderer.h"
+#include "raster/raster.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -18,42 +18,46 @@ static int tint_of(int contents, int rgb[3]) {
     return c[3];
 }
 
-int ew_warp_begin(ew_renderer *r) {
-    int c = r->f.eye_contents;
-    if (r->f.cfg.classic || !r->f.cfg.waterwarp ||
+int ew_warp_begin(ew_warp *w, ew_frame *f, ew_blend *blend) {
+    int c = f->eye_contents;
+    if (f->cfg.classic || !f->cfg.waterwarp ||
         (c != EW_CONTENTS_WATER && c != EW_CONTENTS_SLIME && c != EW_CONTENTS_LAVA))
         return 0;
-    const ew_target *t = &r->f.target;
+    const ew_target *t = &f->target;
     size_t frame = (size_t)t->pitch * (size_t)t->height;
-    if (!r->warp_copy) {
+    if (!w->copy) {
         /* the copy, then per row its x shift and per column its y shift */
-        r->warp_copy = malloc(frame + sizeof(int32_t) * (size_t)(t->width + t->height));
-        if (!r->warp_copy) {
-            r->f.stats.dropped++;
+        w->copy = malloc(frame + sizeof(int32_t) * (size_t)(t->width + t->height));
+        if (!w->copy) {
+            f->stats.dropped++;
             return 0;
         }
     }
     int rgb[3], amount = tint_of(c, rgb);
-    r->warp_tint = ew_blend_tint(&r->blend, rgb, amount);
-    for (int k = 0; k < 3; k++) r->warp_rgb[k] = rgb[k];
-    r->warp_amount = amount;
-    memcpy(r->warp_copy, t->pixels, frame);
+    w->tint = ew_blend_tint(blend, rgb, amount);
+    for (int k = 0; k < 3; k++) w->rgb[k] = rgb[k];
+    w->amount = amount;
+    memcpy(w->copy, t->pixels, frame);
     /* Amplitude: 2.5 pixels at 320x200, in proportion above. */
-    float amp = 2.5f * (float)t->height / 200.0f, tm = (float)r->f.view.time;
-    int32_t *xs = (int32_t *)(void *)(r->warp_copy + frame), *ys = xs + t->height;
+    float amp = 2.5f * (float)t->height / 200.0f, tm = (float)f->view.time;
+    int32_t *xs = (int32_t *)(void *)(w->copy + frame), *ys = xs + t->height;
     for (int y = 0; y < t->height; y++)
         xs[y] = (int32_t)lrintf(amp * (1 + sinf(6.2831853f * 3.0f * (float)y / (float)t->height + tm * 3.0f)));
     for (int x = 0; x < t->width; x++)
         ys[x] = (int32_t)lrintf(amp * (1 + sinf(6.2831853f * 4.0f * (float)x / (float)t->width + tm * 2.5f)));
-    r->f.stats.underwater = 1;
+    f->stats.underwater = 1;
     return 1;
 }
 
-void ew_warp_rows(ew_renderer *r, int y0, int y1) {
-    const ew_target *t = &r->f.target;
+void ew_warp_free(ew_warp *w) {
+    free(w->copy);
+    w->copy = NULL;
+}
+
+void ew_warp_rows(const ew_warp *w, const ew_target *t, int y0, int y1) {
     size_t frame = (size_t)t->pitch * (size_t)t->height;
-    const int32_t *xs = (const int32_t *)(const void *)(r->warp_copy + frame), *ys = xs + t->height;
-    const uint8_t *tint = r->warp_tint;
+    const int32_t *xs = (const int32_t *)(const void *)(w->copy + frame), *ys = xs + t->height;
+    const uint8_t *tint = w->tint;
     /* Shrunk by twice the amplitude so the shifts stay inside the frame. */
     int amp2 = (int)lrintf(5.0f * (float)t->height / 200.0f);
     int sw = t->width - 1 - amp2, sh = t->height - 1 - amp2;
@@ -66,13 +70,13 @@ void ew_warp_rows(ew_renderer *r, int y0, int y1) {
             int sy = by + ys[x];
             sx = sx < 0 ? 0 : sx >= t->width ? t->width - 1 : sx;
             sy = sy < 0 ? 0 : sy >= t->height ? t->height - 1 : sy;
-            const uint8_t *src = r->warp_copy + (size_t)sy * t->pitch;
+            const uint8_t *src = w->copy + (size_t)sy * t->pitch;
             if (t->bpp == 1) {
                 dst[x] = tint[src[sx]];
             } else {  /* the same shift towards the liquid's colour, exactly */
                 int c[3];
                 ew_rgba_split(ew_get32(src, sx), c);
-                for (int k = 0; k < 3; k++) c[k] += ((r->warp_rgb[k] - c[k]) * r->warp_amount) >> 8;
+                for (int k = 0; k < 3; k++) c[k] += ((w->rgb[k] - c[k]) * w->amount) >> 8;
                 ew_set32(dst, x, ew_rgba(c[0], c[1], c[2]));
             }
         }

@@ -13,7 +13,7 @@
  * Everything is fixed, so every call makes the same scene.
  */
 #include "mapgen/mapgen.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 #include "raster/alias.h"
 #include "ew_util.h"
 

@@ -1,36 +1,93 @@
 /* What is drawn over the opaque world, in this order.  The edge list has
  * given every pixel exactly one world surface; each pass adds what can be
- * seen in front of (or through) it, z-tested against what is there. */
-#include "renderer.h"
+ * seen in front of (or through) it, z-tested against what is there.  Then
+ * the whole-frame passes, once every band is drawn.  Each entry hands its
+ * stage the parts it reads (ew_pass_ctx). */
+#include "scene/passes.h"
+#include "hsr/hsr.h"
+#include "output/gamma.h"
+#include "world/front.h"  /* ew_prepare_entities */
+
+#include <string.h>
+
+/* ---- the entries: each stage given its parts ---- */
+
+static int models_prepare(const ew_pass_ctx *c) { return ew_prepare_entities(c->r); }
+static void models_work(const ew_pass_ctx *c, int item) { ew_models_work(c->models, c->f, item); }
+static void models_draw(const ew_pass_ctx *c, const ew_rows *rows) { ew_draw_models(c->models, c->f, rows); }
+
+static int see_prepare(const ew_pass_ctx *c) {
+    ew_see_prepare(c->see, c->f, c->lit);
+    return 0;
+}
+static void fences_draw(const ew_pass_ctx *c, const ew_rows *rows) {
+    ew_draw_fences(c->see, c->f, c->draw, c->zf, rows);
+}
+static void translucent_draw(const ew_pass_ctx *c, const ew_rows *rows) {
+    ew_draw_translucent(c->see, c->f, c->draw, c->zf, rows);
+}
+
+static int fog_prepare(const ew_pass_ctx *c) {
+    ew_fog_prepare(&c->draw->fog, c->f, c->blend);
+    return 0;
+}
+static void fog_draw(const ew_pass_ctx *c, const ew_rows *rows) {
+    ew_draw_fog(&c->draw->fog, &c->f->target, c->zf, c->lit->surf_draw, rows);
+}
+
+static int compose_prepare(const ew_pass_ctx *c) { return ew_ref_compose_prepare(c->hsr); }
+static void compose_draw(const ew_pass_ctx *c, const ew_rows *rows) { ew_ref_compose_draw(c->hsr, rows); }
+
+/* The underwater view reads rows of other bands; none in the modes that
+ * show the frame's structure. */
+static int warp_prepare(const ew_pass_ctx *c) {
+    return !ew_debug_structure(c->dbg) && ew_warp_begin(c->warp, c->f, c->blend);
+}
+static void warp_draw(const ew_pass_ctx *c, const ew_rows *rows) {
+    ew_warp_rows(c->warp, &c->f->target, rows->y0, rows->y1);
+}
+
+/* True colour: the output gamma, last. */
+static int gamma_prepare(const ew_pass_ctx *c) { return c->f->target.bpp == 4 && c->f->cfg.gamma != 1; }
+static void gamma_draw(const ew_pass_ctx *c, const ew_rows *rows) {
+    const ew_target *t = &c->f->target;
+    size_t w = (size_t)t->width;
+    ew_gamma_pixels((uint32_t *)(void *)t->pixels + (size_t)rows->y0 * w, (size_t)(rows->y1 - rows->y0) * w,
+                    c->f->cfg.gamma_lut);
+}
+
+/* ---- the lists ---- */
 
 static const ew_pass passes[] = {
     /* alias models, sprites, item boxes, particles */
-    {"models", ew_prepare_entities, ew_models_work, ew_draw_models},
+    {"models", models_prepare, models_work, models_draw, 0},
     /* fence textures: holes show the world and the models behind */
-    {"fences", ew_see_prepare, NULL, ew_draw_fences},
+    {"fences", see_prepare, NULL, fences_draw, 0},
     /* fog over everything opaque, by its depth */
-    {"fog", ew_fog_prepare, NULL, ew_draw_fog},
+    {"fog", fog_prepare, NULL, fog_draw, 0},
     /* translucent surfaces, far to near, each fogged at its own depth */
-    {"translucent", NULL, NULL, ew_draw_translucent},
+    {"translucent", NULL, NULL, translucent_draw, 0},
+    /* after every band: the underwater warp and tint, then the gamma */
+    {"warp", warp_prepare, NULL, warp_draw, 1},
+    {"gamma", gamma_prepare, NULL, gamma_draw, 1},
 };
 /* A method that composites for itself (EW_HSR_OWN_COMPOSE: the reference)
  * runs the models, then its own fences, translucent surfaces and fog,
  * per pixel (hsr/ref_compose.c), and none of the shared passes above: it
  * is what they are checked against. */
-static int compose_prepare(ew_renderer *r) { return ew_ref_compose_prepare(&r->hsr); }
-static void compose_draw(ew_renderer *r, const ew_rows *rows) { ew_ref_compose_draw(&r->hsr, rows); }
 static const ew_pass own_passes[] = {
-    {"models", ew_prepare_entities, ew_models_work, ew_draw_models},
-    {"compose", compose_prepare, NULL, compose_draw},
+    {"models", models_prepare, models_work, models_draw, 0},
+    {"compose", compose_prepare, NULL, compose_draw, 0},
+    {"warp", warp_prepare, NULL, warp_draw, 1},
+    {"gamma", gamma_prepare, NULL, gamma_draw, 1},
 };
-/* After the bands: the underwater warp and tint (raster/warp.c, ew_render). */
 enum { NPASSES = sizeof passes / sizeof *passes, NOWN = sizeof own_passes / sizeof *own_passes };
-_Static_assert(NPASSES <= sizeof ((ew_sched *)0)->pass_items / sizeof(int), "room for every pass's work");
-_Static_assert(NOWN <= NPASSES, "room for every pass's work");
+_Static_assert((int)NPASSES <= (int)EW_MAX_PASSES && (int)NOWN <= (int)EW_MAX_PASSES, "room for every pass's work");
 
 /* The frame's list: its method's choice. */
-static const ew_pass *pass_list(const ew_renderer *r, int *n) {
-    if (r->f.cfg.hsr && (r->f.cfg.hsr->flags & EW_HSR_OWN_COMPOSE)) {
+static const ew_pass *pass_list(const ew_passes *p, int *n) {
+    const ew_config *cfg = &p->ctx.f->cfg;
+    if (cfg->hsr && (cfg->hsr->flags & EW_HSR_OWN_COMPOSE)) {
         *n = NOWN;
         return own_passes;
     }
@@ -38,47 +95,85 @@ static const ew_pass *pass_list(const ew_renderer *r, int *n) {
     return passes;
 }
 
-void ew_passes_prepare(ew_renderer *r) {
-    ew_sched *s = &r->sched;
+int ew_pass_count(const ew_passes *p) {
+    int n;
+    pass_list(p, &n);
+    return n;
+}
+
+const char *ew_pass_name(const ew_passes *p, int i) {
+    int n;
+    const ew_pass *list = pass_list(p, &n);
+    return i >= 0 && i < n ? list[i].name : NULL;
+}
+
+void ew_passes_prepare(ew_passes *p) {
     int np;
-    const ew_pass *passes = pass_list(r, &np);
-    s->npass_items = 0;
+    const ew_pass *list = pass_list(p, &np);
+    p->nitems = 0;
     for (int i = 0; i < np; i++) {
-        int n = passes[i].prepare ? passes[i].prepare(r) : 0;
-        s->pass_items[i] = passes[i].work && n > 0 ? n : 0;
-        s->npass_items += s->pass_items[i];
+        int n = !list[i].whole_frame && list[i].prepare ? list[i].prepare(&p->ctx) : 0;
+        p->items[i] = list[i].work && n > 0 ? n : 0;
+        p->nitems += p->items[i];
     }
-    atomic_store(&s->next_item, 0);
+    atomic_store(&p->next_item, 0);
 }
 
-void ew_passes_work(ew_renderer *r) {
-    ew_sched *s = &r->sched;
+void ew_passes_work(ew_passes *p) {
     int np;
-    const ew_pass *passes = pass_list(r, &np);
+    const ew_pass *list = pass_list(p, &np);
     (void)np;
-    for (int k; (k = atomic_fetch_add(&s->next_item, 1)) < s->npass_items;) {
+    for (int k; (k = atomic_fetch_add(&p->next_item, 1)) < p->nitems;) {
         int i = 0;
-        while (k >= s->pass_items[i]) k -= s->pass_items[i++];
-        passes[i].work(r, k);
+        while (k >= p->items[i]) k -= p->items[i++];
+        list[i].work(&p->ctx, k);
     }
 }
 
-int ew_pass_count(const ew_renderer *r) {
-    int np;
-    pass_list(r, &np);
-    return np;
-}
-const char *ew_pass_name(const ew_renderer *r, int i) {
-    int np;
-    return pass_list(r, &np)[i].name;
-}
-void ew_pass_draw(ew_renderer *r, const ew_rows *rows, int i) {
-    int np;
-    pass_list(r, &np)[i].draw(r, rows);
+/* Overdraw: each pass over the world (fog aside) counted where it changed
+ * a pixel. */
+static void draw_counted(const ew_passes *p, const ew_pass *list, int np, const ew_band *b, const ew_rows *rows) {
+    const ew_pass_ctx *c = &p->ctx;
+    const ew_target *t = &c->f->target;
+    ew_debug_count_spans(c->dbg, t, b, rows);
+    for (int i = 0; i < np; i++) {
+        if (list[i].whole_frame || strcmp(list[i].name, "fog") == 0) continue;
+        ew_debug_snap(c->dbg, t, rows);
+        list[i].draw(c, rows);
+        ew_debug_count_changes(c->dbg, t, rows);
+    }
+    ew_debug_paint_heat(c->dbg, t, rows);
 }
 
-void ew_passes_draw(ew_renderer *r, const ew_rows *rows) {
+void ew_passes_draw(const ew_passes *p, const ew_band *b, const ew_rows *rows) {
     int np;
-    const ew_pass *passes = pass_list(r, &np);
-    for (int i = 0; i < np; i++) passes[i].draw(r, rows);
+    const ew_pass *list = pass_list(p, &np);
+    switch (p->ctx.dbg->mode) {
+    case EW_DEBUG_SPANS:
+        return;  /* the spans alone */
+    case EW_DEBUG_OVERDRAW:
+        draw_counted(p, list, np, b, rows);
+        return;
+    default:
+        break;
+    }
+    for (int i = 0; i < np; i++)
+        if (!list[i].whole_frame) list[i].draw(&p->ctx, rows);
+    if (p->ctx.dbg->mode == EW_DEBUG_EDGES) ew_debug_edges(p->ctx.r, rows);
+}
+
+int ew_passes_after_begin(ew_passes *p) {
+    int np;
+    const ew_pass *list = pass_list(p, &np);
+    p->nafter = 0;
+    for (int i = 0; i < np; i++)
+        if (list[i].whole_frame && list[i].prepare(&p->ctx)) p->after[p->nafter++] = i;
+    return p->nafter;
+}
+
+void ew_passes_after(const ew_passes *p, const ew_rows *rows) {
+    int np;
+    const ew_pass *list = pass_list(p, &np);
+    (void)np;
+    for (int k = 0; k < p->nafter; k++) list[p->after[k]].draw(&p->ctx, rows);
 }

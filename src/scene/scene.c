@@ -1,9 +1,8 @@
 /* Scenes: the entities of a map (or of a program) drawn over its world.
  * Models are loaded once per scene and shared by the entities using them. */
-#include "scene.h"
+#include "asset/scene.h"
 #include "asset/entity_lump.h"
 #include "asset/worldspawn.h"
-#include "renderer.h"
 #include "ew_util.h"
 #include "raster/alias.h"
 
@@ -363,14 +362,4 @@ ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const cha
     ew_fs_destroy(fs);
     ew_entities_free(&ents);
     return s;
-}
-
-void ew_set_scene(ew_renderer *r, const ew_scene *s) {
-    ew_free_box_surfs(r);  /* they belong to the old scene's models */
-    r->ents.scene = s;
-    int need = s ? s->nents : 0;
-    if (need > r->ents.max_ent_views) {
-        ew_view *v = realloc(r->ents.ent_views, sizeof *v * (size_t)need);
-        if (v) r->ents.ent_views = v, r->ents.max_ent_views = need;
-    }
 }

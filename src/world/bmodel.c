@@ -5,7 +5,7 @@
  * the BSP key of their leaf, so they sort against the world in BSP order
  * and, within one leaf, against each other by 1/z (see hsr/edge_scan.c). */
 #include "renderer.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -4,7 +4,7 @@
  * draw.  Brush entities are not here: they went into the world. */
 #include "renderer.h"
 #include "raster/alias.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <stdlib.h>
 

@@ -63,7 +63,7 @@
 #include "ew_util.h"
 #include "world/edge_math.h"
 #include "world/occlude.h"
-#include "scene/scene.h"
+#include "asset/scene.h"
 
 #include <limits.h>
 #include <sched.h>

@@ -1,8 +1,12 @@
-/* A scene: the moving things drawn over a world (internal). */
-#ifndef EW_SCENE_H
-#define EW_SCENE_H
+/* A scene: the moving things drawn over a world (internal).  Its types sit
+ * here, below the stages that read a scene (world/, light/, raster/);
+ * scene/scene.c loads and builds scenes. */
+#ifndef EW_ASSET_SCENE_H
+#define EW_ASSET_SCENE_H
 
 #include "ew_world.h"
+
+#include <stdint.h>
 
 enum { EW_MODEL_ALIAS = 1, EW_MODEL_SPRITE, EW_MODEL_BOX };
 
@@ -31,6 +35,11 @@ typedef struct ew_dlight {
 } ew_dlight;
 
 #define EW_MAX_DLIGHTS 32
+
+typedef struct ew_particle {
+    float   org[3];
+    uint8_t color;   /* palette index */
+} ew_particle;
 
 struct ew_scene {
     const ew_world  *world;

@@ -1,5 +1,5 @@
-/* Blend, fog and tint tables for 8-bit frames (raster/blend.h). */
-#include "raster/blend.h"
+/* Blend, fog and tint tables for 8-bit frames (light/blend.h). */
+#include "light/blend.h"
 
 #include <limits.h>
 #include <math.h>
