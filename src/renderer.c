@@ -13,6 +13,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+static void front_face(void *ctx, int fi, int clipflags, int key);
+static void front_poly(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key);
+static void front_see(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind, float alpha);
+static void front_entity_light(void *ctx, const float origin[3], ew_ent_frame *ef);
+
 #define EW_MIN_W 320
 #define EW_MIN_H 200
 #define EW_MAX_W 7680
@@ -147,7 +152,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->zf.draw = r->lit.surf_draw;
     ew_fog_levels(&r->draw.fog);
     if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
-    if (ew_occ_init(&r->occ, width, height) < 0) goto oom;
+    if (ew_front_init(&r->front, &r->f, &r->marks, &r->el, width, height) < 0) goto oom;
+    r->front.out = (ew_front_out){r, 0, 0, front_face, front_poly, front_see, front_entity_light};
     if (ew_set_threads(r, d.threads) < 0) goto oom;
     /* The cache holds many frames' worth of surfaces at this size, so a
      * walk through a level rebuilds little (16 bytes a pixel, 16..512 MiB),
@@ -244,8 +250,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->see.polys), free(r->see.order), free(r->warp_copy);
     ew_blend_free(&r->blend);
     ew_debug_free(r);
-    ew_front_par_free(r->fpar);
-    ew_occ_free(&r->occ);
+    ew_front_free(&r->front);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
     free(r->ents.box_frame), free(r->ents.box_faces), free(r->ents.box_list);
     ew_sprite_cache_free(r->ents.sprite_cache);
@@ -300,7 +305,7 @@ void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
 void ew_set_hide_occluded(ew_renderer *r, int on) { r->f.cfg.hide_occluded = on != 0; }
 void ew_set_front_mode(ew_renderer *r, ew_front_mode mode) { r->f.cfg.front_phases = mode == EW_FRONT_PHASES; }
 void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode) {
-    r->occ.mode = mode == EW_OCCLUSION_OFF || mode == EW_OCCLUSION_ALWAYS ? mode : EW_OCCLUSION_AUTO;
+    r->front.occ.mode = mode == EW_OCCLUSION_OFF || mode == EW_OCCLUSION_ALWAYS ? mode : EW_OCCLUSION_AUTO;
 }
 const int *ew_frame_face_ids(const ew_renderer *r) { return r->f.face_ids; }
 
@@ -399,6 +404,42 @@ static int coloured_dlights(const struct ew_scene *sc) {
     return 0;
 }
 
+/* The front end's way up (world/front.h's ew_front_out): the method's
+ * faces and polygons, the see-through pass, an entity's light. */
+void ew_emit_face(ew_renderer *r, int fi, int clipflags, int key) { ew_front_face(&r->front, fi, clipflags, key); }
+void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
+    ew_front_poly(&r->front, verts, n, fi, v, key);
+}
+static void front_face(void *ctx, int fi, int clipflags, int key) {
+    ew_renderer *r = ctx;
+    r->f.cfg.hsr->face(r, fi, clipflags, key);
+}
+static void front_poly(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
+    ew_renderer *r = ctx;
+    r->f.cfg.hsr->poly(r, verts, n, fi, v, key);
+}
+static void front_see(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind, float alpha) {
+    ew_see_add(ctx, verts, n, fi, v, key, kind, alpha);
+}
+static void front_entity_light(void *ctx, const float origin[3], ew_ent_frame *ef) {
+    const ew_renderer *r = ctx;
+    ew_model_light(r, origin, &ef->ambient, &ef->shade);
+    ef->tinted = ew_model_tint(r, origin, ef->tint);
+}
+
+/* This frame's inputs of the front end: what the method takes, the
+ * threads, the scene and room for its entities' answers. */
+static void front_inputs(ew_renderer *r) {
+    ew_front *fr = &r->front;
+    const ew_hsr *h = r->f.cfg.hsr;
+    fr->out.edge_list = h->face == ew_emit_face && h->poly == ew_emit_poly;
+    fr->out.fences = h->fences;
+    fr->pool = r->sched.pool, fr->nthreads = r->sched.nthreads, fr->profile_rows = r->sched.profile_rows;
+    fr->scene = r->ents.scene;
+    fr->ent_views = r->ents.ent_views, fr->max_ent_views = r->ents.max_ent_views;
+    fr->ent_frame = r->ents.scene && ew_reserve_entities(r) == 0 ? r->ents.ent_frame : NULL;
+}
+
 /* Starts a frame: new frame number (resetting the marks if it wraps), view,
  * the span drawers' tables, the hidden-surface method, the PVS. */
 int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
@@ -433,12 +474,21 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->draw.tp_faces = r->lit.tp_faces;
     r->f.cfg.hsr->begin(r);
     r->see.n = 0;
-    r->f.eye_contents = r->f.world->leaves[ew_pvs_mark(r)].contents;
+    front_inputs(r);
+    /* The PVS of the eye's leaf, or of the leaf the lock kept (ew_set_pvs_lock). */
+    int eye = ew_point_leaf(w, w->models[0].headnode, r->f.view.origin), leaf = eye;
+    r->dbg.last_leaf = eye;
+    if (r->dbg.pvs_lock) {
+        if (r->dbg.pvs_leaf < 0) r->dbg.pvs_leaf = eye;
+        leaf = r->dbg.pvs_leaf;
+    }
+    ew_pvs_mark(&r->front, leaf);
+    r->f.eye_contents = w->leaves[eye].contents;
     /* Faces nearer faces hide are left out of the edge method's list only
      * (the others it feeds count and draw every face), in auto where the
      * PVS lets many leaves through (world/occlude.c). */
-    ew_occ_begin(&r->occ, r->f.cfg.hsr == &ew_hsr_edge &&
-                              (r->occ.mode == EW_OCCLUSION_ALWAYS || r->marks.nvis >= EW_OCC_AUTO_LEAVES));
+    ew_occ_begin(&r->front.occ, r->f.cfg.hsr == &ew_hsr_edge && (r->front.occ.mode == EW_OCCLUSION_ALWAYS ||
+                                                                  r->marks.nvis >= EW_OCC_AUTO_LEAVES));
     return 0;
 }
 
@@ -768,11 +818,11 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
      * band placement) are counted in ms_serial by their own clocks. */
     front_tail_arg ft = {r, 0, 0};
     double tw = ew_now_ms(), serial_in_run = 0, front_serial[2] = {0, 0};
-    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, front_serial) < 0) {
-        ew_pvs_finish(r);
-        ew_walk_world(r);
+    if (ew_walk_world_parallel(&r->front, r->f.cfg.front_phases, front_tail, &ft, job_scan, r, front_serial) < 0) {
+        ew_pvs_finish(&r->front);
+        ew_walk_world(&r->front);
         double tb = ew_now_ms();
-        ew_walk_brush_models(r);
+        ew_walk_brush_models(&r->front);
         front_tail(&ft);
         serial_lap(r, &sc);
         ew_pool_run(r->sched.pool, job_scan, r);

@@ -82,7 +82,6 @@ typedef struct ew_ents {
     const struct ew_scene *scene;               /* or NULL */
     ew_view      *ent_views;  int max_ent_views; /* camera in each brush entity's space */
     ew_ent_frame *ent_frame;  int nent_frame, max_ent_frame;
-    int           tested_frame;                 /* frame whose entities were tested in the front end */
     ew_box_surfs **box_surfs; int nbox_surfs;   /* per scene model: item box surfaces, or NULL */
     /* item boxes projected once a frame for every piece of the draw
      * (raster/models.c): per entity its frame, the faces to fill of all of
@@ -106,7 +105,6 @@ void ew_sprite_cache_free(struct ew_sprite_cache *c);
 /* See-through polygons of this frame (world/divert.c collects them from the
  * front end, raster/seethrough.c draws them): fences first, then the
  * translucent ones back to front. */
-enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
 typedef struct ew_see_poly {
     ew_zpoly       p;           /* clipped and projected */
     ew_zpoly_look  look;        /* its texels and how it is drawn */
@@ -145,9 +143,7 @@ struct ew_renderer {
     int         warp_rgb[3], warp_amount;        /* true colour: the tint itself */
     ew_sched    sched;
     ew_debug    dbg;                             /* debug modes (raster/debug.c) */
-    struct ew_front_par *fpar;                   /* the parallel front end's lists (world/front_par.c), or NULL */
-    int         fpar_bad;                        /* its plan failed (an irregular tree): the serial front end */
-    ew_occlusion occ;                            /* faces nearer faces hide (world/occlude.c) */
+    ew_front    front;                           /* the front end (world/front.h) */
 };
 
 /* output/gamma.c: the table of a channel through gamma g (out = 255 *

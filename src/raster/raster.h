@@ -24,9 +24,7 @@ typedef struct ew_gradients {
  * face's own space) at a mip level. */
 void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
                        ew_gradients *g);
-/* Its 1/z plane alone (the gradients' zi_u, zi_v, zi_0): 1/z = out[0] u +
- * out[1] v + out[2]. */
-void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]);
+/* Its 1/z plane alone is ew_face_zplane (world/view.h). */
 
 /* How one surface's spans are drawn this frame (set before the bands draw). */
 enum { EW_DRAW_BACKGROUND, EW_DRAW_LIT, EW_DRAW_SKY, EW_DRAW_TURB, EW_DRAW_FLAT, EW_DRAW_DEBUG,

@@ -95,3 +95,28 @@ void ew_draw_fences(ew_renderer *r, const ew_rows *rows) {
 void ew_draw_translucent(ew_renderer *r, const ew_rows *rows) {
     draw_range(r, rows, r->see.nfences, r->see.n_drawn, &rows->stats->translucent_pixels);
 }
+
+/* The front end's see-through faces and fragments (world/divert.c decides
+ * which), clipped and projected. */
+void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind,
+                float alpha) {
+    ew_see *see = &r->see;
+    if (see->n == see->cap) {
+        int cap = see->cap ? see->cap * 2 : 64;
+        if (cap > r->el.max_surfs) {  /* the same budget as the edge list's */
+            r->f.stats.dropped++;
+            return;
+        }
+        ew_see_poly *p = realloc(see->polys, sizeof *p * (size_t)cap);
+        if (!p) {
+            r->f.stats.dropped++;
+            return;
+        }
+        see->polys = p, see->cap = cap;
+    }
+    ew_see_poly *sp = &see->polys[see->n];
+    if (!ew_zpoly_project(&r->f.view, verts, n, &sp->p)) return;  /* outside the frustum */
+    sp->face = fi, sp->key = key, sp->kind = kind, sp->alpha = alpha;
+    sp->look = (ew_zpoly_look){r->f.world, &r->f.world->faces[fi], v, NULL, NULL, 0, 0, 1, EW_ZP_OPAQUE, NULL, 256};
+    see->n++;
+}

@@ -38,6 +38,14 @@ void        ew_pass_draw(ew_renderer *r, const ew_rows *rows, int i);
  * boxes projected, once for every piece of the draw. */
 void ew_draw_models(ew_renderer *r, const ew_rows *rows);
 void ew_models_work(ew_renderer *r, int item);
+/* raster/models_prepare.c: the models' pass prepared (serial): the
+ * entities the front end let through (tested here unless its phases did,
+ * world/entities.c), their poses' and item boxes' room; returns how many
+ * alias models are left to pose and item boxes to project (ew_models_work).
+ * Out of memory: no entities (counted in dropped).  ew_reserve_entities
+ * sizes ents.ent_frame for the scene (-1 out of memory). */
+int  ew_prepare_entities(ew_renderer *r);
+int  ew_reserve_entities(ew_renderer *r);
 
 /* raster/seethrough.c: fence textures (alpha-tested, z-written), then
  * translucent surfaces (blended far to near, no z), as the front end
@@ -45,6 +53,10 @@ void ew_models_work(ew_renderer *r, int item);
 int  ew_see_prepare(ew_renderer *r);
 void ew_draw_fences(ew_renderer *r, const ew_rows *rows);
 void ew_draw_translucent(ew_renderer *r, const ew_rows *rows);
+/* Adds face fi's world-space polygon (seen through v, the camera in the
+ * face's space) to the see-through list with its BSP key (the front end's
+ * ew_front_out.see). */
+void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind, float alpha);
 
 /* raster/fog.c: fog over what is opaque by its depth (the translucent
  * surfaces fog their own texels as they blend). */
