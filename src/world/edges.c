@@ -8,13 +8,11 @@
 
 typedef ew_proj proj;
 
-/* Adds the edge a->b for surface s; returns its index, or -1 if it crosses
- * no scanline centre (horizontal or too short) and so never bounds a span. */
-static inline int add_edge(ew_front *fr, const proj *a, const proj *b, int s) {
-    ew_edge_list *el = fr->el;
-    ew_edge spill, *e = el->nedges < el->max_edges ? &el->edges[el->nedges] : &spill;
-    if (!ew_face_setup_edge(a, b, e)) return -1;
-    return ew_face_link_edge(fr, e == &spill, b->v > a->v, s);
+/* Adds the edge a->b of surface s on world edge se (or EW_FACE_CLIP_EDGE),
+ * set up in its slot of the list. */
+static inline void add_edge(ew_front *fr, int32_t se, const proj *a, const proj *b, int s) {
+    ew_edge spill, *e = ew_face_edge_slot(fr, &spill);
+    ew_face_add_edge(fr, se, e, ew_face_setup_edge(a, b, e), b->v > a->v, s);
 }
 
 /* World vertex vi projected, once a frame: most are corners of three or
@@ -68,14 +66,11 @@ void ew_front_face(ew_front *fr, int fi, int clipflags, int key) {
     for (int i = 0; i < m; i++) {
         int j = i + 1 == m ? 0 : i + 1;
         int32_t se = ew_face_world_edge(w, f, clipflags, tout, i);
-        float zi;
-        if (se != EW_FACE_CLIP_EDGE && ew_edge_cache_take(fr, se, s, &zi)) {
-            /* the face on its other side added it */
-        } else {
+        float zi;  /* the face on its other side added it, or: */
+        if (se == EW_FACE_CLIP_EDGE || !ew_edge_cache_take(fr, se, s, &zi)) {
             if (!valid[i]) project_point(fr, f, cl, clipflags, i, &pj[i]), valid[i] = 1;
             if (!valid[j]) project_point(fr, f, cl, clipflags, j, &pj[j]), valid[j] = 1;
-            int idx = add_edge(fr, &pj[i], &pj[j], s);
-            if (se != EW_FACE_CLIP_EDGE) ew_edge_cache_note(fr, se, idx, pj[j].v > pj[i].v);
+            add_edge(fr, se, &pj[i], &pj[j], s);
             zi = pj[i].zi > pj[j].zi ? pj[i].zi : pj[j].zi;
         }
         if (zi > nearzi) nearzi = zi;
@@ -93,7 +88,7 @@ void ew_front_poly(ew_front *fr, float (*verts)[3], int n, int fi, const ew_view
     int m = ew_poly_project(&fr->f->view, verts, n, pj, &nearzi);
     if (m < 3) return;
     int s = fr->el->nsurfs;
-    for (int i = 0; i < m; i++) add_edge(fr, &pj[i], &pj[i + 1 == m ? 0 : i + 1], s);
+    for (int i = 0; i < m; i++) add_edge(fr, EW_FACE_CLIP_EDGE, &pj[i], &pj[i + 1 == m ? 0 : i + 1], s);
     ew_surf_set_fragment(fr->f->world, &fr->el->surfs[s], fi, key, nearzi, v);
     fr->el->nsurfs++;
 }

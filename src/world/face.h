@@ -91,4 +91,28 @@ static inline int ew_face_link_edge(ew_front *fr, int full, int down, int s) {
     return ew_edge_link(fr->el, down, s);
 }
 
+/* Where to set up the list's next edge: its own slot, or *spill if the
+ * list is full (ew_face_add_edge then counts it dropped). */
+static inline ew_edge *ew_face_edge_slot(ew_front *fr, ew_edge *spill) {
+    ew_edge_list *el = fr->el;
+    return el->nedges < el->max_edges ? &el->edges[el->nedges] : spill;
+}
+
+/* Edge e of surface s (set up; crosses: it crosses a scanline centre;
+ * down: it goes down the screen), on world edge se or made by the clip
+ * (EW_FACE_CLIP_EDGE), into the list if it crosses one, and a world edge
+ * noted in the edge cache for the face on its other side (which then takes
+ * its free side, ew_edge_cache_take).  Its index, or -1. */
+static inline int ew_face_add_edge(ew_front *fr, int32_t se, const ew_edge *e, int crosses, int down, int s) {
+    ew_edge_list *el = fr->el;
+    int idx = -1;
+    if (crosses) {
+        int full = el->nedges >= el->max_edges;
+        if (!full && e != &el->edges[el->nedges]) el->edges[el->nedges] = *e;
+        idx = ew_face_link_edge(fr, full, down, s);
+    }
+    if (se != EW_FACE_CLIP_EDGE) ew_edge_cache_note(fr, se, idx, down);
+    return idx;
+}
+
 #endif

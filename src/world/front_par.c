@@ -805,14 +805,6 @@ static void split_brush(ew_front *fr, struct ew_front_par *fp, int i, int thread
  * phase 4 handed them to the list itself. */
 static int staged_chunks(const struct ew_front_par *fp) { return fp->direct ? 0 : fp->nchunks; }
 
-static int add_prepared(ew_front *fr, const pedge *p, int s) {
-    if (!p->crosses) return -1;
-    ew_edge_list *el = fr->el;
-    int full = el->nedges >= el->max_edges;
-    if (!full) el->edges[el->nedges] = p->e;
-    return ew_face_link_edge(fr, full, p->down, s);
-}
-
 /* ew_front_face's decisions (world/face.h) one face at a time, with its
  * limits, on the prepared face. */
 static void merge_face(ew_front *fr, const pface *pf, const pedge *pe, int hidden) {
@@ -824,10 +816,8 @@ static void merge_face(ew_front *fr, const pface *pf, const pedge *pe, int hidde
     for (int k = 0; k < pf->m; k++) {
         const pedge *p = &pe[k];
         float zi = p->e.nearzi;
-        if (p->se == PE_CLIP)
-            add_prepared(fr, p, s);
-        else if (!ew_edge_cache_take(fr, p->se, s, &zi))
-            ew_edge_cache_note(fr, p->se, add_prepared(fr, p, s), p->down);
+        if (p->se == PE_CLIP || !ew_edge_cache_take(fr, p->se, s, &zi))
+            ew_face_add_edge(fr, p->se, &p->e, p->crosses, p->down, s);
         if (zi > nearzi) nearzi = zi;
     }
     ew_surf_add_world(fr, pf->face, pf->key, nearzi);
