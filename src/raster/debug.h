@@ -4,10 +4,10 @@
  *   renderer.c   job_draw: spans drawn by ew_debug_spans, the passes by
  *                ew_debug_passes (overdraw counts, edges drawn over);
  *                prepare_surfaces: built surfaces become EW_DRAW_DEBUG;
- *                ew_render: no underwater warp in the structure modes
+ *                ew_render: no underwater warp in the structure modes;
+ *                ew_frame_begin: the locked leaf's PVS (ew_pvs_mark)
  *   light/surface.c  ew_build_surface: flat grey texture, mip tints;
- *                gather: normal light everywhere
- *   world/pvs.c  ew_pvs_mark: the locked leaf's PVS */
+ *                gather: normal light everywhere */
 #ifndef EW_RASTER_DEBUG_H
 #define EW_RASTER_DEBUG_H
 

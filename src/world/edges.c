@@ -33,6 +33,21 @@ static inline void project_point(ew_front *fr, const ew_face *f, float (*cl)[3],
     else project_vertex(fr, ew_face_vertex(fr->f->world, f, i), out);
 }
 
+/* Edge i -> j of the clipped face for surface s, on world edge se (or
+ * EW_FACE_CLIP_EDGE): taken from the face on its other side if that one
+ * added it, else its ends projected (as far as not yet) and the edge
+ * added.  Its nearer 1/z. */
+__attribute__((always_inline))  /* in both loops of ew_front_face, the first with no clip */
+static inline float emit_edge(ew_front *fr, const ew_face *f, float (*cl)[3], int clipflags, int32_t se, int i, int j,
+                              proj *pj, int *valid, int s) {
+    float zi;
+    if (se != EW_FACE_CLIP_EDGE && ew_edge_cache_take(fr, se, s, &zi)) return zi;
+    if (!valid[i]) project_point(fr, f, cl, clipflags, i, &pj[i]), valid[i] = 1;
+    if (!valid[j]) project_point(fr, f, cl, clipflags, j, &pj[j]), valid[j] = 1;
+    add_edge(fr, se, &pj[i], &pj[j], s);
+    return pj[i].zi > pj[j].zi ? pj[i].zi : pj[j].zi;
+}
+
 void ew_front_face(ew_front *fr, int fi, int clipflags, int key) {
     const ew_world *w = fr->f->world;
     const ew_face *f = &w->faces[fi];
@@ -63,17 +78,18 @@ void ew_front_face(ew_front *fr, int fi, int clipflags, int key) {
     }
     if (!ew_face_counted(&fr->f->stats, ew_face_verdict(0, full, m, hidden))) return;
 
-    for (int i = 0; i < m; i++) {
-        int j = i + 1 == m ? 0 : i + 1;
-        int32_t se = ew_face_world_edge(w, f, clipflags, tout, i);
-        float zi;  /* the face on its other side added it, or: */
-        if (se == EW_FACE_CLIP_EDGE || !ew_edge_cache_take(fr, se, s, &zi)) {
-            if (!valid[i]) project_point(fr, f, cl, clipflags, i, &pj[i]), valid[i] = 1;
-            if (!valid[j]) project_point(fr, f, cl, clipflags, j, &pj[j]), valid[j] = 1;
-            add_edge(fr, se, &pj[i], &pj[j], s);
-            zi = pj[i].zi > pj[j].zi ? pj[i].zi : pj[j].zi;
+    if (clipflags == 0) {
+        /* Wholly inside the frustum (most faces): every edge is a whole world edge. */
+        for (int i = 0; i < n; i++) {
+            float zi = emit_edge(fr, f, NULL, 0, w->surfedges[f->firstedge + i], i, i + 1 == n ? 0 : i + 1, pj, valid, s);
+            if (zi > nearzi) nearzi = zi;
         }
-        if (zi > nearzi) nearzi = zi;
+    } else {
+        for (int i = 0; i < m; i++) {
+            float zi = emit_edge(fr, f, cl, clipflags, ew_face_world_edge(w, f, clipflags, tout, i), i,
+                                 i + 1 == m ? 0 : i + 1, pj, valid, s);
+            if (zi > nearzi) nearzi = zi;
+        }
     }
     ew_surf_add_world(fr, fi, key, nearzi);
 }

@@ -67,9 +67,10 @@ static inline int ew_face_verdict(int too_big, int full, int m, int hidden) {
 }
 /* The verdict counted; 1 if the face is added. */
 static inline int ew_face_counted(ew_stats *st, int verdict) {
-    st->dropped += verdict == EW_FACE_DROPPED;
-    st->faces_occluded += verdict == EW_FACE_OCCLUDED;
-    return verdict == EW_FACE_ADDED;
+    if (verdict == EW_FACE_ADDED) return 1;
+    if (verdict == EW_FACE_DROPPED) st->dropped++;
+    else if (verdict == EW_FACE_OCCLUDED) st->faces_occluded++;
+    return 0;
 }
 
 /* The edge a->b set up (position and nearer 1/z); 0 if it crosses no

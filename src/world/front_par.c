@@ -1,6 +1,7 @@
 /* The front end on every thread of the pool, for the methods whose faces go
- * through ew_front_face (the edge list and those that share its front end),
- * making exactly the edge list the one-thread walk makes.
+ * through ew_front_face (ew_front_out.edge_list: the edge list and those
+ * that share its front end), making exactly the edge list the one-thread
+ * walk makes: the second schedule of the one front end.
  *
  * The plan (once per world).  The nodes whose subtree is small are cut off
  * the top of the tree: each such subtree (a "root") is walked as one task,
@@ -43,8 +44,9 @@
  *   - (calling thread) the per-scanline lists of new edges linked in edge
  *     order, then tail(arg) (the bands placed);
  *   then(then_ctx, thread) on every thread: the scan.
- * The decisions are the one-thread emission's, made on the same numbers
- * (world/edge_math.h computes both), so the edge list, and every span and
+ * The decisions are the one-thread emission's, by the same rules
+ * (world/face.h: the clip, the budgets, the verdict on a face, adding an
+ * edge; world/edge_math.h: the numbers), so the edge list, and every span and
  * pixel after it, are the same for any thread count.  If the edge list
  * would overflow, the prepared faces are merged one at a time as the
  * one-thread emission does, which is where its limits apply.
