@@ -204,4 +204,9 @@ static inline void ew_rgba_split(uint32_t v, int rgb[3]) {
     rgb[0] = px[0], rgb[1] = px[1], rgb[2] = px[2];
 }
 
+/* What the front end makes of a face that is not plain opaque wall: the
+ * hidden-surface method's (opaque), a fence (alpha-tested) or blended
+ * (translucent); world/divert.c decides, raster/seethrough.c draws. */
+enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
+
 #endif

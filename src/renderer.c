@@ -14,6 +14,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+static void front_face(void *ctx, int fi, int clipflags, int key);
+static void front_poly(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key);
+static void front_see(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind, float alpha);
+static void front_entity_light(void *ctx, const float origin[3], ew_ent_frame *ef);
+
 #define EW_MIN_W 320
 #define EW_MIN_H 200
 #define EW_MAX_W 7680
@@ -21,18 +26,24 @@
 
 /* ---- what the hidden-surface method sees of the frame (hsr/hsr.h) ---- */
 
-static void hsr_emit_face(void *owner, int face, int clipflags, int key) { ew_emit_face(owner, face, clipflags, key); }
+/* The edge list's own face and polygon (world/edges.c), which the edge
+ * list's methods emit. */
+static void hsr_emit_face(void *owner, int face, int clipflags, int key) {
+    ew_renderer *r = owner;
+    ew_front_face(&r->front, face, clipflags, key);
+}
 static void hsr_emit_poly(void *owner, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
-    ew_emit_poly(owner, verts, n, fi, v, key);
+    ew_renderer *r = owner;
+    ew_front_poly(&r->front, verts, n, fi, v, key);
 }
 /* A lit surface looked up, and built at once if new (the reference's
  * polygons and see-through surfaces: serial). */
 static const uint8_t *hsr_lit_surface(void *owner, int face, int mip, int *width) {
     ew_renderer *r = owner;
     int build;
-    ew_cached_surf *e = ew_cache_lookup(r, face, mip, &build);
+    ew_cached_surf *e = ew_lit_lookup(&r->lit, &r->f, face, mip, &build);
     if (!e) return NULL;
-    if (build) ew_cache_build(r, e, r->lit.blocklights);
+    if (build) ew_lit_build(&r->lit, &r->f, e, r->lit.blocklights);
     *width = e->width;
     return e->pixels;
 }
@@ -169,7 +180,8 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->zf.draw = r->lit.surf_draw;
     ew_fog_levels(&r->draw.fog);
     if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
-    if (ew_occ_init(&r->occ, width, height) < 0) goto oom;
+    if (ew_front_init(&r->front, &r->f, &r->marks, &r->el, width, height) < 0) goto oom;
+    r->front.out = (ew_front_out){r, 0, 0, front_face, front_poly, front_see, front_entity_light};
     if (ew_set_threads(r, d.threads) < 0) goto oom;
     ew_debug_init(&r->dbg, &r->f, &r->lit.curve);
     r->lit.marks = &r->marks, r->lit.blend = &r->blend, r->lit.dbg = &r->dbg;
@@ -177,6 +189,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->passes.ctx = (ew_pass_ctx){
         .f = &r->f, .r = r, .draw = &r->draw, .zf = &r->zf, .blend = &r->blend, .see = &r->see,
         .warp = &r->warp, .dbg = &r->dbg, .el = &r->el, .lit = &r->lit, .models = &r->models, .hsr = &r->hsr,
+        .front = &r->front,
     };
     hsr_ctx_setup(r);
     return r;
@@ -259,8 +272,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     ew_warp_free(&r->warp);
     ew_blend_free(&r->blend);
     ew_debug_free(&r->dbg);
-    ew_front_par_free(r->fpar);
-    ew_occ_free(&r->occ);
+    ew_front_free(&r->front);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
     free(r->ents.box_frame), free(r->ents.box_faces), free(r->ents.box_list);
     ew_sprite_cache_free(r->ents.sprite_cache);
@@ -312,7 +324,7 @@ void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
 void ew_set_hide_occluded(ew_renderer *r, int on) { r->f.cfg.hide_occluded = on != 0; }
 void ew_set_front_mode(ew_renderer *r, ew_front_mode mode) { r->f.cfg.front_phases = mode == EW_FRONT_PHASES; }
 void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode) {
-    r->occ.mode = mode == EW_OCCLUSION_OFF || mode == EW_OCCLUSION_ALWAYS ? mode : EW_OCCLUSION_AUTO;
+    r->front.occ.mode = mode == EW_OCCLUSION_OFF || mode == EW_OCCLUSION_ALWAYS ? mode : EW_OCCLUSION_AUTO;
 }
 const int *ew_frame_face_ids(const ew_renderer *r) { return r->f.face_ids; }
 
@@ -415,22 +427,7 @@ void ew_set_scene(ew_renderer *r, const ew_scene *s) {
     }
 }
 
-/* The stages' calls for callers that still hold the renderer (renderer.h). */
-ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build) {
-    return ew_lit_lookup(&r->lit, &r->f, face, mip, build);
-}
-void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch) { ew_lit_build(&r->lit, &r->f, e, scratch); }
-void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade) {
-    ew_light_model(&r->f, r->ents.scene, origin, ambient, shade);
-}
-int ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]) {
-    return ew_light_tint(&r->f, origin, tint);
-}
-int ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw) {
-    return ew_box_surfs_prepare(&r->ents.box_surfs, &r->ents.nbox_surfs, &r->lit, &r->f, mi, bw);
-}
-int ew_boxes_reserve(ew_renderer *r, int nents, int nfaces) { return ew_boxes_grow(&r->ents, nents, nfaces); }
-int ew_sprite_cache_reserve(ew_renderer *r, int n) { return ew_sprite_cache_grow(&r->ents.sprite_cache, &r->f, n); }
+/* The whole frame's rows of a model (the tests' calls, renderer.h). */
 int ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p) {
     ew_rows all = {0, r->f.target.height, &r->f.stats, 1};
     return ew_draw_alias_rows(&r->f, &r->zf, m, p, &all);
@@ -464,6 +461,39 @@ static int coloured_dlights(const struct ew_scene *sc) {
         if (sc->dlights[i].color[0] != sc->dlights[i].color[1] || sc->dlights[i].color[1] != sc->dlights[i].color[2])
             return 1;
     return 0;
+}
+
+/* The front end's way up (world/front.h's ew_front_out): the method's
+ * faces and polygons, the see-through pass, an entity's light. */
+static void front_face(void *ctx, int fi, int clipflags, int key) {
+    ew_renderer *r = ctx;
+    r->f.cfg.hsr->face(&r->hsr, fi, clipflags, key);
+}
+static void front_poly(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key) {
+    ew_renderer *r = ctx;
+    r->f.cfg.hsr->poly(&r->hsr, verts, n, fi, v, key);
+}
+static void front_see(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind, float alpha) {
+    ew_renderer *r = ctx;
+    ew_see_add(&r->see, &r->f, (int)r->el.max_surfs, verts, n, fi, v, key, kind, alpha);
+}
+static void front_entity_light(void *ctx, const float origin[3], ew_ent_frame *ef) {
+    const ew_renderer *r = ctx;
+    ew_light_model(&r->f, r->ents.scene, origin, &ef->ambient, &ef->shade);
+    ef->tinted = ew_light_tint(&r->f, origin, ef->tint);
+}
+
+/* This frame's inputs of the front end: what the method takes, the
+ * threads, the scene and room for its entities' answers. */
+static void front_inputs(ew_renderer *r) {
+    ew_front *fr = &r->front;
+    const ew_hsr *h = r->f.cfg.hsr;
+    fr->out.edge_list = (h->flags & EW_HSR_EDGE_LIST) != 0;
+    fr->out.fences = (h->flags & EW_HSR_FENCES) != 0;
+    fr->pool = r->sched.pool, fr->nthreads = r->sched.nthreads, fr->profile_rows = r->sched.profile_rows;
+    fr->scene = r->ents.scene;
+    fr->ent_views = r->ents.ent_views, fr->max_ent_views = r->ents.max_ent_views;
+    fr->ent_frame = r->ents.scene && ew_reserve_entities(&r->ents) == 0 ? r->ents.ent_frame : NULL;
 }
 
 /* Starts a frame: new frame number (resetting the marks if it wraps), view,
@@ -501,13 +531,21 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     hsr_ctx_setup(r);
     r->f.cfg.hsr->begin(&r->hsr);
     r->see.n = 0;
-    r->f.eye_contents = r->f.world->leaves[ew_pvs_mark(r)].contents;
-    /* Faces nearer faces hide are left out of the list only for a method
-     * whose frame that leaves the same (the others it feeds count and draw
-     * every face), in auto where the PVS lets many leaves through
-     * (world/occlude.c). */
-    ew_occ_begin(&r->occ, (r->f.cfg.hsr->flags & EW_HSR_OCCLUSION) &&
-                              (r->occ.mode == EW_OCCLUSION_ALWAYS || r->marks.nvis >= EW_OCC_AUTO_LEAVES));
+    front_inputs(r);
+    /* The PVS of the eye's leaf, or of the leaf the lock kept (ew_set_pvs_lock). */
+    int eye = ew_point_leaf(w, w->models[0].headnode, r->f.view.origin), leaf = eye;
+    r->dbg.last_leaf = eye;
+    if (r->dbg.pvs_lock) {
+        if (r->dbg.pvs_leaf < 0) r->dbg.pvs_leaf = eye;
+        leaf = r->dbg.pvs_leaf;
+    }
+    ew_pvs_mark(&r->front, leaf);
+    r->f.eye_contents = w->leaves[eye].contents;
+    /* Faces nearer faces hide are left out of the edge method's list only
+     * (the others it feeds count and draw every face), in auto where the
+     * PVS lets many leaves through (world/occlude.c). */
+    ew_occ_begin(&r->front.occ, (r->f.cfg.hsr->flags & EW_HSR_OCCLUSION) && (r->front.occ.mode == EW_OCCLUSION_ALWAYS ||
+                                                                  r->marks.nvis >= EW_OCC_AUTO_LEAVES));
     return 0;
 }
 
@@ -879,11 +917,11 @@ static void frame_stats(ew_renderer *r, const frame_clock *c) {
 static void front_end(ew_renderer *r, frame_clock *c) {
     front_tail_arg ft = {r, 0, 0};
     double tw = ew_now_ms(), front_serial[2] = {0, 0};
-    if (ew_walk_world_parallel(r, front_tail, &ft, job_scan, front_serial) < 0) {
-        ew_pvs_finish(r);
-        ew_walk_world(r);
+    if (ew_walk_world_parallel(&r->front, r->f.cfg.front_phases, front_tail, &ft, job_scan, r, front_serial) < 0) {
+        ew_pvs_finish(&r->front);
+        ew_walk_world(&r->front);
         double tb = ew_now_ms();
-        ew_walk_brush_models(r);
+        ew_walk_brush_models(&r->front);
         front_tail(&ft);
         serial_lap(r, c);
         ew_pool_run(r->sched.pool, job_scan, r);

@@ -78,9 +78,7 @@ struct ew_renderer {
     ew_passes   passes;                          /* what is drawn over the world, and after (scene/passes.c) */
     ew_sched    sched;
     ew_debug    dbg;                             /* debug modes (raster/debug.c) */
-    struct ew_front_par *fpar;                   /* the parallel front end's lists (world/front_par.c), or NULL */
-    int         fpar_bad;                        /* its plan failed (an irregular tree): the serial front end */
-    ew_occlusion occ;                            /* faces nearer faces hide (world/occlude.c) */
+    ew_front    front;                           /* the front end (world/front.h) */
 };
 
 /* bands.c: the frame's cost to draw per row (cost[0..height-1]; cost[height]
@@ -88,15 +86,6 @@ struct ew_renderer {
  * draw's items. */
 void ew_estimate_draw_costs(const ew_renderer *r, float *cost);
 
-/* renderer.c: the stages' calls as they were, for callers in world/ and
- * hsr/ that still hold the renderer (light/light.h has the stages' own). */
-ew_cached_surf *ew_cache_lookup(ew_renderer *r, int face, int mip, int *build);
-void ew_cache_build(const ew_renderer *r, ew_cached_surf *e, int *scratch);
-void ew_model_light(const ew_renderer *r, const float origin[3], int *ambient, int *shade);
-int  ew_model_tint(const ew_renderer *r, const float origin[3], int tint[3]);
-int  ew_prepare_box(ew_renderer *r, int mi, const ew_world *bw);
-int  ew_boxes_reserve(ew_renderer *r, int nents, int nfaces);
-int  ew_sprite_cache_reserve(ew_renderer *r, int n);
 /* The whole frame's rows (the tests' calls; raster/alias.h draws a band's). */
 int  ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p);
 int  ew_draw_sprite(ew_renderer *r, const ew_spr *s, const ew_model_pose *p);

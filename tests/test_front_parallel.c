@@ -114,14 +114,14 @@ static void check_limited(const char *map, const ew_assets *a, ew_scene *sc, con
         ew_stats st;
         CHECK(ew_render(one, &views[v], &st) == 0, "%s view %d", map, v);
         frame_sig want = sign_frame(one, &st);
-        CHECK(one->fpar == NULL, "one thread walks in one loop by default");
+        CHECK(one->front.par == NULL, "one thread walks in one loop by default");
         for (int t = 0; t < NT; t++) {
             ew_renderer *r = many[t];
             if (!r) continue;
             CHECK(ew_render(r, &views[v], &st) == 0, "%s view %d", map, v);
             frame_sig got = sign_frame(r, &st);
             frames++;
-            CHECK(r->fpar != NULL, "%d threads take the parallel front end", thread_counts[t]);
+            CHECK(r->front.par != NULL, "%d threads take the parallel front end", thread_counts[t]);
             if (want.nsurfs > 64) parallel_faces++;
             if (want.dropped > 0) fallback_frames++;
             const char *m = ew_hsr_name(hsr);
@@ -170,7 +170,7 @@ static void check_irregular(ew_assets *a, ew_scene *sc, const ew_camera *views, 
         frame_sig want = sign_frame(one, &st);
         CHECK(ew_render(two, &views[v], &st) == 0, "view %d", v);
         frame_sig got = sign_frame(two, &st);
-        CHECK(two->fpar == NULL && two->fpar_bad, "an irregular tree takes the serial front end");
+        CHECK(two->front.par == NULL && two->front.par_bad, "an irregular tree takes the serial front end");
         CHECK(got.edges == want.edges && got.pixels == want.pixels, "irregular tree, view %d: frames differ", v);
     }
     ew_renderer_destroy(one);

@@ -274,7 +274,6 @@ typedef struct ew_ents {
     const struct ew_scene *scene;               /* or NULL */
     ew_view      *ent_views;  int max_ent_views; /* camera in each brush entity's space */
     ew_ent_frame *ent_frame;  int nent_frame, max_ent_frame;
-    int           tested_frame;                 /* frame whose entities were tested in the front end */
     ew_box_surfs **box_surfs; int nbox_surfs;   /* per scene model: item box surfaces, or NULL */
     /* item boxes projected once a frame for every piece of the draw
      * (raster/models.c): per entity its frame, the faces to fill of all of
@@ -314,6 +313,16 @@ int  ew_boxes_grow(ew_ents *en, int nents, int nfaces);
  * visible alias models posed, then the item boxes projected, once for
  * every piece of the draw. */
 void ew_models_work(const ew_models *md, const ew_frame *fr, int item);
+/* raster/models_prepare.c: the models' pass prepared (serial): the
+ * entities the front end let through (tested here unless its phases did:
+ * world/entities.c), their poses' and item boxes' room, the item boxes'
+ * surfaces made current; returns how many alias models are left to pose
+ * and item boxes to project (ew_models_work).  Out of memory: no entities
+ * (counted in dropped).  ew_reserve_entities sizes ents->ent_frame for the
+ * scene (-1 out of memory). */
+struct ew_front;
+int  ew_prepare_entities(const ew_models *md, ew_lit *lit, ew_frame *f, struct ew_front *fr);
+int  ew_reserve_entities(ew_ents *en);
 void ew_draw_models(const ew_models *md, const ew_frame *fr, const ew_rows *rows);
 
 #endif

@@ -7,7 +7,7 @@
  *                edges drawn over); no underwater warp in the structure modes
  *   light/surface.c  ew_build_surface: flat grey texture, mip tints;
  *                gather: normal light everywhere
- *   world/pvs.c  ew_pvs_mark: the locked leaf's PVS */
+ *   renderer.c   ew_frame_begin: the locked leaf's PVS (ew_pvs_mark) */
 #ifndef EW_RASTER_DEBUG_H
 #define EW_RASTER_DEBUG_H
 

@@ -3,24 +3,9 @@
  * builds), read by the span drawers, the z-fill and the edge scan's 1/z
  * ties between brush-model fragments. */
 #include "raster/raster.h"
+#include "world/view.h"
 
 #include <math.h>
-
-void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]) {
-    const ew_plane *pl = &w->planes[f->plane];
-    float nx = 0, ny = 0, nz = 0, od = 0;
-    for (int k = 0; k < 3; k++) {
-        nx += pl->normal[k] * v->right[k];
-        ny += pl->normal[k] * v->up[k];
-        nz += pl->normal[k] * v->forward[k];
-        od += pl->normal[k] * v->origin[k];
-    }
-    float dist = pl->dist - od;  /* plane in view space: n.p = dist */
-    if (fabsf(dist) < 1e-3f) dist = dist < 0 ? -1e-3f : 1e-3f;
-    out[0] = nx / (v->xscale * dist);
-    out[1] = -ny / (v->yscale * dist);
-    out[2] = nz / dist - v->xcenter * out[0] - v->ycenter * out[1];
-}
 
 void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
                        ew_gradients *g) {

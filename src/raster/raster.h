@@ -25,9 +25,7 @@ typedef struct ew_gradients {
  * face's own space) at a mip level. */
 void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, int mip,
                        ew_gradients *g);
-/* Its 1/z plane alone (the gradients' zi_u, zi_v, zi_0): 1/z = out[0] u +
- * out[1] v + out[2]. */
-void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]);
+/* Its 1/z plane alone is ew_face_zplane (world/view.h). */
 
 /* How one surface's spans are drawn this frame (set before the bands draw). */
 enum { EW_DRAW_BACKGROUND, EW_DRAW_LIT, EW_DRAW_SKY, EW_DRAW_TURB, EW_DRAW_FLAT, EW_DRAW_DEBUG,
@@ -183,8 +181,7 @@ long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look 
 
 /* See-through polygons of this frame (world/divert.c collects them from the
  * front end, raster/seethrough.c draws them): fences first, then the
- * translucent ones back to front. */
-enum { EW_SEE_OPAQUE, EW_SEE_FENCE, EW_SEE_BLEND };
+ * translucent ones back to front.  kind: EW_SEE_* (frame.h). */
 typedef struct ew_see_poly {
     ew_zpoly       p;           /* clipped and projected */
     ew_zpoly_look  look;        /* its texels and how it is drawn */
@@ -204,6 +201,12 @@ struct ew_zfill;
  * collected them (world/divert.c). */
 struct ew_lit;
 void ew_see_prepare(ew_see *see, ew_frame *f, struct ew_lit *lit);
+/* Adds face fi's world-space polygon (seen through v, the camera in the
+ * face's space) to the see-through list with its BSP key, clipped and
+ * projected (the front end's ew_front_out.see); at most max_polys (the edge
+ * list's budget), the rest counted in dropped. */
+void ew_see_add(ew_see *see, ew_frame *f, int max_polys, float (*verts)[3], int n, int fi, const ew_view *v,
+                int key, int kind, float alpha);
 void ew_draw_fences(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, struct ew_zfill *zf,
                     const ew_rows *rows);
 void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx *draw, struct ew_zfill *zf,

@@ -96,3 +96,27 @@ void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx
                          const ew_rows *rows) {
     draw_range(see, f, draw, zf, rows, see->nfences, see->n_drawn, &rows->stats->translucent_pixels);
 }
+
+/* The front end's see-through faces and fragments (world/divert.c decides
+ * which), clipped and projected. */
+void ew_see_add(ew_see *see, ew_frame *f, int max_polys, float (*verts)[3], int n, int fi, const ew_view *v,
+                int key, int kind, float alpha) {
+    if (see->n == see->cap) {
+        int cap = see->cap ? see->cap * 2 : 64;
+        if (cap > max_polys) {  /* the same budget as the edge list's */
+            f->stats.dropped++;
+            return;
+        }
+        ew_see_poly *p = realloc(see->polys, sizeof *p * (size_t)cap);
+        if (!p) {
+            f->stats.dropped++;
+            return;
+        }
+        see->polys = p, see->cap = cap;
+    }
+    ew_see_poly *sp = &see->polys[see->n];
+    if (!ew_zpoly_project(&f->view, verts, n, &sp->p)) return;  /* outside the frustum */
+    sp->face = fi, sp->key = key, sp->kind = kind, sp->alpha = alpha;
+    sp->look = (ew_zpoly_look){f->world, &f->world->faces[fi], v, NULL, NULL, 0, 0, 1, EW_ZP_OPAQUE, NULL, 256};
+    see->n++;
+}

@@ -12,7 +12,7 @@
 
 /* ---- the entries: each stage given its parts ---- */
 
-static int models_prepare(const ew_pass_ctx *c) { return ew_prepare_entities(c->r); }
+static int models_prepare(const ew_pass_ctx *c) { return ew_prepare_entities(c->models, c->lit, c->f, c->front); }
 static void models_work(const ew_pass_ctx *c, int item) { ew_models_work(c->models, c->f, item); }
 static void models_draw(const ew_pass_ctx *c, const ew_rows *rows) { ew_draw_models(c->models, c->f, rows); }
 

@@ -37,6 +37,7 @@ typedef struct ew_pass_ctx {
     ew_lit            *lit;    /* the lit surfaces (see-through ones join the world's builds) */
     const ew_models   *models; /* the models pass's parts */
     struct ew_hsr_ctx *hsr;    /* the method's own compositing (the reference) */
+    struct ew_front   *front;  /* the entities' listing (world/entities.c) */
 } ew_pass_ctx;
 
 typedef struct ew_pass {

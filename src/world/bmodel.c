@@ -4,7 +4,7 @@
  * solid leaves vanish (so it cannot poke through walls), and the rest take
  * the BSP key of their leaf, so they sort against the world in BSP order
  * and, within one leaf, against each other by 1/z (see hsr/edge_scan.c). */
-#include "renderer.h"
+#include "world/front.h"
 #include "asset/scene.h"
 
 #include <math.h>
@@ -17,7 +17,7 @@
 #define MAX_SPLIT_DEPTH 512
 
 typedef struct split_ctx {
-    ew_renderer   *r;
+    const ew_front *fr;
     const ew_view *view;    /* camera in the model's own space */
     int            face;
     float          normal[3]; /* the face's outward normal in world space */
@@ -30,23 +30,23 @@ typedef struct split_ctx {
 } split_ctx;
 
 static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
-    ew_renderer *r = c->r;
-    const ew_world *w = r->f.world;
+    const ew_marks *mk = c->fr->marks;
+    const ew_world *w = c->fr->f->world;
     if (depth > MAX_SPLIT_DEPTH) {
         c->dropped++;
         return;
     }
     if (node < 0) {
         int li = -1 - node;
-        if (r->marks.leaf_keyframe[li] == r->marks.framecount && w->leaves[li].contents != EW_CONTENTS_SOLID) {
-            c->sink(c->sink_ctx, p, n, c->face, c->view, r->marks.leaf_key[li], c->kind, c->alpha);
+        if (mk->leaf_keyframe[li] == mk->framecount && w->leaves[li].contents != EW_CONTENTS_SOLID) {
+            c->sink(c->sink_ctx, p, n, c->face, c->view, mk->leaf_key[li], c->kind, c->alpha);
             c->handed++;
         }
         return;
     }
     /* No leaf of this frame's PVS below (ew_pvs_mark marks every node above
      * one): no leaf here was visited, so no fragment could be handed. */
-    if (r->marks.node_frame[node] != r->marks.framecount) return;
+    if (mk->node_frame[node] != mk->framecount) return;
     const ew_node *nd = &w->nodes[node];
     const ew_plane *pl = &w->planes[nd->plane];
     float d[EW_MAX_POLY];
@@ -86,29 +86,29 @@ static void split(split_ctx *c, float (*p)[3], int n, int node, int depth) {
 }
 
 /* Which brush entities are in the frustum, each with its camera (in
- * r->ents.ent_views) and axes; the others are counted in *culled. */
-int ew_brush_items(ew_renderer *r, ew_brush_item *items, int *culled) {
-    const struct ew_scene *sc = r->ents.scene;
+ * fr->ent_views) and axes; the others are counted in *culled. */
+int ew_brush_items(ew_front *fr, ew_brush_item *items, int *culled) {
+    const struct ew_scene *sc = fr->scene;
     *culled = 0;
     if (!sc) return 0;
-    const ew_world *w = r->f.world;
+    const ew_world *w = fr->f->world;
     int used = 0;
     for (int ei = 0; ei < sc->nents; ei++) {
         const ew_scene_entity *e = &sc->ents[ei];
         int sub = -1 - e->model;
-        if (e->model >= 0 || sub <= 0 || sub >= w->nummodels || used >= r->ents.max_ent_views) continue;
+        if (e->model >= 0 || sub <= 0 || sub >= w->nummodels || used >= fr->max_ent_views) continue;
         const ew_model *m = &w->models[sub];
         ew_brush_item *it = &items[used];
         ew_entity_axes(e->angles, it->ax);
         float lo[3], hi[3];
         ew_moved_box(it->ax, e->origin, m->mins, m->maxs, lo, hi);
-        if (ew_cull_box(&r->f.view, lo, hi, 15) < 0) {
+        if (ew_cull_box(&fr->f->view, lo, hi, 15) < 0) {
             (*culled)++;
             continue;
         }
         it->ent = ei;
-        it->mv = &r->ents.ent_views[used++];
-        ew_view_to_model(&r->f.view, it->ax, e->origin, it->mv);
+        it->mv = &fr->ent_views[used++];
+        ew_view_to_model(&fr->f->view, it->ax, e->origin, it->mv);
     }
     return used;
 }
@@ -155,9 +155,9 @@ static int start_node(const ew_world *w, const ew_model *m, const ew_scene_entit
 /* Every camera-facing face of one brush entity, moved into world space and
  * split down the world BSP; its fragments in visited leaves go to sink.
  * 1 if any did (the entity is drawn); *dropped counts what was lost. */
-int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, void *sink_ctx, int *dropped) {
-    const ew_world *w = r->f.world;
-    const ew_scene_entity *e = &r->ents.scene->ents[it->ent];
+int ew_brush_split(const ew_front *fr, const ew_brush_item *it, ew_frag_sink sink, void *sink_ctx, int *dropped) {
+    const ew_world *w = fr->f->world;
+    const ew_scene_entity *e = &fr->scene->ents[it->ent];
     const ew_model *m = &w->models[-1 - e->model];
     const ew_view *mv = it->mv;
     int drawn = 0, depth0, node0 = start_node(w, m, e, it->ax, &depth0);
@@ -172,7 +172,7 @@ int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, v
         if ((back && dist >= 0) || (!back && dist <= 0)) continue;  /* faces away */
         if (f->numedges > EW_MAX_POLY - 16) continue;
         float sign = back ? -1.0f : 1.0f;
-        split_ctx c = {r, mv, fi, {0, 0, 0}, 0, 0, 1, 0, sink, sink_ctx};
+        split_ctx c = {fr, mv, fi, {0, 0, 0}, 0, 0, 1, 0, sink, sink_ctx};
         for (int k = 0; k < 3; k++)
             c.normal[k] = sign * (it->ax[k][0] * pl->normal[0] + it->ax[k][1] * pl->normal[1] +
                                   it->ax[k][2] * pl->normal[2]);
@@ -183,7 +183,7 @@ int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, v
                 p[v][k] = e->origin[k] + it->ax[k][0] * q[0] + it->ax[k][1] * q[1] + it->ax[k][2] * q[2];
         }
         /* A face is drawn if any fragment of it lands in a visited leaf. */
-        c.kind = ew_see_kind(r, f, e->alpha, &c.alpha);
+        c.kind = ew_see_kind(fr, f, e->alpha, &c.alpha);
         split(&c, p, f->numedges, node0, depth0);
         drawn |= c.handed > 0;
         *dropped += c.dropped;
@@ -191,29 +191,33 @@ int ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, v
     return drawn;
 }
 
-/* The serial sink: the method's polygons, or the see-through pass. */
+/* The serial sink: into the edge list (the edge list's own methods), the
+ * method's polygons, or the see-through pass. */
 static void frag_direct(void *ctx, float (*p)[3], int n, int face, const ew_view *v, int key, int kind, float alpha) {
-    ew_renderer *r = ctx;
-    if (ew_see_to_hsr(r, kind))
-        r->f.cfg.hsr->poly(&r->hsr, p, n, face, v, key);
+    ew_front *fr = ctx;
+    if (!ew_see_to_hsr(fr, kind))
+        fr->out.see(fr->out.ctx, p, n, face, v, key, kind, alpha);
+    else if (fr->out.edge_list)
+        ew_front_poly(fr, p, n, face, v, key);
     else
-        ew_see_add(r, p, n, face, v, key, kind, alpha);
+        fr->out.poly(fr->out.ctx, p, n, face, v, key);
 }
 
-void ew_walk_brush_models(ew_renderer *r) {
-    if (!r->ents.scene) return;
-    ew_brush_item *items = malloc(sizeof *items * (size_t)(r->ents.max_ent_views + 1));
+void ew_walk_brush_models(ew_front *fr) {
+    if (!fr->scene) return;
+    ew_stats *st = &fr->f->stats;
+    ew_brush_item *items = malloc(sizeof *items * (size_t)(fr->max_ent_views + 1));
     if (!items) {
-        r->f.stats.dropped++;
+        st->dropped++;
         return;
     }
-    int culled, n = ew_brush_items(r, items, &culled);
-    r->f.stats.entities_culled += culled;
+    int culled, n = ew_brush_items(fr, items, &culled);
+    st->entities_culled += culled;
     for (int i = 0; i < n; i++) {
-        int dropped, drawn = ew_brush_split(r, &items[i], frag_direct, r, &dropped);
-        r->f.stats.dropped += dropped;
-        if (drawn) r->f.stats.entities_drawn++;
-        else r->f.stats.entities_culled++;
+        int dropped, drawn = ew_brush_split(fr, &items[i], frag_direct, fr, &dropped);
+        st->dropped += dropped;
+        if (drawn) st->entities_drawn++;
+        else st->entities_culled++;
     }
     free(items);
 }

@@ -6,61 +6,63 @@
  * method's, or world/front_par.c's lists), all with one BSP-order key.
  * world/front_par.c walks subtrees of one frame on several threads with
  * the same code, each with a walker of its own. */
-#include "renderer.h"
+#include "world/front.h"
 
 /* The serial walker's leaf: its faces marked for the nodes above. */
 static void mark_leaf(ew_walker *wk, int li) {
-    ew_renderer *r = wk->r;
-    const ew_world *w = r->f.world;
+    ew_marks *mk = wk->fr->marks;
+    const ew_world *w = wk->fr->f->world;
     const ew_leaf *leaf = &w->leaves[li];
-    for (int i = 0; i < leaf->nummarks; i++) r->marks.face_frame[w->marksurfaces[leaf->firstmark + i]] = r->marks.framecount;
+    for (int i = 0; i < leaf->nummarks; i++) mk->face_frame[w->marksurfaces[leaf->firstmark + i]] = mk->framecount;
 }
 
 void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d) {
-    ew_renderer *r = wk->r;
-    const ew_world *w = r->f.world;
+    const ew_front *fr = wk->fr;
+    const ew_world *w = fr->f->world;
+    const ew_marks *mk = fr->marks;
     const ew_node *node = &w->nodes[n];
     /* Only faces facing the camera can be seen: behind the plane, the
      * PLANEBACK ones. */
     for (int i = 0; i < node->numfaces; i++) {
         int fi = node->firstface + i;
         const ew_face *f = &w->faces[fi];
-        if (r->marks.face_frame[fi] != r->marks.framecount) continue;
+        if (mk->face_frame[fi] != mk->framecount) continue;
         if (((f->flags & EW_SURF_PLANEBACK) != 0) != side) continue;
         if (d == 0) continue;  /* edge-on */
         /* The node's box crosses a plane; the face itself often does not,
          * and then skips the clip (or is not seen at all). */
-        int cf = clipflags ? ew_cull_face(&r->f.view, w->face_box[fi], clipflags) : 0;
+        int cf = clipflags ? ew_cull_face(&fr->f->view, w->face_box[fi], clipflags) : 0;
         if (cf < 0) continue;
         float alpha;
-        int kind = ew_see_kind(r, f, 1, &alpha);
+        int kind = ew_see_kind(fr, f, 1, &alpha);
         wk->face(wk, fi, cf, kind, alpha);
     }
     wk->key++;
 }
 
 /* Which side of node n's plane the camera is on (0 front), and how far. */
-static inline int node_side(const ew_renderer *r, const ew_node *node, float *d) {
-    const ew_plane *pl = &r->f.world->planes[node->plane];
-    const float *o = r->f.view.origin;
+static inline int node_side(const ew_front *fr, const ew_node *node, float *d) {
+    const ew_plane *pl = &fr->f->world->planes[node->plane];
+    const float *o = fr->f->view.origin;
     *d = o[0] * pl->normal[0] + o[1] * pl->normal[1] + o[2] * pl->normal[2] - pl->dist;
     return *d >= 0 ? 0 : 1;
 }
 
 int ew_walk_enter(ew_walker *wk, int n, int *clipflags, float *d) {
-    ew_renderer *r = wk->r;
-    const ew_node *node = &r->f.world->nodes[n];
-    if (r->marks.node_frame[n] != r->marks.framecount) return -1;
+    const ew_front *fr = wk->fr;
+    const ew_node *node = &fr->f->world->nodes[n];
+    if (fr->marks->node_frame[n] != fr->marks->framecount) return -1;
     if (*clipflags) {
-        *clipflags = ew_cull_box(&r->f.view, node->mins, node->maxs, *clipflags);
+        *clipflags = ew_cull_box(&fr->f->view, node->mins, node->maxs, *clipflags);
         if (*clipflags < 0) return -1;
     }
-    return node_side(r, node, d);
+    return node_side(fr, node, d);
 }
 
 void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth) {
-    ew_renderer *r = wk->r;
-    const ew_world *w = r->f.world;
+    ew_front *fr = wk->fr;
+    ew_marks *mk = fr->marks;
+    const ew_world *w = fr->f->world;
     if (depth > EW_MAX_WALK_DEPTH) {
         wk->dropped++;
         return;
@@ -68,12 +70,12 @@ void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth) {
     if (n < 0) {
         int li = -1 - n;
         const ew_leaf *leaf = &w->leaves[li];
-        if (r->marks.leaf_frame[li] != r->marks.framecount || leaf->contents == EW_CONTENTS_SOLID) return;
-        if (clipflags && ew_cull_box(&r->f.view, leaf->mins, leaf->maxs, clipflags) < 0) return;
+        if (mk->leaf_frame[li] != mk->framecount || leaf->contents == EW_CONTENTS_SOLID) return;
+        if (clipflags && ew_cull_box(&fr->f->view, leaf->mins, leaf->maxs, clipflags) < 0) return;
         wk->visible_leaves++;
         /* Brush model fragments in this leaf sort here in BSP order. */
-        r->marks.leaf_key[li] = wk->key++;
-        r->marks.leaf_keyframe[li] = r->marks.framecount;
+        mk->leaf_key[li] = wk->key++;
+        mk->leaf_keyframe[li] = mk->framecount;
         wk->leaf(wk, li);
         return;
     }
@@ -85,38 +87,46 @@ void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth) {
     ew_walk_node(wk, w->nodes[n].children[!side], clipflags, depth + 1);
 }
 
-void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha) {
-    const ew_world *w = r->f.world;
+void ew_walk_see_add(ew_front *fr, int fi, int key, int kind, float alpha) {
+    const ew_world *w = fr->f->world;
     const ew_face *f = &w->faces[fi];
     if (f->numedges > EW_MAX_POLY - 8) return;
     float p[EW_MAX_POLY][3];
     ew_face_points(w, f, p);
-    ew_see_add(r, p, f->numedges, fi, &r->f.view, key, kind, alpha);
+    fr->out.see(fr->out.ctx, p, f->numedges, fi, &fr->f->view, key, kind, alpha);
 }
 
-/* The serial walker's face: to the method, or to the see-through pass. */
-static void method_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
-    if (ew_see_to_hsr(wk->r, kind))
-        wk->r->f.cfg.hsr->face(&wk->r->hsr, fi, clipflags, wk->key);
+/* The serial walker's face: into the edge list (the edge list's own
+ * methods), to the method, or to the see-through pass. */
+static void list_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
+    if (ew_see_to_hsr(wk->fr, kind))
+        ew_front_face(wk->fr, fi, clipflags, wk->key);
     else
-        ew_walk_see_add(wk->r, fi, wk->key, kind, alpha);
+        ew_walk_see_add(wk->fr, fi, wk->key, kind, alpha);
+}
+static void method_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
+    if (ew_see_to_hsr(wk->fr, kind))
+        wk->fr->out.face(wk->fr->out.ctx, fi, clipflags, wk->key);
+    else
+        ew_walk_see_add(wk->fr, fi, wk->key, kind, alpha);
 }
 
-void ew_walk_world(ew_renderer *r) {
-    ew_walker wk = {.r = r, .leaf = mark_leaf, .face = method_face};
-    ew_walk_node(&wk, r->f.world->models[0].headnode, 15, 0);
-    r->f.stats.visible_leaves += wk.visible_leaves;
-    r->f.stats.dropped += wk.dropped;
+void ew_walk_world(ew_front *fr) {
+    ew_walker wk = {.fr = fr, .leaf = mark_leaf, .face = fr->out.edge_list ? list_face : method_face};
+    ew_walk_node(&wk, fr->f->world->models[0].headnode, 15, 0);
+    fr->f->stats.visible_leaves += wk.visible_leaves;
+    fr->f->stats.dropped += wk.dropped;
 }
 /* Does a world-space box touch any leaf of this frame's PVS?  (Entities in
  * no visible leaf are hidden however near they are.) */
-static int box_visible(const ew_renderer *r, int n, const float lo[3], const float hi[3], int depth) {
-    const ew_world *w = r->f.world;
+static int box_visible(const ew_front *fr, int n, const float lo[3], const float hi[3], int depth) {
+    const ew_world *w = fr->f->world;
+    const ew_marks *mk = fr->marks;
     while (n >= 0) {
         if (depth++ > EW_MAX_WALK_DEPTH) return 1;
         /* No leaf of this frame's PVS below (ew_pvs_mark marks every node
          * above one): none to find here. */
-        if (r->marks.node_frame[n] != r->marks.framecount) return 0;
+        if (mk->node_frame[n] != mk->framecount) return 0;
         const ew_node *node = &w->nodes[n];
         const ew_plane *p = &w->planes[node->plane];
         float dmax = 0, dmin = 0;
@@ -129,14 +139,14 @@ static int box_visible(const ew_renderer *r, int n, const float lo[3], const flo
         } else if (dmax < p->dist) {
             n = node->children[1];
         } else {
-            if (box_visible(r, node->children[0], lo, hi, depth)) return 1;
+            if (box_visible(fr, node->children[0], lo, hi, depth)) return 1;
             n = node->children[1];
         }
     }
     int leaf = -1 - n;
-    return r->marks.leaf_frame[leaf] == r->marks.framecount && w->leaves[leaf].contents != EW_CONTENTS_SOLID;
+    return mk->leaf_frame[leaf] == mk->framecount && w->leaves[leaf].contents != EW_CONTENTS_SOLID;
 }
 
-int ew_box_in_pvs(const ew_renderer *r, const float lo[3], const float hi[3]) {
-    return box_visible(r, r->f.world->models[0].headnode, lo, hi, 0);
+int ew_box_in_pvs(const ew_front *fr, const float lo[3], const float hi[3]) {
+    return box_visible(fr, fr->f->world->models[0].headnode, lo, hi, 0);
 }

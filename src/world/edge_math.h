@@ -7,8 +7,9 @@
 #ifndef EW_WORLD_EDGE_MATH_H
 #define EW_WORLD_EDGE_MATH_H
 
-#include "renderer.h"
+#include "frame.h"
 #include "ew_util.h"
+#include "world/front.h"
 
 #include <math.h>
 
@@ -60,51 +61,53 @@ static inline int ew_edge_link(ew_edge_list *el, int down, int s) {
     return el->nedges++;
 }
 
-/* The edge cache (r->marks.edge_cache_*).  World edge se (a signed
+/* The edge cache (marks->edge_cache_*).  World edge se (a signed
  * surfedge) may be in this frame's list already, from the face on its
  * other side.  1: it is settled for surface s, *zi its nearer 1/z (its free
  * side now takes s), or 0 if it crosses no scanline.  0: the caller adds an
  * edge and notes it with ew_edge_cache_note (also when both faces use it
  * the same way round, so its free side is taken). */
-static inline int ew_edge_cache_take(ew_renderer *r, int se, int s, float *zi) {
+static inline int ew_edge_cache_take(ew_front *fr, int se, int s, float *zi) {
+    const ew_marks *mk = fr->marks;
     int e = se >= 0 ? se : -se, sign = se >= 0 ? 1 : -1;
-    if (r->marks.edge_cache_frame[e] != r->marks.framecount) return 0;
-    int idx = r->marks.edge_cache_index[e];
+    if (mk->edge_cache_frame[e] != mk->framecount) return 0;
+    int idx = mk->edge_cache_index[e];
     if (idx < 0) {
         *zi = 0;
         return 1;
     }
-    ew_edge *ed = &r->el.edges[idx];
-    int slot = sign * r->marks.edge_cache_down[e] > 0 ? 0 : 1;
+    ew_edge *ed = &fr->el->edges[idx];
+    int slot = sign * mk->edge_cache_down[e] > 0 ? 0 : 1;
     if (ed->surfs[slot] != 0) return 0;
     ed->surfs[slot] = (uint16_t)s;
-    r->f.stats.edges_cached++;
+    fr->f->stats.edges_cached++;
     *zi = ed->nearzi;
     return 1;
 }
 
 /* World edge se is edge idx of the list (-1: crosses no scanline), added
  * going down the screen or not. */
-static inline void ew_edge_cache_note(ew_renderer *r, int se, int idx, int down) {
+static inline void ew_edge_cache_note(ew_front *fr, int se, int idx, int down) {
+    ew_marks *mk = fr->marks;
     int e = se >= 0 ? se : -se, sign = se >= 0 ? 1 : -1;
-    r->marks.edge_cache_frame[e] = r->marks.framecount;
-    r->marks.edge_cache_index[e] = idx;
-    r->marks.edge_cache_down[e] = (int8_t)(down ? sign : -sign);
+    mk->edge_cache_frame[e] = mk->framecount;
+    mk->edge_cache_index[e] = idx;
+    mk->edge_cache_down[e] = (int8_t)(down ? sign : -sign);
 }
 
 /* Surface sf for world face fi, seen from the frame's camera. */
-static inline void ew_surf_set_world(const ew_renderer *r, ew_surf *sf, int fi, int key, float nearzi) {
+static inline void ew_surf_set_world(const ew_frame *f, ew_surf *sf, int fi, int key, float nearzi) {
     sf->key = key;
     sf->face = fi;
-    sf->flags = r->f.world->faces[fi].flags;
+    sf->flags = f->world->faces[fi].flags;
     sf->nearzi = nearzi;
-    sf->view = &r->f.view;
+    sf->view = &f->view;
     sf->insubmodel = 0;
 }
 
 /* That surface added as el.nsurfs. */
-static inline void ew_surf_add_world(ew_renderer *r, int fi, int key, float nearzi) {
-    ew_surf_set_world(r, &r->el.surfs[r->el.nsurfs++], fi, key, nearzi);
+static inline void ew_surf_add_world(ew_front *fr, int fi, int key, float nearzi) {
+    ew_surf_set_world(fr->f, &fr->el->surfs[fr->el->nsurfs++], fi, key, nearzi);
 }
 
 /* A polygon with no world edges (a brush model's fragment) clipped to the
@@ -134,9 +137,9 @@ static inline void ew_surf_set_fragment(const ew_world *w, ew_surf *sf, int fi, 
     sf->nearzi = nearzi;
     sf->view = v;
     sf->insubmodel = 1;
-    ew_gradients g;
-    ew_face_gradients(w, v, f, 0, &g);
-    sf->zi_u = g.zi_u, sf->zi_v = g.zi_v, sf->zi_0 = g.zi_0;
+    float zp[3];
+    ew_face_zplane(w, v, f, zp);
+    sf->zi_u = zp[0], sf->zi_v = zp[1], sf->zi_0 = zp[2];
 }
 
 #endif

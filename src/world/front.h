@@ -2,15 +2,24 @@
  * the leaves visible from the camera's leaf, the walk visits the BSP front
  * to back culling nodes by the frustum and hands every visible face to the
  * frame's hidden-surface method, brush models are split into the leaves
- * they occupy, and entities are culled by the PVS and the frustum. */
+ * they occupy, and entities are culled by the PVS and the frustum.
+ *
+ * Its state is an ew_front (below): the frame it reads (frame.h), the
+ * marks and the edge list it writes, its own occlusion map and parallel
+ * lists, and an ew_front_out through which it hands everything else up
+ * (the method's faces, the see-through polygons, an entity's light).  It
+ * includes nothing above itself.  The per-face rules (clip, occlusion,
+ * budgets, edge sharing) are written once, in world/face.h, and run on one
+ * thread (world/edges.c) or in phases on many (world/front_par.c). */
 #ifndef EW_WORLD_FRONT_H
 #define EW_WORLD_FRONT_H
 
+#include "pool.h"
 #include "world/view.h"
 
 #include <stdint.h>
 
-typedef struct ew_renderer ew_renderer;
+struct ew_scene;
 
 /* Per-world marks, compared against framecount (so nothing is cleared
  * between frames). */
@@ -63,18 +72,75 @@ void       ew_occ_begin(ew_occlusion *o, int on);
 ew_occ_box ew_occ_box_of(const ew_occlusion *o, const struct ew_proj *p, int n, int width, int height);
 /* The test of a face itself, ew_occ_face, is in world/occlude.h. */
 
-/* world/pvs.c: lists the leaves visible from the camera's leaf for this
- * frame (marks.vis, pending) and returns the view leaf; ew_pvs_apply marks
+/* world/entities.c's answer per entity of the scene (the models' prepare,
+ * raster/models_prepare.c, sizes the array): visible, culled, and the
+ * light on each (alias models). */
+typedef struct ew_ent_frame {
+    int    visible, culled;  /* culled: a model entity the frustum or the PVS hides */
+    int    ambient, shade;
+    size_t xvert0;      /* alias models: where their posed vertices start in ents.xverts */
+    int    tinted, tint[3];  /* alias models under coloured light: its colour (ew_light_tint) */
+} ew_ent_frame;
+
+/* How the front end hands its results up, filled by the renderer: the
+ * front end calls nothing above itself. */
+typedef struct ew_front_out {
+    void *ctx;
+    /* The method takes its faces and polygons as the edge list does
+     * (ew_front_face, ew_front_poly): the walk makes them itself, and the
+     * parallel phases may run.  0: every face goes to face(), every
+     * fragment to poly(), on the calling thread. */
+    int   edge_list;
+    int   fences;      /* fence faces go to the method (else to the see-through pass) */
+    void (*face)(void *ctx, int fi, int clipflags, int key);
+    void (*poly)(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key);
+    /* A face or fragment that is not opaque (world/divert.c), for the see-through pass. */
+    void (*see)(void *ctx, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind, float alpha);
+    /* The light on an alias model entity at origin: ef->ambient, shade, tinted and tint. */
+    void (*entity_light)(void *ctx, const float origin[3], ew_ent_frame *ef);
+} ew_front_out;
+
+/* The front end's state.  f, marks and el are the renderer's (set once by
+ * ew_front_init); the inputs below them are set before each frame's front
+ * end runs. */
+typedef struct ew_front {
+    ew_frame     *f;
+    ew_marks     *marks;
+    ew_edge_list *el;
+    ew_front_out  out;
+    ew_occlusion  occ;                          /* faces nearer faces hide (world/occlude.c) */
+    struct ew_front_par *par;                   /* the parallel front end's lists (world/front_par.c), or NULL */
+    int           par_bad;                      /* its plan failed (an irregular tree): the serial front end */
+    /* this frame's inputs */
+    ew_pool      *pool;
+    int           nthreads, profile_rows;
+    const struct ew_scene *scene;               /* or NULL */
+    ew_view      *ent_views;  int max_ent_views; /* room for a camera per brush entity */
+    ew_ent_frame *ent_frame;                    /* per entity of the scene, or NULL (no room) */
+    int           tested_frame;                 /* frame whose entities were tested (ew_test_entities) */
+} ew_front;
+
+int  ew_front_init(ew_front *fr, ew_frame *f, ew_marks *marks, ew_edge_list *el, int width, int height);
+void ew_front_free(ew_front *fr);
+
+/* world/pvs.c: lists the leaves visible from `leaf` (the camera's, or a
+ * locked one) for this frame (marks.vis, pending); ew_pvs_apply marks
  * listed leaves [from, to) and every node above them (any thread, shares
  * of the list at once), ew_pvs_finish all that are pending (serial). */
-int  ew_pvs_mark(ew_renderer *r);
-void ew_pvs_apply(ew_renderer *r, int from, int to);
-void ew_pvs_finish(ew_renderer *r);
+void ew_pvs_mark(ew_front *fr, int leaf);
+void ew_pvs_apply(ew_front *fr, int from, int to);
+void ew_pvs_finish(ew_front *fr);
 int  ew_point_leaf(const ew_world *w, int headnode, const float p[3]);
+
+/* world/edges.c: a world face (clip flags, BSP key) and a brush model's
+ * fragment (world-space points seen through v) into the edge list, with
+ * the rules of world/face.h. */
+void ew_front_face(ew_front *fr, int fi, int clipflags, int key);
+void ew_front_poly(ew_front *fr, float (*verts)[3], int n, int fi, const ew_view *v, int key);
 
 /* world/bsp_walk.c: front-to-back walk handing every visible face to the
  * frame's hidden-surface method. */
-void ew_walk_world(ew_renderer *r);
+void ew_walk_world(ew_front *fr);
 
 /* The walk's pieces, for walking subtrees on several threads
  * (world/front_par.c).  A walker carries the BSP key (grows front to back,
@@ -85,7 +151,7 @@ void ew_walk_world(ew_renderer *r);
 #define EW_MAX_WALK_DEPTH 4096
 typedef struct ew_walker ew_walker;
 struct ew_walker {
-    ew_renderer *r;
+    ew_front    *fr;
     int          key, visible_leaves, dropped;
     void       (*leaf)(ew_walker *wk, int li);
     void       (*face)(ew_walker *wk, int fi, int clipflags, int kind, float alpha);
@@ -98,32 +164,32 @@ int  ew_walk_enter(ew_walker *wk, int n, int *clipflags, float *d);
 /* Node n's marked faces on the camera's side to wk->face, then key + 1. */
 void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d);
 /* Face fi to the see-through pass with BSP key `key`. */
-void ew_walk_see_add(ew_renderer *r, int fi, int key, int kind, float alpha);
+void ew_walk_see_add(ew_front *fr, int fi, int key, int kind, float alpha);
 
-/* world/front_par.c: the walk with ew_emit_face of its faces, then the
- * brush models with ew_emit_poly of their fragments, on every thread of
+/* world/front_par.c: the walk with ew_front_face of its faces, then the
+ * brush models with ew_front_poly of their fragments, on every thread of
  * the pool, making exactly the edge list ew_walk_world and
  * ew_walk_brush_models make: subtrees of the BSP walked in parallel, faces
  * and brush entities clipped, projected and set up in parallel, the edges
  * shared between faces settled and everything numbered by prefix sums;
- * then, on the calling thread, tail(arg), and then then(r, thread) on
- * every thread of the pool (one pool run for all).  -1 (nothing done) if
- * the method does not take the edge list (EW_HSR_EDGE_LIST), the pool has
- * one thread and ew_set_front_mode did not ask for the phases, the tree
- * is irregular (an edge on more than two faces, a face on two nodes...)
- * or memory runs out: then the serial walk and brush models as before.
- * serial_ms: the time the calling thread spent in the run's serial steps
- * (not the tail): [0] the walk's, [1] the brush entities' culling. */
-int  ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread),
-                            double serial_ms[2]);
+ * then, on the calling thread, tail(arg), and then then(then_ctx, thread)
+ * on every thread of the pool (one pool run for all).  -1 (nothing done)
+ * if the method does not take the edge list's faces (out.edge_list), the
+ * pool has one thread and phases is 0, the tree is irregular (an edge on
+ * more than two faces, a face on two nodes...) or memory runs out: then
+ * the serial walk and brush models as before.  serial_ms: the time the
+ * calling thread spent in the run's serial steps (not the tail): [0] the
+ * walk's, [1] the brush entities' culling. */
+int  ew_walk_world_parallel(ew_front *fr, int phases, void (*tail)(void *arg), void *arg,
+                            void (*then)(void *ctx, int thread), void *then_ctx, double serial_ms[2]);
 struct ew_front_par;
 void ew_front_par_free(struct ew_front_par *fp);
 /* 1 if a world-space box touches a leaf in this frame's PVS. */
-int  ew_box_in_pvs(const ew_renderer *r, const float lo[3], const float hi[3]);
+int  ew_box_in_pvs(const ew_front *fr, const float lo[3], const float hi[3]);
 
 /* world/bmodel.c: brush model entities, split into the world's leaves and
  * handed to the hidden-surface method with their leaf's BSP key. */
-void ew_walk_brush_models(ew_renderer *r);
+void ew_walk_brush_models(ew_front *fr);
 /* Its pieces, for the parallel front end: the brush entities in the
  * frustum (camera in its own space, axes), and one entity's fragments
  * handed to a sink. */
@@ -134,45 +200,24 @@ typedef struct ew_brush_item {
 } ew_brush_item;
 typedef void (*ew_frag_sink)(void *ctx, float (*p)[3], int n, int face, const ew_view *v, int key, int kind,
                              float alpha);
-int  ew_brush_items(ew_renderer *r, ew_brush_item *items, int *culled);
-int  ew_brush_split(ew_renderer *r, const ew_brush_item *it, ew_frag_sink sink, void *sink_ctx, int *dropped);
+int  ew_brush_items(ew_front *fr, ew_brush_item *items, int *culled);
+int  ew_brush_split(const ew_front *fr, const ew_brush_item *it, ew_frag_sink sink, void *sink_ctx, int *dropped);
 
 /* world/divert.c: faces that are not opaque (fence textures, translucent
  * liquids and brush entities) go to the see-through pass instead of the
- * hidden-surface method.  ew_see_kind: EW_SEE_OPAQUE, _FENCE or _BLEND (with
- * *alpha) for face f of the world (entity_alpha 1 for the world itself). */
-int  ew_see_kind(const ew_renderer *r, const ew_face *f, float entity_alpha, float *alpha);
+ * hidden-surface method (the kinds EW_SEE_*: frame.h).
+ * EW_SEE_OPAQUE, _FENCE or _BLEND (with *alpha) for face f of the world
+ * (entity_alpha 1 for the world itself). */
+int  ew_see_kind(const ew_front *fr, const ew_face *f, float entity_alpha, float *alpha);
 /* 1 if a face of that kind goes to the hidden-surface method. */
-int  ew_see_to_hsr(const ew_renderer *r, int kind);
-/* Adds face fi's world-space polygon (seen through v, the camera in the
- * face's space) to the see-through list with its BSP key. */
-void ew_see_add(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key, int kind,
-                float alpha);
+static inline int ew_see_to_hsr(const ew_front *fr, int kind) {
+    return kind == EW_SEE_OPAQUE || (kind == EW_SEE_FENCE && fr->out.fences);
+}
 
-/* world/entities.c: once per frame before the bands draw (serial): which
- * entities the PVS and the frustum let through, and the light on each, so
- * that the bands do not each work it out again; returns how many alias
- * models are left to pose and item boxes to project (ew_models_work).
- * Out of memory: no entities (counted in dropped). */
-typedef struct ew_ent_frame {
-    int    visible, culled;  /* culled: a model entity the frustum or the PVS hides */
-    int    ambient, shade;
-    size_t xvert0;      /* alias models: where their posed vertices start in ents.xverts */
-    int    tinted, tint[3];  /* alias models under coloured light: its colour (ew_model_tint) */
-} ew_ent_frame;
-int  ew_prepare_entities(ew_renderer *r);
-/* Its per-entity part, which any thread may run on its own entities once
- * ent_frame is sized (ew_reserve_entities, -1 out of memory): entity i's
- * frustum and PVS test and its light, for i in [from, to).  Run for the
- * frame (r->ents.tested_frame set to it), ew_prepare_entities keeps it. */
-int  ew_reserve_entities(ew_renderer *r);
-void ew_test_entities(ew_renderer *r, int from, int to);
-
-/* world/edges.c: clip, project and emit one face (or a loose polygon)
- * into the edge list: the front end's own face and poly, which the edge
- * list's methods take (EW_HSR_EDGE_LIST, through the context's emit_face
- * and emit_poly). */
-void ew_emit_face(ew_renderer *r, int face, int clipflags, int key);
-void ew_emit_poly(ew_renderer *r, float (*verts)[3], int n, int fi, const ew_view *v, int key);
+/* world/entities.c: which entities the PVS and the frustum let through,
+ * and the light on each (out.entity_light), for entities [from, to) of
+ * fr->scene into fr->ent_frame (sized for them): any thread, each on its
+ * own entities. */
+void ew_test_entities(ew_front *fr, int from, int to);
 
 #endif

@@ -1,6 +1,7 @@
 /* The front end on every thread of the pool, for the methods whose faces go
- * through ew_emit_face (the edge list and those that share its front end),
- * making exactly the edge list the one-thread walk makes.
+ * through ew_front_face (ew_front_out.edge_list: the edge list and those
+ * that share its front end), making exactly the edge list the one-thread
+ * walk makes: the second schedule of the one front end.
  *
  * The plan (once per world).  The nodes whose subtree is small are cut off
  * the top of the tree: each such subtree (a "root") is walked as one task,
@@ -42,9 +43,10 @@
  *   7 (all) surfaces and edges written at their numbers;
  *   - (calling thread) the per-scanline lists of new edges linked in edge
  *     order, then tail(arg) (the bands placed);
- *   then(r, thread) on every thread: the scan.
- * The decisions are the one-thread emission's, made on the same numbers
- * (world/edge_math.h computes both), so the edge list, and every span and
+ *   then(then_ctx, thread) on every thread: the scan.
+ * The decisions are the one-thread emission's, by the same rules
+ * (world/face.h: the clip, the budgets, the verdict on a face, adding an
+ * edge; world/edge_math.h: the numbers), so the edge list, and every span and
  * pixel after it, are the same for any thread count.  If the edge list
  * would overflow, the prepared faces are merged one at a time as the
  * one-thread emission does, which is where its limits apply.
@@ -53,17 +55,15 @@
  * costs 10-20% less than the phases, unless ew_set_front_mode asks for the
  * phases (bench does, to measure the serial share of a many-thread frame).
  * Then the chunks of phase 4 run in order, so their faces go straight to
- * ew_emit_face ("direct"): no staging, nothing for phases 6 and 7 but the
- * brush entities (and ew_emit_face finds the hidden faces itself).  The
+ * ew_front_face ("direct"): no staging, nothing for phases 6 and 7 but the
+ * brush entities (and ew_front_face finds the hidden faces itself).  The
  * phases and their serial steps stay the same, so the serial share still
  * describes the run of many threads (which does the staging: a little
  * more work in all). */
 #define _POSIX_C_SOURCE 200809L  /* sched_yield */
-#include "renderer.h"
 #include "ew_util.h"
-#include "world/edge_math.h"
-#include "world/occlude.h"
 #include "asset/scene.h"
+#include "world/face.h"
 
 #include <limits.h>
 #include <sched.h>
@@ -73,7 +73,7 @@
 #include <string.h>
 
 #define CHUNK 8            /* faces a thread takes at a time in phases 3, 4, 6 and 7 */
-#define PE_CLIP INT32_MIN  /* a prepared edge the clip made (no world edge) */
+#define PE_CLIP EW_FACE_CLIP_EDGE  /* a prepared edge the clip made (no world edge) */
 #define M_DROPPED (-2)     /* a face with too many edges (counted as dropped) */
 #define ENT_CHUNK 4        /* entities a thread tests at a time (a light trace each) */
 #define PVS_CHUNK 64       /* PVS leaves a thread marks at a time */
@@ -104,7 +104,7 @@ typedef struct pedge {
 typedef struct lface { int face, clipflags, key, pe, kind; float alpha; } lface;
 
 /* A brush entity's fragment: for the method (its edges prepared as
- * ew_emit_poly makes them) or for the see-through pass (its vertices). */
+ * ew_front_poly makes them) or for the see-through pass (its vertices). */
 typedef struct pfrag {
     int   face, key, kind;
     float alpha;
@@ -151,7 +151,7 @@ struct ew_front_par {
     _Alignas(64) atomic_int front_done; /* the tail has run: the edge list is complete */
     phase ph[NPHASES];
     int    time_items;                  /* the row profile: items timed (one thread) */
-    int    direct;                      /* one thread: phase 4 hands the faces to ew_emit_face in BSP order */
+    int    direct;                      /* one thread: phase 4 hands the faces to ew_front_face in BSP order */
     double longest[NPHASES];            /* then per phase its largest item, ms */
     /* The plan. */
     int   top_n;                        /* a top node has more nodes than this below it */
@@ -173,7 +173,7 @@ struct ew_front_par {
     /* Faces that nearer faces hide (world/occlude.c), when the list leaves
      * them out: per prepared edge its first point, per face position its
      * tiles and whether some strip of the screen found it not hidden. */
-    int   occ;                          /* this frame (never in direct mode: ew_emit_face decides there) */
+    int   occ;                          /* this frame (never in direct mode: ew_front_face decides there) */
     ew_proj *pts;
     ew_occ_box *boxes;
     atomic_uchar *vis;
@@ -192,6 +192,7 @@ struct ew_front_par {
     void (*tail)(void *arg);
     void  *tail_arg;
     void (*then)(void *ctx, int thread);
+    void  *then_ctx;
 };
 
 /* One round of waiting on another thread; after a while the processor is
@@ -422,10 +423,10 @@ static void add_seg(struct ew_front_par *fp, int kind, int n, int clipflags, int
     fp->nsegs++;
 }
 
-static void top_walk(ew_renderer *r, struct ew_front_par *fp, int n, int clipflags, int depth) {
-    const ew_world *w = r->f.world;
+static void top_walk(ew_front *fr, struct ew_front_par *fp, int n, int clipflags, int depth) {
+    const ew_world *w = fr->f->world;
     if (depth > EW_MAX_WALK_DEPTH) return;  /* cannot be: the plan measured the tree */
-    ew_walker wk = {.r = r};
+    ew_walker wk = {.fr = fr};
     float d;
     int side = ew_walk_enter(&wk, n, &clipflags, &d);
     if (side < 0) return;
@@ -437,13 +438,13 @@ static void top_walk(ew_renderer *r, struct ew_front_par *fp, int n, int clipfla
             fp->segs[fp->nsegs - 1].side = side, fp->segs[fp->nsegs - 1].d = d;
         }
         if (ch >= 0 && fp->node_root[ch] == -1) {
-            top_walk(r, fp, ch, clipflags, depth + 1);
+            top_walk(fr, fp, ch, clipflags, depth + 1);
         } else if (ch >= 0) {
-            if (r->marks.node_frame[ch] == r->marks.framecount)
+            if (fr->marks->node_frame[ch] == fr->marks->framecount)
                 add_seg(fp, SEG_TREE, ch, clipflags, depth + 1, fp->node_leaf0[ch]);
         } else {
             int li = -1 - ch;
-            if (r->marks.leaf_frame[li] == r->marks.framecount && w->leaves[li].contents != EW_CONTENTS_SOLID)
+            if (fr->marks->leaf_frame[li] == fr->marks->framecount && w->leaves[li].contents != EW_CONTENTS_SOLID)
                 add_seg(fp, SEG_TREE, ch, clipflags, depth + 1, fp->node_leaf0[n] + (ch == nd->children[1]));
         }
     }
@@ -460,10 +461,10 @@ typedef struct task_walker {
 
 static void task_leaf(ew_walker *wk, int li) {
     task_walker *t = (task_walker *)wk;
-    ew_renderer *r = wk->r;
-    const ew_world *w = r->f.world;
+    ew_front *fr = wk->fr;
+    const ew_world *w = fr->f->world;
     const ew_leaf *leaf = &w->leaves[li];
-    const int frame = r->marks.framecount, *face_root = t->fp->face_root;
+    const int frame = fr->marks->framecount, *face_root = t->fp->face_root;
     /* The root number of this subtree: that of its first node (a leaf
      * segment has no node of its own and can only mark top faces). */
     int root = t->s->n >= 0 ? t->fp->node_root[t->s->n] : -3;
@@ -472,7 +473,7 @@ static void task_leaf(ew_walker *wk, int li) {
     for (int i = 0; i < leaf->nummarks; i++) {
         int fi = w->marksurfaces[leaf->firstmark + i], o = face_root[fi];
         if (o == root) {
-            r->marks.face_frame[fi] = frame;
+            fr->marks->face_frame[fi] = frame;
         } else if (o == -1) {
             _Atomic uint64_t *m = &t->fp->topmark[fi];
             uint64_t cur = atomic_load_explicit(m, memory_order_relaxed);
@@ -492,8 +493,8 @@ static void task_leaf(ew_walker *wk, int li) {
 static void list_face(ew_walker *wk, int fi, int clipflags, int kind, float alpha) {
     task_walker *t = (task_walker *)wk;
     seg *s = t->s;
-    const ew_face *f = &wk->r->f.world->faces[fi];
-    if (ew_see_to_hsr(wk->r, kind)) {
+    const ew_face *f = &wk->fr->f->world->faces[fi];
+    if (ew_see_to_hsr(wk->fr, kind)) {
         int need = f->numedges + 4;
         t->fp->lf[s->lf0 + s->nfaces++] = (lface){fi, clipflags, wk->key, s->npe, kind, alpha};
         if (need <= EW_MAX_POLY - 4) s->npe += need;  /* larger ones are dropped, and prepare writes none */
@@ -502,9 +503,9 @@ static void list_face(ew_walker *wk, int fi, int clipflags, int kind, float alph
     }
 }
 
-static void walk_seg(ew_renderer *r, struct ew_front_par *fp, int segno) {
+static void walk_seg(ew_front *fr, struct ew_front_par *fp, int segno) {
     seg *s = &fp->segs[segno];
-    task_walker t = {{.r = r, .leaf = task_leaf, .face = list_face}, fp, s, segno};
+    task_walker t = {{.fr = fr, .leaf = task_leaf, .face = list_face}, fp, s, segno};
     ew_walk_node(&t.wk, s->n, s->clipflags, s->depth);
     s->nkeys = t.wk.key, s->visible_leaves = t.wk.visible_leaves, s->dropped = t.wk.dropped;
 }
@@ -513,24 +514,24 @@ static void walk_seg(ew_renderer *r, struct ew_front_par *fp, int segno) {
 
 /* A top node's faces marked by a segment before it (its own number).  The
  * segments touch only their own faces and their own ranges of lf. */
-static void node_faces(ew_renderer *r, struct ew_front_par *fp, int segno) {
+static void node_faces(ew_front *fr, struct ew_front_par *fp, int segno) {
     seg *s = &fp->segs[segno];
-    const ew_node *nd = &r->f.world->nodes[s->n];
-    const int frame = r->marks.framecount;
+    const ew_node *nd = &fr->f->world->nodes[s->n];
+    const int frame = fr->marks->framecount;
     for (int i = 0; i < nd->numfaces; i++) {
         int fi = nd->firstface + i;
         uint64_t v = atomic_load_explicit(&fp->topmark[fi], memory_order_relaxed);
         int marked = (int)(v >> 32) == frame && (int)~(uint32_t)v < segno;
-        r->marks.face_frame[fi] = marked ? frame : frame - 1;
+        fr->marks->face_frame[fi] = marked ? frame : frame - 1;
     }
-    task_walker t = {{.r = r, .leaf = task_leaf, .face = list_face}, fp, s, segno};
+    task_walker t = {{.fr = fr, .leaf = task_leaf, .face = list_face}, fp, s, segno};
     ew_walk_faces(&t.wk, s->n, s->clipflags, s->side, s->d);
     s->nkeys = 1;
 }
 
 /* ---- between 3 and 4 (calling thread): the layout ---- */
 
-static void layout(ew_renderer *r, struct ew_front_par *fp) {
+static void layout(ew_front *fr, struct ew_front_par *fp) {
     int key = 0, nf = 0, npe = 0, c = 0;
     for (int j = 0; j < fp->nsegs; j++) {
         seg *s = &fp->segs[j];
@@ -539,11 +540,11 @@ static void layout(ew_renderer *r, struct ew_front_par *fp) {
         nf += s->nfaces, npe += s->npe;
         for (int i = 0; i < s->nsee; i++) {
             const lface *l = &fp->lf[s->lfend - 1 - i];
-            ew_walk_see_add(r, l->face, key + l->key, l->kind, l->alpha);
+            ew_walk_see_add(fr, l->face, key + l->key, l->kind, l->alpha);
         }
         key += s->nkeys;
-        r->f.stats.visible_leaves += s->visible_leaves;
-        r->f.stats.dropped += s->dropped;
+        fr->f->stats.visible_leaves += s->visible_leaves;
+        fr->f->stats.dropped += s->dropped;
     }
     fp->nfaces = nf, fp->nchunks = c;
 }
@@ -553,102 +554,91 @@ static void layout(ew_renderer *r, struct ew_front_par *fp) {
 static void set_pedge(pedge *p, const ew_proj *a, const ew_proj *b, int32_t se) {
     p->se = se;
     p->down = b->v > a->v;
-    p->crosses = (int8_t)ew_edge_setup(a, b, &p->e);
-    p->e.nearzi = a->zi > b->zi ? a->zi : b->zi;
+    p->crosses = (int8_t)ew_face_setup_edge(a, b, &p->e);
+    p->e.nearzi = a->zi > b->zi ? a->zi : b->zi;  /* also where it crosses none: the face's 1/z counts it */
 }
 
 /* World edge se of the face at position p lies at prepared edge pe: noted
  * for the face on its other side.  1 if that face, earlier in BSP order,
  * has noted it already: then this face only takes the edge's free side,
  * and its own setup of it is never read. */
-static int note_edge(const ew_renderer *r, struct ew_front_par *fp, int face, int32_t se, int p, int pe) {
+static int note_edge(const ew_front *fr, struct ew_front_par *fp, int face, int32_t se, int p, int pe) {
     int e = se >= 0 ? se : -se, side = fp->edge_faces[e][0] == face ? 0 : 1;
-    const int frame = r->marks.framecount;
+    const int frame = fr->marks->framecount;
     struct eside *mine = &fp->eside[e][side], *other = &fp->eside[e][!side];
     mine->pos = p, mine->pe = pe;
     atomic_store_explicit(&mine->frame, frame, memory_order_release);
     return atomic_load_explicit(&other->frame, memory_order_acquire) == frame && other->pos < p;
 }
 
-/* Point i of face f: its vertex, or the clip's point if it was clipped. */
-static inline const float *face_point(const ew_world *w, const ew_face *f, float (*cl)[3], int clipped, int i) {
-    return clipped ? cl[i] : w->verts[ew_face_vertex(w, f, i)];
-}
-
-/* What ew_emit_face computes of a face before it touches the list; with
- * may_skip, not the setup of edges the face will take from another. */
-static void prepare(const ew_renderer *r, struct ew_front_par *fp, int p, int may_skip) {
+/* What ew_front_face computes of a face before it touches the list (the
+ * rules of world/face.h); with may_skip, not the setup of edges the face
+ * will take from another. */
+static void prepare(const ew_front *fr, struct ew_front_par *fp, int p, int may_skip) {
     pface *pf = &fp->faces[p];
     pedge *out = fp->pedges + pf->pe;
-    const ew_world *w = r->f.world;
+    const ew_world *w = fr->f->world;
     const ew_face *f = &w->faces[pf->face];
     int n = f->numedges;
     pf->m = -1;
-    if (n > EW_MAX_POLY - 8) {
+    if (ew_face_too_big(n)) {
         pf->m = M_DROPPED;
         return;
     }
     ew_proj pj[EW_MAX_POLY];
     uint8_t valid[EW_MAX_POLY];
-    float in[EW_MAX_POLY][3], cl[EW_MAX_POLY][3];
-    int tin[EW_MAX_POLY], tout[EW_MAX_POLY];
-    int m = n;
-    if (pf->clipflags) {
-        ew_face_points(w, f, in);
-        for (int i = 0; i < n; i++) tin[i] = i;
-        m = ew_clip_poly(&r->f.view, pf->clipflags, in, n, cl, tin, tout);
-        if (m < 3) return;
-    }
+    float cl[EW_MAX_POLY][3];
+    int tout[EW_MAX_POLY];
+    int m = ew_face_clip(&fr->f->view, w, f, pf->clipflags, cl, tout);
+    if (m < 3) return;
     if (fp->occ) {
         /* Every point, for the coverage map (the cull phase), kept. */
         for (int i = 0; i < m; i++) {
-            ew_project(&r->f.view, face_point(w, f, cl, pf->clipflags, i), &pj[i]);
+            ew_project(&fr->f->view, ew_face_point(w, f, cl, pf->clipflags, i), &pj[i]);
             fp->pts[pf->pe + i] = pj[i];
         }
         memset(valid, 1, (size_t)m);
-        fp->boxes[p] = ew_occ_box_of(&r->occ, pj, m, r->f.target.width, r->f.target.height);
+        fp->boxes[p] = ew_occ_box_of(&fr->occ, pj, m, fr->f->target.width, fr->f->target.height);
     } else {
         /* Vertices projected as the edges that are set up need them. */
         memset(valid, 0, (size_t)m);
     }
     for (int i = 0; i < m; i++) {
         int j = i + 1 == m ? 0 : i + 1;
-        int32_t se = pf->clipflags == 0 ? w->surfedges[f->firstedge + i]
-                     : tout[i] >= 0     ? w->surfedges[f->firstedge + tout[i]]
-                                        : PE_CLIP;
+        int32_t se = ew_face_world_edge(w, f, pf->clipflags, tout, i);
         out[i].skipped = 0;
-        if (se != PE_CLIP && note_edge(r, fp, pf->face, se, p, pf->pe + i) && may_skip) {
+        if (se != PE_CLIP && note_edge(fr, fp, pf->face, se, p, pf->pe + i) && may_skip) {
             out[i].se = se, out[i].crosses = 0, out[i].skipped = 1;
             continue;
         }
-        if (!valid[i]) ew_project(&r->f.view, face_point(w, f, cl, pf->clipflags, i), &pj[i]), valid[i] = 1;
-        if (!valid[j]) ew_project(&r->f.view, face_point(w, f, cl, pf->clipflags, j), &pj[j]), valid[j] = 1;
+        if (!valid[i]) ew_project(&fr->f->view, ew_face_point(w, f, cl, pf->clipflags, i), &pj[i]), valid[i] = 1;
+        if (!valid[j]) ew_project(&fr->f->view, ew_face_point(w, f, cl, pf->clipflags, j), &pj[j]), valid[j] = 1;
         set_pedge(&out[i], &pj[i], &pj[j], se);
     }
     pf->m = m;
 }
 
-static void prepare_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
+static void prepare_chunk(ew_front *fr, struct ew_front_par *fp, int c) {
     int j = fp->chunk_seg[c], hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
     for (int p = c * CHUNK; p < hi; p++) {
         while (p >= fp->segs[j].face0 + fp->segs[j].nfaces) j++;
         const seg *s = &fp->segs[j];
         const lface *l = &fp->lf[s->lf0 + (p - s->face0)];
         if (fp->direct) {  /* straight to the list: nothing staged */
-            ew_emit_face(r, l->face, l->clipflags, s->key0 + l->key);
+            ew_front_face(fr, l->face, l->clipflags, s->key0 + l->key);
             continue;
         }
         pface *pf = &fp->faces[p];
         pf->face = l->face, pf->clipflags = l->clipflags, pf->key = s->key0 + l->key, pf->pe = s->pe0 + l->pe;
         atomic_store_explicit(&fp->vis[p], 0, memory_order_relaxed);
-        prepare(r, fp, p, 1);
+        prepare(fr, fp, p, 1);
     }
 }
 
 /* A subtree's leaves get their keys in the frame's order. */
-static void fix_leaf_keys(ew_renderer *r, struct ew_front_par *fp, int segno) {
+static void fix_leaf_keys(ew_front *fr, struct ew_front_par *fp, int segno) {
     const seg *s = &fp->segs[segno];
-    for (int i = 0; i < s->nleaves; i++) r->marks.leaf_key[fp->leaves[s->leaf0 + i]] += s->key0;
+    for (int i = 0; i < s->nleaves; i++) fr->marks->leaf_key[fp->leaves[s->leaf0 + i]] += s->key0;
 }
 
 /* ---- 5: faces that nearer ones hide, strip by strip (any thread) ---- */
@@ -656,12 +646,12 @@ static void fix_leaf_keys(ew_renderer *r, struct ew_front_par *fp, int segno) {
 /* Every face in BSP order against strip i of the coverage map: a face not
  * hidden in some strip is kept.  Any number of strips decides as the
  * one-thread emission's one does (world/occlude.c). */
-static void cull_strip(ew_renderer *r, struct ew_front_par *fp, int i) {
-    ew_occ_strip *st = &r->occ.strips[i];
+static void cull_strip(ew_front *fr, struct ew_front_par *fp, int i) {
+    ew_occ_strip *st = &fr->occ.strips[i];
     for (int p = 0; p < fp->nfaces; p++) {
         const pface *pf = &fp->faces[p];
-        if (pf->m < 3) continue;  /* clipped away or dropped: not in the map, as in ew_emit_face */
-        if (!ew_occ_face(&r->occ, st, fp->pts + pf->pe, pf->m, fp->boxes[p], pf->key))
+        if (pf->m < 3) continue;  /* clipped away or dropped: not in the map, as in ew_front_face */
+        if (!ew_occ_face(&fr->occ, st, fp->pts + pf->pe, pf->m, fp->boxes[p], pf->key))
             atomic_store_explicit(&fp->vis[p], 1, memory_order_relaxed);
     }
 }
@@ -676,8 +666,8 @@ static inline int hidden_at(const struct ew_front_par *fp, int p) {
 /* The edge cache's decisions: the first face (in BSP order) on a world
  * edge adds it, the second takes its free side and its 1/z, or nothing if
  * it crosses no scanline. */
-static void resolve_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
-    const int frame = r->marks.framecount;
+static void resolve_chunk(ew_front *fr, struct ew_front_par *fp, int c) {
+    const int frame = fr->marks->framecount;
     int hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
     int ns = 0, ne = 0, cached = 0, dropped = 0, occluded = 0;
     for (int p = c * CHUNK; p < hi; p++) {
@@ -705,7 +695,7 @@ static void resolve_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
                 int q = atomic_load_explicit(&o->frame, memory_order_relaxed) == frame ? o->pos : -1;
                 if (q >= 0 && hidden_at(fp, q)) {
                     /* The face on the other side is left out: this one adds
-                     * the edge, as ew_emit_face finds no cached one. */
+                     * the edge, as ew_front_face finds no cached one. */
                     q = -1;
                     if (pe->skipped) {
                         set_pedge(pe, &fp->pts[pf->pe + k], &fp->pts[pf->pe + (k + 1 == pf->m ? 0 : k + 1)], pe->se);
@@ -746,39 +736,39 @@ static int grow(void **p, int *cap, int need, size_t size) {
 }
 
 typedef struct frag_ctx {
-    ew_renderer *r;
+    ew_front *fr;
     arena       *a;
 } frag_ctx;
 
-/* ew_emit_poly's work on a fragment, or its vertices kept for the
+/* ew_front_poly's work on a fragment, or its vertices kept for the
  * see-through pass. */
 static void frag_sink(void *ctx, float (*p)[3], int n, int face, const ew_view *v, int key, int kind, float alpha) {
     frag_ctx *fc = ctx;
-    ew_renderer *r = fc->r;
+    ew_front *fr = fc->fr;
     arena *a = fc->a;
     if (a->failed || !grow((void **)&a->frags, &a->cap_frags, a->nfrags + 1, sizeof(pfrag))) {
         a->failed = 1;
         return;
     }
-    pfrag *fr = &a->frags[a->nfrags++];
-    *fr = (pfrag){face, key, kind, alpha, v, -1, 0, 0, 0};
-    if (!ew_see_to_hsr(r, kind)) {
+    pfrag *fg = &a->frags[a->nfrags++];
+    *fg = (pfrag){face, key, kind, alpha, v, -1, 0, 0, 0};
+    if (!ew_see_to_hsr(fr, kind)) {
         if (!grow((void **)&a->verts, &a->cap_verts, a->nverts + n, sizeof *a->verts)) {
             a->failed = 1;
             return;
         }
         memcpy(a->verts + a->nverts, p, sizeof *a->verts * (size_t)n);
-        fr->pe = a->nverts, fr->m = n;
+        fg->pe = a->nverts, fg->m = n;
         a->nverts += n;
         return;
     }
     if (n > EW_MAX_POLY - 8) {
-        fr->m = M_DROPPED;
+        fg->m = M_DROPPED;
         return;
     }
     ew_proj pj[EW_MAX_POLY];
     float nearzi;
-    int m = ew_poly_project(&r->f.view, p, n, pj, &nearzi);
+    int m = ew_poly_project(&fr->f->view, p, n, pj, &nearzi);
     if (m < 3) return;
     if (!grow((void **)&a->edges, &a->cap_edges, a->nedges + m, sizeof(pedge))) {
         a->failed = 1;
@@ -791,23 +781,23 @@ static void frag_sink(void *ctx, float (*p)[3], int n, int face, const ew_view *
         pe->emit = pe->crosses, pe->partner = -1;
         nemit += pe->crosses;
     }
-    fr->m = m, fr->pe = a->nedges, fr->nemit = nemit, fr->nearzi = nearzi;
+    fg->m = m, fg->pe = a->nedges, fg->nemit = nemit, fg->nearzi = nearzi;
     a->nedges += m;
 }
 
-static void split_brush(ew_renderer *r, struct ew_front_par *fp, int i, int thread) {
+static void split_brush(ew_front *fr, struct ew_front_par *fp, int i, int thread) {
     bres *b = &fp->bres[i];
     arena *a = &fp->arenas[thread];
-    frag_ctx fc = {r, a};
+    frag_ctx fc = {fr, a};
     b->arena = thread, b->f0 = a->nfrags;
-    b->drawn = ew_brush_split(r, &fp->bitems[i], frag_sink, &fc, &b->dropped);
+    b->drawn = ew_brush_split(fr, &fp->bitems[i], frag_sink, &fc, &b->dropped);
     b->nf = a->nfrags - b->f0;
     b->ns = b->ne = 0;
     for (int k = b->f0; k < a->nfrags; k++) {
-        const pfrag *fr = &a->frags[k];
-        if (!ew_see_to_hsr(r, fr->kind)) continue;
-        b->dropped += fr->m == M_DROPPED;
-        if (fr->m >= 0) b->ns++, b->ne += fr->nemit;
+        const pfrag *fg = &a->frags[k];
+        if (!ew_see_to_hsr(fr, fg->kind)) continue;
+        b->dropped += fg->m == M_DROPPED;
+        if (fg->m >= 0) b->ns++, b->ne += fg->nemit;
     }
 }
 
@@ -817,49 +807,29 @@ static void split_brush(ew_renderer *r, struct ew_front_par *fp, int i, int thre
  * phase 4 handed them to the list itself. */
 static int staged_chunks(const struct ew_front_par *fp) { return fp->direct ? 0 : fp->nchunks; }
 
-static int add_prepared(ew_renderer *r, const pedge *p, int s) {
-    if (!p->crosses) return -1;
-    if (r->el.nedges >= r->el.max_edges) {
-        r->f.stats.dropped++;
-        return -1;
-    }
-    r->el.edges[r->el.nedges] = p->e;
-    return ew_edge_link(&r->el, p->down, s);
-}
-
-/* ew_emit_face's decisions one face at a time, with its limits. */
-static void merge_face(ew_renderer *r, const pface *pf, const pedge *pe, int hidden) {
-    const ew_world *w = r->f.world;
-    const ew_face *f = &w->faces[pf->face];
-    int n = f->numedges;
-    if (r->el.nsurfs >= r->el.max_surfs || n > EW_MAX_POLY - 8 || r->el.nedges + n + 4 > r->el.max_edges) {
-        r->f.stats.dropped++;
-        return;
-    }
-    if (pf->m < 0) return;
-    if (hidden) {
-        r->f.stats.faces_occluded++;
-        return;
-    }
-    int s = r->el.nsurfs;
+/* ew_front_face's decisions (world/face.h) one face at a time, with its
+ * limits, on the prepared face. */
+static void merge_face(ew_front *fr, const pface *pf, const pedge *pe, int hidden) {
+    int n = fr->f->world->faces[pf->face].numedges;
+    int verdict = ew_face_verdict(ew_face_too_big(n), ew_face_list_full(fr->el, n), pf->m < 0 ? 0 : pf->m, hidden);
+    if (!ew_face_counted(&fr->f->stats, verdict)) return;
+    int s = fr->el->nsurfs;
     float nearzi = 0;
     for (int k = 0; k < pf->m; k++) {
         const pedge *p = &pe[k];
         float zi = p->e.nearzi;
-        if (p->se == PE_CLIP)
-            add_prepared(r, p, s);
-        else if (!ew_edge_cache_take(r, p->se, s, &zi))
-            ew_edge_cache_note(r, p->se, add_prepared(r, p, s), p->down);
+        if (p->se == PE_CLIP || !ew_edge_cache_take(fr, p->se, s, &zi))
+            ew_face_add_edge(fr, p->se, &p->e, p->crosses, p->down, s);
         if (zi > nearzi) nearzi = zi;
     }
-    ew_surf_add_world(r, pf->face, pf->key, nearzi);
+    ew_surf_add_world(fr, pf->face, pf->key, nearzi);
 }
 
 /* Returns 1 if the faces and fragments fit the lists (phase 7 writes
  * them), else merges them here one at a time, as the serial front end
  * does, and returns 0. */
-static int number(ew_renderer *r, struct ew_front_par *fp) {
-    int s = r->el.nsurfs, e = r->el.nedges, failed = 0;
+static int number(ew_front *fr, struct ew_front_par *fp) {
+    int s = fr->el->nsurfs, e = fr->el->nedges, failed = 0;
     long cached = 0, dropped = 0, occluded = 0;
     for (int c = 0; c < staged_chunks(fp); c++) {
         fp->chunk_s0[c] = s, fp->chunk_e0[c] = e;
@@ -872,38 +842,38 @@ static int number(ew_renderer *r, struct ew_front_par *fp) {
         s += b->ns, e += b->ne;
     }
     for (int t = 0; t < EW_MAX_THREADS; t++) failed |= fp->arenas[t].failed;
-    /* No face would meet ew_emit_face's limits, nor a fragment
-     * ew_emit_poly's: the same list. */
-    if (!failed && s <= r->el.max_surfs && (long)e + EW_MAX_POLY <= r->el.max_edges) {
-        r->f.stats.edges_cached += cached;
-        r->f.stats.dropped += dropped;
-        r->f.stats.faces_occluded += (int)occluded;
-        r->f.stats.entities_culled += fp->bculled;
+    /* No face would meet ew_front_face's limits, nor a fragment
+     * ew_front_poly's: the same list. */
+    if (!failed && s <= fr->el->max_surfs && (long)e + EW_MAX_POLY <= fr->el->max_edges) {
+        fr->f->stats.edges_cached += cached;
+        fr->f->stats.dropped += dropped;
+        fr->f->stats.faces_occluded += (int)occluded;
+        fr->f->stats.entities_culled += fp->bculled;
         for (int i = 0; i < fp->nbitems; i++) {
             const bres *b = &fp->bres[i];
             const arena *a = &fp->arenas[b->arena];
-            r->f.stats.dropped += b->dropped;
-            if (b->drawn) r->f.stats.entities_drawn++;
-            else r->f.stats.entities_culled++;
+            fr->f->stats.dropped += b->dropped;
+            if (b->drawn) fr->f->stats.entities_drawn++;
+            else fr->f->stats.entities_culled++;
             for (int k = b->f0; k < b->f0 + b->nf; k++) {
-                const pfrag *fr = &a->frags[k];
-                if (!ew_see_to_hsr(r, fr->kind))
-                    ew_see_add(r, a->verts + fr->pe, fr->m, fr->face, fr->view, fr->key, fr->kind, fr->alpha);
+                const pfrag *fg = &a->frags[k];
+                if (!ew_see_to_hsr(fr, fg->kind))
+                    fr->out.see(fr->out.ctx, a->verts + fg->pe, fg->m, fg->face, fg->view, fg->key, fg->kind, fg->alpha);
             }
         }
         return 1;
     }
     for (int p = 0; !fp->direct && p < fp->nfaces; p++) {  /* direct: the faces are in the list */
-        prepare(r, fp, p, 0);  /* every edge set up: an earlier face may be dropped here */
-        merge_face(r, &fp->faces[p], fp->pedges + fp->faces[p].pe, hidden_at(fp, p));
+        prepare(fr, fp, p, 0);  /* every edge set up: an earlier face may be dropped here */
+        merge_face(fr, &fp->faces[p], fp->pedges + fp->faces[p].pe, hidden_at(fp, p));
     }
-    ew_walk_brush_models(r);
+    ew_walk_brush_models(fr);
     return 0;
 }
 
 /* ---- 6: surfaces and edges written at their numbers (any thread) ---- */
 
-static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
+static void write_chunk(ew_front *fr, struct ew_front_par *fp, int c) {
     int hi = (c + 1) * CHUNK < fp->nfaces ? (c + 1) * CHUNK : fp->nfaces;
     int idx = fp->chunk_e0[c];
     for (int p = c * CHUNK; p < hi; p++) {
@@ -915,31 +885,31 @@ static void write_chunk(ew_renderer *r, struct ew_front_par *fp, int c) {
             if (!pe->emit) continue;
             int other = 0, q = pe->partner;
             if (q >= 0) other = fp->chunk_s0[q / CHUNK] + fp->faces[q].ls;
-            ew_edge *ed = &r->el.edges[idx++];
+            ew_edge *ed = &fr->el->edges[idx++];
             *ed = pe->e;
             ed->surfs[0] = (uint16_t)(pe->down ? s : other);
             ed->surfs[1] = (uint16_t)(pe->down ? other : s);
         }
-        ew_surf_set_world(r, &r->el.surfs[s], pf->face, pf->key, pf->nearzi);
+        ew_surf_set_world(fr->f, &fr->el->surfs[s], pf->face, pf->key, pf->nearzi);
     }
 }
 
-static void write_brush(ew_renderer *r, struct ew_front_par *fp, int i) {
+static void write_brush(ew_front *fr, struct ew_front_par *fp, int i) {
     const bres *b = &fp->bres[i];
     const arena *a = &fp->arenas[b->arena];
     int s = b->s0, idx = b->e0;
     for (int k = b->f0; k < b->f0 + b->nf; k++) {
-        const pfrag *fr = &a->frags[k];
-        if (!ew_see_to_hsr(r, fr->kind) || fr->m < 0) continue;
-        for (int j = 0; j < fr->m; j++) {
-            const pedge *pe = &a->edges[fr->pe + j];
+        const pfrag *fg = &a->frags[k];
+        if (!ew_see_to_hsr(fr, fg->kind) || fg->m < 0) continue;
+        for (int j = 0; j < fg->m; j++) {
+            const pedge *pe = &a->edges[fg->pe + j];
             if (!pe->emit) continue;
-            ew_edge *ed = &r->el.edges[idx++];
+            ew_edge *ed = &fr->el->edges[idx++];
             *ed = pe->e;
             ed->surfs[0] = (uint16_t)(pe->down ? s : 0);
             ed->surfs[1] = (uint16_t)(pe->down ? 0 : s);
         }
-        ew_surf_set_fragment(r->f.world, &r->el.surfs[s++], fr->face, fr->key, fr->nearzi, fr->view);
+        ew_surf_set_fragment(fr->f->world, &fr->el->surfs[s++], fg->face, fg->key, fg->nearzi, fg->view);
     }
 }
 
@@ -948,43 +918,43 @@ static void write_brush(ew_renderer *r, struct ew_front_par *fp, int i) {
 /* Item i of phase k.  The items likely to be largest come first, so that
  * no thread starts one when the others are nearly done: the entity tests
  * (a light trace each) in phase 4, the brush entities in phase 6. */
-static void do_item(ew_renderer *r, struct ew_front_par *fp, int k, int i, int thread) {
+static void do_item(ew_front *fr, struct ew_front_par *fp, int k, int i, int thread) {
     switch (k) {
     case 1: {
-        int from = i * PVS_CHUNK, to = from + PVS_CHUNK < r->marks.nvis ? from + PVS_CHUNK : r->marks.nvis;
-        ew_pvs_apply(r, from, to);
+        int from = i * PVS_CHUNK, to = from + PVS_CHUNK < fr->marks->nvis ? from + PVS_CHUNK : fr->marks->nvis;
+        ew_pvs_apply(fr, from, to);
         break;
     }
-    case 2: walk_seg(r, fp, fp->tree_segs[i]); break;
+    case 2: walk_seg(fr, fp, fp->tree_segs[i]); break;
     case 3:
-        for (int q = i * NODE_CHUNK; q < fp->nnode && q < (i + 1) * NODE_CHUNK; q++) node_faces(r, fp, fp->node_segs[q]);
+        for (int q = i * NODE_CHUNK; q < fp->nnode && q < (i + 1) * NODE_CHUNK; q++) node_faces(fr, fp, fp->node_segs[q]);
         break;
     case 4:
         if (i < fp->nent_items) {
-            int e0 = i * ENT_CHUNK, n = r->ents.scene->nents;
-            ew_test_entities(r, e0, e0 + ENT_CHUNK < n ? e0 + ENT_CHUNK : n);
+            int e0 = i * ENT_CHUNK, n = fr->scene->nents;
+            ew_test_entities(fr, e0, e0 + ENT_CHUNK < n ? e0 + ENT_CHUNK : n);
         } else if ((i -= fp->nent_items) < fp->nchunks) {
-            prepare_chunk(r, fp, i);
+            prepare_chunk(fr, fp, i);
         } else if (fp->segs[i - fp->nchunks].kind == SEG_TREE) {
-            fix_leaf_keys(r, fp, i - fp->nchunks);
+            fix_leaf_keys(fr, fp, i - fp->nchunks);
         }
         break;
-    case 5: cull_strip(r, fp, i); break;
+    case 5: cull_strip(fr, fp, i); break;
     case 6:
-        if (i < fp->nbitems) split_brush(r, fp, i, thread);
-        else resolve_chunk(r, fp, i - fp->nbitems);  /* not in direct mode: no such items */
+        if (i < fp->nbitems) split_brush(fr, fp, i, thread);
+        else resolve_chunk(fr, fp, i - fp->nbitems);  /* not in direct mode: no such items */
         break;
     case 7:
-        if (i < staged_chunks(fp)) write_chunk(r, fp, i);
-        else write_brush(r, fp, i - staged_chunks(fp));
+        if (i < staged_chunks(fp)) write_chunk(fr, fp, i);
+        else write_brush(fr, fp, i - staged_chunks(fp));
         break;
     }
 }
 
-static void run_items(ew_renderer *r, struct ew_front_par *fp, int k, int thread) {
+static void run_items(ew_front *fr, struct ew_front_par *fp, int k, int thread) {
     phase *ph = &fp->ph[k];
     if (fp->direct && !fp->time_items) {  /* one thread: the items in order, no locked instructions */
-        for (int i = 0; i < ph->n; i++) do_item(r, fp, k, i, thread);
+        for (int i = 0; i < ph->n; i++) do_item(fr, fp, k, i, thread);
         atomic_store_explicit(&ph->done, ph->n, memory_order_relaxed);
         return;
     }
@@ -992,7 +962,7 @@ static void run_items(ew_renderer *r, struct ew_front_par *fp, int k, int thread
         /* The row profile (one thread) times each item: the largest of a
          * phase bounds it on any number of threads. */
         double t0 = fp->time_items ? ew_now_ms() : 0;
-        do_item(r, fp, k, i, thread);
+        do_item(fr, fp, k, i, thread);
         if (fp->time_items) {
             double ms = ew_now_ms() - t0;
             if (ms > fp->longest[k]) fp->longest[k] = ms;
@@ -1016,93 +986,91 @@ static void wait_done(struct ew_front_par *fp, int k) {
 
 /* The calling thread's side of phase k: opened with n items, its share
  * taken, then every item waited for. */
-static void run_phase(ew_renderer *r, struct ew_front_par *fp, int k, int n) {
+static void run_phase(ew_front *fr, struct ew_front_par *fp, int k, int n) {
     open_phase(fp, k, n);
-    run_items(r, fp, k, 0);
+    run_items(fr, fp, k, 0);
     wait_done(fp, k);
 }
 
 typedef struct front_run {
-    ew_renderer *r;
-    double       serial_ms[2];
+    ew_front *fr;
+    double    serial_ms[2];
 } front_run;
 
 static void job_front(void *ctx, int thread) {
     front_run *run = ctx;
-    ew_renderer *r = run->r;
-    struct ew_front_par *fp = r->fpar;
+    ew_front *fr = run->fr;
+    struct ew_front_par *fp = fr->par;
     if (thread != 0) {
         for (int k = 1; k < NPHASES; k++) {
             int rounds = 0;
             while (atomic_load_explicit(&fp->stage, memory_order_acquire) < k) relax(&rounds);
-            run_items(r, fp, k, thread);
+            run_items(fr, fp, k, thread);
         }
         int rounds = 0;
         while (!atomic_load_explicit(&fp->front_done, memory_order_acquire)) relax(&rounds);
-        fp->then(r, thread);
+        fp->then(fp->then_ctx, thread);
         return;
     }
     double t = ew_now_ms(), ser = 0;
     fp->nbitems = fp->bculled = fp->nent_items = 0;
-    if (r->ents.scene) {
-        fp->nbitems = ew_brush_items(r, fp->bitems, &fp->bculled);
-        if (ew_reserve_entities(r) == 0) fp->nent_items = (r->ents.scene->nents + ENT_CHUNK - 1) / ENT_CHUNK;
+    if (fr->scene) {
+        fp->nbitems = ew_brush_items(fr, fp->bitems, &fp->bculled);
+        if (fr->ent_frame) fp->nent_items = (fr->scene->nents + ENT_CHUNK - 1) / ENT_CHUNK;  /* room for their answers */
     }
-    for (int i = 0; i < r->sched.nthreads && i < EW_MAX_THREADS; i++)
+    for (int i = 0; i < fr->nthreads && i < EW_MAX_THREADS; i++)
         fp->arenas[i].nfrags = fp->arenas[i].nedges = fp->arenas[i].nverts = fp->arenas[i].failed = 0;
     run->serial_ms[1] = ew_now_ms() - t;
-    run_phase(r, fp, 1, (r->marks.nvis + PVS_CHUNK - 1) / PVS_CHUNK);
-    r->marks.vis_pending = 0;
+    run_phase(fr, fp, 1, (fr->marks->nvis + PVS_CHUNK - 1) / PVS_CHUNK);
+    fr->marks->vis_pending = 0;
     t = ew_now_ms();
     fp->nsegs = fp->ntree = fp->nnode = 0;
-    int head = r->f.world->models[0].headnode;
+    int head = fr->f->world->models[0].headnode;
     if (fp->head_root) add_seg(fp, SEG_TREE, head, 15, 0, 0);
-    else top_walk(r, fp, head, 15, 0);
+    else top_walk(fr, fp, head, 15, 0);
     ser += ew_now_ms() - t;
-    run_phase(r, fp, 2, fp->ntree);
-    run_phase(r, fp, 3, (fp->nnode + NODE_CHUNK - 1) / NODE_CHUNK);
+    run_phase(fr, fp, 2, fp->ntree);
+    run_phase(fr, fp, 3, (fp->nnode + NODE_CHUNK - 1) / NODE_CHUNK);
     t = ew_now_ms();
-    layout(r, fp);
+    layout(fr, fp);
     ser += ew_now_ms() - t;
-    run_phase(r, fp, 4, fp->nchunks + fp->nsegs + fp->nent_items);
-    if (fp->nent_items) r->ents.tested_frame = r->marks.framecount;
-    run_phase(r, fp, 5, fp->occ ? r->occ.nstrips : 0);
-    run_phase(r, fp, 6, staged_chunks(fp) + fp->nbitems);
+    run_phase(fr, fp, 4, fp->nchunks + fp->nsegs + fp->nent_items);
+    if (fp->nent_items) fr->tested_frame = fr->marks->framecount;
+    run_phase(fr, fp, 5, fp->occ ? fr->occ.nstrips : 0);
+    run_phase(fr, fp, 6, staged_chunks(fp) + fp->nbitems);
     t = ew_now_ms();
-    int fits = number(r, fp);
+    int fits = number(fr, fp);
     ser += ew_now_ms() - t;
-    run_phase(r, fp, 7, fits ? staged_chunks(fp) + fp->nbitems : 0);
+    run_phase(fr, fp, 7, fits ? staged_chunks(fp) + fp->nbitems : 0);
     t = ew_now_ms();
     if (fits) {
         if (fp->nbitems > 0) {
             const bres *b = &fp->bres[fp->nbitems - 1];
-            r->el.nsurfs = b->s0 + b->ns, r->el.nedges = b->e0 + b->ne;
+            fr->el->nsurfs = b->s0 + b->ns, fr->el->nedges = b->e0 + b->ne;
         } else if (staged_chunks(fp) > 0) {
             int last = staged_chunks(fp) - 1;
-            r->el.nsurfs = fp->chunk_s0[last] + fp->chunk_ns[last];
-            r->el.nedges = fp->chunk_e0[last] + fp->chunk_ne[last];
+            fr->el->nsurfs = fp->chunk_s0[last] + fp->chunk_ns[last];
+            fr->el->nedges = fp->chunk_e0[last] + fp->chunk_ne[last];
         }
     }
     ser += ew_now_ms() - t;
     run->serial_ms[0] = ser;
     fp->tail(fp->tail_arg);
     atomic_store_explicit(&fp->front_done, 1, memory_order_release);
-    fp->then(r, thread);
+    fp->then(fp->then_ctx, thread);
 }
 
-int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, void (*then)(void *ctx, int thread),
-                           double serial_ms[2]) {
+int ew_walk_world_parallel(ew_front *fr, int phases, void (*tail)(void *arg), void *arg,
+                           void (*then)(void *ctx, int thread), void *then_ctx, double serial_ms[2]) {
     /* One thread walks the tree in one loop unless the phases are asked for. */
-    if ((r->sched.nthreads == 1 && !r->f.cfg.front_phases) ||
-        !(r->f.cfg.hsr->flags & EW_HSR_EDGE_LIST) || r->fpar_bad)
-        return -1;
-    if (!r->fpar && !(r->fpar = front_par_new(r->f.world))) {
-        r->fpar_bad = 1;  /* an irregular tree (or no memory): the serial front end from now on */
+    if ((fr->nthreads == 1 && !phases) || !fr->out.edge_list || fr->par_bad) return -1;
+    if (!fr->par && !(fr->par = front_par_new(fr->f->world))) {
+        fr->par_bad = 1;  /* an irregular tree (or no memory): the serial front end from now on */
         return -1;
     }
-    struct ew_front_par *fp = r->fpar;
-    if (fp->cap_bitems < r->ents.max_ent_views + 1) {
-        int cap = r->ents.max_ent_views + 1;
+    struct ew_front_par *fp = fr->par;
+    if (fp->cap_bitems < fr->max_ent_views + 1) {
+        int cap = fr->max_ent_views + 1;
         ew_brush_item *bi = realloc(fp->bitems, sizeof *bi * (size_t)cap);
         if (bi) fp->bitems = bi;
         bres *br = realloc(fp->bres, sizeof *br * (size_t)cap);
@@ -1110,28 +1078,28 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
         if (!bi || !br) return -1;
         fp->cap_bitems = cap;
     }
-    const int frame = r->marks.framecount;
+    const int frame = fr->marks->framecount;
     if (frame < fp->last_frame) {  /* the frame number wrapped: forget the old marks */
-        for (int i = 0; i <= r->f.world->numedges; i++)
+        for (int i = 0; i <= fr->f->world->numedges; i++)
             for (int k = 0; k < 2; k++) atomic_store_explicit(&fp->eside[i][k].frame, 0, memory_order_relaxed);
-        for (int i = 0; i <= r->f.world->numfaces; i++) atomic_store_explicit(&fp->topmark[i], 0, memory_order_relaxed);
+        for (int i = 0; i <= fr->f->world->numfaces; i++) atomic_store_explicit(&fp->topmark[i], 0, memory_order_relaxed);
     }
     fp->last_frame = frame;
-    fp->tail = tail, fp->tail_arg = arg, fp->then = then;
+    fp->tail = tail, fp->tail_arg = arg, fp->then = then, fp->then_ctx = then_ctx;
     atomic_store(&fp->stage, 0);
     atomic_store(&fp->front_done, 0);
-    fp->time_items = r->sched.profile_rows && r->sched.nthreads == 1;
+    fp->time_items = fr->profile_rows && fr->nthreads == 1;
     /* One thread takes the chunks in order: the faces can go straight to
      * the list, as the serial walk hands them, with no staging. */
-    fp->direct = r->sched.nthreads == 1;
-    /* Hidden faces: decided inline by ew_emit_face in direct mode, else
+    fp->direct = fr->nthreads == 1;
+    /* Hidden faces: decided inline by ew_front_face in direct mode, else
      * in phase 5 on strips of the map, two a thread. */
-    fp->occ = r->occ.on && !fp->direct;
-    if (fp->occ && ew_occ_strips(&r->occ, 2 * r->sched.nthreads) < 0) return -1;
+    fp->occ = fr->occ.on && !fp->direct;
+    if (fp->occ && ew_occ_strips(&fr->occ, 2 * fr->nthreads) < 0) return -1;
     memset(fp->longest, 0, sizeof fp->longest);
-    front_run run = {r, {0, 0}};
-    ew_pool_run(r->sched.pool, job_front, &run);
+    front_run run = {fr, {0, 0}};
+    ew_pool_run(fr->pool, job_front, &run);
     serial_ms[0] = run.serial_ms[0], serial_ms[1] = run.serial_ms[1];
-    for (int k = 1; k < NPHASES; k++) r->f.stats.ms_front_items += fp->longest[k];
+    for (int k = 1; k < NPHASES; k++) fr->f->stats.ms_front_items += fp->longest[k];
     return 0;
 }

@@ -23,7 +23,6 @@
  * then exactly the rows of the whole map's, so any number of strips (the
  * parallel front end's, world/front_par.c) decides as one strip (the
  * one-thread emission's, world/edges.c) does. */
-#include "renderer.h"
 #include "world/occlude.h"
 
 #include <math.h>

@@ -4,7 +4,6 @@
 #ifndef EW_WORLD_OCCLUDE_H
 #define EW_WORLD_OCCLUDE_H
 
-#include "renderer.h"
 #include "world/edge_math.h"
 
 /* The faces of the strip's pending key are in: their tiles count now. */

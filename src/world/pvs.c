@@ -4,7 +4,7 @@
  * front end (world/front_par.c), a share of the list each.  Marks are
  * relaxed atomic stores: threads marking the same ancestor store the same
  * value. */
-#include "renderer.h"
+#include "world/front.h"
 
 int ew_point_leaf(const ew_world *w, int headnode, const float p[3]) {
     int n = headnode;
@@ -18,49 +18,43 @@ int ew_point_leaf(const ew_world *w, int headnode, const float p[3]) {
     return n < 0 ? -1 - n : 0;
 }
 
-static void mark_leaf(ew_renderer *r, int leaf, int frame) {
-    if (__atomic_load_n(&r->marks.leaf_frame[leaf], __ATOMIC_RELAXED) == frame) return;
-    __atomic_store_n(&r->marks.leaf_frame[leaf], frame, __ATOMIC_RELAXED);
-    const int *up = r->marks.node_up;
-    for (int n = r->marks.leaf_up[leaf]; n >= 0; n = up[n]) {
-        if (__atomic_load_n(&r->marks.node_frame[n], __ATOMIC_RELAXED) == frame) break;
-        __atomic_store_n(&r->marks.node_frame[n], frame, __ATOMIC_RELAXED);
+static void mark_leaf(ew_marks *mk, int leaf, int frame) {
+    if (__atomic_load_n(&mk->leaf_frame[leaf], __ATOMIC_RELAXED) == frame) return;
+    __atomic_store_n(&mk->leaf_frame[leaf], frame, __ATOMIC_RELAXED);
+    const int *up = mk->node_up;
+    for (int n = mk->leaf_up[leaf]; n >= 0; n = up[n]) {
+        if (__atomic_load_n(&mk->node_frame[n], __ATOMIC_RELAXED) == frame) break;
+        __atomic_store_n(&mk->node_frame[n], frame, __ATOMIC_RELAXED);
     }
 }
 
-void ew_pvs_apply(ew_renderer *r, int from, int to) {
-    for (int i = from; i < to; i++) mark_leaf(r, r->marks.vis[i], r->marks.framecount);
+void ew_pvs_apply(ew_front *fr, int from, int to) {
+    ew_marks *mk = fr->marks;
+    for (int i = from; i < to; i++) mark_leaf(mk, mk->vis[i], mk->framecount);
 }
 
-void ew_pvs_finish(ew_renderer *r) {
-    if (!r->marks.vis_pending) return;
-    ew_pvs_apply(r, 0, r->marks.nvis);
-    r->marks.vis_pending = 0;
+void ew_pvs_finish(ew_front *fr) {
+    if (!fr->marks->vis_pending) return;
+    ew_pvs_apply(fr, 0, fr->marks->nvis);
+    fr->marks->vis_pending = 0;
 }
 
-static void list_leaf(ew_renderer *r, int leaf) { r->marks.vis[r->marks.nvis++] = leaf; }
+static void list_leaf(ew_marks *mk, int leaf) { mk->vis[mk->nvis++] = leaf; }
 
-int ew_pvs_mark(ew_renderer *r) {
-    const ew_world *w = r->f.world;
+void ew_pvs_mark(ew_front *fr, int leaf) {
+    const ew_world *w = fr->f->world;
+    ew_marks *mk = fr->marks;
     const ew_model *m = &w->models[0];
-    int leaf = ew_point_leaf(w, m->headnode, r->f.view.origin);
-    /* Locked (ew_set_pvs_lock): the PVS of the leaf the lock kept. */
-    int eye = leaf;
-    r->dbg.last_leaf = eye;
-    if (r->dbg.pvs_lock) {
-        if (r->dbg.pvs_leaf < 0) r->dbg.pvs_leaf = eye;
-        leaf = r->dbg.pvs_leaf;
-    }
     const ew_leaf *l = &w->leaves[leaf];
     int nleaves = m->visleafs;
     if (nleaves > w->numleaves - 1) nleaves = w->numleaves - 1;
 
-    r->marks.nvis = 0;
-    r->marks.vis_pending = 1;
+    mk->nvis = 0;
+    mk->vis_pending = 1;
     if (leaf == 0 || l->visofs < 0 || !w->visdata) {
         /* Outside the map or no vis data: everything is potentially visible. */
-        for (int i = 1; i <= nleaves; i++) list_leaf(r, i);
-        return eye;
+        for (int i = 1; i <= nleaves; i++) list_leaf(mk, i);
+        return;
     }
     /* Run-length decoding: a zero byte is followed by a count of zero bytes.
      * Bounded by the leaf count and by the end of the lump. */
@@ -74,9 +68,8 @@ int ew_pvs_mark(ew_renderer *r) {
             continue;
         }
         for (int k = 0; k < 8 && bit + k < nleaves; k++)
-            if (b & (1 << k)) list_leaf(r, bit + k + 1);
+            if (b & (1 << k)) list_leaf(mk, bit + k + 1);
         bit += 8;
     }
-    list_leaf(r, leaf);  /* the view leaf is always visible (marking twice is harmless) */
-    return eye;
+    list_leaf(mk, leaf);  /* the view leaf is always visible (marking twice is harmless) */
 }

@@ -108,3 +108,19 @@ int ew_cull_box(const ew_view *v, const float mins[3], const float maxs[3], int 
     }
     return clipflags;
 }
+
+void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]) {
+    const ew_plane *pl = &w->planes[f->plane];
+    float nx = 0, ny = 0, nz = 0, od = 0;
+    for (int k = 0; k < 3; k++) {
+        nx += pl->normal[k] * v->right[k];
+        ny += pl->normal[k] * v->up[k];
+        nz += pl->normal[k] * v->forward[k];
+        od += pl->normal[k] * v->origin[k];
+    }
+    float dist = pl->dist - od;  /* plane in view space: n.p = dist */
+    if (fabsf(dist) < 1e-3f) dist = dist < 0 ? -1e-3f : 1e-3f;
+    out[0] = nx / (v->xscale * dist);
+    out[1] = -ny / (v->yscale * dist);
+    out[2] = nz / dist - v->xcenter * out[0] - v->ycenter * out[1];
+}

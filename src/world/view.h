@@ -17,6 +17,10 @@ void ew_entity_axes(const float angles[3], float ax[3][3]);
 void ew_moved_box(const float ax[3][3], const float origin[3], const float mins[3],
                   const float maxs[3], float lo[3], float hi[3]);
 void ew_view_to_model(const ew_view *v, const float ax[3][3], const float origin[3], ew_view *out);
+/* Face f's 1/z plane seen through v (the camera in the face's own space):
+ * 1/z = out[0] u + out[1] v + out[2] (the gradients' zi_u, zi_v, zi_0,
+ * raster/gradients.c). */
+void ew_face_zplane(const ew_world *w, const ew_view *v, const ew_face *f, float out[3]);
 /* World point -> view space (x right, y up, z forward). */
 static inline void ew_view_transform(const ew_view *v, const float p[3], float out[3]) {
     float d0 = p[0] - v->origin[0], d1 = p[1] - v->origin[1], d2 = p[2] - v->origin[2];
