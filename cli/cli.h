@@ -5,7 +5,7 @@
 #ifndef EW_CLI_H
 #define EW_CLI_H
 
-#include "edgewise.h"
+#include "edgewise_lab.h"  /* and edgewise.h */
 
 #include <stddef.h>
 #include <stdio.h>
@@ -135,7 +135,8 @@ void print_scene_warnings(const ew_scene *s, int quiet);
  * The view set rendered once untimed (the warm-up: pages in the frame and
  * fills the surface cache), then `passes` times with each frame timed on
  * the monotonic clock: frames[(pass - 1) * nviews + v] in ms, and the
- * frame's counters in stats[] alike (stats may be NULL).  hooks (may be
+ * frame's counters in stats[] and its probes in labs[] alike (either may
+ * be NULL).  hooks (may be
  * NULL) are called before every frame (pass 0 is the warm-up) and after
  * every timed one.  Returns 0, or -1 - v when view v cannot be rendered. */
 typedef struct bench_hooks {
@@ -144,7 +145,7 @@ typedef struct bench_hooks {
     void *ctx;
 } bench_hooks;
 int    bench_run_views(ew_renderer *r, const ew_camera *views, int nviews, int passes, double *frames,
-                       ew_stats *stats, const bench_hooks *hooks);
+                       ew_stats *stats, ew_lab_stats *labs, const bench_hooks *hooks);
 /* The median of n values (sorts v). */
 double bench_median(double *v, int n);
 

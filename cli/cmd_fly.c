@@ -11,7 +11,7 @@
 #define _DEFAULT_SOURCE
 #include "cli.h"
 #include "edgewise.h"
-#include "ew_util.h"    /* ew_now_ms */
+#include "edgewise_lab.h"  /* ew_clock_ms */
 
 #include <errno.h>
 #include <math.h>
@@ -621,7 +621,7 @@ int cmd_fly(int argc, char **argv) {
     if (video) fprintf(video, "YUV4MPEG2 W%d H%d F%d:1 Ip A1:1 C420jpeg\n", o.width, o.height, o.fps);
 
     int tty = isatty(2);
-    double start = ew_now_ms(), last = 0;
+    double start = ew_clock_ms(), last = 0;
     for (long k = 0; k < frames; k++) {
         if (stop_signal) {
             error_line("fly: stopped by signal %d after %ld of %ld frames; nothing written", (int)stop_signal, k,
@@ -659,7 +659,7 @@ int cmd_fly(int argc, char **argv) {
                 goto done;
             }
         }
-        double now = ew_now_ms();
+        double now = ew_clock_ms();
         if (tty && (now - last > 100 || k + 1 == frames)) {
             last = now;
             double el = (now - start) / 1000;
@@ -713,7 +713,7 @@ int cmd_fly(int argc, char **argv) {
     }
     rc = 0;
     written = 0;
-    double secs = (ew_now_ms() - start) / 1000;
+    double secs = (ew_clock_ms() - start) / 1000;
     fprintf(stderr, "fly: %ld frames %dx%d at %d fps (%.2f s of video) written to %s in %.1f s (%.1f frames/s)\n",
             frames, o.width, o.height, o.fps, (double)frames / o.fps, o.out, secs,
             secs > 0 ? (double)frames / secs : 0);

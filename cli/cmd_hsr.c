@@ -20,8 +20,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "edgewise.h"
-#include "edgewise_tools.h"
-#include "mapgen/mapgen.h"  /* EW_STRESS_MAX_DETAIL */
+#include "edgewise_lab.h"
 
 #include <errno.h>
 #include <math.h>
@@ -454,7 +453,7 @@ static int lab_size(const lab_ctx *c, int w, int h, hsr_row *rows) {
         }
         progress_ctx pc = { r->map, ew_hsr_name((ew_hsr_method)r->method), w, h, o->repeat, c->nviews, 0 };
         bench_hooks hooks = { progress_before, NULL, &pc };
-        int bad = bench_run_views(rd, c->views, c->nviews, o->repeat, frames, stats, &hooks);
+        int bad = bench_run_views(rd, c->views, c->nviews, o->repeat, frames, stats, NULL, &hooks);
         if (bad) {
             progress_clear();
             error_line("%s: view %d: cannot render this camera", c->map, -bad - 1);

@@ -21,9 +21,7 @@
 #define _DEFAULT_SOURCE
 #include "cli.h"
 #include "edgewise.h"
-#include "edgewise_tools.h"
-#include "asset/entity_lump.h"
-#include "ew_util.h"    /* ew_now_ms */
+#include "edgewise_lab.h"
 
 #include <ctype.h>
 #include <dirent.h>
@@ -476,26 +474,6 @@ static ew_assets *load_item(const map_item *m, const char *data, ew_error *err) 
  * first player start (*start), -1 when there is none: the entities walked
  * as ew_benchmark_views walks them (four views a player start, one an
  * intermission). */
-static void view_roles(const ew_world *w, int *inter, int *start) {
-    *inter = *start = -1;
-    const char *text = ew_world_entities(w);
-    if (!text) return;
-    ew_entities ents;
-    ew_entities_parse(text, strlen(text), &ents, NULL);
-    int n = 0;
-    for (int i = 0; i < ents.count && n < EW_MAX_VIEWS; i++) {
-        const char *cls = ew_entity_get(&ents.ents[i], "classname");
-        if (!cls) continue;
-        if (!strncmp(cls, "info_player", 11)) {
-            if (*start < 0) *start = n;
-            n += 4;
-        } else if (!strcmp(cls, "info_intermission")) {
-            if (*inter < 0) *inter = n;
-            n++;
-        }
-    }
-    ew_entities_free(&ents);
-}
 
 #define YAWS 24
 /* The player start's eye turned, level, to the most open direction. */
@@ -654,7 +632,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         }
     }
     ew_error err = {""};
-    double t0 = ew_now_ms();
+    double t0 = ew_clock_ms();
     ew_assets *a = load_item(m, o->data, &err);
     if (a && !o->quiet) print_world_warnings(a->world, 0);
     ew_scene *scene = NULL;
@@ -664,7 +642,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         free(b);
         return (map_result){1, 0, 0};
     }
-    double load_ms = ew_now_ms() - t0;
+    double load_ms = ew_clock_ms() - t0;
     ew_camera views[EW_MAX_VIEWS];
     int nv = ew_benchmark_views(a->world, views);
     int list[EW_MAX_VIEWS], nlist = 0;
@@ -678,7 +656,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
     }
     if (o->views_mode == 0) {
         int inter, start;
-        view_roles(a->world, &inter, &start);
+        ew_benchmark_view_roles(a->world, &inter, &start);
         best_cam = views[inter >= 0 ? inter : start >= 0 ? start : 0];
         if (inter < 0) most_open(a->world, &best_cam);
         list[nlist++] = -2;
@@ -729,21 +707,21 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         ew_camera cam = v == -2 ? best_cam : views[v];
         ew_stats st;
         memset(&st, 0, sizeof st);
-        double t1 = ew_now_ms();
+        double t1 = ew_clock_ms();
         if (ew_render(r, &cam, &st) < 0) {
             line_error(b, m, v, NULL, "cannot render this camera", fd);
             res.status = 1;
             continue;
         }
-        double render_ms = ew_now_ms() - t1;
+        double render_ms = ew_clock_ms() - t1;
         double luma = frame_luma(r);
-        double t2 = ew_now_ms();
+        double t2 = ew_clock_ms();
         if (ew_write_frame_png(r, file, &err) < 0) {
             line_error(b, m, v, NULL, err.msg, fd);
             res.status = 1;
             continue;
         }
-        double png_ms = ew_now_ms() - t2;
+        double png_ms = ew_clock_ms() - t2;
         res.pictures++;
         line_start(b, m, v, file);
         lb_add(b, ",\"status\":\"ok\",\"origin\":[");
@@ -792,7 +770,7 @@ static void fmt_time(char *out, size_t size, double s) {
 
 static void progress_draw(progress *p, int final) {
     if (!p->tty) return;
-    double now = ew_now_ms();
+    double now = ew_clock_ms();
     if (!final && now - p->last < 100) return;
     p->last = now;
     double el = (now - p->t0) / 1000;
@@ -1072,7 +1050,7 @@ int cmd_shots(int argc, char **argv) {
     memset(&p, 0, sizeof p);
     p.tty = isatty(2);
     p.total = l.n;
-    p.t0 = ew_now_ms();
+    p.t0 = ew_clock_ms();
     if (o.jobs == 1) {
         for (int i = 0; i < l.n; i++) {
             report rp = {0, i, {0, 0, 0}};
@@ -1086,7 +1064,7 @@ int cmd_shots(int argc, char **argv) {
         goto done;
     }
     progress_draw(&p, 1);
-    double secs = (ew_now_ms() - p.t0) / 1000;
+    double secs = (ew_clock_ms() - p.t0) / 1000;
     fprintf(stderr, "shots: %d map%s, %d picture%s written, %d skipped (already there), %d without views, "
             "%d failed, %.1f s (%.1f pictures/s), manifest %s\n", p.total, p.total == 1 ? "" : "s", p.pictures,
             p.pictures == 1 ? "" : "s", p.skipped, p.noviews, p.failed, secs, secs > 0 ? p.pictures / secs : 0,

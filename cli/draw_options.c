@@ -9,8 +9,7 @@
 #define _POSIX_C_SOURCE 200809L  /* stat */
 #include "cli.h"
 #include "edgewise.h"
-#include "edgewise_tools.h"  /* ew_set_full_zfill, ew_set_occlusion_cull */
-#include "mapgen/mapgen.h"   /* ew_stress_generate: builtin:detail=N */
+#include "edgewise_lab.h"  /* ew_set_full_zfill, ew_set_occlusion_cull */
 
 #include <ctype.h>
 #include <errno.h>
@@ -411,17 +410,8 @@ int stress_detail(const char *map) {
 /* The stress hall (src/mapgen/stress_level.c) at detail d, as assets. */
 static ew_assets *stress_assets(const char *map, int d) {
     ew_error err = { "" };
-    ew_assets *a = calloc(1, sizeof *a);
-    uint8_t *bsp = NULL;
-    size_t size = 0;
-    if (a && ew_stress_generate(d, &bsp, &size, a->palette, a->colormap, &err) == 0)
-        a->world = ew_world_create(bsp, size, map, &err);
-    free(bsp);
-    if (!a || !a->world) {
-        error_line("%s", err.msg[0] ? err.msg : "builtin: out of memory");
-        free(a);
-        return NULL;
-    }
+    ew_assets *a = ew_assets_create_stress(d, map, &err);
+    if (!a) error_line("%s", err.msg[0] ? err.msg : "builtin: out of memory");
     return a;
 }
 

@@ -415,6 +415,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
         r->marks.framecount = 1;
     }
     memset(&r->f.stats, 0, sizeof r->f.stats);
+    memset(&r->lab, 0, sizeof r->lab);
     ew_styles_frame(r->f.cfg.lightstyle, r->f.cfg.style_set, w->styles_start_off, r->f.cfg.classic, cam->time);
     ew_view_setup(&r->f.view, cam, r->f.target.width, r->f.target.height);
     ew_turb_table(r->draw.turb, &r->draw.turb_phase, cam->time);
@@ -846,8 +847,8 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     /* Serial: from the start of the frame to here, outside ew_pool_run. */
     ser[5] = serial_lap(r, &sc0) + serial_in_run;
     st->ms_serial = ser[5];
-    st->ms_serial_begin = ser[0], st->ms_serial_walk = ser[1], st->ms_serial_brush = ser[2];
-    st->ms_serial_prepare = ser[3], st->ms_serial_passes = ser[4];
+    r->lab.ms_serial_begin = ser[0], r->lab.ms_serial_walk = ser[1], r->lab.ms_serial_brush = ser[2];
+    r->lab.ms_serial_prepare = ser[3], r->lab.ms_serial_passes = ser[4];
     if (stats) *stats = *st;
     return 0;
 }

@@ -26,6 +26,7 @@
 #include "raster/zfill.h"
 #include "scene/passes.h"
 #include "world/front.h"
+#include "edgewise_lab.h"  /* ew_lab_stats */
 
 #include <stdatomic.h>
 
@@ -148,6 +149,7 @@ struct ew_renderer {
     struct ew_front_par *fpar;                   /* the parallel front end's lists (world/front_par.c), or NULL */
     int         fpar_bad;                        /* its plan failed (an irregular tree): the serial front end */
     ew_occlusion occ;                            /* faces nearer faces hide (world/occlude.c) */
+    ew_lab_stats lab;                            /* this frame's probes (ew_frame_lab_stats) */
 };
 
 /* output/gamma.c: the table of a channel through gamma g (out = 255 *

@@ -28,7 +28,7 @@ cmake --install "$EW_BUILD_DIR" --prefix "$P" >"$TMP/install.log" 2>&1 ||
 note "installed files:"
 (cd "$P" && find . -type f -o -type l | sort | sed 's/^/  /')
 
-for f in include/edgewise.h include/edgewise_tools.h lib/libedgewise.a \
+for f in include/edgewise.h include/edgewise_lab.h lib/libedgewise.a \
          lib/pkgconfig/edgewise.pc bin/edgewise share/man/man1/edgewise.1 \
          share/bash-completion/completions/edgewise; do
     [ -s "$P/$f" ] || fail "$f not installed"
@@ -64,7 +64,7 @@ if [ "$HAVE_SHARED" = 1 ]; then
     nm -D --defined-only "$P/lib/libedgewise.so" | awk '{ print $NF }' |
         grep -v -e '^_edata$' -e '^_end$' -e '^__bss_start$' -e '^_init$' -e '^_fini$' |
         sort >"$TMP/exported"
-    grep -h '^EW_API ' "$P/include/edgewise.h" "$P/include/edgewise_tools.h" |
+    grep -h '^EW_API ' "$P/include/edgewise.h" "$P/include/edgewise_lab.h" |
         sed 's/(.*//; s/.*[ *]//' | sort >"$TMP/declared"
     diff "$TMP/declared" "$TMP/exported" >"$TMP/symdiff" ||
         { cat "$TMP/symdiff" >&2; fail "exported symbols (>) differ from the EW_API declarations (<)"; }

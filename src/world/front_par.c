@@ -1132,6 +1132,6 @@ int ew_walk_world_parallel(ew_renderer *r, void (*tail)(void *arg), void *arg, v
     front_run run = {r, {0, 0}};
     ew_pool_run(r->sched.pool, job_front, &run);
     serial_ms[0] = run.serial_ms[0], serial_ms[1] = run.serial_ms[1];
-    for (int k = 1; k < NPHASES; k++) r->f.stats.ms_front_items += fp->longest[k];
+    for (int k = 1; k < NPHASES; k++) r->lab.ms_front_items += fp->longest[k];
     return 0;
 }
