@@ -57,23 +57,7 @@ static const char bench_usage[] =
     "one JSON object per row (fields: bench/README.md).\n"
     "\n"
     "options:\n"
-    "  --data DIR        game directory (maps/, gfx/)\n"
-    "  --size WxH        frame size; repeat for several (default 640x480)\n"
-    "  --threads N       render threads, " THREADS_RULE "; repeat for several (default 1)\n"
-    "  --passes P        timed passes over the view set, 1 to 1000 (default 5)\n"
-    "  --gap MS          a pause of MS milliseconds before each frame, 0 to 1000\n"
-    "                    (default 0): frames spaced out as a viewer paces them,\n"
-    "                    the render threads asleep between them\n"
-    "  --bands N         also report the imbalance of N bands and the speed-up\n"
-    "                    predicted on N cores, N 1 to 256 and at most height/8;\n"
-    "                    repeat for several\n"
-    "  --table           a human-readable table on stdout (JSON then only to --out)\n"
-    "  --out FILE.jsonl  write the JSON lines to FILE instead of stdout\n"
-    "  --floor           only measure the fill floor for each --size\n"
-    "  --per-view        also each view's median time, stages and counts (what\n"
-    "                    makes the slow views slow; with --table also the level\n"
-    "                    of the geometry, the draw and the pixel work alone)\n"
-    "  --quiet           no warning lines about the maps' optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "what is drawn (as in edgewise render):\n";
 static const char bench_usage_tail[] =
@@ -103,20 +87,20 @@ typedef struct bench_opts {
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int bench_parse(int argc, char **argv, bench_opts *o) {
     int passes_given = 0, gap_given = 0;
-    static const char *const flags[] = { "--quiet", "--table", "--floor", "--per-view", "--help", "-h", NULL };
-    static const char *const valued[] = { "--data", "--size", "--threads", "--passes", "--out", "--bands", "--gap", NULL };
-    cli_args args = { "bench", flags, valued, o->maps, 0, MAX_MAPS, 0, &o->draw };
-    for (int i = 2; i < argc; i++) {
-        char name[32];
+    cli_args args;
+    cli_args_init(&args, CLI_BENCH, argc, argv, o->maps, MAX_MAPS, &o->draw);
+    for (;;) {
+        const cli_option *opt;
         const char *v;
-        int ar = cli_next_arg(&args, argc, argv, &i, name, &v);
+        int ar = cli_next_arg(&args, &opt, &v);
+        const char *name = opt ? opt->name : "";
         if (ar <= 0) {
             if (ar < 0) return -1;
-            continue;
+            break;
         }
         if (!v) {
             if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
-                fputs(bench_usage, stdout);
+                cli_print_help(stdout, CLI_BENCH, bench_usage);
                 draw_opts_usage(stdout);
                 fputs(bench_usage_tail, stdout);
                 return 1;

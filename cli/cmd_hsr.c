@@ -54,21 +54,7 @@ static const char hsr_usage[] =
     "face matches), the method's memory and its own counters.\n"
     "\n"
     "options:\n"
-    "  --data DIR        game directory (maps/, gfx/)\n"
-    "  --methods LIST    comma list of methods (default every one this build has)\n"
-    "  --size WxH        frame size; repeat for several\n"
-    "                    (default 320x200, 640x480 and 1920x1080; with --stress 640x480)\n"
-    "  --threads N       render threads, " THREADS_RULE " (default 1)\n"
-    "  --repeat N        timed passes over the view set, 1 to 1000 (default 5)\n"
-    "  --json FILE|-     JSON lines to FILE (- : to stdout instead of the table)\n"
-    "  --heatmap DIR     an overdraw heat map per method and view:\n"
-    "                    DIR/MAP_WxH_vN_METHOD.png\n"
-    "  --svg FILE        a bar chart of time and overdraw per method (with --stress:\n"
-    "                    time against the polygons in view, a line per method)\n"
-    "  --stress LIST     instead of MAPs: the built-in stress hall at each detail of\n"
-    "                    the comma list (0 to 26000, about that many polygons in view),\n"
-    "                    as MAP builtin:detail=N\n"
-    "  --quiet           no warning lines about the maps' optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "what is drawn (as in edgewise render; --hsr is --methods here):\n";
 static const char hsr_usage_tail[] =
@@ -174,29 +160,29 @@ bad:
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int hsr_parse(int argc, char **argv, hsr_opts *o) {
     int repeat_given = 0, threads_given = 0, methods_given = 0;
-    static const char *const flags[] = { "--quiet", "--help", "-h", NULL };
-    static const char *const valued[] = { "--data", "--methods", "--size", "--threads", "--repeat",
-                                          "--json", "--heatmap", "--svg", "--stress", NULL };
-    cli_args args = { "hsr", flags, valued, o->maps, 0, MAX_MAPS, 0, &o->draw };
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (!args.only_positional && (strcmp(a, "--hsr") == 0 || strncmp(a, "--hsr=", 6) == 0)) {
+    cli_args args;
+    cli_args_init(&args, CLI_HSR, argc, argv, o->maps, MAX_MAPS, &o->draw);
+    /* --hsr is a drawing option of the table, but the lab runs every method */
+    for (int i = 2; i < argc && strcmp(argv[i], "--") != 0; i++)
+        if (strcmp(argv[i], "--hsr") == 0 || strncmp(argv[i], "--hsr=", 6) == 0) {
             error_line("hsr: --hsr: the lab runs every method of --methods LIST");
             return -1;
         }
-        char name[32];
+    for (;;) {
+        const cli_option *opt;
         const char *v;
-        int ar = cli_next_arg(&args, argc, argv, &i, name, &v);
+        int ar = cli_next_arg(&args, &opt, &v);
+        const char *name = opt ? opt->name : "";
         if (ar <= 0) {
             if (ar < 0) return -1;
-            continue;
+            break;
         }
         if (!v) {
             if (strcmp(name, "--quiet") == 0) {
                 o->quiet = 1;
                 continue;
             }
-            fputs(hsr_usage, stdout);
+            cli_print_help(stdout, CLI_HSR, hsr_usage);
             draw_opts_usage(stdout);
             fputs(hsr_usage_tail, stdout);
             return 1;

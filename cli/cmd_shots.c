@@ -57,23 +57,7 @@ static const char shots_usage[] =
     "failures.  Exit status 0 if every map rendered, 1 if some failed, 2 for\n"
     "bad arguments.  Progress is a bar on a terminal, else one summary line.\n"
     "\n"
-    "  --data DIR           game directory for palette, colormap and models\n"
-    "  --out DIR            where the pictures go (default shots; made if missing)\n"
-    "  --size WxH           picture size (default 640x360)\n"
-    "  --views V            best (default): the first info_intermission camera\n"
-    "                       as the mapper aimed it; without one the first player\n"
-    "                       start's eye, level, turned to the most open of 24\n"
-    "                       directions (rays traced through the world every 15\n"
-    "                       degrees, each direction scored by the mean free\n"
-    "                       distance of the five rays within 30 degrees of it);\n"
-    "                       all: the whole view set; N,M,...: those views\n"
-    "  --jobs N             maps rendered at once, 1 to 256 worker processes\n"
-    "                       (default 1)\n"
-    "  --force              render again pictures that already exist (otherwise\n"
-    "                       they are skipped, so an interrupted batch resumes)\n"
-    "  --manifest FILE      JSON lines appended (default OUTDIR/manifest.jsonl)\n"
-    "  --contact-sheet FILE a grid PNG of the batch's pictures with their names\n"
-    "  --quiet              no warning lines about the maps' optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "what is drawn (as in edgewise render):\n";
 
@@ -319,52 +303,38 @@ static int parse_views(const char *v, shots_opts *o) {
 
 /* 0, 1 after --help, -1 (error printed). */
 static int parse(int argc, char **argv, shots_opts *o) {
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(shots_usage, stdout);
-            draw_opts_usage(stdout);
-            return 1;
-        }
-        int dr = draw_option(&o->draw, "shots", argc, argv, &i);
-        if (dr < 0) return -1;
-        if (dr > 0) continue;
-        const char *flags[] = {"--force", "--quiet"};
-        int flag = -1;
-        for (int k = 0; k < 2; k++) {
-            size_t n = strlen(flags[k]);
-            if (!strncmp(a, flags[k], n) && (a[n] == '\0' || a[n] == '=')) flag = k;
-        }
-        if (flag >= 0) {
-            if (strchr(a, '=')) {
-                error_line("shots: option '%s' takes no value", flags[flag]);
-                return -1;
-            }
-            *(flag ? &o->quiet : &o->force) = 1;
-            continue;
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (!*a) {
+    cli_parser p;
+    cli_parser_init(&p, CLI_SHOTS, argc, argv, 2);
+    for (;;) {
+        const cli_option *opt;
+        const char *v;
+        int r = cli_parse(&p, &opt, &v);
+        if (r < 0) return -1;
+        if (r == CLI_END) break;
+        if (r == CLI_POSITIONAL) {
+            if (!*v) {
                 error_line("shots: empty map name");
                 return -1;
             }
-            o->inputs[o->ninputs++] = a;
+            o->inputs[o->ninputs++] = v;
+            continue;
+        }
+        if (cli_is(opt, "--help")) {
+            cli_print_help(stdout, CLI_SHOTS, shots_usage);
+            draw_opts_usage(stdout);
+            return 1;
+        }
+        int dr = draw_option(&o->draw, "shots", opt, v);
+        if (dr < 0) return -1;
+        if (dr > 0) continue;
+        if (cli_is(opt, "--force") || cli_is(opt, "--quiet")) {
+            *(cli_is(opt, "--quiet") ? &o->quiet : &o->force) = 1;
             continue;
         }
         const char *names[] = {"--data", "--out", "--size", "--views", "--jobs", "--manifest", "--contact-sheet"};
-        int which = -1;
-        size_t nlen = strcspn(a, "=");
+        int which = 0;
         for (int k = 0; k < 7; k++)
-            if (strlen(names[k]) == nlen && !strncmp(a, names[k], nlen)) which = k;
-        if (which < 0) {
-            error_line("shots: unknown option '%.*s' (see edgewise shots --help)", (int)nlen, a);
-            return -1;
-        }
-        const char *v = a[nlen] == '=' ? a + nlen + 1 : i + 1 < argc ? argv[++i] : NULL;
-        if (!v) {
-            error_line("shots: option '%s' needs a value", names[which]);
-            return -1;
-        }
+            if (cli_is(opt, names[k])) which = k;
         if (!*v && which != 2 && which != 3 && which != 4) {
             error_line("%s: empty name", names[which]);
             return -1;

@@ -55,12 +55,7 @@ static const char soak_usage[] =
     "budget is full) and prints one JSON line: frames/s, anomalies, budget\n"
     "drops, peak memory.  Exit status 1 if any frame broke a promise.\n"
     "\n"
-    "  --data DIR      game directory (maps/, gfx/)\n"
-    "  --frames N      frames to render (required)\n"
-    "  --size WxH      frame size (default 320x200)\n"
-    "  --seed S        random cameras' seed (default 1)\n"
-    "  --threads N     render threads, " THREADS_RULE " (default 1)\n"
-    "  --quiet         no warning lines about the map's optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "what is drawn (as in edgewise render):\n";
 
@@ -76,52 +71,46 @@ typedef struct soak_opts {
 /* Returns 0, 1 after --help, or -1 (error printed). */
 static int parse(int argc, char **argv, soak_opts *o) {
     int have_frames = 0;
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(soak_usage, stdout);
+    cli_parser p;
+    cli_parser_init(&p, CLI_SOAK, argc, argv, 2);
+    for (;;) {
+        const cli_option *opt;
+        const char *v;
+        int r = cli_parse(&p, &opt, &v);
+        if (r < 0)
+            return -1;
+        if (r == CLI_END)
+            break;
+        if (r == CLI_POSITIONAL) {
+            if (o->map) {
+                error_line("soak: unexpected argument '%s'", v);
+                return -1;
+            }
+            if (!*v) {
+                error_line("soak: empty map name");
+                return -1;
+            }
+            o->map = v;
+            continue;
+        }
+        if (cli_is(opt, "--help")) {
+            cli_print_help(stdout, CLI_SOAK, soak_usage);
             draw_opts_usage(stdout);
             return 1;
         }
-        int dr = draw_option(&o->draw, "soak", argc, argv, &i);
+        int dr = draw_option(&o->draw, "soak", opt, v);
         if (dr < 0)
             return -1;
         if (dr > 0)
             continue;
-        if (!strncmp(a, "--quiet", 7) && (a[7] == '\0' || a[7] == '=')) {
-            if (a[7]) {
-                error_line("soak: option '--quiet' takes no value");
-                return -1;
-            }
+        if (cli_is(opt, "--quiet")) {
             o->quiet = 1;
             continue;
         }
-        if (a[0] != '-' || !a[1]) {
-            if (o->map) {
-                error_line("soak: unexpected argument '%s'", a);
-                return -1;
-            }
-            if (!*a) {
-                error_line("soak: empty map name");
-                return -1;
-            }
-            o->map = a;
-            continue;
-        }
         const char *names[] = {"--data", "--frames", "--size", "--seed", "--threads"};
-        int which = -1;
-        size_t nlen = strcspn(a, "=");
+        int which = 0;
         for (int k = 0; k < 5; k++)
-            if (strlen(names[k]) == nlen && !strncmp(a, names[k], nlen)) which = k;
-        if (which < 0) {
-            error_line("soak: unknown option '%.*s' (see edgewise soak --help)", (int)nlen, a);
-            return -1;
-        }
-        const char *v = a[nlen] == '=' ? a + nlen + 1 : i + 1 < argc ? argv[++i] : NULL;
-        if (!v) {
-            error_line("soak: option '%s' needs a value", names[which]);
-            return -1;
-        }
+            if (cli_is(opt, names[k])) which = k;
         long l;
         switch (which) {
         case 0:
