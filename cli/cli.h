@@ -86,20 +86,26 @@ int  draw_option(draw_opts *d, const char *cmd, const cli_option *opt, const cha
 /* The help lines of every drawing option (the rules the errors print). */
 void draw_opts_usage(FILE *f);
 
-/* One step through the arguments of a command that takes MAPs and the
- * drawing options (cli_parse, options.h): a positional argument is a map
- * (at most max_maps), a drawing option goes to draw.  Returns 1 with *opt
- * and *value (NULL for a flag) for the caller to handle, CLI_END (0) at the
- * end, -1 after one error line. */
+/* The arguments of a command that takes MAPs and the drawing options, one
+ * option at a time (cli_parse, options.h): a positional argument is a map
+ * (at most max_maps), a drawing option goes to draw (may be NULL), --help
+ * prints help (cli_print_help), the drawing options and help_tail (help
+ * NULL: --help is returned like any other option).  cli_next_arg returns 1
+ * with opt and value (NULL for a flag) for the caller; 0 at the end, or
+ * when stop is set: -1 after one error line, 1 after --help. */
 typedef struct cli_args {
-    cli_parser p;
-    const char **maps;
-    int nmaps, max_maps;
-    draw_opts *draw;
+    cli_parser        p;
+    const char      **maps;
+    int               nmaps, max_maps;
+    draw_opts        *draw;
+    const char       *help, *help_tail;
+    const cli_option *opt;
+    const char       *value;
+    int               stop;
 } cli_args;
 void cli_args_init(cli_args *a, cli_cmd cmd, int argc, char **argv, const char **maps, int max_maps,
-                   draw_opts *draw);
-int  cli_next_arg(cli_args *a, const cli_option **opt, const char **value);
+                   draw_opts *draw, const char *help, const char *help_tail);
+int  cli_next_arg(cli_args *a);
 /* *slot = v for an option naming a file or folder given at most once;
  * 0, or -1 after one error line. */
 int  cli_set_once(const char *cmd, const char *name, const char *v, const char **slot);

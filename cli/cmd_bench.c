@@ -88,23 +88,12 @@ typedef struct bench_opts {
 static int bench_parse(int argc, char **argv, bench_opts *o) {
     int passes_given = 0, gap_given = 0;
     cli_args args;
-    cli_args_init(&args, CLI_BENCH, argc, argv, o->maps, MAX_MAPS, &o->draw);
-    for (;;) {
-        const cli_option *opt;
-        const char *v;
-        int ar = cli_next_arg(&args, &opt, &v);
-        const char *name = opt ? opt->name : "";
-        if (ar <= 0) {
-            if (ar < 0) return -1;
-            break;
-        }
+    cli_args_init(&args, CLI_BENCH, argc, argv, o->maps, MAX_MAPS, &o->draw, bench_usage, bench_usage_tail);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
+        const char *name = opt->name;
         if (!v) {
-            if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
-                cli_print_help(stdout, CLI_BENCH, bench_usage);
-                draw_opts_usage(stdout);
-                fputs(bench_usage_tail, stdout);
-                return 1;
-            }
             if (strcmp(name, "--quiet") == 0)
                 o->quiet = 1;
             else if (strcmp(name, "--table") == 0)
@@ -147,6 +136,8 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             return -1;
         }
     }
+    if (args.stop)
+        return args.stop;
     o->nmaps = args.nmaps;
     if (o->floor_only && o->nmaps) {
         error_line("bench: --floor takes no MAP (it measures the machine, not a map)");

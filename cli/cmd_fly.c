@@ -90,34 +90,12 @@ static int parse_number(const char *s, double *out) {
 
 /* 0, 1 after --help, -1 (error printed). */
 static int parse(int argc, char **argv, fly_opts *o) {
-    cli_parser p;
-    cli_parser_init(&p, CLI_FLY, argc, argv, 2);
-    for (;;) {
-        const cli_option *opt;
-        const char *v;
-        int r = cli_parse(&p, &opt, &v);
-        if (r < 0) return -1;
-        if (r == CLI_END) break;
-        if (r == CLI_POSITIONAL) {
-            if (!*v) {
-                error_line("fly: empty map name");
-                return -1;
-            }
-            if (o->map) {
-                error_line("fly: one map only ('%s' and '%s')", o->map, v);
-                return -1;
-            }
-            o->map = v;
-            continue;
-        }
-        if (cli_is(opt, "--help")) {
-            cli_print_help(stdout, CLI_FLY, fly_usage);
-            draw_opts_usage(stdout);
-            return 1;
-        }
-        int dr = draw_option(&o->draw, "fly", opt, v);
-        if (dr < 0) return -1;
-        if (dr > 0) continue;
+    const char *map[1];
+    cli_args args;
+    cli_args_init(&args, CLI_FLY, argc, argv, map, 1, &o->draw, fly_usage, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
         if (cli_is(opt, "--quiet")) {
             o->quiet = 1;
             continue;
@@ -160,6 +138,9 @@ static int parse(int argc, char **argv, fly_opts *o) {
         case 6: o->cameras = v; break;
         }
     }
+    if (args.stop)
+        return args.stop;
+    o->map = args.nmaps ? map[0] : NULL;
     if (!o->map) {
         error_line("fly: no map given (see edgewise fly --help)");
         return -1;

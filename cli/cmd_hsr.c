@@ -161,31 +161,21 @@ bad:
 static int hsr_parse(int argc, char **argv, hsr_opts *o) {
     int repeat_given = 0, threads_given = 0, methods_given = 0;
     cli_args args;
-    cli_args_init(&args, CLI_HSR, argc, argv, o->maps, MAX_MAPS, &o->draw);
+    cli_args_init(&args, CLI_HSR, argc, argv, o->maps, MAX_MAPS, &o->draw, hsr_usage, hsr_usage_tail);
     /* --hsr is a drawing option of the table, but the lab runs every method */
     for (int i = 2; i < argc && strcmp(argv[i], "--") != 0; i++)
         if (strcmp(argv[i], "--hsr") == 0 || strncmp(argv[i], "--hsr=", 6) == 0) {
             error_line("hsr: --hsr: the lab runs every method of --methods LIST");
             return -1;
         }
-    for (;;) {
-        const cli_option *opt;
-        const char *v;
-        int ar = cli_next_arg(&args, &opt, &v);
-        const char *name = opt ? opt->name : "";
-        if (ar <= 0) {
-            if (ar < 0) return -1;
-            break;
-        }
-        if (!v) {
-            if (strcmp(name, "--quiet") == 0) {
-                o->quiet = 1;
-                continue;
-            }
-            cli_print_help(stdout, CLI_HSR, hsr_usage);
-            draw_opts_usage(stdout);
-            fputs(hsr_usage_tail, stdout);
-            return 1;
+    args.help = hsr_usage, args.help_tail = hsr_usage_tail;
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
+        const char *name = opt->name;
+        if (!v) { /* --quiet */
+            o->quiet = 1;
+            continue;
         }
         if (strcmp(name, "--data") == 0 || strcmp(name, "--json") == 0 || strcmp(name, "--heatmap") == 0 ||
             strcmp(name, "--svg") == 0) {
@@ -222,6 +212,8 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
                 return -1;
         }
     }
+    if (args.stop)
+        return args.stop;
     o->nmaps = args.nmaps;
     if (o->nstress && o->nmaps) {
         error_line("hsr: --stress takes no MAP (it makes its own: builtin:detail=N)");

@@ -303,30 +303,11 @@ static int parse_views(const char *v, shots_opts *o) {
 
 /* 0, 1 after --help, -1 (error printed). */
 static int parse(int argc, char **argv, shots_opts *o) {
-    cli_parser p;
-    cli_parser_init(&p, CLI_SHOTS, argc, argv, 2);
-    for (;;) {
-        const cli_option *opt;
-        const char *v;
-        int r = cli_parse(&p, &opt, &v);
-        if (r < 0) return -1;
-        if (r == CLI_END) break;
-        if (r == CLI_POSITIONAL) {
-            if (!*v) {
-                error_line("shots: empty map name");
-                return -1;
-            }
-            o->inputs[o->ninputs++] = v;
-            continue;
-        }
-        if (cli_is(opt, "--help")) {
-            cli_print_help(stdout, CLI_SHOTS, shots_usage);
-            draw_opts_usage(stdout);
-            return 1;
-        }
-        int dr = draw_option(&o->draw, "shots", opt, v);
-        if (dr < 0) return -1;
-        if (dr > 0) continue;
+    cli_args args;
+    cli_args_init(&args, CLI_SHOTS, argc, argv, o->inputs, argc, &o->draw, shots_usage, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
         if (cli_is(opt, "--force") || cli_is(opt, "--quiet")) {
             *(cli_is(opt, "--quiet") ? &o->quiet : &o->force) = 1;
             continue;
@@ -360,6 +341,9 @@ static int parse(int argc, char **argv, shots_opts *o) {
         case 6: o->sheet = v; break;
         }
     }
+    if (args.stop)
+        return args.stop;
+    o->ninputs = args.nmaps;
     if (!o->ninputs) {
         error_line("shots: missing MAP, DIR or PAK (see edgewise shots --help)");
         return -1;

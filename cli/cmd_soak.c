@@ -71,38 +71,12 @@ typedef struct soak_opts {
 /* Returns 0, 1 after --help, or -1 (error printed). */
 static int parse(int argc, char **argv, soak_opts *o) {
     int have_frames = 0;
-    cli_parser p;
-    cli_parser_init(&p, CLI_SOAK, argc, argv, 2);
-    for (;;) {
-        const cli_option *opt;
-        const char *v;
-        int r = cli_parse(&p, &opt, &v);
-        if (r < 0)
-            return -1;
-        if (r == CLI_END)
-            break;
-        if (r == CLI_POSITIONAL) {
-            if (o->map) {
-                error_line("soak: unexpected argument '%s'", v);
-                return -1;
-            }
-            if (!*v) {
-                error_line("soak: empty map name");
-                return -1;
-            }
-            o->map = v;
-            continue;
-        }
-        if (cli_is(opt, "--help")) {
-            cli_print_help(stdout, CLI_SOAK, soak_usage);
-            draw_opts_usage(stdout);
-            return 1;
-        }
-        int dr = draw_option(&o->draw, "soak", opt, v);
-        if (dr < 0)
-            return -1;
-        if (dr > 0)
-            continue;
+    const char *map[1];
+    cli_args args;
+    cli_args_init(&args, CLI_SOAK, argc, argv, map, 1, &o->draw, soak_usage, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
         if (cli_is(opt, "--quiet")) {
             o->quiet = 1;
             continue;
@@ -148,6 +122,9 @@ static int parse(int argc, char **argv, soak_opts *o) {
             break;
         }
     }
+    if (args.stop)
+        return args.stop;
+    o->map = args.nmaps ? map[0] : NULL;
     if (!o->map) {
         error_line("soak: missing MAP (a .bsp path, a map name with --data, or 'builtin')");
         return -1;

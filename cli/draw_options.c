@@ -395,30 +395,53 @@ int draw_opts_scene(const draw_opts *d, const ew_assets *a, const char *map, con
 }
 
 void cli_args_init(cli_args *a, cli_cmd cmd, int argc, char **argv, const char **maps, int max_maps,
-                   draw_opts *draw) {
+                   draw_opts *draw, const char *help, const char *help_tail) {
     cli_parser_init(&a->p, cmd, argc, argv, 2);
     a->maps = maps, a->nmaps = 0, a->max_maps = max_maps, a->draw = draw;
+    a->help = help, a->help_tail = help_tail, a->opt = NULL, a->value = NULL, a->stop = 0;
 }
 
-int cli_next_arg(cli_args *a, const cli_option **opt, const char **value) {
+/* The map in value, or -1 after one error line. */
+static int add_map(cli_args *a, const char *cmd, const char *value) {
+    if (!*value) {
+        error_line("%s: empty map name", cmd);
+        return -1;
+    }
+    if (a->nmaps == a->max_maps) {
+        if (a->max_maps == 1)
+            error_line("%s: one map only ('%s' and '%s')", cmd, a->maps[0], value);
+        else if (a->max_maps == 0)
+            error_line("%s: unexpected argument '%s'", cmd, value);
+        else
+            error_line("%s: more than %d maps", cmd, a->max_maps);
+        return -1;
+    }
+    a->maps[a->nmaps++] = value;
+    return 0;
+}
+
+int cli_next_arg(cli_args *a) {
     const char *cmd = cli_commands[a->p.cmd].form;
     for (;;) {
-        int r = cli_parse(&a->p, opt, value);
-        if (r <= 0) return r;
-        if (r == CLI_POSITIONAL) {
-            if (!**value) {
-                error_line("%s: empty map name", cmd);
-                return -1;
-            }
-            if (a->nmaps == a->max_maps) {
-                error_line("%s: more than %d maps", cmd, a->max_maps);
-                return -1;
-            }
-            a->maps[a->nmaps++] = *value;
-            continue;
+        int r = cli_parse(&a->p, &a->opt, &a->value);
+        if (r < 0 || (r == CLI_POSITIONAL && add_map(a, cmd, a->value) < 0)) {
+            a->stop = -1;
+            return 0;
         }
-        int dr = draw_option(a->draw, cmd, *opt, *value);
-        if (dr < 0) return -1;
+        if (r == CLI_END) return 0;
+        if (r == CLI_POSITIONAL) continue;
+        if (a->help && cli_is(a->opt, "--help")) {
+            cli_print_help(stdout, a->p.cmd, a->help);
+            if (a->draw) draw_opts_usage(stdout);
+            if (a->help_tail) fputs(a->help_tail, stdout);
+            a->stop = 1;
+            return 0;
+        }
+        int dr = a->draw ? draw_option(a->draw, cmd, a->opt, a->value) : 0;
+        if (dr < 0) {
+            a->stop = -1;
+            return 0;
+        }
         if (dr == 0) return 1;
     }
 }

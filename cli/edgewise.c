@@ -343,45 +343,24 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
  * needs_map: the command takes MAP.  Returns 0, 1 for --help (usage
  * printed), or -1 (error printed). */
 static int parse_args(int argc, char **argv, cli_cmd cmd_id, int needs_map, options *o) {
-    const char *cmd = cli_commands[cmd_id].name;
-    cli_parser p;
-    cli_parser_init(&p, cmd_id, argc, argv, 2);
-    for (;;) {
-        const cli_option *opt;
-        const char *value;
-        int r = cli_parse(&p, &opt, &value);
-        if (r < 0)
+    const char *cmd = cli_commands[cmd_id].name, *map[1] = { NULL };
+    cli_args args;
+    cli_args_init(&args, cmd_id, argc, argv, map, needs_map, &o->draw, NULL, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *value = args.value;
+        if (cli_is(opt, "--help")) {
+            print_usage();
+            return 1;
+        }
+        int flag = flag_of(opt->name);
+        if (value && set_option(o, flag, opt->name, value) < 0)
             return -1;
-        if (r == CLI_END)
-            break;
-        if (r == CLI_OPTION) {
-            int dr = draw_option(&o->draw, cmd, opt, value);
-            if (dr < 0)
-                return -1;
-            if (dr > 0)
-                continue;
-            if (cli_is(opt, "--help")) {
-                print_usage();
-                return 1;
-            }
-            int flag = flag_of(opt->name);
-            if (value && set_option(o, flag, opt->name, value) < 0)
-                return -1;
-            o->given |= flag;
-            continue;
-        }
-        const char *a = value;
-        if (needs_map && !o->map) {
-            if (!*a) {
-                error_line("%s: empty map name", cmd);
-                return -1;
-            }
-            o->map = a;
-            continue;
-        }
-        error_line("%s: unexpected argument '%s'", cmd, a);
-        return -1;
+        o->given |= flag;
     }
+    if (args.stop)
+        return args.stop;
+    if (map[0]) o->map = map[0];
     if (needs_map && !o->map) {
         error_line("%s: missing MAP (a .bsp path, a map name with --data, or 'builtin')", cmd);
         return -1;

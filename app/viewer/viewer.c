@@ -60,34 +60,12 @@ static double now_s(void) {
 /* ---- arguments ------------------------------------------------------------ */
 
 static int parse_view_args(int argc, char **argv, view_opts *o) {
-    cli_parser p;
-    cli_parser_init(&p, CLI_VIEW, argc, argv, 2);
-    for (;;) {
-        const cli_option *opt;
-        const char *v;
-        int r = cli_parse(&p, &opt, &v);
-        if (r < 0)
-            return -1;
-        if (r == CLI_END)
-            break;
-        if (r == CLI_POSITIONAL) {
-            if (o->map) {
-                error_line("view: one map only ('%s' and '%s')", o->map, v);
-                return -1;
-            }
-            o->map = v;
-            continue;
-        }
-        int dr = draw_option(&o->draw, "view", opt, v);
-        if (dr < 0)
-            return -1;
-        if (dr > 0)
-            continue;
-        if (cli_is(opt, "--help")) {
-            cli_print_help(stdout, CLI_VIEW, view_usage);
-            draw_opts_usage(stdout);
-            return 1;
-        }
+    const char *map[1];
+    cli_args args;
+    cli_args_init(&args, CLI_VIEW, argc, argv, map, 1, &o->draw, view_usage, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
         if (cli_is(opt, "--fullscreen")) { o->fullscreen = 1; continue; }
         if (cli_is(opt, "--quiet")) { o->quiet = 1; continue; }
         {
@@ -147,6 +125,9 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
             }
         }
     }
+    if (args.stop)
+        return args.stop;
+    o->map = args.nmaps ? map[0] : NULL;
     if (!o->map) {
         error_line("view: missing MAP (a map name, a .bsp path or 'builtin')");
         return -1;
