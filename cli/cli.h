@@ -102,6 +102,7 @@ typedef struct cli_args {
     const cli_option *opt;
     const char       *value;
     int               stop;
+    int               quiet;  /* --quiet was given (taken here, every command has it) */
 } cli_args;
 void cli_args_init(cli_args *a, cli_cmd cmd, int argc, char **argv, const char **maps, int max_maps,
                    draw_opts *draw, const char *help, const char *help_tail);

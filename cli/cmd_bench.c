@@ -94,9 +94,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
         const char *v = args.value;
         const char *name = opt->name;
         if (!v) {
-            if (strcmp(name, "--quiet") == 0)
-                o->quiet = 1;
-            else if (strcmp(name, "--table") == 0)
+            if (strcmp(name, "--table") == 0)
                 o->table = 1;
             else if (strcmp(name, "--per-view") == 0)
                 o->per_view = 1;
@@ -138,7 +136,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
     }
     if (args.stop)
         return args.stop;
-    o->nmaps = args.nmaps;
+    o->nmaps = args.nmaps, o->quiet = args.quiet;
     if (o->floor_only && o->nmaps) {
         error_line("bench: --floor takes no MAP (it measures the machine, not a map)");
         return -1;

@@ -96,10 +96,6 @@ static int parse(int argc, char **argv, fly_opts *o) {
     while (cli_next_arg(&args)) {
         const cli_option *opt = args.opt;
         const char *v = args.value;
-        if (cli_is(opt, "--quiet")) {
-            o->quiet = 1;
-            continue;
-        }
         const char *names[] = {"--data", "--path", "--seconds", "--fps", "--size", "--out", "--cameras"};
         int which = 0;
         for (int k = 0; k < 7; k++)
@@ -140,7 +136,7 @@ static int parse(int argc, char **argv, fly_opts *o) {
     }
     if (args.stop)
         return args.stop;
-    o->map = args.nmaps ? map[0] : NULL;
+    o->map = args.nmaps ? map[0] : NULL, o->quiet = args.quiet;
     if (!o->map) {
         error_line("fly: no map given (see edgewise fly --help)");
         return -1;

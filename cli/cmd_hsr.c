@@ -168,15 +168,10 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
             error_line("hsr: --hsr: the lab runs every method of --methods LIST");
             return -1;
         }
-    args.help = hsr_usage, args.help_tail = hsr_usage_tail;
     while (cli_next_arg(&args)) {
         const cli_option *opt = args.opt;
         const char *v = args.value;
         const char *name = opt->name;
-        if (!v) { /* --quiet */
-            o->quiet = 1;
-            continue;
-        }
         if (strcmp(name, "--data") == 0 || strcmp(name, "--json") == 0 || strcmp(name, "--heatmap") == 0 ||
             strcmp(name, "--svg") == 0) {
             const char **slot = name[2] == 'd' ? &o->data : name[2] == 'j' ? &o->json
@@ -214,7 +209,7 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
     }
     if (args.stop)
         return args.stop;
-    o->nmaps = args.nmaps;
+    o->nmaps = args.nmaps, o->quiet = args.quiet;
     if (o->nstress && o->nmaps) {
         error_line("hsr: --stress takes no MAP (it makes its own: builtin:detail=N)");
         return -1;

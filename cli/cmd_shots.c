@@ -308,8 +308,8 @@ static int parse(int argc, char **argv, shots_opts *o) {
     while (cli_next_arg(&args)) {
         const cli_option *opt = args.opt;
         const char *v = args.value;
-        if (cli_is(opt, "--force") || cli_is(opt, "--quiet")) {
-            *(cli_is(opt, "--quiet") ? &o->quiet : &o->force) = 1;
+        if (cli_is(opt, "--force")) {
+            o->force = 1;
             continue;
         }
         const char *names[] = {"--data", "--out", "--size", "--views", "--jobs", "--manifest", "--contact-sheet"};
@@ -343,7 +343,7 @@ static int parse(int argc, char **argv, shots_opts *o) {
     }
     if (args.stop)
         return args.stop;
-    o->ninputs = args.nmaps;
+    o->ninputs = args.nmaps, o->quiet = args.quiet;
     if (!o->ninputs) {
         error_line("shots: missing MAP, DIR or PAK (see edgewise shots --help)");
         return -1;

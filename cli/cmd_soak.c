@@ -77,10 +77,6 @@ static int parse(int argc, char **argv, soak_opts *o) {
     while (cli_next_arg(&args)) {
         const cli_option *opt = args.opt;
         const char *v = args.value;
-        if (cli_is(opt, "--quiet")) {
-            o->quiet = 1;
-            continue;
-        }
         const char *names[] = {"--data", "--frames", "--size", "--seed", "--threads"};
         int which = 0;
         for (int k = 0; k < 5; k++)
@@ -124,7 +120,7 @@ static int parse(int argc, char **argv, soak_opts *o) {
     }
     if (args.stop)
         return args.stop;
-    o->map = args.nmaps ? map[0] : NULL;
+    o->map = args.nmaps ? map[0] : NULL, o->quiet = args.quiet;
     if (!o->map) {
         error_line("soak: missing MAP (a .bsp path, a map name with --data, or 'builtin')");
         return -1;

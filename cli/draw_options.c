@@ -398,7 +398,7 @@ void cli_args_init(cli_args *a, cli_cmd cmd, int argc, char **argv, const char *
                    draw_opts *draw, const char *help, const char *help_tail) {
     cli_parser_init(&a->p, cmd, argc, argv, 2);
     a->maps = maps, a->nmaps = 0, a->max_maps = max_maps, a->draw = draw;
-    a->help = help, a->help_tail = help_tail, a->opt = NULL, a->value = NULL, a->stop = 0;
+    a->help = help, a->help_tail = help_tail, a->opt = NULL, a->value = NULL, a->stop = 0, a->quiet = 0;
 }
 
 /* The map in value, or -1 after one error line. */
@@ -430,6 +430,10 @@ int cli_next_arg(cli_args *a) {
         }
         if (r == CLI_END) return 0;
         if (r == CLI_POSITIONAL) continue;
+        if (cli_is(a->opt, "--quiet")) {
+            a->quiet = 1;
+            continue;
+        }
         if (a->help && cli_is(a->opt, "--help")) {
             cli_print_help(stdout, a->p.cmd, a->help);
             if (a->draw) draw_opts_usage(stdout);

@@ -114,7 +114,7 @@ static int flag_of(const char *name) {
     static const struct { const char *name; int flag; } flags[] = {
         { "--data", O_DATA }, { "--size", O_SIZE }, { "--view", O_VIEW }, { "--pos", O_POS },
         { "--angles", O_ANGLES }, { "--fov", O_FOV }, { "--time", O_TIME }, { "--out", O_OUT },
-        { "--stats", O_STATS }, { "--dlight", O_DLIGHT }, { "--quiet", O_QUIET },
+        { "--stats", O_STATS }, { "--dlight", O_DLIGHT },
         { "--particles", O_PARTICLES }, { "--threads", O_THREADS },
     };
     for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++)
@@ -361,6 +361,7 @@ static int parse_args(int argc, char **argv, cli_cmd cmd_id, int needs_map, opti
     if (args.stop)
         return args.stop;
     if (map[0]) o->map = map[0];
+    if (args.quiet) o->given |= O_QUIET;
     if (needs_map && !o->map) {
         error_line("%s: missing MAP (a .bsp path, a map name with --data, or 'builtin')", cmd);
         return -1;

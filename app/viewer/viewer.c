@@ -67,7 +67,6 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
         const cli_option *opt = args.opt;
         const char *v = args.value;
         if (cli_is(opt, "--fullscreen")) { o->fullscreen = 1; continue; }
-        if (cli_is(opt, "--quiet")) { o->quiet = 1; continue; }
         {
             static const char *const with_value[] = { "--data", "--size", "--scale", "--threads", "--fov",
                                                       "--view", "--script", "--record", "--present" };
@@ -127,7 +126,7 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
     }
     if (args.stop)
         return args.stop;
-    o->map = args.nmaps ? map[0] : NULL;
+    o->map = args.nmaps ? map[0] : NULL, o->quiet = args.quiet;
     if (!o->map) {
         error_line("view: missing MAP (a map name, a .bsp path or 'builtin')");
         return -1;
