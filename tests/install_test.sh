@@ -37,6 +37,15 @@ done
 VERSION=$("$P/bin/edgewise" --version | sed -n 's/^edgewise //p')
 [ -n "$VERSION" ] || fail "edgewise --version printed no version"
 MAJOR=${VERSION%%.*}
+# The installed command runs on the installed shared library (its run path
+# $ORIGIN/../lib), where the build made one.
+if [ "${EW_HAVE_SHARED:-0}" = 1 ] && command -v readelf >/dev/null 2>&1; then
+    readelf -d "$P/bin/edgewise" | grep -q "NEEDED.*\[libedgewise\.so\.$MAJOR\]" ||
+        fail "bin/edgewise does not link libedgewise.so.$MAJOR"
+    readelf -d "$P/bin/edgewise" | grep -q 'R.*PATH.*\$ORIGIN' ||
+        fail "bin/edgewise has no \$ORIGIN run path"
+    note "bin/edgewise runs on lib/libedgewise.so.$MAJOR"
+fi
 
 export PKG_CONFIG_PATH="$P/lib/pkgconfig"
 PC_VERSION=$(pkg-config --modversion edgewise) || fail "pkg-config does not find edgewise.pc"
