@@ -78,8 +78,8 @@ static void print_usage(void) {
         const cli_command *cc = &cli_commands[c];
         if (c == CLI_HELP || strcmp(cc->form, cc->name) != 0) continue;  /* help below; the forms */
         char head[64];
-        snprintf(head, sizeof head, "%s %.*s", cc->name, (int)strcspn(cc->synopsis, "|"), cc->synopsis);
-        printf("  %-22s %s\n", head, cc->summary);
+        snprintf(head, sizeof head, "%s %.*s", cc->name, (int)strcspn(cc->synopsis, "\n"), cc->synopsis);
+        printf("  %-22s %s\n", head, cc->summary);  /* one line a command (tests/install_test.sh) */
     }
     cli_print_help(stdout, CLI_RENDER, m + strlen("@COMMANDS@\n"));
     draw_opts_usage(stdout);

@@ -118,9 +118,7 @@ static void write_synopsis(FILE *f) {
             continue;
         }
         for (const char *s = cc->synopsis;;) {
-            size_t n = strcspn(s, "|");
-            /* a '|' inside a word (MAP|DIR|PAK) is not an alternative */
-            while (s[n] == '|' && n > 0 && s[n - 1] != ' ' && s[n + 1] != '-' && s[n + 1]) n += 1 + strcspn(s + n + 1, "|");
+            size_t n = strcspn(s, "\n");
             synopsis_line(f, cc->form, s, n);
             fputs(".br\n", f);
             if (!s[n]) break;

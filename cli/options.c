@@ -21,9 +21,9 @@ const cli_command cli_commands[CLI_NCMDS] = {
     [CLI_DEMO] = { "demo", "demo", "[options]", "render the built-in scene (needs no game data)" },
     [CLI_VIEWS] = { "views", "views", "MAP [--data DIR]", "list the view set: INDEX X Y Z PITCH YAW ROLL" },
     [CLI_INFO] = { "info", "info", "MAP [--data DIR]", "BSP version, lumps, BSPX lumps (used or not), counts" },
-    [CLI_BENCH] = { "bench", "bench", "MAP... [options]|--floor [--size WxH]... [--table] [--out FILE]",
+    [CLI_BENCH] = { "bench", "bench", "MAP... [options]\n--floor [--size WxH]... [--table] [--out FILE]",
                     "time the view set (see edgewise bench --help)" },
-    [CLI_HSR] = { "hsr", "hsr", "MAP... [options]|--stress LIST [options]",
+    [CLI_HSR] = { "hsr", "hsr", "MAP... [options]\n--stress LIST [options]",
                   "the hidden-surface lab: every method timed and checked" },
     [CLI_SOAK] = { "soak", "soak", "MAP --frames N [options]", "render N frames and check every frame's counters" },
     [CLI_SHOTS] = { "shots", "shots", "MAP|DIR|PAK... [options]", "pictures of many maps (see edgewise shots --help)" },
@@ -31,7 +31,7 @@ const cli_command cli_commands[CLI_NCMDS] = {
     [CLI_VIEW] = { "view", "view", "MAP [options]", "walk through MAP in a window (see edgewise view --help)" },
     [CLI_RENDER_POLYHEDRA] = { "render", "render builtin:polyhedra", "[options]", "" },
     [CLI_VIEW_POLYHEDRA] = { "view", "view builtin:polyhedra", "[options]", "" },
-    [CLI_HELP] = { "help", "help", "|--help|--version", "this text" },
+    [CLI_HELP] = { "help", "help", "\n--help\n--version", "this text" },
 };
 
 const cli_option cli_options[] = {
@@ -249,16 +249,17 @@ const cli_option *cli_find(cli_cmd cmd, const char *name, int len) {
 int cli_is(const cli_option *opt, const char *name) { return opt && strcmp(opt->name, name) == 0; }
 
 /* The column the help text starts at: past the longest "--name METAVAR"
- * of the command's own options (at most 24). */
+ * of the command's own options (a longer one than 20 characters has its
+ * text two blanks after it). */
 static int help_column(cli_cmd cmd) {
     int col = 0;
     for (int k = 0; k < cli_noptions; k++) {
         const cli_option *o = &cli_options[k];
         if (!(o->cmds & CLI_BIT(cmd)) || o->draw || cli_is(o, "--help")) continue;
         int n = (int)strlen(o->name) + (o->metavar ? 1 + (int)strlen(o->metavar) : 0);
-        if (n > col) col = n;
+        if (n > col && n <= 20) col = n;
     }
-    return col > 22 ? 24 : col + 2;
+    return col + 2;
 }
 
 static void print_text(FILE *f, int indent, const char *text) {
@@ -273,21 +274,27 @@ static void print_text(FILE *f, int indent, const char *text) {
     }
 }
 
+/* Row o as cmd's help shows it, its text from column col. */
+static void print_option(FILE *f, const cli_option *o, int col, int draw) {
+    char head[64];
+    snprintf(head, sizeof head, "%s%s%s", o->name, o->metavar ? " " : "", o->metavar ? o->metavar : "");
+    if ((int)strlen(head) >= col) fprintf(f, "  %s  ", head);
+    else fprintf(f, "  %-*s ", col, head);
+    if (draw && o->rule)
+        fprintf(f, "%s;\n  %-*s   %s must be %s\n", o->help, col, "", o->metavar, o->rule);
+    else
+        print_text(f, col + 1, o->help);
+}
+
 void cli_print_options(FILE *f, cli_cmd cmd, int draw) {
     int col = draw ? 22 : help_column(cmd);
-    for (int k = 0; k < cli_noptions; k++) {
-        const cli_option *o = &cli_options[k];
-        if (!(o->cmds & CLI_BIT(cmd)) || o->draw != draw || cli_is(o, "--help")) continue;
-        char head[64];
-        snprintf(head, sizeof head, "%s%s%s", o->name, o->metavar ? " " : "", o->metavar ? o->metavar : "");
-        if ((int)strlen(head) >= col) fprintf(f, "  %s  ", head);
-        else fprintf(f, "  %-*s ", col, head);
-        if (draw && o->rule) {
-            fprintf(f, "%s;\n  %-*s   %s must be %s\n", o->help, col, "", o->metavar, o->rule);
-            continue;
+    /* in the table's order, --quiet (a row most commands share) last */
+    for (int pass = 0; pass < 2; pass++)
+        for (int k = 0; k < cli_noptions; k++) {
+            const cli_option *o = &cli_options[k];
+            if ((o->cmds & CLI_BIT(cmd)) && o->draw == draw && !cli_is(o, "--help") && cli_is(o, "--quiet") == pass)
+                print_option(f, o, col, draw);
         }
-        print_text(f, col + 1, o->help);
-    }
 }
 
 void cli_print_help(FILE *f, cli_cmd cmd, const char *text) {

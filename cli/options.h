@@ -30,7 +30,7 @@ typedef enum cli_cmd {
 typedef struct cli_command {
     const char *name;      /* the word after edgewise: "render" */
     const char *form;      /* how --help and messages name it: "render builtin:polyhedra" */
-    const char *synopsis;  /* the man page's SYNOPSIS lines after the form, '|' between
+    const char *synopsis;  /* the man page's SYNOPSIS lines after the form, '\n' between
                             * alternatives (each its own line): "MAP [options]" */
     const char *summary;   /* one line of `edgewise help` ("" for the forms) */
 } cli_command;
