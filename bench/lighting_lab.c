@@ -21,7 +21,7 @@
  *   - memory: the cache's bytes after a pass over the views (the surfaces
  *     the view set needs), against two-pass's none. */
 #define _POSIX_C_SOURCE 200809L
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 
 #include <stdio.h>
 #include <stdlib.h>

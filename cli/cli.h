@@ -5,7 +5,8 @@
 #ifndef EW_CLI_H
 #define EW_CLI_H
 
-#include "edgewise.h"
+#include "edgewise_lab.h"  /* and edgewise.h */
+#include "options.h"       /* the option table and its parser */
 
 #include <stddef.h>
 #include <stdio.h>
@@ -77,29 +78,35 @@ typedef struct draw_opts {
 
 /* The defaults: what the map asks for, drawn by the edge list. */
 void draw_opts_init(draw_opts *d);
-/* Tries argv[*i] as a drawing option ("--name", "--name=value" or "--name
- * value", *i then moving past the value).  Returns 0 if it is not one, 1
- * when consumed, -1 after printing one usage error line ("CMD: ..." for
- * the option's form, "--name VALUE: ARG must be RULE" for a bad value). */
-int  draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i);
+/* Takes opt (a row of the option table, value its value) if it is a
+ * drawing option.  Returns 0 if it is not one, 1 when taken, -1 after
+ * printing one usage error line ("CMD: ..." for the option's form,
+ * "--name VALUE: ARG must be RULE" for a bad value). */
+int  draw_option(draw_opts *d, const char *cmd, const cli_option *opt, const char *value);
 /* The help lines of every drawing option (the rules the errors print). */
 void draw_opts_usage(FILE *f);
 
-/* One step through the arguments of a command that takes MAPs, the drawing
- * options and its own flags[] and valued[] options (NULL-terminated lists):
- * "--" ends the options, a positional argument is a map (at most max_maps),
- * a drawing option goes to draw.  Otherwise name gets the option's name
- * (before any '=') and *value its value ("--name=V" or the next argument),
- * NULL for a flag.  Returns 1 when the caller must handle name/value, 0
- * when the argument was consumed here, -1 after one error line. */
+/* The arguments of a command that takes MAPs and the drawing options, one
+ * option at a time (cli_parse, options.h): a positional argument is a map
+ * (at most max_maps), a drawing option goes to draw (may be NULL), --help
+ * prints help (cli_print_help), the drawing options and help_tail (help
+ * NULL: --help is returned like any other option).  cli_next_arg returns 1
+ * with opt and value (NULL for a flag) for the caller; 0 at the end, or
+ * when stop is set: -1 after one error line, 1 after --help. */
 typedef struct cli_args {
-    const char *cmd;
-    const char *const *flags, *const *valued;
-    const char **maps;
-    int nmaps, max_maps, only_positional;
-    draw_opts *draw;
+    cli_parser        p;
+    const char      **maps;
+    int               nmaps, max_maps;
+    draw_opts        *draw;
+    const char       *help, *help_tail;
+    const cli_option *opt;
+    const char       *value;
+    int               stop;
+    int               quiet;  /* --quiet was given (taken here, every command has it) */
 } cli_args;
-int  cli_next_arg(cli_args *a, int argc, char **argv, int *i, char name[32], const char **value);
+void cli_args_init(cli_args *a, cli_cmd cmd, int argc, char **argv, const char **maps, int max_maps,
+                   draw_opts *draw, const char *help, const char *help_tail);
+int  cli_next_arg(cli_args *a);
 /* *slot = v for an option naming a file or folder given at most once;
  * 0, or -1 after one error line. */
 int  cli_set_once(const char *cmd, const char *name, const char *v, const char **slot);
@@ -135,7 +142,8 @@ void print_scene_warnings(const ew_scene *s, int quiet);
  * The view set rendered once untimed (the warm-up: pages in the frame and
  * fills the surface cache), then `passes` times with each frame timed on
  * the monotonic clock: frames[(pass - 1) * nviews + v] in ms, and the
- * frame's counters in stats[] alike (stats may be NULL).  hooks (may be
+ * frame's counters in stats[] and its probes in labs[] alike (either may
+ * be NULL).  hooks (may be
  * NULL) are called before every frame (pass 0 is the warm-up) and after
  * every timed one.  Returns 0, or -1 - v when view v cannot be rendered. */
 typedef struct bench_hooks {
@@ -144,7 +152,7 @@ typedef struct bench_hooks {
     void *ctx;
 } bench_hooks;
 int    bench_run_views(ew_renderer *r, const ew_camera *views, int nviews, int passes, double *frames,
-                       ew_stats *stats, const bench_hooks *hooks);
+                       ew_stats *stats, ew_lab_stats *labs, const bench_hooks *hooks);
 /* The median of n values (sorts v). */
 double bench_median(double *v, int n);
 
@@ -172,5 +180,16 @@ int cmd_view_polyhedra(int argc, char **argv);
 /* --time (0 to 1e6 s) and --objects (1 to EW_POLYHEDRA_MAX); 0 or -1 (error printed). */
 int parse_polyhedra_time(const char *v, double *t);
 int parse_polyhedra_objects(const char *v, int *n);
+/* The options of both polyhedra forms (the table's rows of
+ * CLI_RENDER_POLYHEDRA or CLI_VIEW_POLYHEDRA), defaults first. */
+typedef struct polyhedra_opts {
+    int         width, height, objects, scale, stats, independent, zbuffer;
+    long        frames;
+    double      time;
+    const char *out;
+} polyhedra_opts;
+/* Parses argv[2..] for form (usage printed for --help: help text).
+ * Returns 0, 1 after --help, or 2 (EXIT_USAGE) after one error line. */
+int parse_polyhedra_args(int argc, char **argv, cli_cmd form, const char *help, polyhedra_opts *o);
 
 #endif

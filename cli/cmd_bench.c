@@ -22,7 +22,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "edgewise.h"
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -57,23 +57,7 @@ static const char bench_usage[] =
     "one JSON object per row (fields: docs/performance.md).\n"
     "\n"
     "options:\n"
-    "  --data DIR        game directory (maps/, gfx/)\n"
-    "  --size WxH        frame size; repeat for several (default 640x480)\n"
-    "  --threads N       render threads, " THREADS_RULE "; repeat for several (default 1)\n"
-    "  --passes P        timed passes over the view set, 1 to 1000 (default 5)\n"
-    "  --gap MS          a pause of MS milliseconds before each frame, 0 to 1000\n"
-    "                    (default 0): frames spaced out as a viewer paces them,\n"
-    "                    the render threads asleep between them\n"
-    "  --bands N         also report the imbalance of N bands and the speed-up\n"
-    "                    predicted on N cores, N 1 to 256 and at most height/8;\n"
-    "                    repeat for several\n"
-    "  --table           a human-readable table on stdout (JSON then only to --out)\n"
-    "  --out FILE.jsonl  write the JSON lines to FILE instead of stdout\n"
-    "  --floor           only measure the fill floor for each --size\n"
-    "  --per-view        also each view's median time, stages and counts (what\n"
-    "                    makes the slow views slow; with --table also the level\n"
-    "                    of the geometry, the draw and the pixel work alone)\n"
-    "  --quiet           no warning lines about the maps' optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "what is drawn (as in edgewise render):\n";
 static const char bench_usage_tail[] =
@@ -103,27 +87,14 @@ typedef struct bench_opts {
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int bench_parse(int argc, char **argv, bench_opts *o) {
     int passes_given = 0, gap_given = 0;
-    static const char *const flags[] = { "--quiet", "--table", "--floor", "--per-view", "--help", "-h", NULL };
-    static const char *const valued[] = { "--data", "--size", "--threads", "--passes", "--out", "--bands", "--gap", NULL };
-    cli_args args = { "bench", flags, valued, o->maps, 0, MAX_MAPS, 0, &o->draw };
-    for (int i = 2; i < argc; i++) {
-        char name[32];
-        const char *v;
-        int ar = cli_next_arg(&args, argc, argv, &i, name, &v);
-        if (ar <= 0) {
-            if (ar < 0) return -1;
-            continue;
-        }
+    cli_args args;
+    cli_args_init(&args, CLI_BENCH, argc, argv, o->maps, MAX_MAPS, &o->draw, bench_usage, bench_usage_tail);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
+        const char *name = opt->name;
         if (!v) {
-            if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
-                fputs(bench_usage, stdout);
-                draw_opts_usage(stdout);
-                fputs(bench_usage_tail, stdout);
-                return 1;
-            }
-            if (strcmp(name, "--quiet") == 0)
-                o->quiet = 1;
-            else if (strcmp(name, "--table") == 0)
+            if (strcmp(name, "--table") == 0)
                 o->table = 1;
             else if (strcmp(name, "--per-view") == 0)
                 o->per_view = 1;
@@ -163,7 +134,9 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             return -1;
         }
     }
-    o->nmaps = args.nmaps;
+    if (args.stop)
+        return args.stop;
+    o->nmaps = args.nmaps, o->quiet = args.quiet;
     if (o->floor_only && o->nmaps) {
         error_line("bench: --floor takes no MAP (it measures the machine, not a map)");
         return -1;
@@ -358,20 +331,21 @@ enum { ST_FRONT, ST_SCAN, ST_DRAW, ST_MODELS, ST_TOTAL, NSTAGES };
 enum { PH_BEGIN, PH_WALK, PH_BRUSH, PH_PREPARE, PH_PASSES, PH_OTHER, NPHASES };
 static const char *const phase_names[NPHASES] = { "begin_ms", "walk_ms", "brush_ms", "prepare_ms",
                                                   "passes_ms", "other_ms" };
-static double phase_of(const ew_stats *st, int ph) {
+/* The parts are the lab's probes (ew_frame_lab_stats), ms_serial the frame's. */
+static double phase_of(const ew_stats *st, const ew_lab_stats *lab, int ph) {
 #ifdef EW_BENCH_NO_SERIAL  /* a library from before ms_serial (compare.sh) */
-    (void)st, (void)ph;
+    (void)st, (void)lab, (void)ph;
     return NAN;
 #else
     switch (ph) {
-    case PH_BEGIN: return st->ms_serial_begin;
-    case PH_WALK: return st->ms_serial_walk;
-    case PH_BRUSH: return st->ms_serial_brush;
-    case PH_PREPARE: return st->ms_serial_prepare;
-    case PH_PASSES: return st->ms_serial_passes;
+    case PH_BEGIN: return lab->ms_serial_begin;
+    case PH_WALK: return lab->ms_serial_walk;
+    case PH_BRUSH: return lab->ms_serial_brush;
+    case PH_PREPARE: return lab->ms_serial_prepare;
+    case PH_PASSES: return lab->ms_serial_passes;
     default:
-        return st->ms_serial - st->ms_serial_begin - st->ms_serial_walk - st->ms_serial_brush -
-               st->ms_serial_prepare - st->ms_serial_passes;
+        return st->ms_serial - lab->ms_serial_begin - lab->ms_serial_walk - lab->ms_serial_brush -
+               lab->ms_serial_prepare - lab->ms_serial_passes;
     }
 #endif
 }
@@ -433,10 +407,11 @@ static double stage_of(const ew_stats *st, int s) {
 }
 
 /* The serial time of n frames' stats: its median, mean and parts. */
-static void summarize_serial(row *r, const ew_stats *stats, int n, double *scratch) {
-    for (int i = 0; i < n; i++) scratch[i] = phase_of(&stats[i], PH_OTHER) + phase_of(&stats[i], PH_BEGIN) +
-                                             phase_of(&stats[i], PH_WALK) + phase_of(&stats[i], PH_BRUSH) +
-                                             phase_of(&stats[i], PH_PREPARE) + phase_of(&stats[i], PH_PASSES);
+static void summarize_serial(row *r, const ew_stats *stats, const ew_lab_stats *labs, int n,
+                             double *scratch) {
+    for (int i = 0; i < n; i++) scratch[i] = phase_of(&stats[i], &labs[i], PH_OTHER) + phase_of(&stats[i], &labs[i], PH_BEGIN) +
+                                             phase_of(&stats[i], &labs[i], PH_WALK) + phase_of(&stats[i], &labs[i], PH_BRUSH) +
+                                             phase_of(&stats[i], &labs[i], PH_PREPARE) + phase_of(&stats[i], &labs[i], PH_PASSES);
     r->serial_mean = 0;
     for (int i = 0; i < n; i++) r->serial_mean += scratch[i] / n;
     r->serial = median_of(scratch, n);
@@ -444,7 +419,7 @@ static void summarize_serial(row *r, const ew_stats *stats, int n, double *scrat
      * skewed view set would not). */
     for (int ph = 0; ph < NPHASES; ph++) {
         r->serial_phase[ph] = 0;
-        for (int i = 0; i < n; i++) r->serial_phase[ph] += phase_of(&stats[i], ph) / n;
+        for (int i = 0; i < n; i++) r->serial_phase[ph] += phase_of(&stats[i], &labs[i], ph) / n;
     }
 }
 
@@ -488,7 +463,8 @@ static void summarize_parts(row *r, const ew_stats *stats, double *scratch) {
 }
 
 /* Fills r from frames[views * passes] and their stats. */
-static void summarize(row *r, double *frames, const ew_stats *stats, double *scratch) {
+static void summarize(row *r, double *frames, const ew_stats *stats, const ew_lab_stats *labs,
+                      double *scratch) {
     int n = r->views * r->passes;
     double sum = 0;
     r->max = -1;
@@ -525,7 +501,7 @@ static void summarize(row *r, double *frames, const ew_stats *stats, double *scr
         }
         r->stages[s] = median_of(scratch, n);
     }
-    summarize_serial(r, stats, n, scratch);
+    summarize_serial(r, stats, labs, n, scratch);
     summarize_parts(r, stats, scratch);
     for (int c = 0; c < NCOUNTERS; c++) {
         double total = 0;
@@ -720,7 +696,7 @@ static ew_assets *bench_load(const bench_opts *o, const char *map) { return load
 
 /* The protocol itself, shared with `edgewise hsr` (cli.h). */
 int bench_run_views(ew_renderer *rd, const ew_camera *views, int nviews, int passes, double *frames,
-                    ew_stats *stats, const bench_hooks *hooks) {
+                    ew_stats *stats, ew_lab_stats *labs, const bench_hooks *hooks) {
     for (int pass = 0; pass <= passes; pass++) {
         for (int v = 0; v < nviews; v++) {
             if (hooks && hooks->before)
@@ -733,6 +709,7 @@ int bench_run_views(ew_renderer *rd, const ew_camera *views, int nviews, int pas
             double t1 = now_ms();
             if (ok < 0)
                 return -1 - v;
+            if (pass && labs) ew_frame_lab_stats(rd, &labs[(size_t)(pass - 1) * nviews + v]);
             if (pass) {
                 frames[(size_t)(pass - 1) * nviews + v] = t1 - t0;
                 if (hooks && hooks->after)
@@ -868,7 +845,9 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
                 goto out;
             ew_frame_row_ms(rd, scan + hv * p + (size_t)h * v, draw + hv * p + (size_t)h * v, h);
             /* the front end's largest items: the least of the passes too */
-            if (p == 0 || st.ms_front_items < items[v]) items[v] = st.ms_front_items;
+            ew_lab_stats lab;
+            ew_frame_lab_stats(rd, &lab);
+            if (p == 0 || lab.ms_front_items < items[v]) items[v] = lab.ms_front_items;
         }
     sx->front_items = median_of(items, nviews);
     for (int v = 0; v < nviews; v++) {
@@ -955,6 +934,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     size_t n = (size_t)nviews * (size_t)o->passes;
     double *frames = malloc(n * sizeof *frames), *scratch = malloc(n * sizeof *scratch);
     ew_stats *stats = calloc(n, sizeof *stats);
+    ew_lab_stats *labs = calloc(n, sizeof *labs);
     if (o->per_view && nviews > 0) r->per_view = calloc((size_t)nviews, sizeof *r->per_view);
     /* The floor is sampled between the frames (after every other one), so
      * both see the machine in the same state: on a shared machine the
@@ -962,13 +942,13 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     floor_sampler fl;
     int fl_ok = floor_begin(&fl, w, h, nviews * o->passes) == 0;
     int rc = 1;
-    if (!frames || !scratch || !stats || (o->per_view && nviews > 0 && !r->per_view)) {
+    if (!frames || !scratch || !stats || !labs || (o->per_view && nviews > 0 && !r->per_view)) {
         error_line("bench: out of memory");
         goto done;
     }
     bench_row_hooks_ctx hc = { r, o->passes, nviews, fl_ok ? &fl : NULL };
     bench_hooks hooks = { row_before, row_after, &hc };
-    int bad = bench_run_views(rd, views, nviews, o->passes, frames, stats, &hooks);
+    int bad = bench_run_views(rd, views, nviews, o->passes, frames, stats, labs, &hooks);
     if (bad) {
         progress_clear();
         error_line("%s: view %d: cannot render this camera", r->map, -bad - 1);
@@ -978,7 +958,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         r->floor_ms = floor_end(&fl);
     else  /* no memory for the interleaved samples: measured on its own */
         r->floor_ms = floor_for(fc, w, h);
-    summarize(r, frames, stats, scratch);
+    summarize(r, frames, stats, labs, scratch);
 #ifndef EW_BENCH_NO_SERIAL
     /* One thread walks the front end in one loop, outside the pool: its
      * serial time would not be a many-thread frame's.  That comes from one
@@ -986,14 +966,14 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
      * (ew_set_front_mode), over this row's faster median below. */
     if (r->threads == 1) {
         ew_set_front_mode(rd, EW_FRONT_PHASES);
-        bad = bench_run_views(rd, views, nviews, 1, frames, stats, NULL);
+        bad = bench_run_views(rd, views, nviews, 1, frames, stats, labs, NULL);
         ew_set_front_mode(rd, EW_FRONT_AUTO);
         if (bad) {
             progress_clear();
             error_line("%s: view %d: cannot render this camera", r->map, -bad - 1);
             goto done;
         }
-        summarize_serial(r, stats, nviews, scratch);
+        summarize_serial(r, stats, labs, nviews, scratch);
     }
 #endif
     /* The serial share is of the one-thread frame: this row's if it is
@@ -1049,6 +1029,7 @@ done:
     free(frames);
     free(scratch);
     free(stats);
+    free(labs);
     ew_renderer_destroy(rd);
     return rc;
 }

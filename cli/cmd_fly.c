@@ -11,7 +11,7 @@
 #define _DEFAULT_SOURCE
 #include "cli.h"
 #include "edgewise.h"
-#include "ew_util.h"    /* ew_now_ms */
+#include "edgewise_lab.h"  /* ew_clock_ms */
 
 #include <errno.h>
 #include <math.h>
@@ -36,29 +36,7 @@ static const char fly_usage[] =
     "camera's time also k/F, so skies, liquids, animated textures and light\n"
     "styles move.\n"
     "\n"
-    "  --data DIR      game directory for palette, colormap and models\n"
-    "  --path views    (default) a smooth path through the map's view set: a\n"
-    "                  Catmull-Rom spline through the distinct view origins, in\n"
-    "                  order, the angles turning the shortest way between views;\n"
-    "                  with a single origin, a slow full turn in place.  The path\n"
-    "                  goes straight between views and may pass through walls\n"
-    "  --path FILE     a camera path as the viewer's --record writes it, lines\n"
-    "                  'time x y z pitch yaw roll' (decimal numbers, # comments),\n"
-    "                  sampled every 1/F seconds from its first time to its last\n"
-    "                  (linear in between); times not going back, spanning at\n"
-    "                  most 3600 s; positions and angles within +-1000000\n"
-    "  --seconds S     the video's length, more than 0 up to 3600 (default: 2 s\n"
-    "                  per path segment, 8 s for a turn; --path FILE: its span)\n"
-    "  --fps F         frames a second, 1 to 240 (default 30)\n"
-    "  --size WxH      frame size, even width and height (default 640x360)\n"
-    "  --out FILE      .y4m: YUV4MPEG2 4:2:0 (BT.601 full range); .mp4: y4m piped\n"
-    "                  to ffmpeg (libx264; ffmpeg must be on PATH); a name with\n"
-    "                  one %d conversion (e.g. frames/%05d.png): one PNG a frame,\n"
-    "                  numbered from 0\n"
-    "  --cameras FILE  writes each frame's camera, lines 'frame time x y z pitch\n"
-    "                  yaw roll' (edgewise render --pos X,Y,Z --angles P,Y,R\n"
-    "                  --time T draws the same frame)\n"
-    "  --quiet         no warning lines about the map's optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "Progress goes to stderr on a terminal, else one summary line.  The output is\n"
     "written as FILE.PID.part and renamed when complete: a failed or interrupted\n"
@@ -112,50 +90,16 @@ static int parse_number(const char *s, double *out) {
 
 /* 0, 1 after --help, -1 (error printed). */
 static int parse(int argc, char **argv, fly_opts *o) {
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(fly_usage, stdout);
-            draw_opts_usage(stdout);
-            return 1;
-        }
-        int dr = draw_option(&o->draw, "fly", argc, argv, &i);
-        if (dr < 0) return -1;
-        if (dr > 0) continue;
-        if (!strncmp(a, "--quiet", 7) && (a[7] == '\0' || a[7] == '=')) {
-            if (a[7]) {
-                error_line("fly: option '--quiet' takes no value");
-                return -1;
-            }
-            o->quiet = 1;
-            continue;
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (!*a) {
-                error_line("fly: empty map name");
-                return -1;
-            }
-            if (o->map) {
-                error_line("fly: one map only ('%s' and '%s')", o->map, a);
-                return -1;
-            }
-            o->map = a;
-            continue;
-        }
+    const char *map[1];
+    cli_args args;
+    cli_args_init(&args, CLI_FLY, argc, argv, map, 1, &o->draw, fly_usage, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
         const char *names[] = {"--data", "--path", "--seconds", "--fps", "--size", "--out", "--cameras"};
-        int which = -1;
-        size_t nlen = strcspn(a, "=");
+        int which = 0;
         for (int k = 0; k < 7; k++)
-            if (strlen(names[k]) == nlen && !strncmp(a, names[k], nlen)) which = k;
-        if (which < 0) {
-            error_line("fly: unknown option '%.*s' (see edgewise fly --help)", (int)nlen, a);
-            return -1;
-        }
-        const char *v = a[nlen] == '=' ? a + nlen + 1 : i + 1 < argc ? argv[++i] : NULL;
-        if (!v) {
-            error_line("fly: option '%s' needs a value", names[which]);
-            return -1;
-        }
+            if (cli_is(opt, names[k])) which = k;
         if (!*v) {
             error_line("%s: empty value", names[which]);
             return -1;
@@ -190,6 +134,9 @@ static int parse(int argc, char **argv, fly_opts *o) {
         case 6: o->cameras = v; break;
         }
     }
+    if (args.stop)
+        return args.stop;
+    o->map = args.nmaps ? map[0] : NULL, o->quiet = args.quiet;
     if (!o->map) {
         error_line("fly: no map given (see edgewise fly --help)");
         return -1;
@@ -621,7 +568,7 @@ int cmd_fly(int argc, char **argv) {
     if (video) fprintf(video, "YUV4MPEG2 W%d H%d F%d:1 Ip A1:1 C420jpeg\n", o.width, o.height, o.fps);
 
     int tty = isatty(2);
-    double start = ew_now_ms(), last = 0;
+    double start = ew_clock_ms(), last = 0;
     for (long k = 0; k < frames; k++) {
         if (stop_signal) {
             error_line("fly: stopped by signal %d after %ld of %ld frames; nothing written", (int)stop_signal, k,
@@ -659,7 +606,7 @@ int cmd_fly(int argc, char **argv) {
                 goto done;
             }
         }
-        double now = ew_now_ms();
+        double now = ew_clock_ms();
         if (tty && (now - last > 100 || k + 1 == frames)) {
             last = now;
             double el = (now - start) / 1000;
@@ -713,7 +660,7 @@ int cmd_fly(int argc, char **argv) {
     }
     rc = 0;
     written = 0;
-    double secs = (ew_now_ms() - start) / 1000;
+    double secs = (ew_clock_ms() - start) / 1000;
     fprintf(stderr, "fly: %ld frames %dx%d at %d fps (%.2f s of video) written to %s in %.1f s (%.1f frames/s)\n",
             frames, o.width, o.height, o.fps, (double)frames / o.fps, o.out, secs,
             secs > 0 ? (double)frames / secs : 0);

@@ -20,8 +20,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "edgewise.h"
-#include "edgewise_tools.h"
-#include "mapgen/mapgen.h"  /* EW_STRESS_MAX_DETAIL */
+#include "edgewise_lab.h"
 
 #include <errno.h>
 #include <math.h>
@@ -55,21 +54,7 @@ static const char hsr_usage[] =
     "face matches), the method's memory and its own counters.\n"
     "\n"
     "options:\n"
-    "  --data DIR        game directory (maps/, gfx/)\n"
-    "  --methods LIST    comma list of methods (default every one this build has)\n"
-    "  --size WxH        frame size; repeat for several\n"
-    "                    (default 320x200, 640x480 and 1920x1080; with --stress 640x480)\n"
-    "  --threads N       render threads, " THREADS_RULE " (default 1)\n"
-    "  --repeat N        timed passes over the view set, 1 to 1000 (default 5)\n"
-    "  --json FILE|-     JSON lines to FILE (- : to stdout instead of the table)\n"
-    "  --heatmap DIR     an overdraw heat map per method and view:\n"
-    "                    DIR/MAP_WxH_vN_METHOD.png\n"
-    "  --svg FILE        a bar chart of time and overdraw per method (with --stress:\n"
-    "                    time against the polygons in view, a line per method)\n"
-    "  --stress LIST     instead of MAPs: the built-in stress hall at each detail of\n"
-    "                    the comma list (0 to 26000, about that many polygons in view),\n"
-    "                    as MAP builtin:detail=N\n"
-    "  --quiet           no warning lines about the maps' optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "what is drawn (as in edgewise render; --hsr is --methods here):\n";
 static const char hsr_usage_tail[] =
@@ -175,33 +160,18 @@ bad:
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int hsr_parse(int argc, char **argv, hsr_opts *o) {
     int repeat_given = 0, threads_given = 0, methods_given = 0;
-    static const char *const flags[] = { "--quiet", "--help", "-h", NULL };
-    static const char *const valued[] = { "--data", "--methods", "--size", "--threads", "--repeat",
-                                          "--json", "--heatmap", "--svg", "--stress", NULL };
-    cli_args args = { "hsr", flags, valued, o->maps, 0, MAX_MAPS, 0, &o->draw };
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (!args.only_positional && (strcmp(a, "--hsr") == 0 || strncmp(a, "--hsr=", 6) == 0)) {
+    cli_args args;
+    cli_args_init(&args, CLI_HSR, argc, argv, o->maps, MAX_MAPS, &o->draw, hsr_usage, hsr_usage_tail);
+    /* --hsr is a drawing option of the table, but the lab runs every method */
+    for (int i = 2; i < argc && strcmp(argv[i], "--") != 0; i++)
+        if (strcmp(argv[i], "--hsr") == 0 || strncmp(argv[i], "--hsr=", 6) == 0) {
             error_line("hsr: --hsr: the lab runs every method of --methods LIST");
             return -1;
         }
-        char name[32];
-        const char *v;
-        int ar = cli_next_arg(&args, argc, argv, &i, name, &v);
-        if (ar <= 0) {
-            if (ar < 0) return -1;
-            continue;
-        }
-        if (!v) {
-            if (strcmp(name, "--quiet") == 0) {
-                o->quiet = 1;
-                continue;
-            }
-            fputs(hsr_usage, stdout);
-            draw_opts_usage(stdout);
-            fputs(hsr_usage_tail, stdout);
-            return 1;
-        }
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
+        const char *name = opt->name;
         if (strcmp(name, "--data") == 0 || strcmp(name, "--json") == 0 || strcmp(name, "--heatmap") == 0 ||
             strcmp(name, "--svg") == 0) {
             const char **slot = name[2] == 'd' ? &o->data : name[2] == 'j' ? &o->json
@@ -237,7 +207,9 @@ static int hsr_parse(int argc, char **argv, hsr_opts *o) {
                 return -1;
         }
     }
-    o->nmaps = args.nmaps;
+    if (args.stop)
+        return args.stop;
+    o->nmaps = args.nmaps, o->quiet = args.quiet;
     if (o->nstress && o->nmaps) {
         error_line("hsr: --stress takes no MAP (it makes its own: builtin:detail=N)");
         return -1;
@@ -454,7 +426,7 @@ static int lab_size(const lab_ctx *c, int w, int h, hsr_row *rows) {
         }
         progress_ctx pc = { r->map, ew_hsr_name((ew_hsr_method)r->method), w, h, o->repeat, c->nviews, 0 };
         bench_hooks hooks = { progress_before, NULL, &pc };
-        int bad = bench_run_views(rd, c->views, c->nviews, o->repeat, frames, stats, &hooks);
+        int bad = bench_run_views(rd, c->views, c->nviews, o->repeat, frames, stats, NULL, &hooks);
         if (bad) {
             progress_clear();
             error_line("%s: view %d: cannot render this camera", c->map, -bad - 1);

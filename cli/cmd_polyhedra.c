@@ -26,15 +26,7 @@ static const char polyhedra_usage[] =
     "their planes cross.  Every pixel is written once.\n"
     "\n"
     "options:\n"
-    "  --time T        seconds, 0 to 1000000 (default 0)\n"
-    "  --size WxH      frame size, 320x200 up to 7680x4320 (default 640x480)\n"
-    "  --objects N     number of polyhedra, 1 to 64 (default 12)\n"
-    "  --out FILE.png  output (default polyhedra.png)\n"
-    "  --stats         the frame's counters as one JSON object, with its agreement\n"
-    "                  with a per-pixel z-buffer of the same polygons\n"
-    "  --independent   no intersection resolution: the chapter's independent span\n"
-    "                  sorting, wrong where objects pass through each other\n"
-    "  --zbuffer       draw the frame by the z-buffer instead\n";
+    CLI_OPTIONS_HERE;
 
 int is_polyhedra(const char *map) { return strcmp(map, "builtin:polyhedra") == 0; }
 
@@ -79,52 +71,69 @@ int parse_polyhedra_objects(const char *v, int *n) {
     return 0;
 }
 
-int cmd_polyhedra(int argc, char **argv) {
-    int width = 640, height = 480, objects = EW_POLYHEDRA_DEFAULT, stats = 0, independent = 0;
-    int zbuffer = 0;
-    double t = 0;
-    const char *out = "polyhedra.png";
+int parse_polyhedra_args(int argc, char **argv, cli_cmd form, const char *help, polyhedra_opts *o) {
+    const char *name = cli_commands[form].form;
     int named = 0;
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            fputs(polyhedra_usage, stdout);
-            return 0;
-        }
-        if (a[0] != '-' || !a[1]) {  /* the one word that is not an option */
-            if (!is_polyhedra(a) || named++) {
-                error_line("render builtin:polyhedra: unexpected argument '%s'", a);
+    cli_parser p;
+    cli_parser_init(&p, form, argc, argv, 2);
+    for (;;) {
+        const cli_option *opt;
+        const char *v;
+        long l;
+        int r = cli_parse(&p, &opt, &v);
+        if (r < 0) return EXIT_USAGE;
+        if (r == CLI_END) break;
+        if (r == CLI_POSITIONAL) {  /* the one word that is not an option */
+            if (!is_polyhedra(v) || named++) {
+                error_line("%s: unexpected argument '%s'", name, v);
                 return EXIT_USAGE;
             }
             continue;
         }
-        if (strcmp(a, "--stats") == 0) { stats = 1; continue; }
-        if (strcmp(a, "--independent") == 0) { independent = 1; continue; }
-        if (strcmp(a, "--zbuffer") == 0) { zbuffer = 1; continue; }
-        int k = strcmp(a, "--time") == 0 ? 0 : strcmp(a, "--size") == 0 ? 1
-              : strcmp(a, "--objects") == 0 ? 2 : strcmp(a, "--out") == 0 ? 3 : -1;
-        if (k < 0) {
-            error_line("render builtin:polyhedra: unknown option '%s' (try 'edgewise render "
-                       "builtin:polyhedra --help')", a);
-            return EXIT_USAGE;
+        if (cli_is(opt, "--help")) {
+            cli_print_help(stdout, form, help);
+            return 1;
         }
-        if (i + 1 >= argc) {
-            error_line("render builtin:polyhedra: option '%s' needs a value", a);
-            return EXIT_USAGE;
-        }
-        const char *v = argv[++i];
-        if ((k == 0 && parse_polyhedra_time(v, &t) < 0) ||
-            (k == 1 && parse_size(v, &width, &height) < 0) ||
-            (k == 2 && parse_polyhedra_objects(v, &objects) < 0))
-            return EXIT_USAGE;
-        if (k == 3) {
+        if (cli_is(opt, "--stats")) o->stats = 1;
+        else if (cli_is(opt, "--independent")) o->independent = 1;
+        else if (cli_is(opt, "--zbuffer")) o->zbuffer = 1;
+        else if (cli_is(opt, "--time")) {
+            if (parse_polyhedra_time(v, &o->time) < 0) return EXIT_USAGE;
+        } else if (cli_is(opt, "--size")) {
+            if (parse_size(v, &o->width, &o->height) < 0) return EXIT_USAGE;
+        } else if (cli_is(opt, "--objects")) {
+            if (parse_polyhedra_objects(v, &o->objects) < 0) return EXIT_USAGE;
+        } else if (cli_is(opt, "--scale")) {
+            if (parse_long(v, &l) < 0 || l < 1 || l > 8) {
+                error_line("--scale %s: must be a whole number from 1 to 8", v);
+                return EXIT_USAGE;
+            }
+            o->scale = (int)l;
+        } else if (cli_is(opt, "--frames")) {
+            if (parse_long(v, &o->frames) < 0 || o->frames < 1 || o->frames > 100000000) {
+                error_line("--frames %s: must be a whole number from 1 to 100000000", v);
+                return EXIT_USAGE;
+            }
+        } else if (cli_is(opt, "--out")) {
             if (!*v) {
                 error_line("--out: empty file name");
                 return EXIT_USAGE;
             }
-            out = v;
+            o->out = v;
         }
     }
+    return 0;
+}
+
+int cmd_polyhedra(int argc, char **argv) {
+    polyhedra_opts po = { 640, 480, EW_POLYHEDRA_DEFAULT, 1, 0, 0, 0, 0, 0, "polyhedra.png" };
+    int pr = parse_polyhedra_args(argc, argv, CLI_RENDER_POLYHEDRA, polyhedra_usage, &po);
+    if (pr)
+        return pr == 1 ? 0 : pr;
+    int width = po.width, height = po.height, objects = po.objects, stats = po.stats;
+    int independent = po.independent, zbuffer = po.zbuffer;
+    double t = po.time;
+    const char *out = po.out;
 
     ew_error err = { "" };
     int rc = 1;
@@ -192,9 +201,13 @@ done:
 }
 
 #ifndef EW_HAVE_SDL2
+/* Its arguments are checked all the same (usage errors exit 2). */
 int cmd_view_polyhedra(int argc, char **argv) {
-    (void)argc;
-    (void)argv;
+    static const char help[] = "usage: edgewise view builtin:polyhedra [options]\n\noptions:\n" CLI_OPTIONS_HERE;
+    polyhedra_opts po = { 640, 480, EW_POLYHEDRA_DEFAULT, 1, 0, 0, 0, 0, 0, NULL };
+    int pr = parse_polyhedra_args(argc, argv, CLI_VIEW_POLYHEDRA, help, &po);
+    if (pr)
+        return pr == 1 ? 0 : pr;
     error_line("view: this edgewise was built without SDL2 (install libsdl2-dev and rebuild)");
     return 1;
 }

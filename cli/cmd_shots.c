@@ -21,9 +21,7 @@
 #define _DEFAULT_SOURCE
 #include "cli.h"
 #include "edgewise.h"
-#include "edgewise_tools.h"
-#include "asset/entity_lump.h"
-#include "ew_util.h"    /* ew_now_ms */
+#include "edgewise_lab.h"
 
 #include <ctype.h>
 #include <dirent.h>
@@ -59,23 +57,7 @@ static const char shots_usage[] =
     "failures.  Exit status 0 if every map rendered, 1 if some failed, 2 for\n"
     "bad arguments.  Progress is a bar on a terminal, else one summary line.\n"
     "\n"
-    "  --data DIR           game directory for palette, colormap and models\n"
-    "  --out DIR            where the pictures go (default shots; made if missing)\n"
-    "  --size WxH           picture size (default 640x360)\n"
-    "  --views V            best (default): the first info_intermission camera\n"
-    "                       as the mapper aimed it; without one the first player\n"
-    "                       start's eye, level, turned to the most open of 24\n"
-    "                       directions (rays traced through the world every 15\n"
-    "                       degrees, each direction scored by the mean free\n"
-    "                       distance of the five rays within 30 degrees of it);\n"
-    "                       all: the whole view set; N,M,...: those views\n"
-    "  --jobs N             maps rendered at once, 1 to 256 worker processes\n"
-    "                       (default 1)\n"
-    "  --force              render again pictures that already exist (otherwise\n"
-    "                       they are skipped, so an interrupted batch resumes)\n"
-    "  --manifest FILE      JSON lines appended (default OUTDIR/manifest.jsonl)\n"
-    "  --contact-sheet FILE a grid PNG of the batch's pictures with their names\n"
-    "  --quiet              no warning lines about the maps' optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "what is drawn (as in edgewise render):\n";
 
@@ -321,52 +303,19 @@ static int parse_views(const char *v, shots_opts *o) {
 
 /* 0, 1 after --help, -1 (error printed). */
 static int parse(int argc, char **argv, shots_opts *o) {
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(shots_usage, stdout);
-            draw_opts_usage(stdout);
-            return 1;
-        }
-        int dr = draw_option(&o->draw, "shots", argc, argv, &i);
-        if (dr < 0) return -1;
-        if (dr > 0) continue;
-        const char *flags[] = {"--force", "--quiet"};
-        int flag = -1;
-        for (int k = 0; k < 2; k++) {
-            size_t n = strlen(flags[k]);
-            if (!strncmp(a, flags[k], n) && (a[n] == '\0' || a[n] == '=')) flag = k;
-        }
-        if (flag >= 0) {
-            if (strchr(a, '=')) {
-                error_line("shots: option '%s' takes no value", flags[flag]);
-                return -1;
-            }
-            *(flag ? &o->quiet : &o->force) = 1;
-            continue;
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (!*a) {
-                error_line("shots: empty map name");
-                return -1;
-            }
-            o->inputs[o->ninputs++] = a;
+    cli_args args;
+    cli_args_init(&args, CLI_SHOTS, argc, argv, o->inputs, argc, &o->draw, shots_usage, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
+        if (cli_is(opt, "--force")) {
+            o->force = 1;
             continue;
         }
         const char *names[] = {"--data", "--out", "--size", "--views", "--jobs", "--manifest", "--contact-sheet"};
-        int which = -1;
-        size_t nlen = strcspn(a, "=");
+        int which = 0;
         for (int k = 0; k < 7; k++)
-            if (strlen(names[k]) == nlen && !strncmp(a, names[k], nlen)) which = k;
-        if (which < 0) {
-            error_line("shots: unknown option '%.*s' (see edgewise shots --help)", (int)nlen, a);
-            return -1;
-        }
-        const char *v = a[nlen] == '=' ? a + nlen + 1 : i + 1 < argc ? argv[++i] : NULL;
-        if (!v) {
-            error_line("shots: option '%s' needs a value", names[which]);
-            return -1;
-        }
+            if (cli_is(opt, names[k])) which = k;
         if (!*v && which != 2 && which != 3 && which != 4) {
             error_line("%s: empty name", names[which]);
             return -1;
@@ -392,6 +341,9 @@ static int parse(int argc, char **argv, shots_opts *o) {
         case 6: o->sheet = v; break;
         }
     }
+    if (args.stop)
+        return args.stop;
+    o->ninputs = args.nmaps, o->quiet = args.quiet;
     if (!o->ninputs) {
         error_line("shots: missing MAP, DIR or PAK (see edgewise shots --help)");
         return -1;
@@ -476,26 +428,6 @@ static ew_assets *load_item(const map_item *m, const char *data, ew_error *err) 
  * first player start (*start), -1 when there is none: the entities walked
  * as ew_benchmark_views walks them (four views a player start, one an
  * intermission). */
-static void view_roles(const ew_world *w, int *inter, int *start) {
-    *inter = *start = -1;
-    const char *text = ew_world_entities(w);
-    if (!text) return;
-    ew_entities ents;
-    ew_entities_parse(text, strlen(text), &ents, NULL);
-    int n = 0;
-    for (int i = 0; i < ents.count && n < EW_MAX_VIEWS; i++) {
-        const char *cls = ew_entity_get(&ents.ents[i], "classname");
-        if (!cls) continue;
-        if (!strncmp(cls, "info_player", 11)) {
-            if (*start < 0) *start = n;
-            n += 4;
-        } else if (!strcmp(cls, "info_intermission")) {
-            if (*inter < 0) *inter = n;
-            n++;
-        }
-    }
-    ew_entities_free(&ents);
-}
 
 #define YAWS 24
 /* The player start's eye turned, level, to the most open direction. */
@@ -654,7 +586,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         }
     }
     ew_error err = {""};
-    double t0 = ew_now_ms();
+    double t0 = ew_clock_ms();
     ew_assets *a = load_item(m, o->data, &err);
     if (a && !o->quiet) print_world_warnings(a->world, 0);
     ew_scene *scene = NULL;
@@ -664,7 +596,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         free(b);
         return (map_result){1, 0, 0};
     }
-    double load_ms = ew_now_ms() - t0;
+    double load_ms = ew_clock_ms() - t0;
     ew_camera views[EW_MAX_VIEWS];
     int nv = ew_benchmark_views(a->world, views);
     int list[EW_MAX_VIEWS], nlist = 0;
@@ -678,7 +610,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
     }
     if (o->views_mode == 0) {
         int inter, start;
-        view_roles(a->world, &inter, &start);
+        ew_benchmark_view_roles(a->world, &inter, &start);
         best_cam = views[inter >= 0 ? inter : start >= 0 ? start : 0];
         if (inter < 0) most_open(a->world, &best_cam);
         list[nlist++] = -2;
@@ -729,21 +661,21 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         ew_camera cam = v == -2 ? best_cam : views[v];
         ew_stats st;
         memset(&st, 0, sizeof st);
-        double t1 = ew_now_ms();
+        double t1 = ew_clock_ms();
         if (ew_render(r, &cam, &st) < 0) {
             line_error(b, m, v, NULL, "cannot render this camera", fd);
             res.status = 1;
             continue;
         }
-        double render_ms = ew_now_ms() - t1;
+        double render_ms = ew_clock_ms() - t1;
         double luma = frame_luma(r);
-        double t2 = ew_now_ms();
+        double t2 = ew_clock_ms();
         if (ew_write_frame_png(r, file, &err) < 0) {
             line_error(b, m, v, NULL, err.msg, fd);
             res.status = 1;
             continue;
         }
-        double png_ms = ew_now_ms() - t2;
+        double png_ms = ew_clock_ms() - t2;
         res.pictures++;
         line_start(b, m, v, file);
         lb_add(b, ",\"status\":\"ok\",\"origin\":[");
@@ -792,7 +724,7 @@ static void fmt_time(char *out, size_t size, double s) {
 
 static void progress_draw(progress *p, int final) {
     if (!p->tty) return;
-    double now = ew_now_ms();
+    double now = ew_clock_ms();
     if (!final && now - p->last < 100) return;
     p->last = now;
     double el = (now - p->t0) / 1000;
@@ -1072,7 +1004,7 @@ int cmd_shots(int argc, char **argv) {
     memset(&p, 0, sizeof p);
     p.tty = isatty(2);
     p.total = l.n;
-    p.t0 = ew_now_ms();
+    p.t0 = ew_clock_ms();
     if (o.jobs == 1) {
         for (int i = 0; i < l.n; i++) {
             report rp = {0, i, {0, 0, 0}};
@@ -1086,7 +1018,7 @@ int cmd_shots(int argc, char **argv) {
         goto done;
     }
     progress_draw(&p, 1);
-    double secs = (ew_now_ms() - p.t0) / 1000;
+    double secs = (ew_clock_ms() - p.t0) / 1000;
     fprintf(stderr, "shots: %d map%s, %d picture%s written, %d skipped (already there), %d without views, "
             "%d failed, %.1f s (%.1f pictures/s), manifest %s\n", p.total, p.total == 1 ? "" : "s", p.pictures,
             p.pictures == 1 ? "" : "s", p.skipped, p.noviews, p.failed, secs, secs > 0 ? p.pictures / secs : 0,

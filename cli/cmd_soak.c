@@ -31,9 +31,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 #include "edgewise.h"
-#include "edgewise_tools.h"
-#include "renderer.h"  /* the world's leaves and the renderer's budgets */
-#include "ew_util.h"    /* ew_now_ms */
+#include "edgewise_lab.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -57,12 +55,7 @@ static const char soak_usage[] =
     "budget is full) and prints one JSON line: frames/s, anomalies, budget\n"
     "drops, peak memory.  Exit status 1 if any frame broke a promise.\n"
     "\n"
-    "  --data DIR      game directory (maps/, gfx/)\n"
-    "  --frames N      frames to render (required)\n"
-    "  --size WxH      frame size (default 320x200)\n"
-    "  --seed S        random cameras' seed (default 1)\n"
-    "  --threads N     render threads, " THREADS_RULE " (default 1)\n"
-    "  --quiet         no warning lines about the map's optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "what is drawn (as in edgewise render):\n";
 
@@ -78,52 +71,16 @@ typedef struct soak_opts {
 /* Returns 0, 1 after --help, or -1 (error printed). */
 static int parse(int argc, char **argv, soak_opts *o) {
     int have_frames = 0;
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            fputs(soak_usage, stdout);
-            draw_opts_usage(stdout);
-            return 1;
-        }
-        int dr = draw_option(&o->draw, "soak", argc, argv, &i);
-        if (dr < 0)
-            return -1;
-        if (dr > 0)
-            continue;
-        if (!strncmp(a, "--quiet", 7) && (a[7] == '\0' || a[7] == '=')) {
-            if (a[7]) {
-                error_line("soak: option '--quiet' takes no value");
-                return -1;
-            }
-            o->quiet = 1;
-            continue;
-        }
-        if (a[0] != '-' || !a[1]) {
-            if (o->map) {
-                error_line("soak: unexpected argument '%s'", a);
-                return -1;
-            }
-            if (!*a) {
-                error_line("soak: empty map name");
-                return -1;
-            }
-            o->map = a;
-            continue;
-        }
+    const char *map[1];
+    cli_args args;
+    cli_args_init(&args, CLI_SOAK, argc, argv, map, 1, &o->draw, soak_usage, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
         const char *names[] = {"--data", "--frames", "--size", "--seed", "--threads"};
-        int which = -1;
-        size_t nlen = strcspn(a, "=");
+        int which = 0;
         for (int k = 0; k < 5; k++)
-            if (strlen(names[k]) == nlen && !strncmp(a, names[k], nlen)) which = k;
-        if (which < 0) {
-            error_line("soak: unknown option '%.*s' (see edgewise soak --help)", (int)nlen, a);
-            return -1;
-        }
-        const char *v = a[nlen] == '=' ? a + nlen + 1 : i + 1 < argc ? argv[++i] : NULL;
-        if (!v) {
-            error_line("soak: option '%s' needs a value", names[which]);
-            return -1;
-        }
+            if (cli_is(opt, names[k])) which = k;
         long l;
         switch (which) {
         case 0:
@@ -161,6 +118,9 @@ static int parse(int argc, char **argv, soak_opts *o) {
             break;
         }
     }
+    if (args.stop)
+        return args.stop;
+    o->map = args.nmaps ? map[0] : NULL, o->quiet = args.quiet;
     if (!o->map) {
         error_line("soak: missing MAP (a .bsp path, a map name with --data, or 'builtin')");
         return -1;
@@ -187,16 +147,10 @@ static int open_contents(int c) { return c != EW_CONTENTS_SOLID && c != EW_CONTE
 
 /* Open leaves of the world tree (model 0), not of brush models. */
 static int *world_open_leaves(const ew_world *w, int *n) {
-    *n = 0;
-    int *list = malloc(sizeof(int) * (size_t)(w->numleaves > 0 ? w->numleaves : 1));
+    *n = ew_world_open_leaves(w, NULL);
+    int *list = malloc(sizeof(int) * (size_t)(*n > 0 ? *n : 1));
     if (!list) return NULL;
-    int head = w->models[0].headnode;
-    for (int i = 1; i < w->numleaves; i++) {
-        if (!open_contents(w->leaves[i].contents)) continue;
-        int node = w->leaves[i].parent, top = -1;
-        for (int steps = 0; node >= 0 && steps <= w->numnodes; steps++) top = node, node = w->nodes[node].parent;
-        if (top == head) list[(*n)++] = i;
-    }
+    ew_world_open_leaves(w, list);
     return list;
 }
 
@@ -216,17 +170,9 @@ static int *world_open_leaves(const ew_world *w, int *n) {
 #define JITTER 0.5
 #define PLACE_TRIES 64
 
-static float plane_dist(const ew_plane *pl, const float p[3]) {
-    return p[0] * pl->normal[0] + p[1] * pl->normal[1] + p[2] * pl->normal[2] - pl->dist;
-}
-
 static int eye_clear(const ew_world *w, int leaf, const float p[3]) {
-    int steps = 0;
-    for (int n = w->leaves[leaf].parent; n >= 0 && steps++ <= w->numnodes; n = w->nodes[n].parent)
-        if (fabsf(plane_dist(&w->planes[w->nodes[n].plane], p)) < WALL_CLEARANCE) return 0;
-    for (int i = 0; i < w->numplanes; i++)
-        if (fabsf(plane_dist(&w->planes[i], p)) < PLANE_CLEARANCE) return 0;
-    return 1;
+    return ew_world_leaf_clearance(w, leaf, p) >= WALL_CLEARANCE &&
+           ew_world_plane_clearance(w, p) >= PLANE_CLEARANCE;
 }
 
 /* An eye near the centre of a random open leaf, in that leaf and clear of
@@ -235,10 +181,11 @@ static int random_eye(const ew_world *w, const int *open_leaves, int nopen, uint
                       float eye[3]) {
     for (int t = 0; t < PLACE_TRIES; t++) {
         int li = open_leaves[next_u64(rng) % (uint64_t)nopen];
-        const ew_leaf *l = &w->leaves[li];
+        float mins[3], maxs[3];
+        ew_world_leaf_bounds(w, li, mins, maxs);
         for (int k = 0; k < 3; k++)
-            eye[k] = (l->mins[k] + l->maxs[k]) * 0.5f + (float)((next_unit(rng) * 2 - 1) * JITTER);
-        if (ew_point_leaf(w, w->models[0].headnode, eye) == li && eye_clear(w, li, eye)) return 0;
+            eye[k] = (mins[k] + maxs[k]) * 0.5f + (float)((next_unit(rng) * 2 - 1) * JITTER);
+        if (ew_world_point_leaf(w, eye) == li && eye_clear(w, li, eye)) return 0;
     }
     return -1;
 }
@@ -320,14 +267,6 @@ static void print_findings(FILE *out, const char *key, const findings *f) {
     fputc(']', out);
 }
 
-/* A budget that refuses work when full: surfaces, edges (a face needs up
- * to EW_MAX_POLY of them) or a band's spans. */
-static int budget_full(const ew_renderer *r) {
-    if (r->el.nsurfs >= r->el.max_surfs || r->el.nedges + EW_MAX_POLY + 4 > r->el.max_edges) return 1;
-    for (int i = 0; i < r->sched.nbands; i++)
-        if (ew_band_budget_full(&r->sched.bands[i])) return 1;
-    return 0;
-}
 
 int cmd_soak(int argc, char **argv) {
     soak_opts o = {.width = 320, .height = 200, .threads = 1, .seed = 1};
@@ -374,7 +313,7 @@ int cmd_soak(int argc, char **argv) {
     findings anomalies = {.count = 0}, drops = {.count = 0}, open_views = {.count = 0};
     long in_solid = 0, random_frames = 0, view_frames = 0;
     uint64_t rng = o.seed;
-    double total_ms = 0, t_start = ew_now_ms();
+    double total_ms = 0, t_start = ew_clock_ms();
     for (long i = 0; i < o.frames; i++) {
         ew_camera cam;
         memset(&cam, 0, sizeof cam);
@@ -405,8 +344,8 @@ int cmd_soak(int argc, char **argv) {
         fog_frames += st.fog_pixels > 0;
         fence_px += (double)st.fence_pixels, translucent_px += (double)st.translucent_pixels;
         fog_px += (double)st.fog_pixels;
-        int leaf = ew_point_leaf(w, w->models[0].headnode, cam.origin);
-        int solid = leaf == 0 || !open_contents(w->leaves[leaf].contents);
+        int leaf = ew_world_point_leaf(w, cam.origin);
+        int solid = leaf == 0 || !open_contents(ew_world_leaf_contents(w, leaf));
         in_solid += solid;
         if (st.pixels != (long)o.width * o.height)
             add_finding(&anomalies, i, &cam, "pixels %ld, frame has %ld", st.pixels, (long)o.width * o.height);
@@ -419,7 +358,7 @@ int cmd_soak(int argc, char **argv) {
             add_finding(&anomalies, i, &cam, "overdraw %.9g (%ld written, %ld covered)", st.overdraw,
                         st.pixels_written, st.pixels_covered);
         if (st.dropped > 0) {
-            if (budget_full(r))
+            if (ew_frame_budget_full(r))
                 add_finding(&drops, i, &cam, "dropped %d with a full budget (%d surfaces, %d edges)",
                             st.dropped, st.surfaces, st.edges);
             else
@@ -436,7 +375,7 @@ int cmd_soak(int argc, char **argv) {
                             open_px, leaf);
         }
     }
-    double wall_ms = ew_now_ms() - t_start;
+    double wall_ms = ew_clock_ms() - t_start;
     struct rusage ru;
     memset(&ru, 0, sizeof ru);
     getrusage(RUSAGE_SELF, &ru);

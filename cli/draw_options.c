@@ -9,8 +9,7 @@
 #define _POSIX_C_SOURCE 200809L  /* stat */
 #include "cli.h"
 #include "edgewise.h"
-#include "edgewise_tools.h"  /* ew_set_full_zfill, ew_set_occlusion_cull */
-#include "mapgen/mapgen.h"   /* ew_stress_generate: builtin:detail=N */
+#include "edgewise_lab.h"  /* ew_set_full_zfill, ew_set_occlusion_cull */
 
 #include <ctype.h>
 #include <errno.h>
@@ -26,50 +25,18 @@ enum {
 
 #define MAX_FOG_DENSITY 100.0
 
-static const struct draw_def {
-    const char *name;
-    const char *arg;   /* NULL: a flag */
-    const char *what;  /* what it does */
-    const char *rule;  /* the value's rule, printed as "ARG must be RULE" */
-} draw_defs[D_COUNT] = {
-    [D_NOENT] = { "--no-entities", NULL, "the world only: no doors, monsters, items, flames", NULL },
-    [D_ARASTER] = { "--alias-raster", "MODE", "how triangle models are drawn",
-                    "auto (by size, the default), affine, subdiv, masks or sprite-cache" },
-    [D_SUBTHRESH] = { "--subdiv-threshold", "PX", "auto: subdivide models shorter than PX on screen",
-                      "a number of pixels above 0, at most 10000 (default 40)" },
-    [D_FULLZ] = { "--full-zfill", NULL, "z-fill under every world span (default: only under moving things)",
-                  NULL },
-    [D_OCC] = { "--occlusion", "MODE", "leave out of the edge list the world faces nearer ones hide (the same picture)",
-                "off, auto (where the PVS lets 500 leaves or more through; the default) or always" },
-    [D_CLASSIC] = { "--classic", NULL,
-                    "the 1996 look: no see-through surfaces, fog or underwater warp", NULL },
-    [D_WATERALPHA] = { "--wateralpha", "A", "opacity of every liquid, whatever the map asks",
-                       "a number above 0, at most 1 (1 = opaque)" },
-    [D_FOG] = { "--fog", "D,R,G,B", "fog instead of the map's",
-                "a density from 0 to 100 (0 = none) and red, green, blue from 0 to 1, "
-                "e.g. 0.05,0.3,0.3,0.35" },
-    [D_NOFOG] = { "--no-fog", NULL, "no fog, whatever the map asks", NULL },
-    [D_NOWARP] = { "--no-waterwarp", NULL, "no underwater warp and tint", NULL },
-    [D_HSR] = { "--hsr", "METHOD", "hidden-surface removal",
-                "edge (the global edge list, the default), reference (a z-buffer per pixel, slow), "
-                "edge-z, spans, zbuffer, painter, drawbuffer, beamtree or raycast (docs/hsr.md)" },
-    [D_COLOR] = { "--color", "MODE", "pixel format of the frame",
-                  "8bit (palette indices, the software look; the default) or true (32-bit, light in RGB)" },
-    [D_NOLIT] = { "--no-lit", NULL, "ignore coloured light (.lit file, BSPX RGBLIGHTING): white light", NULL },
-    [D_DITHER] = { "--dither", NULL, "8-bit frames with coloured light: an ordered dither of two palette colours mixed to the tint",
-                   NULL },
-    [D_LIGHTING] = { "--lighting", "MODE", "how lit faces get their light",
-                     "cache (light-mapped surfaces built once and kept, the default) or two-pass "
-                     "(texture, then light per pixel: chapter 69's alternative, docs/lighting.md)" },
-    [D_LIGHTSTYLE] = { "--lightstyle", "N=V", "one light style instead of its pattern (repeatable)",
-                       "a style 0 to 63, '=', then a value 0 to 1024 (264 is normal), a pattern of 1 to 64 "
-                       "letters a to z (ten a second), 'on' or 'off'" },
-    [D_GAMMA] = { "--gamma", "G", "output gamma (above 1 brightens)", "a number from 0.5 to 3 (default 1)" },
-    [D_DEBUG] = { "--debug", "MODE", "a view of the pipeline instead of the normal frame",
-                  "spans (each span its own colour), edges (the edge list over the frame), overdraw "
-                  "(writes per pixel), lighting (light maps only), textures (no light), mips (a colour "
-                  "per mip level) or builds (surfaces built this frame)" },
+/* The drawing options' names, by D_*: their rows (metavariable, help,
+ * rule) are in the option table (cli/options.c). */
+static const char *const draw_names[D_COUNT] = {
+    [D_NOENT] = "--no-entities", [D_ARASTER] = "--alias-raster", [D_SUBTHRESH] = "--subdiv-threshold",
+    [D_FULLZ] = "--full-zfill", [D_OCC] = "--occlusion", [D_CLASSIC] = "--classic",
+    [D_WATERALPHA] = "--wateralpha", [D_FOG] = "--fog", [D_NOFOG] = "--no-fog", [D_NOWARP] = "--no-waterwarp",
+    [D_HSR] = "--hsr", [D_COLOR] = "--color", [D_NOLIT] = "--no-lit", [D_DITHER] = "--dither",
+    [D_LIGHTING] = "--lighting", [D_LIGHTSTYLE] = "--lightstyle", [D_GAMMA] = "--gamma", [D_DEBUG] = "--debug",
 };
+
+/* The row of drawing option k (every command that draws shares them). */
+static const cli_option *draw_row(int k) { return cli_find(CLI_RENDER, draw_names[k], -1); }
 
 /* --debug's values, in ew_debug_mode order from EW_DEBUG_SPANS. */
 static const char *const debug_names[] = { "spans", "edges", "overdraw", "lighting", "textures", "mips", "builds" };
@@ -86,20 +53,11 @@ void draw_opts_init(draw_opts *d) {
     d->hsr = EW_HSR_EDGE;
 }
 
-void draw_opts_usage(FILE *f) {
-    for (int k = 0; k < D_COUNT; k++) {
-        const struct draw_def *o = &draw_defs[k];
-        char head[64];
-        snprintf(head, sizeof head, "%s%s%s", o->name, o->arg ? " " : "", o->arg ? o->arg : "");
-        if (o->rule)
-            fprintf(f, "  %-22s %s;\n  %-22s   %s must be %s\n", head, o->what, "", o->arg, o->rule);
-        else
-            fprintf(f, "  %-22s %s\n", head, o->what);
-    }
-}
+void draw_opts_usage(FILE *f) { cli_print_options(f, CLI_RENDER, 1); }
 
 static int bad_value(int k, const char *v) {
-    error_line("%s %s: %s must be %s", draw_defs[k].name, v, draw_defs[k].arg, draw_defs[k].rule);
+    const cli_option *o = draw_row(k);
+    error_line("%s %s: %s must be %s", o->name, v, o->metavar, o->rule);
     return -1;
 }
 
@@ -216,34 +174,16 @@ static int set_value(draw_opts *d, int k, const char *v) {
     return 0;
 }
 
-int draw_option(draw_opts *d, const char *cmd, int argc, char **argv, int *i) {
-    const char *a = argv[*i];
-    if (a[0] != '-' || a[1] != '-')
+int draw_option(draw_opts *d, const char *cmd, const cli_option *opt, const char *v) {
+    if (!opt || !opt->draw)
         return 0;
-    const char *eq = strchr(a, '=');
-    size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
     int k = 0;
-    while (k < D_COUNT && !(strlen(draw_defs[k].name) == nlen && strncmp(draw_defs[k].name, a, nlen) == 0))
+    while (k < D_COUNT && strcmp(draw_names[k], opt->name) != 0)
         k++;
     if (k == D_COUNT)
         return 0;
-    const struct draw_def *o = &draw_defs[k];
-    const char *v = NULL;
-    if (o->arg) {
-        if (eq)
-            v = eq + 1;
-        else if (*i + 1 < argc)
-            v = argv[++*i];
-        else {
-            error_line("%s: option '%s' needs a value", cmd, o->name);
-            return -1;
-        }
-        if (set_value(d, k, v) < 0)
-            return -1;
-    } else if (eq) {
-        error_line("%s: option '%s' takes no value", cmd, o->name);
+    if (opt->metavar && set_value(d, k, v) < 0)
         return -1;
-    }
     if (k == D_FOG || k == D_NOFOG) {
         int other = k == D_FOG ? D_NOFOG : D_FOG;
         if (d->given & (1 << other)) {
@@ -411,17 +351,8 @@ int stress_detail(const char *map) {
 /* The stress hall (src/mapgen/stress_level.c) at detail d, as assets. */
 static ew_assets *stress_assets(const char *map, int d) {
     ew_error err = { "" };
-    ew_assets *a = calloc(1, sizeof *a);
-    uint8_t *bsp = NULL;
-    size_t size = 0;
-    if (a && ew_stress_generate(d, &bsp, &size, a->palette, a->colormap, &err) == 0)
-        a->world = ew_world_create(bsp, size, map, &err);
-    free(bsp);
-    if (!a || !a->world) {
-        error_line("%s", err.msg[0] ? err.msg : "builtin: out of memory");
-        free(a);
-        return NULL;
-    }
+    ew_assets *a = ew_assets_create_stress(d, map, &err);
+    if (!a) error_line("%s", err.msg[0] ? err.msg : "builtin: out of memory");
     return a;
 }
 
@@ -463,57 +394,60 @@ int draw_opts_scene(const draw_opts *d, const ew_assets *a, const char *map, con
     return 0;
 }
 
-static int in_list(const char *name, const char *const *list) {
-    for (; list && *list; list++)
-        if (strcmp(name, *list) == 0) return 1;
+void cli_args_init(cli_args *a, cli_cmd cmd, int argc, char **argv, const char **maps, int max_maps,
+                   draw_opts *draw, const char *help, const char *help_tail) {
+    cli_parser_init(&a->p, cmd, argc, argv, 2);
+    a->maps = maps, a->nmaps = 0, a->max_maps = max_maps, a->draw = draw;
+    a->help = help, a->help_tail = help_tail, a->opt = NULL, a->value = NULL, a->stop = 0, a->quiet = 0;
+}
+
+/* The map in value, or -1 after one error line. */
+static int add_map(cli_args *a, const char *cmd, const char *value) {
+    if (!*value) {
+        error_line("%s: empty map name", cmd);
+        return -1;
+    }
+    if (a->nmaps == a->max_maps) {
+        if (a->max_maps == 1)
+            error_line("%s: one map only ('%s' and '%s')", cmd, a->maps[0], value);
+        else if (a->max_maps == 0)
+            error_line("%s: unexpected argument '%s'", cmd, value);
+        else
+            error_line("%s: more than %d maps", cmd, a->max_maps);
+        return -1;
+    }
+    a->maps[a->nmaps++] = value;
     return 0;
 }
 
-int cli_next_arg(cli_args *a, int argc, char **argv, int *i, char name[32], const char **value) {
-    const char *arg = argv[*i];
-    if (!a->only_positional && strcmp(arg, "--") == 0) {
-        a->only_positional = 1;
-        return 0;
-    }
-    if (a->only_positional || arg[0] != '-' || !arg[1]) {
-        if (!*arg) {
-            error_line("%s: empty map name", a->cmd);
-            return -1;
+int cli_next_arg(cli_args *a) {
+    const char *cmd = cli_commands[a->p.cmd].form;
+    for (;;) {
+        int r = cli_parse(&a->p, &a->opt, &a->value);
+        if (r < 0 || (r == CLI_POSITIONAL && add_map(a, cmd, a->value) < 0)) {
+            a->stop = -1;
+            return 0;
         }
-        if (a->nmaps == a->max_maps) {
-            error_line("%s: more than %d maps", a->cmd, a->max_maps);
-            return -1;
+        if (r == CLI_END) return 0;
+        if (r == CLI_POSITIONAL) continue;
+        if (cli_is(a->opt, "--quiet")) {
+            a->quiet = 1;
+            continue;
         }
-        a->maps[a->nmaps++] = arg;
-        return 0;
-    }
-    int dr = draw_option(a->draw, a->cmd, argc, argv, i);
-    if (dr != 0) return dr < 0 ? -1 : 0;
-    const char *eq = strchr(arg, '=');
-    size_t nlen = eq ? (size_t)(eq - arg) : strlen(arg);
-    snprintf(name, 32, "%.*s", (int)(nlen < 32 ? nlen : 31), arg);
-    int is_flag = in_list(name, a->flags), has_value = in_list(name, a->valued);
-    if (!is_flag && !has_value) {
-        error_line("%s: unknown option '%.*s' (see edgewise %s --help)", a->cmd, (int)nlen, arg, a->cmd);
-        return -1;
-    }
-    *value = NULL;
-    if (is_flag) {
-        if (eq) {
-            error_line("%s: option '%s' takes no value", a->cmd, name);
-            return -1;
+        if (a->help && cli_is(a->opt, "--help")) {
+            cli_print_help(stdout, a->p.cmd, a->help);
+            if (a->draw) draw_opts_usage(stdout);
+            if (a->help_tail) fputs(a->help_tail, stdout);
+            a->stop = 1;
+            return 0;
         }
-        return 1;
+        int dr = a->draw ? draw_option(a->draw, cmd, a->opt, a->value) : 0;
+        if (dr < 0) {
+            a->stop = -1;
+            return 0;
+        }
+        if (dr == 0) return 1;
     }
-    if (eq)
-        *value = eq + 1;
-    else if (*i + 1 < argc)
-        *value = argv[++*i];
-    else {
-        error_line("%s: option '%s' needs a value", a->cmd, name);
-        return -1;
-    }
-    return 1;
 }
 
 int cli_set_once(const char *cmd, const char *name, const char *v, const char **slot) {

@@ -40,16 +40,7 @@ static const char usage_head[] =
     "usage: edgewise COMMAND [ARGS]\n"
     "\n"
     "commands:\n"
-    "  render MAP [options]   render one frame of MAP to a PNG\n"
-    "  demo [options]         render the built-in scene (needs no game data)\n"
-    "  views MAP [--data DIR] list the view set: INDEX X Y Z PITCH YAW ROLL\n"
-    "  info MAP [--data DIR]  BSP version, lumps, BSPX lumps (used or not), counts\n"
-    "  bench MAP... [options] time the view set (see edgewise bench --help)\n"
-    "  hsr MAP... [options]   the hidden-surface lab: every method timed and checked\n"
-    "  view MAP [options]     walk through MAP in a window (see edgewise view --help)\n"
-    "  soak MAP --frames N    render N frames and check every frame's counters\n"
-    "  shots MAP|DIR|PAK...   pictures of many maps (see edgewise shots --help)\n"
-    "  fly MAP --out FILE     a flythrough video (see edgewise fly --help)\n"
+    "@COMMANDS@\n"
     "  help, --help           this text\n"
     "  --version              the version\n"
     "\n"
@@ -59,21 +50,7 @@ static const char usage_head[] =
     "list, no BSP (see edgewise render builtin:polyhedra --help).\n"
     "\n"
     "render options:\n"
-    "  --data DIR           game directory (maps/, gfx/palette.lmp, gfx/colormap.lmp)\n"
-    "  --size WxH           frame size, 320x200 up to 7680x4320 (default 640x480)\n"
-    "  --view N             camera N of the view set (default 0)\n"
-    "  --pos X,Y,Z          free camera position (needs --angles; not with --view)\n"
-    "  --angles P,Y,R       free camera pitch, yaw, roll in degrees\n"
-    "                       (each " VEC3_RULE ")\n"
-    "  --fov DEG            horizontal field of view, " FOV_RULE " (default 90)\n"
-    "  --time T             seconds, for animated textures, sky and liquids (default 0)\n"
-    "  --out FILE.png       output (default MAPNAME_vN.png, MAPNAME_free.png with --pos)\n"
-    "  --stats              print the frame's counters and times as one JSON object\n"
-    "  --dlight X,Y,Z,R[,r,g,b]  a dynamic light of radius R above 0, at most 100000, white or of\n"
-    "                       colour r,g,b (0 to 1 each); repeatable, up to 32\n"
-    "  --particles N        a deterministic cloud of N particles in front of the camera\n"
-    "  --threads N          render bands of the frame on N threads, " THREADS_RULE " (default 1)\n"
-    "  --quiet              no warning lines about the map's optional data\n"
+    CLI_OPTIONS_HERE
     "\n"
     "what is drawn (render, demo, bench and soak alike):\n";
 static const char usage_tail[] =
@@ -95,7 +72,16 @@ static const char usage_tail[] =
 /* Prints one error line; control characters (from file names or arguments)
  * are replaced so the message stays one line. */
 static void print_usage(void) {
-    fputs(usage_head, stdout);
+    const char *m = strstr(usage_head, "@COMMANDS@\n");
+    printf("%.*s", (int)(m - usage_head), usage_head);
+    for (int c = 0; c < CLI_NCMDS; c++) {
+        const cli_command *cc = &cli_commands[c];
+        if (c == CLI_HELP || strcmp(cc->form, cc->name) != 0) continue;  /* help below; the forms */
+        char head[64];
+        snprintf(head, sizeof head, "%s %.*s", cc->name, (int)strcspn(cc->synopsis, "\n"), cc->synopsis);
+        printf("  %-22s %s\n", head, cc->summary);  /* one line a command (tests/install_test.sh) */
+    }
+    cli_print_help(stdout, CLI_RENDER, m + strlen("@COMMANDS@\n"));
     draw_opts_usage(stdout);
     fputs(usage_tail, stdout);
 }
@@ -116,26 +102,25 @@ void error_line(const char *fmt, ...) {
 
 enum {
     O_DATA = 1 << 0, O_SIZE = 1 << 1, O_VIEW = 1 << 2, O_POS = 1 << 3, O_ANGLES = 1 << 4,
-    O_FOV = 1 << 5, O_TIME = 1 << 6, O_OUT = 1 << 7, O_STATS = 1 << 8, O_HELP = 1 << 9,
-    O_DRAW = 1 << 10, O_DLIGHT = 1 << 11, O_QUIET = 1 << 12,
+    O_FOV = 1 << 5, O_TIME = 1 << 6, O_OUT = 1 << 7, O_STATS = 1 << 8,
+    O_DLIGHT = 1 << 11, O_QUIET = 1 << 12,
     O_PARTICLES = 1 << 14, O_THREADS = 1 << 15
 };
-/* What is drawn, lights, particles and threading, shared by render and demo. */
-#define O_SCENE (O_DRAW | O_DLIGHT | O_PARTICLES | O_THREADS | O_QUIET)
 #define MAX_CLI_DLIGHTS 32
 
-static const struct option_def {
-    const char *name;
-    int         flag;
-    int         has_value;
-} option_defs[] = {
-    { "--data", O_DATA, 1 },   { "--size", O_SIZE, 1 }, { "--view", O_VIEW, 1 },
-    { "--pos", O_POS, 1 },     { "--angles", O_ANGLES, 1 }, { "--fov", O_FOV, 1 },
-    { "--time", O_TIME, 1 },   { "--out", O_OUT, 1 },   { "--stats", O_STATS, 0 },
-    { "--help", O_HELP, 0 },   { "-h", O_HELP, 0 },
-    { "--dlight", O_DLIGHT, 1 }, { "--quiet", O_QUIET, 0 },
-    { "--particles", O_PARTICLES, 1 }, { "--threads", O_THREADS, 1 },
-};
+/* The O_* flag of each option render, demo, views and info take (their
+ * rows: cli/options.c); 0 for the drawing options and --help. */
+static int flag_of(const char *name) {
+    static const struct { const char *name; int flag; } flags[] = {
+        { "--data", O_DATA }, { "--size", O_SIZE }, { "--view", O_VIEW }, { "--pos", O_POS },
+        { "--angles", O_ANGLES }, { "--fov", O_FOV }, { "--time", O_TIME }, { "--out", O_OUT },
+        { "--stats", O_STATS }, { "--dlight", O_DLIGHT },
+        { "--particles", O_PARTICLES }, { "--threads", O_THREADS },
+    };
+    for (size_t k = 0; k < sizeof flags / sizeof flags[0]; k++)
+        if (strcmp(flags[k].name, name) == 0) return flags[k].flag;
+    return 0;
+}
 
 typedef struct options {
     int         given;        /* O_* flags seen */
@@ -354,80 +339,29 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
     return 0;
 }
 
-/* Parses argv[first..] for command cmd.  needs_map: the command takes MAP.
- * Returns 0, 1 for --help (usage printed), or -1 (error printed). */
-static int parse_args(int argc, char **argv, int first, const char *cmd, int allowed,
-                      int needs_map, options *o) {
-    int only_positional = 0;
-    for (int i = first; i < argc; i++) {
-        const char *a = argv[i];
-        if (!only_positional && strcmp(a, "--") == 0) {
-            only_positional = 1;
-            continue;
+/* Parses argv[2..] for command cmd (its options: the table's rows).
+ * needs_map: the command takes MAP.  Returns 0, 1 for --help (usage
+ * printed), or -1 (error printed). */
+static int parse_args(int argc, char **argv, cli_cmd cmd_id, int needs_map, options *o) {
+    const char *cmd = cli_commands[cmd_id].name, *map[1] = { NULL };
+    cli_args args;
+    cli_args_init(&args, cmd_id, argc, argv, map, needs_map, &o->draw, NULL, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *value = args.value;
+        if (cli_is(opt, "--help")) {
+            print_usage();
+            return 1;
         }
-        if (!only_positional && a[0] == '-' && a[1]) {
-            draw_opts scratch;
-            draw_opts_init(&scratch);
-            int at = i, dr = draw_option((allowed & O_DRAW) ? &o->draw : &scratch, cmd, argc, argv, &i);
-            if (dr < 0)
-                return -1;
-            if (dr > 0 && !(allowed & O_DRAW)) {
-                error_line("%s: option '%.*s' does not apply here (see edgewise --help)", cmd,
-                           (int)strcspn(argv[at], "="), argv[at]);
-                return -1;
-            }
-            if (dr > 0)
-                continue;
-            const char *eq = strchr(a, '=');
-            size_t nlen = eq ? (size_t)(eq - a) : strlen(a);
-            const struct option_def *def = NULL;
-            for (size_t k = 0; k < sizeof option_defs / sizeof option_defs[0]; k++)
-                if (strlen(option_defs[k].name) == nlen &&
-                    strncmp(option_defs[k].name, a, nlen) == 0)
-                    def = &option_defs[k];
-            if (!def) {
-                error_line("%s: unknown option '%.*s' (see edgewise --help)", cmd, (int)nlen, a);
-                return -1;
-            }
-            if (!(allowed & def->flag)) {
-                error_line("%s: option '%s' does not apply here (see edgewise --help)", cmd,
-                           def->name);
-                return -1;
-            }
-            if (def->flag == O_HELP) {
-                print_usage();
-                return 1;
-            }
-            const char *value = NULL;
-            if (def->has_value) {
-                if (eq)
-                    value = eq + 1;
-                else if (i + 1 < argc)
-                    value = argv[++i];
-                else {
-                    error_line("%s: option '%s' needs a value", cmd, def->name);
-                    return -1;
-                }
-                if (set_option(o, def->flag, def->name, value) < 0)
-                    return -1;
-            } else if (eq) {
-                error_line("%s: option '%s' takes no value", cmd, def->name);
-                return -1;
-            }
-            o->given |= def->flag;
-            continue;
-        }
-        if (needs_map && !o->map) {
-            if (!*a) {
-                error_line("%s: empty map name", cmd);
-                return -1;
-            }
-            o->map = a;
-            continue;
-        }
-        error_line("%s: unexpected argument '%s'", cmd, a);
-        return -1;
+        int flag = flag_of(opt->name);
+        if (value && set_option(o, flag, opt->name, value) < 0)
+            return -1;
+        o->given |= flag;
     }
+    if (args.stop)
+        return args.stop;
+    if (map[0]) o->map = map[0];
+    if (args.quiet) o->given |= O_QUIET;
     if (needs_map && !o->map) {
         error_line("%s: missing MAP (a .bsp path, a map name with --data, or 'builtin')", cmd);
         return -1;
@@ -824,24 +758,20 @@ int main(int argc, char **argv) {
     if (strcmp(cmd, "view") == 0 && has_polyhedra(argc, argv))
         return cmd_view_polyhedra(argc, argv);
     if (strcmp(cmd, "render") == 0) {
-        pr = parse_args(argc, argv, 2, cmd,
-                        O_DATA | O_SIZE | O_VIEW | O_POS | O_ANGLES | O_FOV | O_TIME | O_OUT |
-                            O_STATS | O_HELP | O_SCENE,
-                        1, &o);
+        pr = parse_args(argc, argv, CLI_RENDER, 1, &o);
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_render(&o, 0, NULL);
     }
     if (strcmp(cmd, "demo") == 0) {
-        pr = parse_args(argc, argv, 2, cmd, O_SIZE | O_VIEW | O_FOV | O_TIME | O_OUT | O_STATS |
-                                                O_HELP | O_SCENE, 0, &o);
+        pr = parse_args(argc, argv, CLI_DEMO, 0, &o);
         o.map = "builtin";
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_render(&o, EW_DEMO_VIEW, "demo.png");
     }
     if (strcmp(cmd, "views") == 0) {
-        pr = parse_args(argc, argv, 2, cmd, O_DATA | O_HELP | O_QUIET, 1, &o);
+        pr = parse_args(argc, argv, CLI_VIEWS, 1, &o);
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_views(&o);
     }
     if (strcmp(cmd, "info") == 0) {
-        pr = parse_args(argc, argv, 2, cmd, O_DATA | O_HELP | O_QUIET, 1, &o);
+        pr = parse_args(argc, argv, CLI_INFO, 1, &o);
         return pr < 0 ? EXIT_USAGE : pr > 0 ? 0 : cmd_info(&o);
     }
     if (strcmp(cmd, "bench") == 0)
@@ -856,6 +786,6 @@ int main(int argc, char **argv) {
         return cmd_shots(argc, argv);
     if (strcmp(cmd, "fly") == 0)
         return cmd_fly(argc, argv);
-    error_line("unknown command '%s' (commands: render, demo, views, info, bench, soak, shots, fly, view, help)", cmd);
+    cli_unknown_command(cmd);
     return EXIT_USAGE;
 }

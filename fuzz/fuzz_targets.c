@@ -12,7 +12,7 @@
 #include "seed_files.h"
 
 #include "edgewise.h"
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "ew_util.h"
 #include "ew_world.h"
 #include "light/light.h"

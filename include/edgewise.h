@@ -23,7 +23,7 @@
  * be shared; a renderer owns all per-frame state.
  *
  * Test and measurement calls (face ids, the reference renderer, full z-fill,
- * PNG reading, PAK parsing) are in edgewise_tools.h.
+ * PNG reading, PAK parsing) are in edgewise_lab.h.
  */
 #ifndef EDGEWISE_H
 #define EDGEWISE_H
@@ -204,6 +204,12 @@ typedef struct ew_trace_result {
     int   startsolid;  /* start was inside solid */
     int   allsolid;    /* the whole segment lies in solid (fraction 0) */
 } ew_trace_result;
+
+/* Leaf contents (Quake's values). */
+enum {
+    EW_CONTENTS_EMPTY = -1, EW_CONTENTS_SOLID = -2, EW_CONTENTS_WATER = -3,
+    EW_CONTENTS_SLIME = -4, EW_CONTENTS_LAVA = -5, EW_CONTENTS_SKY = -6
+};
 
 /* Moves the hull's box from start to end through the world (model 0) and
  * stops at the first solid (contents EW_CONTENTS_SOLID; liquids and sky
@@ -400,19 +406,10 @@ typedef struct ew_stats {
     double ms_front, ms_scan, ms_draw, ms_models, ms_total;
     /* Serial time: the frame's wall time outside its parallel sections (the
      * worker pool's runs), start of frame to the stats, on any thread
-     * count; by Amdahl's law it bounds what more cores can give.  Then its
-     * parts: frame begin (view, dynamic lights), the front end's own serial
-     * steps (top of the BSP walk, layouts by prefix sum, edge linking),
-     * the brush entities' frustum test, band placement and the
-     * surface-cache lookups that allocate (prepare), the passes'
-     * preparation; the rest of ms_serial is the warp set-up and the stats. */
+     * count; by Amdahl's law it bounds what more cores can give.  Its
+     * parts, and the parallel front end's longest items, are probes of the
+     * lab: ew_frame_lab_stats (edgewise_lab.h). */
     double ms_serial;
-    double ms_serial_begin, ms_serial_walk, ms_serial_brush, ms_serial_prepare, ms_serial_passes;
-    /* While ew_set_row_profile is on (edgewise_tools.h), and only then: the
-     * largest single work item of each of the parallel front end's phases,
-     * summed: what no number of threads can shorten in the front end
-     * (else 0). */
-    double ms_front_items;
     /* Surfaces of the edge list that won at least one span, of `surfaces`:
      * the rest got through the PVS, frustum and facing tests but lay wholly
      * behind nearer ones, and cost the front end and the scan all the same

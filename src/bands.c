@@ -2,7 +2,7 @@
  * `edgewise bench --bands`), and the per-row cost profile bench reads to
  * predict the imbalance of many bands on a machine with few cores. */
 #include "renderer.h"
-#include "ew_util.h"  /* edgewise_tools.h: the public declarations */
+#include "ew_util.h"  /* edgewise_lab.h: the public declarations */
 #include "raster/alias.h"
 #include "asset/scene.h"
 

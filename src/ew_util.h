@@ -3,7 +3,7 @@
 #define EW_UTIL_H
 
 #include "edgewise.h"
-#include "edgewise_tools.h"  /* internal code sees the test calls too */
+#include "edgewise_lab.h"  /* internal code sees the test calls too */
 #include <math.h>
 #include <stdint.h>
 #include <string.h>

@@ -18,11 +18,7 @@ enum {
     EW_LUMP_EDGES, EW_LUMP_SURFEDGES, EW_LUMP_MODELS, EW_NUM_LUMPS
 };
 
-/* Leaf contents (Quake's values). */
-enum {
-    EW_CONTENTS_EMPTY = -1, EW_CONTENTS_SOLID = -2, EW_CONTENTS_WATER = -3,
-    EW_CONTENTS_SLIME = -4, EW_CONTENTS_LAVA = -5, EW_CONTENTS_SKY = -6
-};
+/* Leaf contents: EW_CONTENTS_* (edgewise.h). */
 
 /* Face flags. */
 enum {

@@ -2,7 +2,7 @@
 #ifndef EW_POOL_H
 #define EW_POOL_H
 
-#include "edgewise_tools.h"  /* EW_BANDS_PER_THREAD, EW_DRAW_ITEMS_PER_THREAD */
+#include "edgewise_lab.h"  /* EW_BANDS_PER_THREAD, EW_DRAW_ITEMS_PER_THREAD */
 
 #define EW_MAX_THREADS 64
 #define EW_MAX_BANDS (EW_MAX_THREADS * EW_BANDS_PER_THREAD)

@@ -493,6 +493,7 @@ static void front_inputs(ew_renderer *r) {
     fr->pool = r->sched.pool, fr->nthreads = r->sched.nthreads, fr->profile_rows = r->sched.profile_rows;
     fr->scene = r->ents.scene;
     fr->ent_views = r->ents.ent_views, fr->max_ent_views = r->ents.max_ent_views;
+    fr->ms_front_items = 0;
     fr->ent_frame = r->ents.scene && ew_reserve_entities(&r->ents) == 0 ? r->ents.ent_frame : NULL;
 }
 
@@ -512,6 +513,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
         r->marks.framecount = 1;
     }
     memset(&r->f.stats, 0, sizeof r->f.stats);
+    memset(&r->lab, 0, sizeof r->lab);
     ew_styles_frame(r->f.cfg.lightstyle, r->f.cfg.style_set, w->styles_start_off, r->f.cfg.classic, cam->time);
     ew_view_setup(&r->f.view, cam, r->f.target.width, r->f.target.height);
     ew_turb_table(r->draw.turb, &r->draw.turb_phase, cam->time);
@@ -904,8 +906,10 @@ static void frame_stats(ew_renderer *r, const frame_clock *c) {
     st->ms_models = models_ms, st->ms_total = t3 - t0;
     /* Serial: from the start of the frame to here, outside ew_pool_run. */
     st->ms_serial = (ew_now_ms() - t0) - (ew_pool_parallel_ms(r->sched.pool) - c->par0) + c->serial_in_run;
-    st->ms_serial_begin = c->serial[MARK_BEGUN], st->ms_serial_walk = c->walk_ms, st->ms_serial_brush = c->brush_ms;
-    st->ms_serial_prepare = c->tail_ms + c->serial[MARK_SURFACES], st->ms_serial_passes = c->serial[MARK_PASSES];
+    ew_lab_stats *lab = &r->lab;  /* the probes (edgewise_lab.h) */
+    lab->ms_serial_begin = c->serial[MARK_BEGUN], lab->ms_serial_walk = c->walk_ms, lab->ms_serial_brush = c->brush_ms;
+    lab->ms_serial_prepare = c->tail_ms + c->serial[MARK_SURFACES], lab->ms_serial_passes = c->serial[MARK_PASSES];
+    lab->ms_front_items = r->front.ms_front_items;
 }
 
 /* The walk, brush models, then the bands scanned.  On more than one

@@ -28,6 +28,7 @@
 #include "raster/zfill.h"
 #include "scene/passes.h"
 #include "world/front.h"
+#include "edgewise_lab.h"  /* ew_lab_stats */
 
 #include <stdatomic.h>
 
@@ -79,6 +80,7 @@ struct ew_renderer {
     ew_sched    sched;
     ew_debug    dbg;                             /* debug modes (raster/debug.c) */
     ew_front    front;                           /* the front end (world/front.h) */
+    ew_lab_stats lab;                            /* this frame's probes (ew_frame_lab_stats) */
 };
 
 /* bands.c: the frame's cost to draw per row (cost[0..height-1]; cost[height]

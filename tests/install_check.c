@@ -1,13 +1,13 @@
 /*
  * install_check: a helper of tests/install_test.sh, built like the examples
- * against the installed library (edgewise_tools.h's PNG reader):
+ * against the installed library (edgewise_lab.h's PNG reader):
  *
  *   install_check size FILE.png    prints "W H"
  *   install_check sum FILE         prints "WxH fnv1a64 HEX" of a PNG or a P6 PPM,
  *                                  the line examples/render_buffer prints
  */
 #include <edgewise.h>
-#include <edgewise_tools.h>
+#include <edgewise_lab.h>
 
 #include <inttypes.h>
 #include <stdio.h>

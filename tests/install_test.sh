@@ -29,7 +29,7 @@ cmake --install "$EW_BUILD_DIR" --prefix "$P" >"$TMP/install.log" 2>&1 ||
 note "installed files:"
 (cd "$P" && find . -type f -o -type l | sort | sed 's/^/  /')
 
-for f in include/edgewise.h include/edgewise_tools.h lib/libedgewise.a \
+for f in include/edgewise.h include/edgewise_lab.h lib/libedgewise.a \
          lib/pkgconfig/edgewise.pc bin/edgewise share/man/man1/edgewise.1 \
          share/bash-completion/completions/edgewise; do
     [ -s "$P/$f" ] || fail "$f not installed"
@@ -38,6 +38,15 @@ done
 VERSION=$("$P/bin/edgewise" --version | sed -n 's/^edgewise //p')
 [ -n "$VERSION" ] || fail "edgewise --version printed no version"
 MAJOR=${VERSION%%.*}
+# The installed command runs on the installed shared library (its run path
+# $ORIGIN/../lib), where the build made one.
+if [ "${EW_HAVE_SHARED:-0}" = 1 ] && command -v readelf >/dev/null 2>&1; then
+    readelf -d "$P/bin/edgewise" | grep -q "NEEDED.*\[libedgewise\.so\.$MAJOR\]" ||
+        fail "bin/edgewise does not link libedgewise.so.$MAJOR"
+    readelf -d "$P/bin/edgewise" | grep -q 'R.*PATH.*\$ORIGIN' ||
+        fail "bin/edgewise has no \$ORIGIN run path"
+    note "bin/edgewise runs on lib/libedgewise.so.$MAJOR"
+fi
 
 export PKG_CONFIG_PATH="$P/lib/pkgconfig"
 PC_VERSION=$(pkg-config --modversion edgewise) || fail "pkg-config does not find edgewise.pc"
@@ -65,7 +74,7 @@ if [ "$HAVE_SHARED" = 1 ]; then
     nm -D --defined-only "$P/lib/libedgewise.so" | awk '{ print $NF }' |
         grep -v -e '^_edata$' -e '^_end$' -e '^__bss_start$' -e '^_init$' -e '^_fini$' |
         sort >"$TMP/exported"
-    grep -h '^EW_API ' "$P/include/edgewise.h" "$P/include/edgewise_tools.h" |
+    grep -h '^EW_API ' "$P/include/edgewise.h" "$P/include/edgewise_lab.h" |
         sed 's/(.*//; s/.*[ *]//' | sort >"$TMP/declared"
     diff "$TMP/declared" "$TMP/exported" >"$TMP/symdiff" ||
         { cat "$TMP/symdiff" >&2; fail "exported symbols (>) differ from the EW_API declarations (<)"; }

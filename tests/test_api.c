@@ -11,8 +11,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#ifdef EDGEWISE_TOOLS_H
-#error "edgewise.h must not pull in edgewise_tools.h"
+#ifdef EDGEWISE_LAB_H
+#error "edgewise.h must not pull in edgewise_lab.h"
 #endif
 #ifndef EW_PROJECT_VERSION
 #error "CMakeLists.txt passes EW_PROJECT_VERSION (project(edgewise VERSION ...))"

@@ -4,7 +4,7 @@
  * crash.  Success cases go through expect_ok (see test_success).
  */
 #define _POSIX_C_SOURCE 200809L
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 
 #include <fcntl.h>

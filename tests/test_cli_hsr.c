@@ -10,7 +10,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "util.h"
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -14,7 +14,7 @@
  *   7. bad colour settings, and toggling lit/dither rebuilds and restores.
  * Under AddressSanitizer the shared maps use every second view.
  */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "ew_world.h"
 #include "mapgen_util.h"

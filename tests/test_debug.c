@@ -4,7 +4,7 @@
  * back byte for byte.  EW_DEBUG_PICTURES=DIR writes one PNG per mode there
  * (docs/debug/). */
 #include "util.h"
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "renderer.h"
 
 #include <math.h>

@@ -6,7 +6,7 @@
  * the particles change their areas, and the light only brightens the
  * world around it.  Also: the frame stays fully covered once, the scene is
  * the same every time, and time animates the model. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "renderer.h"
 #include "mapgen.h"

@@ -2,7 +2,7 @@
  * needing nothing outside the repository: every view fully written once,
  * sky, liquid and lit walls all present, agreement with the reference path,
  * animated textures move with time. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "renderer.h"
 

@@ -21,7 +21,7 @@
  * Counts of what was compared are printed.
  */
 #define _POSIX_C_SOURCE 200809L  /* mkdtemp */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "ew_world.h"
 

@@ -3,7 +3,7 @@
  * (../shared/reference/winquake).  Compares the mean colour of every 8x8
  * block; a block "differs" when a channel is off by more than 12 levels.
  * At most 10% of blocks may differ on any view. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 
 #include <stdlib.h>

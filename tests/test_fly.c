@@ -9,7 +9,7 @@
  */
 #define _DEFAULT_SOURCE
 #include "util.h"
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 
 #include <dirent.h>
 #include <fcntl.h>

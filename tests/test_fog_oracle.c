@@ -18,7 +18,7 @@
  *   3. the old reference (fences and fog through the shared passes, which
  *      fogged the sky by its depth) fails it against its own compositing
  *      on the views with the most sky, under a fog unlike the sky. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "renderer.h"  /* the old reference's pass choice, rebuilt for check 3 */
 

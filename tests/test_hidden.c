@@ -9,7 +9,7 @@
  * and on these maps many things must really be left out.  Then one model
  * placed behind a wall of start, where it must be hidden, and in front of
  * it, where it must be drawn. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "renderer.h"
 

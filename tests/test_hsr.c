@@ -12,7 +12,7 @@
  *     methods, and `--hsr` in the CLI refuses an unknown name.
  * One table line per method and map: agreement, overdraw, counters. */
 #define _POSIX_C_SOURCE 200809L
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "renderer.h"
 #include "util.h"
 

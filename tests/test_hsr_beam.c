@@ -6,7 +6,7 @@
  * background included), the methods' counters, and the frames the same
  * with 1 and 2 threads.  The raycast is an approximation: its agreement is
  * printed per view and held to a floor measured on these views. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "renderer.h"
 

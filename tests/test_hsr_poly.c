@@ -14,7 +14,7 @@
  *   - every method's frame and counters are the same on 1 and 2 threads.
  * With each map's entities (brush models sort among the polygons).
  * Prints each method's agreement and overdraw. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "ew_world.h"
 

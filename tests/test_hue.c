@@ -19,7 +19,7 @@
  *   3. light that is nearly white (the mono lump with blue one level up)
  *      keeps the colormap's ramps on nearly every pixel.
  */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "ew_world.h"
 

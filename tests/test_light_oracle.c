@@ -10,7 +10,7 @@
  *   - controls: the cache with its light map moved one sample, or with s
  *     and t swapped (ew_set_light_fault), must fail the same limits.
  * World only (no entities), no fog, opaque liquids: light alone. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "mapgen_util.h"
 #include "util.h"
 

@@ -7,7 +7,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "ew_util.h"
 #include "ew_world.h"
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 
 #include <math.h>

@@ -20,7 +20,7 @@
  * 20-170) give the same frames on one thread and on three; the default (auto) hides
  * nothing where the PVS is small (start) and does hide on lqdm7; and the
  * other methods hide nothing. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "renderer.h"
 #include "util.h"
 #include "world/occlude.h"

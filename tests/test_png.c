@@ -1,6 +1,6 @@
 /* PNG output and input: round trips, every input format, clean errors. */
 #define _POSIX_C_SOURCE 200809L
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 
 #include <png.h>

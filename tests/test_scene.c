@@ -2,7 +2,7 @@
  * (doors occlude, zero overdraw kept, agreement with the reference path
  * extended to them) and dynamic lights (exactly the faces in reach are
  * rebuilt, the rest stay cached). */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "renderer.h"
 #include "asset/scene.h"

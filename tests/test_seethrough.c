@@ -14,7 +14,7 @@
  *   5. bad setter input falls back as documented;
  *   6. fog moves far pixels towards the fog colour more than near ones;
  *   7. an eye inside water is underwater (warped frame), above it is not. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "ew_world.h"
 

@@ -11,7 +11,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "util.h"
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 
 #include <stdint.h>
 #include <stdlib.h>

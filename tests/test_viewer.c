@@ -20,7 +20,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 #include "edgewise.h"
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 
 #include <math.h>

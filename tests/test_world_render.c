@@ -7,7 +7,7 @@
  *     with the default divide every 16 pixels the colour agreement is
  *     printed: the affine steps in between shift texel edges a little;
  *   - overdraw is exactly 1.0, every pixel is written, nothing dropped. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "ew_world.h"
 

@@ -10,7 +10,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "ew_util.h"
 #include "ew_world.h"
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "mapgen/mapgen.h"
 #include "asset/scene.h"
 #include "util.h"

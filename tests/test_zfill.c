@@ -7,7 +7,7 @@
  * and the deferred frame must really have left most of the z-buffer alone.
  * Also the item boxes' kept surfaces: a light style change must relight
  * them, and changing it back must give the first picture again. */
-#include "edgewise_tools.h"
+#include "edgewise_lab.h"
 #include "util.h"
 #include "renderer.h"
 

@@ -28,12 +28,7 @@ static const char usage[] =
     "resolution on/off, Z z-buffer on/off, F12 screenshot (polyhedra_shot.png), Esc/Q quit\n"
     "\n"
     "options:\n"
-    "  --size WxH     frame size, 320x200 up to 7680x4320 (default 640x480)\n"
-    "  --scale N      each pixel shown as NxN, 1 to 8 (default 1)\n"
-    "  --objects N    number of polyhedra, 1 to 64 (default 12)\n"
-    "  --time T       start time in seconds, 0 to 1000000 (default 0)\n"
-    "  --frames N     quit after N frames, time stepping 1/30 s a frame (not the clock)\n"
-    "  --out FILE.png write the last frame on quit\n";
+    CLI_OPTIONS_HERE;
 
 static double secs(void) {
     struct timespec ts;
@@ -42,60 +37,14 @@ static double secs(void) {
 }
 
 int cmd_view_polyhedra(int argc, char **argv) {
-    int w = 640, h = 480, scale = 1, objects = EW_POLYHEDRA_DEFAULT;
-    long frames = 0;
-    double t = 0;
-    const char *out = NULL;
-    int named = 0;
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            fputs(usage, stdout);
-            return 0;
-        }
-        if (a[0] != '-' || !a[1]) {  /* the one word that is not an option */
-            if (!is_polyhedra(a) || named++) {
-                error_line("view builtin:polyhedra: unexpected argument '%s'", a);
-                return 2;
-            }
-            continue;
-        }
-        int k = strcmp(a, "--size") == 0 ? 0 : strcmp(a, "--scale") == 0 ? 1
-              : strcmp(a, "--objects") == 0 ? 2 : strcmp(a, "--time") == 0 ? 3
-              : strcmp(a, "--frames") == 0 ? 4 : strcmp(a, "--out") == 0 ? 5 : -1;
-        if (k < 0) {
-            error_line("view builtin:polyhedra: unknown option '%s' (try 'edgewise view "
-                       "builtin:polyhedra --help')", a);
-            return 2;
-        }
-        if (i + 1 >= argc) {
-            error_line("view builtin:polyhedra: option '%s' needs a value", a);
-            return 2;
-        }
-        const char *v = argv[++i];
-        long l;
-        if (k == 0 && parse_size(v, &w, &h) < 0) return 2;
-        if (k == 1) {
-            if (parse_long(v, &l) < 0 || l < 1 || l > 8) {
-                error_line("--scale %s: must be a whole number from 1 to 8", v);
-                return 2;
-            }
-            scale = (int)l;
-        }
-        if (k == 2 && parse_polyhedra_objects(v, &objects) < 0) return 2;
-        if (k == 3 && parse_polyhedra_time(v, &t) < 0) return 2;
-        if (k == 4 && (parse_long(v, &frames) < 0 || frames < 1 || frames > 100000000)) {
-            error_line("--frames %s: must be a whole number from 1 to 100000000", v);
-            return 2;
-        }
-        if (k == 5) {
-            if (!*v) {
-                error_line("--out: empty file name");
-                return 2;
-            }
-            out = v;
-        }
-    }
+    polyhedra_opts po = { 640, 480, EW_POLYHEDRA_DEFAULT, 1, 0, 0, 0, 0, 0, NULL };
+    int pr = parse_polyhedra_args(argc, argv, CLI_VIEW_POLYHEDRA, usage, &po);
+    if (pr)
+        return pr == 1 ? 0 : pr;
+    int w = po.width, h = po.height, scale = po.scale, objects = po.objects;
+    long frames = po.frames;
+    double t = po.time;
+    const char *out = po.out;
 
     ew_error err = { "" };
     int rc = 1;

@@ -30,17 +30,7 @@ static const char view_usage[] =
     "edgewise; see docs/viewer.md for the keys and formats.\n"
     "\n"
     "options:\n"
-    "  --data DIR        game directory (maps/, gfx/)\n"
-    "  --size WxH        rendered frame size (default: the window's; fixed when given)\n"
-    "  --scale N         each rendered pixel shown as NxN, 1 to 8 (default 1)\n"
-    "  --threads N       render threads, 0 = all cores (default 0)\n"
-    "  --fov DEG         horizontal field of view, " FOV_RULE " (default 90)\n"
-    "  --view N          start at camera N of the view set (default 0)\n"
-    "  --fullscreen      fill the screen\n"
-    "  --present MODE    how frames reach the window: auto (default), surface, texture, software\n"
-    "  --script FILE     play timed commands (deterministic frames: time from the script)\n"
-    "  --record FILE     write the camera path: one line 'time x y z pitch yaw roll' a frame\n"
-    "  --quiet           no warning lines about the map's optional data\n"
+    CLI_OPTIONS_HERE
     "drawing options (as render):\n";
 
 /* How finished frames reach the window (docs/viewer.md, "Presenting"):
@@ -70,35 +60,19 @@ static double now_s(void) {
 /* ---- arguments ------------------------------------------------------------ */
 
 static int parse_view_args(int argc, char **argv, view_opts *o) {
-    for (int i = 2; i < argc; i++) {
-        const char *a = argv[i];
-        int dr = draw_option(&o->draw, "view", argc, argv, &i);
-        if (dr < 0)
-            return -1;
-        if (dr > 0)
-            continue;
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            fputs(view_usage, stdout);
-            draw_opts_usage(stdout);
-            return 1;
-        }
-        if (strcmp(a, "--fullscreen") == 0) { o->fullscreen = 1; continue; }
-        if (strcmp(a, "--quiet") == 0) { o->quiet = 1; continue; }
-        if (a[0] == '-' && a[1] == '-') {
+    const char *map[1];
+    cli_args args;
+    cli_args_init(&args, CLI_VIEW, argc, argv, map, 1, &o->draw, view_usage, NULL);
+    while (cli_next_arg(&args)) {
+        const cli_option *opt = args.opt;
+        const char *v = args.value;
+        if (cli_is(opt, "--fullscreen")) { o->fullscreen = 1; continue; }
+        {
             static const char *const with_value[] = { "--data", "--size", "--scale", "--threads", "--fov",
                                                       "--view", "--script", "--record", "--present" };
-            int k = -1;
+            int k = 0;
             for (int j = 0; j < (int)(sizeof with_value / sizeof *with_value); j++)
-                if (strcmp(a, with_value[j]) == 0) k = j;
-            if (k < 0) {
-                error_line("view: unknown option '%s' (try 'edgewise view --help')", a);
-                return -1;
-            }
-            if (i + 1 >= argc) {
-                error_line("view: option '%s' needs a value", a);
-                return -1;
-            }
-            const char *v = argv[++i];
+                if (cli_is(opt, with_value[j])) k = j;
             long l;
             const char *dend;
             switch (k) {
@@ -148,14 +122,11 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
                 break;
             }
             }
-            continue;
         }
-        if (o->map) {
-            error_line("view: one map only ('%s' and '%s')", o->map, a);
-            return -1;
-        }
-        o->map = a;
     }
+    if (args.stop)
+        return args.stop;
+    o->map = args.nmaps ? map[0] : NULL, o->quiet = args.quiet;
     if (!o->map) {
         error_line("view: missing MAP (a map name, a .bsp path or 'builtin')");
         return -1;

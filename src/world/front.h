@@ -118,6 +118,7 @@ typedef struct ew_front {
     ew_view      *ent_views;  int max_ent_views; /* room for a camera per brush entity */
     ew_ent_frame *ent_frame;                    /* per entity of the scene, or NULL (no room) */
     int           tested_frame;                 /* frame whose entities were tested (ew_test_entities) */
+    double        ms_front_items;               /* probe: the parallel phases' longest items this frame (ew_lab_stats) */
 } ew_front;
 
 int  ew_front_init(ew_front *fr, ew_frame *f, ew_marks *marks, ew_edge_list *el, int width, int height);

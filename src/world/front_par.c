@@ -1100,6 +1100,7 @@ int ew_walk_world_parallel(ew_front *fr, int phases, void (*tail)(void *arg), vo
     front_run run = {fr, {0, 0}};
     ew_pool_run(fr->pool, job_front, &run);
     serial_ms[0] = run.serial_ms[0], serial_ms[1] = run.serial_ms[1];
-    for (int k = 1; k < NPHASES; k++) fr->f->stats.ms_front_items += fp->longest[k];
+    fr->ms_front_items = 0;
+    for (int k = 1; k < NPHASES; k++) fr->ms_front_items += fp->longest[k];
     return 0;
 }

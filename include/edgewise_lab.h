@@ -1,18 +1,23 @@
 /*
- * edgewise_tools.h - test and measurement calls of edgewise.
+ * edgewise_lab.h - the lab's and the benchmark's calls of edgewise.
  *
- * What the tests, the fuzz targets and `edgewise bench` use to check and
- * measure the renderer, kept out of edgewise.h so that an application sees
- * only what it needs.  Same rules as edgewise.h (which this includes):
- * failures fill an ew_error and return NULL or -1; every function is EW_API.
+ * What the tests, the fuzz targets, `edgewise bench`, `soak`, `hsr` and
+ * `shots` use to check and measure the renderer, kept out of edgewise.h so
+ * that an application sees only what it needs.  Same rules as edgewise.h
+ * (which this includes): failures fill an ew_error and return NULL or -1;
+ * every function is EW_API, in libedgewise.a and libedgewise.so alike.
  *
  *   ew_enable_face_ids(r, 1);                     record the face of each pixel
  *   ew_render(r, &cam, NULL);
  *   const int *ids = ew_frame_face_ids(r);        width*height face indices
  *   ew_render_reference(r, &cam, pixels, ref_ids, &err);   the same frame, z-buffered
+ *   ew_lab_stats lab;  ew_frame_lab_stats(r, &lab);         the last frame's probes
+ *
+ * Sections: checking the edge list; measuring (knobs, then the probes:
+ * ew_lab_stats); the frame's cuts; worlds and views for the lab; files.
  */
-#ifndef EDGEWISE_TOOLS_H
-#define EDGEWISE_TOOLS_H
+#ifndef EDGEWISE_LAB_H
+#define EDGEWISE_LAB_H
 
 #include "edgewise.h"
 
@@ -124,6 +129,67 @@ EW_API int ew_set_row_profile(ew_renderer *r, int on);
  * spans and moving things, over its rows) into draw_ms, each [0 .. min(n,
  * height)-1] and either NULL to skip; returns the frame's height. */
 EW_API int ew_frame_row_ms(const ew_renderer *r, float *scan_ms, float *draw_ms, int n);
+
+/* ---- the last frame's probes ------------------------------------------- */
+
+/* Where a frame's serial time goes, and what the parallel front end cannot
+ * shorten: the scheduler's own measurements, for `edgewise bench`.  Their
+ * sum is ew_stats.ms_serial (the frame's wall time outside the worker
+ * pool's runs) less the warp set-up and the stats. */
+typedef struct ew_lab_stats {
+    double ms_serial_begin;    /* frame begin: view, dynamic lights */
+    double ms_serial_walk;     /* the front end's serial steps (top of the BSP walk,
+                                * layouts by prefix sum, edge linking) */
+    double ms_serial_brush;    /* the brush entities' frustum test */
+    double ms_serial_prepare;  /* band placement, surface-cache lookups that allocate */
+    double ms_serial_passes;   /* the passes' preparation */
+    /* While ew_set_row_profile is on, and only then: the largest single
+     * work item of each of the parallel front end's phases, summed: what
+     * no number of threads can shorten in the front end (else 0). */
+    double ms_front_items;
+} ew_lab_stats;
+/* The last frame's probes (all 0 before the first frame). */
+EW_API void ew_frame_lab_stats(const ew_renderer *r, ew_lab_stats *lab);
+
+/* A monotonic clock in milliseconds, the one the renderer times itself by. */
+EW_API double ew_clock_ms(void);
+
+/* 1 if the last frame left a budget full: surfaces, edges (room for one
+ * more clipped face) or a band's spans or active edges; then its `dropped`
+ * count is the budget's doing, not a fault. */
+EW_API int ew_frame_budget_full(const ew_renderer *r);
+
+/* ---- worlds and views for the lab ---------------------------------------- */
+
+/* The leaf of the world tree (model 0) that holds p: 0 is the shared solid
+ * leaf; its contents by ew_world_leaf_contents (EW_CONTENTS_*). */
+EW_API int ew_world_point_leaf(const ew_world *w, const float p[3]);
+/* Leaves of the world tree, 0..count-1 (count in ew_world_info.leaves);
+ * contents of a leaf outside that range: EW_CONTENTS_SOLID. */
+EW_API int ew_world_leaf_contents(const ew_world *w, int leaf);
+/* The leaves of the world tree (not of brush models) whose contents are
+ * open to a camera (not solid, not sky), in order, into leaves (NULL:
+ * only counted); returns their count. */
+EW_API int ew_world_open_leaves(const ew_world *w, int *leaves);
+/* A leaf's bounding box (0, or -1 for a leaf outside the world). */
+EW_API int ew_world_leaf_bounds(const ew_world *w, int leaf, float mins[3], float maxs[3]);
+/* How far p lies from the nearest plane above the leaf in the tree (the
+ * planes of every face that bounds it); FLT_MAX when there is none. */
+EW_API float ew_world_leaf_clearance(const ew_world *w, int leaf, const float p[3]);
+/* How far p lies from the nearest plane of the whole world. */
+EW_API float ew_world_plane_clearance(const ew_world *w, const float p[3]);
+
+/* The stress hall: the built-in map's rooms carrying detail cells of 16
+ * units laid as checkerboards, each cell a face of its own, for timing
+ * hidden-surface methods against the polygons in view (`builtin:detail=N`).
+ * detail 0..EW_STRESS_MAX_DETAIL; NULL with err set outside it. */
+#define EW_STRESS_MAX_DETAIL 26000
+EW_API ew_assets *ew_assets_create_stress(int detail, const char *name, ew_error *err);
+
+/* Of the views ew_benchmark_views makes (four a player start, one an
+ * intermission), the index of the first info_intermission (*inter) and of
+ * the first player start (*start), -1 where there is none. */
+EW_API void ew_benchmark_view_roles(const ew_world *w, int *inter, int *start);
 
 /* ---- files --------------------------------------------------------------- */
 
