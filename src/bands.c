@@ -1,9 +1,8 @@
 /* How a frame's rows are cut into bands (the renderer's place_bands and
  * `edgewise bench --bands`), and the per-row cost profile bench reads to
  * predict the imbalance of many bands on a machine with few cores. */
-#include "renderer.h"
+#include "bands.h"
 #include "ew_util.h"  /* edgewise_lab.h: the public declarations */
-#include "raster/alias.h"
 #include "asset/scene.h"
 
 /* Rows cut at running-cost targets: band b (of n) ends where the running
@@ -52,13 +51,13 @@ void ew_place_pieces(const float *row_cost, int h, int n, int threads, int *boun
  * and a posed model as MODEL_PX pixels a pixel of its screen box. */
 #define ROW_SPAN 34.0f
 #define MODEL_PX 1.0f
-void ew_estimate_draw_costs(const ew_renderer *r, float *cost) {
-    const int h = r->f.target.height, w = r->f.target.width;
+void ew_estimate_draw_costs(const ew_target *t, const ew_ents *en, const ew_zfill *zf, float *cost) {
+    const int h = t->height, w = t->width;
     for (int v = 0; v <= h; v++) cost[v] = 0;
-    const struct ew_scene *sc = r->ents.scene;
-    for (int i = 0; r->ents.nalias && sc && i < r->ents.nent_frame && i < sc->nents; i++) {
-        const ew_alias_xf *xf = &r->ents.xf[i];
-        if (!r->ents.ent_frame[i].visible || sc->models[sc->ents[i].model].kind != EW_MODEL_ALIAS || !xf->visible)
+    const struct ew_scene *sc = en->scene;
+    for (int i = 0; en->nalias && sc && i < en->nent_frame && i < sc->nents; i++) {
+        const ew_alias_xf *xf = &en->xf[i];
+        if (!en->ent_frame[i].visible || sc->models[sc->ents[i].model].kind != EW_MODEL_ALIAS || !xf->visible)
             continue;
         float u0 = xf->umin > 0 ? xf->umin : 0, u1 = xf->umax < (float)w ? xf->umax : (float)w;
         float v0 = xf->vmin > 0 ? xf->vmin : 0, v1 = xf->vmax < (float)h ? xf->vmax : (float)h;
@@ -69,7 +68,7 @@ void ew_estimate_draw_costs(const ew_renderer *r, float *cost) {
     float run = 0;
     for (int v = 0; v < h; v++) {
         run += cost[v];
-        cost[v] = (float)w + run + ROW_SPAN * (float)r->zf.row_nspans[v];
+        cost[v] = (float)w + run + ROW_SPAN * (float)zf->row_nspans[v];
     }
 }
 
@@ -79,23 +78,4 @@ void ew_frame_cuts(int threads, int height, int *bands, int *pieces) {
     if (nb > height / 8) nb = height / 8;  /* at least 8 rows a band */
     if (ni > height / 8) ni = height / 8;
     *bands = nb, *pieces = ni < nb ? nb : ni;
-}
-
-int ew_set_row_profile(ew_renderer *r, int on) {
-    r->sched.profile_rows = on != 0;
-    return ew_set_threads(r, r->sched.nthreads > 0 ? r->sched.nthreads : 1);
-}
-
-int ew_frame_row_ms(const ew_renderer *r, float *scan_ms, float *draw_ms, int n) {
-    for (int i = 0; scan_ms && i < r->sched.nbands; i++) {
-        const ew_band *b = &r->sched.bands[i];
-        float per_row = (float)(b->ms / (b->y1 - b->y0));
-        for (int v = b->y0; v < b->y1 && v < n; v++) scan_ms[v] = per_row;
-    }
-    for (int i = 0; draw_ms && i < r->sched.nitems; i++) {
-        const ew_draw_item *it = &r->sched.items[i];
-        float per_row = it->y1 > it->y0 ? (float)(it->ms / (it->y1 - it->y0)) : 0;
-        for (int v = it->y0; v < it->y1 && v < n; v++) draw_ms[v] = per_row;
-    }
-    return r->f.target.height;
 }

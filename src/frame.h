@@ -20,6 +20,13 @@
 #include <string.h>
 
 typedef struct ew_hsr ew_hsr;
+/* What a band's own state (ew_band.own) does besides holding it. */
+typedef struct ew_band_own_ops {
+    void (*free)(void *own);
+    void (*reset)(void *own);        /* a new frame (NULL: nothing) */
+    int  (*full)(const void *own);   /* its budget is full: the soak's check (NULL: never) */
+} ew_band_own_ops;
+
 typedef struct ew_band ew_band;
 
 typedef struct ew_view {
@@ -110,9 +117,10 @@ struct ew_band {
     uint8_t *rowmark;               /* width bytes of scratch (accounting unsorted rows), or NULL */
     void *scratch;  size_t scratch_bytes;  /* the method's own per-band memory (ew_band_scratch) */
     /* The method's own band state (the edge scan's: hsr/active.h), made by
-     * the method on first use and freed with the band through own_free,
-     * which also says whose it is. */
-    void *own;  void (*own_free)(void *own);
+     * the method on first use; own_ops (the method's, which also says whose
+     * it is) frees it with the band, resets it each frame and says whether
+     * its budget is full. */
+    void *own;  const struct ew_band_own_ops *own_ops;
     int dropped;
     long written, covered;          /* world pixels its spans wrote, and covered at least once */
     double ms;                      /* its scan's time this frame */

@@ -145,3 +145,24 @@ void ew_benchmark_view_roles(const ew_world *w, int *inter, int *start) {
     }
     ew_entities_free(&ents);
 }
+
+/* ---- the row profile (bench --bands) ---- */
+
+int ew_set_row_profile(ew_renderer *r, int on) {
+    r->sched.profile_rows = on != 0;
+    return ew_set_threads(r, r->sched.nthreads > 0 ? r->sched.nthreads : 1);
+}
+
+int ew_frame_row_ms(const ew_renderer *r, float *scan_ms, float *draw_ms, int n) {
+    for (int i = 0; scan_ms && i < r->sched.nbands; i++) {
+        const ew_band *b = &r->sched.bands[i];
+        float per_row = (float)(b->ms / (b->y1 - b->y0));
+        for (int v = b->y0; v < b->y1 && v < n; v++) scan_ms[v] = per_row;
+    }
+    for (int i = 0; draw_ms && i < r->sched.nitems; i++) {
+        const ew_draw_item *it = &r->sched.items[i];
+        float per_row = it->y1 > it->y0 ? (float)(it->ms / (it->y1 - it->y0)) : 0;
+        for (int v = it->y0; v < it->y1 && v < n; v++) draw_ms[v] = per_row;
+    }
+    return r->f.target.height;
+}

@@ -177,6 +177,9 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     budget *= (size_t)r->f.target.bpp;  /* true colour: 4 bytes a texel, as many surfaces */
     if (d.cache_mb) budget = (size_t)d.cache_mb << 20;
     if (ew_lit_init(&r->lit, w, d.palette, d.colormap, r->el.max_surfs, budget, r->f.target.bpp) < 0) goto oom;
+    /* How each surface's spans are drawn: the draw's type (raster/raster.h),
+     * one a surface of the list, beside the light's findings. */
+    if (!(r->lit.surf_draw = calloc((size_t)r->el.max_surfs, sizeof *r->lit.surf_draw))) goto oom;
     r->zf.draw = r->lit.surf_draw;
     ew_fog_levels(&r->draw.fog);
     if (ew_blend_init(&r->blend, d.palette) < 0) goto oom;
@@ -187,7 +190,7 @@ ew_renderer *ew_renderer_create(const ew_renderer_desc *desc, ew_error *err) {
     r->lit.marks = &r->marks, r->lit.blend = &r->blend, r->lit.dbg = &r->dbg;
     r->models = (ew_models){&r->ents, &r->marks, &r->el, &r->zf, &r->draw, &r->lit};
     r->passes.ctx = (ew_pass_ctx){
-        .f = &r->f, .r = r, .draw = &r->draw, .zf = &r->zf, .blend = &r->blend, .see = &r->see,
+        .f = &r->f, .draw = &r->draw, .zf = &r->zf, .blend = &r->blend, .see = &r->see,
         .warp = &r->warp, .dbg = &r->dbg, .el = &r->el, .lit = &r->lit, .models = &r->models, .hsr = &r->hsr,
         .front = &r->front,
     };
@@ -253,6 +256,7 @@ int ew_get_threads(const ew_renderer *r) { return r->sched.nthreads; }
 
 void ew_renderer_destroy(ew_renderer *r) {
     if (!r) return;
+    free(r->lit.surf_draw), r->lit.surf_draw = NULL;
     ew_lit_free(&r->lit);
     free_bands(r);
     free(r->sched.row_cost);
@@ -700,7 +704,7 @@ static void place_draw(ew_renderer *r) {
     }
     int bounds[EW_MAX_ITEMS + 1];
     s->nitems = s->max_items;
-    ew_estimate_draw_costs(r, s->row_cost);  /* bands.c */
+    ew_estimate_draw_costs(&r->f.target, &r->ents, &r->zf, s->row_cost);  /* bands.c */
     ew_place_pieces(s->row_cost, r->f.target.height, s->nitems, s->nthreads, bounds);
     for (int i = 0; i < s->nitems; i++) it[i].y0 = bounds[i], it[i].y1 = bounds[i + 1];
 }

@@ -16,6 +16,7 @@
 #ifndef EW_RENDERER_H
 #define EW_RENDERER_H
 
+#include "bands.h"
 #include "hsr/hsr.h"
 #include "light/light.h"
 #include "light/twopass.h"
@@ -83,10 +84,6 @@ struct ew_renderer {
     ew_lab_stats lab;                            /* this frame's probes (ew_frame_lab_stats) */
 };
 
-/* bands.c: the frame's cost to draw per row (cost[0..height-1]; cost[height]
- * is scratch), from the scan's spans and the posed models, for placing the
- * draw's items. */
-void ew_estimate_draw_costs(const ew_renderer *r, float *cost);
 
 /* The whole frame's rows (the tests' calls; raster/alias.h draws a band's). */
 int  ew_draw_alias(ew_renderer *r, const ew_mdl *m, const ew_model_pose *p);

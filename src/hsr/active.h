@@ -37,7 +37,7 @@ typedef struct ew_edge_scan {
 /* The band's edge scan state, made on first use for el's budgets (the
  * stack's counts all zero), or NULL when memory runs out. */
 ew_edge_scan *ew_edge_scan_of(ew_band *b, const ew_edge_list *el);
-/* Frees one (ew_band.own_free of a band whose own is an edge scan). */
+/* Frees one (the band's own_ops, when its own is an edge scan). */
 void ew_edge_scan_free(void *own);
 /* The band's active edges made those alive at its top row, sorted; then
  * each row's new edges added, unsorted.  Edges past the table's capacity
@@ -54,8 +54,6 @@ typedef struct ew_span_sink {
     uint8_t *has;
 } ew_span_sink;
 
-/* hsr/band.c: the band's spans doubled, at most to its budget; 0 if they were. */
-int ew_band_grow_spans(ew_band *b);
 
 /* A span of surf on row v from u0 to u1 (none if empty) into the band. */
 static inline void ew_sink_span(ew_band *b, ew_span_sink *o, int surf, int u0, int u1, int v) {

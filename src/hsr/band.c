@@ -1,6 +1,6 @@
 /* A band's set-up, its spans and its scratch (hsr/hsr.h); the method's
  * own state hangs from ew_band.own (the edge scan's: hsr/active.h). */
-#include "hsr/active.h"
+#include "hsr/active.h"  /* ew_span_sink */
 
 #include <stdlib.h>
 #include <string.h>
@@ -18,8 +18,8 @@ int ew_band_init(ew_band *b, int max_surfs, int max_spans) {
 }
 
 void ew_band_free(ew_band *b) {
-    if (b->own_free) b->own_free(b->own);
-    b->own = NULL, b->own_free = NULL;
+    if (b->own_ops) b->own_ops->free(b->own);
+    b->own = NULL, b->own_ops = NULL;
     free(b->has_spans), free(b->spans);
     free(b->rowmark), free(b->scratch);
 }
@@ -28,13 +28,12 @@ void ew_band_reset(ew_band *b) {
     b->dropped = 0;
     b->unsorted = 0;
     memset(b->counters, 0, sizeof b->counters);
-    if (b->own_free == ew_edge_scan_free) ((ew_edge_scan *)b->own)->naet = 0;
+    if (b->own_ops && b->own_ops->reset) b->own_ops->reset(b->own);
 }
 
 int ew_band_budget_full(const ew_band *b) {
     if (b->nspans >= b->max_spans) return 1;
-    const ew_edge_scan *s = b->own_free == ew_edge_scan_free ? b->own : NULL;
-    return s && s->naet >= s->max_aet;
+    return b->own_ops && b->own_ops->full && b->own_ops->full(b->own);
 }
 
 int ew_band_grow_spans(ew_band *b) {

@@ -22,10 +22,17 @@ void ew_edge_scan_free(void *own) {
     free(s);
 }
 
+static void scan_reset(void *own) { ((ew_edge_scan *)own)->naet = 0; }
+static int scan_full(const void *own) {
+    const ew_edge_scan *s = own;
+    return s->naet >= s->max_aet;
+}
+static const ew_band_own_ops scan_ops = {ew_edge_scan_free, scan_reset, scan_full};
+
 ew_edge_scan *ew_edge_scan_of(ew_band *b, const ew_edge_list *el) {
-    if (b->own_free == ew_edge_scan_free) return b->own;
-    if (b->own_free) b->own_free(b->own);  /* another method's */
-    b->own = NULL, b->own_free = NULL;
+    if (b->own_ops == &scan_ops) return b->own;
+    if (b->own_ops) b->own_ops->free(b->own);  /* another method's */
+    b->own = NULL, b->own_ops = NULL;
     ew_edge_scan *s = calloc(1, sizeof *s);
     if (!s) return NULL;
     s->max_aet = el->max_edges;
@@ -39,7 +46,7 @@ ew_edge_scan *ew_edge_scan_of(ew_band *b, const ew_edge_list *el) {
         ew_edge_scan_free(s);
         return NULL;
     }
-    b->own = s, b->own_free = ew_edge_scan_free;
+    b->own = s, b->own_ops = &scan_ops;
     return s;
 }
 

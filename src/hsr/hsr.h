@@ -139,6 +139,8 @@ int  ew_band_budget_full(const ew_band *b);
  * the band.  A method keeps its per-band state here: bands resolve on
  * several threads at once. */
 void *ew_band_scratch(ew_band *b, size_t bytes);
+/* The band's spans doubled, at most to its budget; 0 if they were. */
+int  ew_band_grow_spans(ew_band *b);
 /* Appends a span [u0, u1) of row v to the band (nothing if empty; counted
  * as dropped when the span budget is full) and marks its surface used. */
 void ew_band_span(ew_band *b, int surf, int u0, int u1, int v);

@@ -1,6 +1,6 @@
 /* The hidden-surface methods by ew_hsr_method: names for every one, the
  * implementation where this build has it (hsr/hsr.h). */
-#include "hsr/reference.h"
+#include "hsr/ref_compose.h"
 #include "hsr/surf_poly.h"
 
 #include <stdlib.h>

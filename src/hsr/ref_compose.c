@@ -13,7 +13,7 @@
  * fogged at its own depth and laid over with its opacity (a fence's: 1).
  * An 8-bit frame takes the nearest palette colour of the result, found by
  * searching the palette (fullbrights and the key colour never chosen). */
-#include "hsr/reference.h"
+#include "hsr/ref_compose.h"
 #include "light/light.h"      /* ew_face_mip, ew_face_texture */
 #include "light/twopass.h"
 #include "raster/span_step.h"  /* ew_tex_fix; raster/raster.h: ew_see */

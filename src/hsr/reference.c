@@ -5,7 +5,7 @@
  * a per-pixel z-buffer test from the face's plane equation, textured with
  * a true divide per pixel (raster/zpoly.c).  Slow and simple on purpose:
  * the tests trust it. */
-#include "hsr/reference.h"
+#include "hsr/ref_compose.h"
 #include "light/light.h"    /* ew_face_mip, ew_face_texture */
 #include "light/twopass.h"
 #include "raster/raster.h"  /* ew_zpoly */

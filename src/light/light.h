@@ -72,7 +72,7 @@ struct ew_surf_draw;
 typedef struct ew_lit {
     ew_surf_cache    cache;
     ew_cached_surf **surf_cache;
-    struct ew_surf_draw *surf_draw;
+    struct ew_surf_draw *surf_draw;              /* how each surface is drawn (raster/'s type; made by renderer.c) */
     ew_cached_surf **to_build;  int nbuild;
     int             *grad_list; int ngrad;       /* surfaces whose gradients are needed */
     uint8_t         *surf_state, *surf_mip;      /* per surface: prepare_surfaces' read-only findings */

@@ -2,7 +2,6 @@
  * from frame to frame (the surface cache, the light curve) and its rooms
  * per surface of the edge list and per thread. */
 #include "light/light.h"
-#include "raster/raster.h"  /* ew_surf_draw: the room for it (filled by renderer.c, read by raster/) */
 
 #include <stdlib.h>
 #include <string.h>
@@ -19,11 +18,10 @@ int ew_lit_init(ew_lit *lit, const ew_world *w, const uint8_t *palette, const ui
     lit->surf_cache = malloc(sizeof(ew_cached_surf *) * (size_t)max_surfs);
     /* the edge list's surfaces and as many see-through ones (world/divert.c) */
     lit->to_build = malloc(sizeof(ew_cached_surf *) * (size_t)max_surfs * 2);
-    lit->surf_draw = calloc((size_t)max_surfs, sizeof *lit->surf_draw);
     lit->surf_state = malloc((size_t)max_surfs);
     lit->surf_mip = malloc((size_t)max_surfs);
     lit->grad_list = malloc(sizeof(int) * (size_t)max_surfs);
-    if (!lit->surf_cache || !lit->to_build || !lit->surf_draw || !lit->surf_state || !lit->surf_mip ||
+    if (!lit->surf_cache || !lit->to_build || !lit->surf_state || !lit->surf_mip ||
         !lit->grad_list)
         return -1;
     if (ew_cache_init(&lit->cache, w->numfaces, budget) < 0) return -1;
@@ -39,9 +37,9 @@ int ew_lit_threads(ew_lit *lit, int nthreads) {
 
 void ew_lit_free(ew_lit *lit) {
     ew_cache_free(&lit->cache);
-    free(lit->surf_cache), free(lit->to_build), free(lit->surf_draw), free(lit->grad_list);
+    free(lit->surf_cache), free(lit->to_build), free(lit->grad_list);
     free(lit->surf_state), free(lit->surf_mip), free(lit->tp_faces), free(lit->blocklights);
     lit->surf_cache = lit->to_build = NULL;
-    lit->surf_draw = NULL, lit->grad_list = NULL, lit->surf_state = lit->surf_mip = NULL;
+    lit->grad_list = NULL, lit->surf_state = lit->surf_mip = NULL;
     lit->tp_faces = NULL, lit->blocklights = NULL;
 }

@@ -13,7 +13,7 @@
  * their colours and depths are those of the affine filler.  The table is
  * 25^3 * 4 = 62500 bytes, made once per process (pthread_once) and only
  * read after that. */
-#include "raster/alias.h"
+#include "raster/alias_tri.h"
 
 #include <pthread.h>
 

@@ -16,7 +16,7 @@
  * absorbed by the model's tile: the model is z-buffered into a small
  * buffer over its screen bounds and composited once, so every frame and
  * z-buffer pixel is written at most once per model. */
-#include "raster/alias.h"
+#include "raster/alias_tri.h"
 
 #include <float.h>
 #include <string.h>

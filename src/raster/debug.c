@@ -2,7 +2,7 @@
  * raster/debug.h for the hooks).  Colours are chosen once, when a mode is
  * set: true colour stores them as they are, 8-bit as the nearest palette
  * colour. */
-#include "renderer.h"
+#include "raster/debug.h"
 
 #include <limits.h>
 #include <stdlib.h>
@@ -139,23 +139,23 @@ void ew_debug_spans(const ew_span_ctx *draw, const ew_band *b, int band) {
 
 /* Every edge of the global edge list crossing the band's rows, a pixel a
  * row where the scan puts its span's first pixel. */
-static void draw_edges(ew_renderer *r, int y0, int y1) {
-    if (!(r->f.cfg.hsr->flags & EW_HSR_SHOWS_EDGES)) return;
-    const ew_target *t = &r->f.target;
-    for (int i = 0; i < r->el.nedges; i++) {
-        const ew_edge *e = &r->el.edges[i];
+void ew_debug_edges(const ew_debug *dbg, const ew_frame *f, const ew_edge_list *el, int shows_edges,
+                    const ew_rows *rows) {
+    if (!shows_edges) return;
+    const ew_target *t = &f->target;
+    const int y0 = rows->y0, y1 = rows->y1;
+    for (int i = 0; i < el->nedges; i++) {
+        const ew_edge *e = &el->edges[i];
         int va = e->v_first > y0 ? e->v_first : y0, vb = e->v_last < y1 - 1 ? e->v_last : y1 - 1;
         for (int v = va; v <= vb; v++) {
             int64_t u = (int64_t)e->u + (int64_t)(v - e->v_first) * e->u_step;
             int64_t x = (u + 0xFFFF) >> 16;
             if (x < 0) x = 0;
             if (x > t->width - 1) x = t->width - 1;
-            put(t, ew_target_at(t, 0, v), (int)x, r->dbg.edge);
+            put(t, ew_target_at(t, 0, v), (int)x, dbg->edge);
         }
     }
 }
-
-void ew_debug_edges(ew_renderer *r, const ew_rows *rows) { draw_edges(r, rows->y0, rows->y1); }
 
 /* Overdraw: the band's world spans counted, then each pass over the world
  * (fog aside) counted where it changed a pixel (scene/passes.c), then the

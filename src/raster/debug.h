@@ -16,7 +16,6 @@
 
 #include <stdint.h>
 
-typedef struct ew_renderer ew_renderer;
 typedef struct ew_band ew_band;
 
 /* The modes' colours for the frame's target and palette. */
@@ -33,7 +32,11 @@ void ew_debug_spans(const ew_span_ctx *draw, const ew_band *b, int band);
  * (scene/passes.c): the edges drawn over its rows; overdraw: the band's
  * spans counted, a pass's rows kept before it draws and the pixels it
  * changed counted after, then the counts painted. */
-void ew_debug_edges(ew_renderer *r, const ew_rows *rows);
+/* Every edge of the global edge list crossing rows, a pixel a row where the
+ * scan puts its span's first pixel (shows_edges: the method scans that list,
+ * EW_HSR_SHOWS_EDGES). */
+void ew_debug_edges(const ew_debug *dbg, const ew_frame *f, const ew_edge_list *el, int shows_edges,
+                    const ew_rows *rows);
 void ew_debug_count_spans(ew_debug *d, const ew_target *t, const ew_band *b, const ew_rows *rows);
 void ew_debug_snap(ew_debug *d, const ew_target *t, const ew_rows *rows);
 void ew_debug_count_changes(ew_debug *d, const ew_target *t, const ew_rows *rows);

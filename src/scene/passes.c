@@ -159,7 +159,7 @@ void ew_passes_draw(const ew_passes *p, const ew_band *b, const ew_rows *rows) {
     }
     for (int i = 0; i < np; i++)
         if (!list[i].whole_frame) list[i].draw(&p->ctx, rows);
-    if (p->ctx.dbg->mode == EW_DEBUG_EDGES) ew_debug_edges(p->ctx.r, rows);
+    if (p->ctx.dbg->mode == EW_DEBUG_EDGES) ew_debug_edges(p->ctx.dbg, p->ctx.f, p->ctx.el, (p->ctx.f->cfg.hsr->flags & EW_HSR_SHOWS_EDGES) != 0, rows);
 }
 
 int ew_passes_after_begin(ew_passes *p) {

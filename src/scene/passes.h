@@ -21,12 +21,10 @@
 
 #include <stdatomic.h>
 
-typedef struct ew_renderer ew_renderer;
 
 /* The parts of the frame the passes read and write. */
 typedef struct ew_pass_ctx {
     ew_frame          *f;
-    ew_renderer       *r;      /* the passes of stages that still take the renderer (the entities' listing, the reference's compose) */
     ew_span_ctx       *draw;   /* the span drawers' tables (fog) */
     ew_zfill          *zf;
     ew_blend          *blend;

@@ -108,14 +108,3 @@ void ew_front_poly(ew_front *fr, float (*verts)[3], int n, int fi, const ew_view
     ew_surf_set_fragment(fr->f->world, &fr->el->surfs[s], fi, key, nearzi, v);
     fr->el->nsurfs++;
 }
-
-int ew_front_init(ew_front *fr, ew_frame *f, ew_marks *marks, ew_edge_list *el, int width, int height) {
-    *fr = (ew_front){.f = f, .marks = marks, .el = el};
-    return ew_occ_init(&fr->occ, width, height);
-}
-
-void ew_front_free(ew_front *fr) {
-    ew_front_par_free(fr->par);
-    ew_occ_free(&fr->occ);
-    fr->par = NULL;
-}

@@ -1,8 +1,9 @@
-/* The reference method's own state (internal, hsr/reference.c and
- * hsr/ref_compose.c): kept in the context (ew_hsr_ctx.ref) from frame to
- * frame. */
-#ifndef EW_HSR_REFERENCE_H
-#define EW_HSR_REFERENCE_H
+/* The reference method's own state and its compositing (internal,
+ * hsr/ref_compose.c; the method in hsr/reference.c): kept in the context
+ * (ew_hsr_ctx.ref) from frame to frame.  Named after the compositing, the
+ * lower of the two files: the method calls it, not the other way. */
+#ifndef EW_HSR_REF_COMPOSE_H
+#define EW_HSR_REF_COMPOSE_H
 
 #include "hsr/hsr.h"
 
