@@ -1,4 +1,4 @@
-/* Colour arithmetic in 8-bit frames (internal, raster/blend.c).  A paletted
+/* Colour arithmetic in 8-bit frames (internal, light/blend.c).  A paletted
  * frame cannot hold a blend or a fogged colour, so each is mapped back to
  * the nearest palette colour through tables built once per palette (and per
  * alpha or fog colour), the way the software renderers of the time did

@@ -179,7 +179,7 @@ int  ew_zpoly_orient(ew_zpoly *p);
 long ew_zpoly_fill(const ew_span_ctx *c, const ew_zpoly *p, const ew_zpoly_look *look, int *ids, int id,
                    int y0, int y1);
 
-/* See-through polygons of this frame (world/divert.c collects them from the
+/* See-through polygons of this frame (world/divert.c sorts them out of the
  * front end, raster/seethrough.c draws them): fences first, then the
  * translucent ones back to front.  kind: EW_SEE_* (frame.h). */
 typedef struct ew_see_poly {
