@@ -128,7 +128,11 @@ static inproc_old *old;  /* side A */
 
 /* Side s renders view v; what is timed. */
 static double side_frame(int s, const ew_camera *views, int v) {
-    ew_stats st;
+    /* Room for either revision's ew_stats: the old library writes its own
+     * (the probes that left it for ew_lab_stats made it shorter).  --stage
+     * reads fields this header places, so it wants two revisions whose
+     * ew_stats agree up to them. */
+    union { ew_stats st; char room[8192]; } u;
 #ifdef EW_INPROC_OLD
     if (s == 0) {
         double ms[4];
@@ -139,8 +143,8 @@ static double side_frame(int s, const ew_camera *views, int v) {
     }
 #endif
     double t0 = now_ms();
-    sides[s].render(sides[s].r, &views[v], &st);
-    return stage_ms(&st, now_ms() - t0);
+    sides[s].render(sides[s].r, &views[v], &u.st);
+    return stage_ms(&u.st, now_ms() - t0);
 }
 
 static const uint8_t *side_pixels(int s) {
