@@ -7,6 +7,8 @@
 #include "raster/raster.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -70,7 +72,9 @@ static inline __m128i sky_index4(__m128i a, __m128i b, __m128i mask, __m128i mul
  * indices made four pixels at a time as the lit spans make theirs (the
  * layer of at most 65536 texels, so the wrapped integer parts are under
  * 32768 and each index fits in 16 bits); then the scalar loop's
- * arithmetic for the last pixels. */
+ * arithmetic for the last pixels.  Both layers' texels are read for every
+ * pixel and the back one kept where the front one is clear, with no
+ * branch: the front layer's holes follow no pattern a predictor learns. */
 static void sky_run8(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, int32_t bs, int32_t bt,
                      int32_t ds, int32_t dt, unsigned hm, unsigned rm, unsigned width, unsigned half, int n) {
     int k = 0;
@@ -86,12 +90,14 @@ static void sky_run8(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, in
         for (; k + 4 <= n; k += 4) {
             __m128i fi = sky_index4(fa, fb, mask, mul);
             __m128i bi = _mm_add_epi32(sky_index4(ba, bb, mask, mul), off);
-            uint8_t f0 = px[_mm_extract_epi16(fi, 0)], f1 = px[_mm_extract_epi16(fi, 2)];
-            uint8_t f2 = px[_mm_extract_epi16(fi, 4)], f3 = px[_mm_extract_epi16(fi, 6)];
-            dst[k] = f0 ? f0 : px[_mm_extract_epi16(bi, 0)];
-            dst[k + 1] = f1 ? f1 : px[_mm_extract_epi16(bi, 2)];
-            dst[k + 2] = f2 ? f2 : px[_mm_extract_epi16(bi, 4)];
-            dst[k + 3] = f3 ? f3 : px[_mm_extract_epi16(bi, 6)];
+            uint32_t f = (uint32_t)px[_mm_extract_epi16(fi, 0)] | (uint32_t)px[_mm_extract_epi16(fi, 2)] << 8 |
+                         (uint32_t)px[_mm_extract_epi16(fi, 4)] << 16 | (uint32_t)px[_mm_extract_epi16(fi, 6)] << 24;
+            uint32_t b = (uint32_t)px[_mm_extract_epi16(bi, 0)] | (uint32_t)px[_mm_extract_epi16(bi, 2)] << 8 |
+                         (uint32_t)px[_mm_extract_epi16(bi, 4)] << 16 | (uint32_t)px[_mm_extract_epi16(bi, 6)] << 24;
+            const __m128i fv = _mm_cvtsi32_si128((int)f), clear = _mm_cmpeq_epi8(fv, _mm_setzero_si128());
+            const uint32_t four =
+                (uint32_t)_mm_cvtsi128_si32(_mm_or_si128(fv, _mm_and_si128(clear, _mm_cvtsi32_si128((int)b))));
+            memcpy(dst + k, &four, 4);
             fa = _mm_add_epi32(fa, step), fb = _mm_add_epi32(fb, step);
             ba = _mm_add_epi32(ba, step), bb = _mm_add_epi32(bb, step);
         }
@@ -103,6 +109,72 @@ static void sky_run8(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, in
         uint8_t f = px[(((unsigned)ft >> 16) & rm) * width + (((unsigned)fs >> 16) & hm)];
         dst[k] = f ? f : px[(((unsigned)bt >> 16) & rm) * width + half + (((unsigned)bs >> 16) & hm)];
         fs += ds, ft += dt, bs += ds, bt += dt;
+    }
+}
+
+/* sky_st for four columns u of row y: the same single-precision operations
+ * in the same order, lane by lane (sqrtps and divps round as sqrtss and
+ * divss do), so the points are the scalar ones. */
+static inline void sky_st4(const ew_view *v, const ew_texture *t, __m128 u, float y, __m128 *s, __m128 *tt) {
+    const __m128 a = _mm_div_ps(_mm_sub_ps(u, _mm_set1_ps(v->width * 0.5f)), _mm_set1_ps(v->xscale));
+    const float b = (v->height * 0.5f - y) / v->yscale;
+    __m128 d[3];
+    for (int k = 0; k < 3; k++)
+        d[k] = _mm_add_ps(_mm_add_ps(_mm_set1_ps(v->forward[k]), _mm_mul_ps(a, _mm_set1_ps(v->right[k]))),
+                          _mm_set1_ps(b * v->up[k]));
+    d[2] = _mm_mul_ps(d[2], _mm_set1_ps(3.0f));
+    const __m128 len = _mm_sqrt_ps(
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(d[0], d[0]), _mm_mul_ps(d[1], d[1])), _mm_mul_ps(d[2], d[2])));
+    const __m128 pos = _mm_cmpgt_ps(len, _mm_setzero_ps());  /* len > 0 ? len : 1, NaN too */
+    const __m128 div = _mm_or_ps(_mm_and_ps(pos, len), _mm_andnot_ps(pos, _mm_set1_ps(1.0f)));
+    const __m128 reach = _mm_div_ps(_mm_set1_ps(6.0f * (t->height / 2 - 1)), div);
+    *s = _mm_mul_ps(reach, d[0]);
+    *tt = _mm_mul_ps(reach, d[1]);
+}
+
+/* (int32_t)floorf(x) lane by lane without SSE4.1: the truncation, one less
+ * where it lies above x; where the conversion fails (INT32_MIN: NaN or out
+ * of range) it stays INT32_MIN, as cvttss2si leaves it. */
+static inline __m128i floor4(__m128 x) {
+    const __m128i i = _mm_cvttps_epi32(x);
+    const __m128i above = _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i), x));
+    const __m128i bad = _mm_cmpeq_epi32(i, _mm_set1_epi32(INT32_MIN));
+    return _mm_add_epi32(i, _mm_andnot_si128(bad, above));
+}
+
+/* A power-of-two sky's span on an 8-bit frame with the default 32-pixel
+ * segments: ew_draw_sky_span's arithmetic, each four segments' end points,
+ * 16.16 starts and steps made in the lanes of one vector (one square root
+ * and two divides for four segments, and no floorf calls). */
+static void sky_span8(const ew_span_ctx *c, const ew_span *sp, const ew_texture *t, uint8_t *dst) {
+    const ew_view *v = c->view;
+    const unsigned half = (unsigned)t->width / 2, rows = (unsigned)t->height, width = (unsigned)t->width;
+    const float scroll = c->sky_scroll, scroll2 = 2 * scroll;
+    const uint8_t *px = t->mip[0];
+    const float y = (float)sp->v;
+    float s0, t0;
+    sky_st(v, t, (float)sp->u, y, &s0, &t0);
+    __m128 ps = _mm_set1_ps(s0), pt = _mm_set1_ps(t0);  /* lane 3: the last end point */
+    const __m128i ends = _mm_setr_epi32(SKY_STEP, 2 * SKY_STEP, 3 * SKY_STEP, 4 * SKY_STEP);
+    for (int i = 0; i < sp->count; i += 4 * SKY_STEP) {
+        __m128 S, T;
+        sky_st4(v, t, _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(sp->u + i), ends)), y, &S, &T);
+        /* Each segment's start: the carried point, then the first three ends. */
+        const __m128 S0 = _mm_shuffle_ps(_mm_shuffle_ps(ps, S, _MM_SHUFFLE(0, 0, 3, 3)), S, _MM_SHUFFLE(2, 1, 2, 0));
+        const __m128 T0 = _mm_shuffle_ps(_mm_shuffle_ps(pt, T, _MM_SHUFFLE(0, 0, 3, 3)), T, _MM_SHUFFLE(2, 1, 2, 0));
+        const __m128 k16 = _mm_set1_ps(65536.0f), fstep = _mm_set1_ps((float)SKY_STEP);
+        int32_t fs[4], ft[4], bs[4], bt[4], ds[4], dt[4];
+        _mm_storeu_si128((__m128i *)(void *)fs, floor4(_mm_mul_ps(_mm_add_ps(S0, _mm_set1_ps(scroll2)), k16)));
+        _mm_storeu_si128((__m128i *)(void *)ft, floor4(_mm_mul_ps(_mm_add_ps(T0, _mm_set1_ps(scroll2)), k16)));
+        _mm_storeu_si128((__m128i *)(void *)bs, floor4(_mm_mul_ps(_mm_add_ps(S0, _mm_set1_ps(scroll)), k16)));
+        _mm_storeu_si128((__m128i *)(void *)bt, floor4(_mm_mul_ps(_mm_add_ps(T0, _mm_set1_ps(scroll)), k16)));
+        _mm_storeu_si128((__m128i *)(void *)ds, _mm_cvttps_epi32(_mm_div_ps(_mm_mul_ps(_mm_sub_ps(S, S0), k16), fstep)));
+        _mm_storeu_si128((__m128i *)(void *)dt, _mm_cvttps_epi32(_mm_div_ps(_mm_mul_ps(_mm_sub_ps(T, T0), k16), fstep)));
+        for (int j = 0; j < 4 && i + j * SKY_STEP < sp->count; j++) {
+            const int at = i + j * SKY_STEP, n = sp->count - at < SKY_STEP ? sp->count - at : SKY_STEP;
+            sky_run8(dst + at, px, fs[j], ft[j], bs[j], bt[j], ds[j], dt[j], half - 1, rows - 1, width, half, n);
+        }
+        ps = S, pt = T;
     }
 }
 #endif
@@ -121,6 +193,12 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
     const uint32_t *rgba = c->target->rgba;
     float s0, t0, s1, t1;
     int step = c->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
+#if defined(__SSE2__)
+    if (pow2 && bpp == 1 && step == SKY_STEP && t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
+        sky_span8(c, sp, t, dst);
+        return;
+    }
+#endif
     sky_st(v, t, (float)sp->u, (float)sp->v, &s0, &t0);
     for (int i = 0; i < sp->count; i += step) {
         int n = sp->count - i < step ? sp->count - i : step;
