@@ -21,6 +21,7 @@ typedef struct ew_active {
  * register serve all four. */
 typedef struct ew_stack_entry {
     int32_t next, prev, state, lastu;
+    int32_t key;  /* the surface's key (the edge list's scan copies it at the band's start) */
 } ew_stack_entry;
 
 /* The edge list's scans' own state in a band (ew_band.own): the surface

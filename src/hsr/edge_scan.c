@@ -63,10 +63,11 @@ static int grow(void **arr, int *cap, int max, size_t elem) {
 /* Is surface a in front of surface b at pixel (u, v)?  BSP order decides,
  * except between brush model fragments in the same leaf (same key): there
  * 1/z at the pixel decides, and where they abut (equal 1/z) the one whose
- * 1/z grows faster to the right is in front from here on (chapter 51). */
-static inline int nearer(const ew_surf *a, const ew_surf *b, int u, int v) {
-    if (a->key < b->key) return 1;  /* two branches: cheaper than a flag made and tested */
-    if (a->key > b->key) return 0;
+ * 1/z grows faster to the right is in front from here on (chapter 51).
+ * ka and kb: their keys, read from the stack's entries (ew_stack_entry.key). */
+static inline int nearer(int32_t ka, int32_t kb, const ew_surf *a, const ew_surf *b, int u, int v) {
+    if (ka < kb) return 1;  /* two branches: cheaper than a flag made and tested */
+    if (ka > kb) return 0;
     if (!a->insubmodel || !b->insubmodel) return 0;
     float za = a->zi_u * u + a->zi_v * v + a->zi_0, zb = b->zi_u * u + b->zi_v * v + b->zi_0;
     if (za != zb) return za > zb;
@@ -172,6 +173,7 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
      * clearing every count it left above or below zero. */
     fit_neg(es);
     ew_edge_scan_start(el, es, b);
+    for (int s = 0; s < el->nsurfs; s++) st[s].key = surfs[s].key;
 
     int nfix = 0;  /* sorted */
     ew_span_sink out = {b->spans, 0, b->cap_spans, b->has_spans};
@@ -220,15 +222,19 @@ void ew_scan_band(const ew_edge_list *el, int width, ew_band *b) {
             }
             s = a.surfs[1];
             if (s && ++st[s].state == 1) {                          /* leading edge */
-                if (nearer(&surfs[s], &surfs[top], iu, v)) {
+                if (nearer(st[s].key, st[top].key, &surfs[s], &surfs[top], iu, v)) {
                     ew_sink_span(b, &out, top, st[top].lastu, iu, v);
                     st[s].next = top, st[s].prev = -1;
                     st[top].prev = s;
                     top = s;
                     st[s].lastu = iu;
                 } else {
+                    /* Down the stack: each step's key from the stack's own
+                     * entry (one cache line), the surface only on a tie. */
                     int p = top;
-                    while (!nearer(&surfs[s], &surfs[st[p].next], iu, v)) p = st[p].next;
+                    const int32_t ks = st[s].key;
+                    for (int n = st[p].next; !nearer(ks, st[n].key, &surfs[s], &surfs[n], iu, v); n = st[p].next)
+                        p = n;
                     st[s].next = st[p].next, st[s].prev = p;
                     st[st[p].next].prev = s;
                     st[p].next = s;
