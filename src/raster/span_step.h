@@ -176,8 +176,8 @@ static inline void ew_texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pi
 #if defined(__SSE2__)
     if (n >= 4) {
         texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
-        for (; i + 4 <= n; i += 4) {
-            uint32_t k[4];
+        uint32_t k[4];
+        for (; i + 4 < n; i += 4) {  /* all but the last 1 to 4 */
             texel_lanes_next(&l, k, narrow);
             /* Byte stores: a load and a store a pixel, where packing four
              * into one word took two more instructions a pixel. */
@@ -186,15 +186,18 @@ static inline void ew_texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pi
             dst[i + 2] = pixels[k[2]];
             dst[i + 3] = pixels[k[3]];
         }
-        if (i < n) {
-            /* The last 1 to 3 from one more step of the lanes (the indices
-             * past n, which may lie off the surface, are not read). */
-            uint32_t k[4];
-            texel_lanes_next(&l, k, narrow);
-            dst[i] = pixels[k[0]];
-            if (i + 1 < n) dst[i + 1] = pixels[k[1]];
-            if (i + 2 < n) dst[i + 2] = pixels[k[2]];
-        }
+        /* Then the last four pixels, n - 4 to n - 1, those the loop drew
+         * among them drawn again with the same texels (the lanes' sums
+         * wrap as s + j * ds does): no branch on the remainder, which
+         * follows no pattern from one span to the next. */
+        const uint32_t back = (uint32_t)(n - 4);
+        l = texel_lanes_at((int32_t)((uint32_t)s + back * (uint32_t)ds), (int32_t)((uint32_t)t + back * (uint32_t)dt),
+                           ds, dt, pitch);
+        texel_lanes_next(&l, k, narrow);
+        dst[n - 4] = pixels[k[0]];
+        dst[n - 3] = pixels[k[1]];
+        dst[n - 2] = pixels[k[2]];
+        dst[n - 1] = pixels[k[3]];
         return;
     }
 #endif
