@@ -388,6 +388,7 @@ typedef struct row {
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS];  /* over views: median, worst */
     double speedup[MAX_BAND_COUNTS];                                    /* predicted on that many cores */
     double sched_imbalance[MAX_BAND_COUNTS], sched_speedup[MAX_BAND_COUNTS];  /* the renderer's own bands */
+    double cpu_per_frame, work_per_frame;  /* --gap: process CPU ms per frame, the frame's own work (ms_work) */
     view_row *per_view;            /* --per-view: views entries (freed by the caller), else NULL */
 } row;
 
@@ -557,6 +558,15 @@ static void print_row_json(FILE *f, const row *r) {
         fprintf(f, ",\"view_level_%s\":", part_names[k]);
         json_number(f, r->part_levels[k]);
     }
+    if (r->gap_ms > 0) {
+        const char *cn[] = { "cpu_ms_per_frame", "work_ms_per_frame", "cpu_over_work" };
+        const double cv[] = { r->cpu_per_frame, r->work_per_frame,
+                              r->work_per_frame > 0 ? r->cpu_per_frame / r->work_per_frame : NAN };
+        for (int i = 0; i < 3; i++) {
+            fprintf(f, ",\"%s\":", cn[i]);
+            json_number(f, cv[i]);
+        }
+    }
     for (int b = 0; b < r->nbands; b++) {
         const char *bn[] = { "imbalance", "imbalance_max", "predicted_speedup", "sched_imbalance", "sched_speedup" };
         const double bv[] = { r->imbalance[b], r->imbalance_max[b], r->speedup[b], r->sched_imbalance[b],
@@ -723,25 +733,45 @@ int bench_run_views(ew_renderer *rd, const ew_camera *views, int nviews, int pas
 double bench_median(double *v, int n) { return median_of(v, n); }
 
 /* bench_row's progress line before each frame, a floor sample after every
- * other timed one. */
+ * other timed one; with --gap the pause before each frame and the process's
+ * processor time over the timed passes. */
 typedef struct bench_row_hooks_ctx {
     const row     *r;
     int            passes, nviews;
     floor_sampler *fl;
+    double         cpu0, cpu1;  /* --gap: process CPU ms, after the first timed frame's gap, after the last's */
 } bench_row_hooks_ctx;
 
+static double process_cpu_ms(void) {
+    struct timespec t;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0)
+        return NAN;
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
+static void gap_sleep(int ms) {
+    struct timespec ts = { ms / 1000, (long)(ms % 1000) * 1000000L };
+    nanosleep(&ts, NULL);
+}
+
 static void row_before(void *ctx, int pass, int v) {
-    const bench_row_hooks_ctx *c = ctx;
+    bench_row_hooks_ctx *c = ctx;
     progress(c->r->map, c->r->w, c->r->h, c->r->threads, pass, c->passes, v, c->nviews);
     if (c->r->gap_ms > 0) {
-        struct timespec ts = { c->r->gap_ms / 1000, (long)(c->r->gap_ms % 1000) * 1000000L };
-        nanosleep(&ts, NULL);
+        gap_sleep(c->r->gap_ms);
+        /* From here every timed frame and the gap after it: what the
+         * workers do between frames (poll or sleep) is in the count. */
+        if (pass == 1 && v == 0)
+            c->cpu0 = process_cpu_ms();
     }
 }
 
 static void row_after(void *ctx, int pass, int v) {
-    (void)pass;
-    const bench_row_hooks_ctx *c = ctx;
+    bench_row_hooks_ctx *c = ctx;
+    if (c->r->gap_ms > 0 && pass == c->passes && v == c->nviews - 1) {
+        gap_sleep(c->r->gap_ms);  /* the last frame's gap, which the next frame would follow */
+        c->cpu1 = process_cpu_ms();
+    }
     if (!c->fl) return;
     /* On more threads the samples of a pass wait for its end: a fill on the
      * calling thread outlasts the pool's polling, so taken between frames it
@@ -946,9 +976,20 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         error_line("bench: out of memory");
         goto done;
     }
-    bench_row_hooks_ctx hc = { r, o->passes, nviews, fl_ok ? &fl : NULL };
+    /* --gap counts the process's processor time: no floor samples among
+     * the frames then (the floor is measured on its own). */
+    if (o->gap_ms > 0)
+        fl_ok = 0;
+    bench_row_hooks_ctx hc = { r, o->passes, nviews, fl_ok ? &fl : NULL, NAN, NAN };
     bench_hooks hooks = { row_before, row_after, &hc };
     int bad = bench_run_views(rd, views, nviews, o->passes, frames, stats, labs, &hooks);
+    if (o->gap_ms > 0 && n > 0) {
+        double work = 0;
+        for (size_t i = 0; i < n; i++)
+            work += labs[i].ms_work;
+        r->cpu_per_frame = (hc.cpu1 - hc.cpu0) / (double)n;
+        r->work_per_frame = work / (double)n;
+    }
     if (bad) {
         progress_clear();
         error_line("%s: view %d: cannot render this camera", r->map, -bad - 1);
