@@ -9,8 +9,9 @@
  * condition variable: a wake-up through the kernel costs more than a phase
  * at small frame sizes.  ew_pool_wake, called as a frame starts, has
  * sleeping workers poll through the serial front end; ew_pool_rest, called
- * as it ends, sends them to sleep at once, so polling never outlasts a
- * frame (a viewer spacing frames 16 ms apart burnt a third of a core). */
+ * as it ends, sends them to sleep (at once unless frames come back to
+ * back), so polling never outlasts a frame: a viewer spacing its frames
+ * 16 ms apart burnt a third of a core on workers polling 0.6-4.8 ms. */
 #define _GNU_SOURCE  /* sched_getcpu, sched_setaffinity (Linux) */
 #include "pool.h"
 #include "ew_util.h"
@@ -30,6 +31,13 @@
  * enough that an idle renderer sleeps at once. */
 #define SPIN_MS 0.6
 #define WAKE_MS (8 * SPIN_MS)  /* after ew_pool_wake: long enough for a front end */
+/* After a frame, workers poll on only while frames come back to back (the
+ * last one started within LINGER_MS of the end of the one before), and
+ * then for LINGER_MS at most: a renderer drawing frame after frame keeps
+ * its workers (a kernel wake-up costs the caller 10-20 us a frame here,
+ * 3-5% of a 640x480 frame on two threads), one that spaces its frames
+ * burns nothing between them. */
+#define LINGER_MS 0.1
 
 /* A worker's processor time inside jobs, on a cache line of its own: the
  * worker writes it, ew_pool_work_ms reads it between runs. */
@@ -54,6 +62,8 @@ struct ew_pool {
     atomic_uint      generation;  /* bumped to start a job */
     atomic_uint      wakes;       /* bumped by ew_pool_wake */
     atomic_int       resting;     /* set by ew_pool_rest, cleared by ew_pool_wake: no polling */
+    atomic_int       linger;      /* 1: frames come back to back, poll LINGER_MS after one */
+    double           rest_ms;     /* when the last frame ended (ew_pool_rest), 0 before */
     /* The job's door: its generation << 32, OPEN while the caller runs its
      * own part, and the workers that came in; then how many have finished. */
     _Atomic uint64_t entry;
@@ -128,11 +138,17 @@ static int spin_until(int (*done)(void *), void *arg, double ms) {
     }
 }
 
-typedef struct gen_wait { ew_pool *p; unsigned seen; } gen_wait;
+typedef struct gen_wait { ew_pool *p; unsigned seen, woken; } gen_wait;
 /* A job to run, or a reason to stop polling (the frame ended, the pool closes). */
 static int job_posted(void *a) {
     gen_wait *g = a;
     return atomic_load(&g->p->generation) != g->seen || atomic_load(&g->p->quit) || atomic_load(&g->p->resting);
+}
+/* A job, the pool closing or the next frame's wake (the frame's end ignored). */
+static int job_or_wake(void *a) {
+    gen_wait *g = a;
+    return atomic_load(&g->p->generation) != g->seen || atomic_load(&g->p->quit) ||
+           atomic_load(&g->p->wakes) != g->woken;
 }
 #define OPEN ((uint64_t)1 << 31)
 #define JOINED(e) ((int)((e) & (OPEN - 1)))
@@ -161,10 +177,19 @@ static void *worker(void *vp) {
     cpus own;
     cpus_init(&own);
     for (;;) {
-        gen_wait gw = {p, seen};
+        gen_wait gw = {p, seen, woken};
         spin_until(job_posted, &gw, spin);
         unsigned g = atomic_load(&p->generation);
         spin = SPIN_MS;
+        /* The frame is over: poll a little longer only for back-to-back frames. */
+        if (g == seen && atomic_load(&p->resting) && atomic_load(&p->linger) && spin_until(job_or_wake, &gw, LINGER_MS)) {
+            g = atomic_load(&p->generation);
+            if (g == seen && atomic_load(&p->wakes) != woken) {  /* the next frame is starting */
+                woken = atomic_load(&p->wakes);
+                spin = WAKE_MS;
+                continue;
+            }
+        }
         if (g == seen && !atomic_load(&p->quit)) {
             pthread_mutex_lock(&p->mu);
             while ((g = atomic_load(&p->generation)) == seen && atomic_load(&p->wakes) == woken &&
@@ -238,6 +263,7 @@ int ew_pool_cores(void) {
 void ew_pool_wake(ew_pool *p) {
     if (!p || p->threads == 1) return;
     atomic_store(&p->caller_cpu, this_cpu());
+    atomic_store(&p->linger, p->rest_ms > 0 && ew_now_ms() - p->rest_ms < LINGER_MS);
     atomic_store(&p->resting, 0);
     pthread_mutex_lock(&p->mu);
     atomic_fetch_add(&p->wakes, 1);
@@ -246,9 +272,12 @@ void ew_pool_wake(ew_pool *p) {
 }
 
 /* No lock or broadcast: a polling worker sees the flag within a round and
- * sleeps; one already asleep stays so. */
+ * sleeps (after LINGER_MS if frames come back to back); one already
+ * asleep stays so. */
 void ew_pool_rest(ew_pool *p) {
-    if (p && p->threads > 1) atomic_store(&p->resting, 1);
+    if (!p || p->threads == 1) return;
+    atomic_store(&p->resting, 1);
+    p->rest_ms = ew_now_ms();
 }
 
 double ew_pool_parallel_ms(const ew_pool *p) { return p ? p->run_ms : 0; }
