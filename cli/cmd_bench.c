@@ -389,6 +389,7 @@ typedef struct row {
     double speedup[MAX_BAND_COUNTS];                                    /* predicted on that many cores */
     double sched_imbalance[MAX_BAND_COUNTS], sched_speedup[MAX_BAND_COUNTS];  /* the renderer's own bands */
     double cpu_per_frame, work_per_frame;  /* --gap: process CPU ms per frame, the frame's own work (ms_work) */
+    double phases_share;           /* the one-thread frame with the front end's phases over its median: the predictions' whole */
     view_row *per_view;            /* --per-view: views entries (freed by the caller), else NULL */
 } row;
 
@@ -397,6 +398,7 @@ typedef struct size_ctx {
     int    have_one;               /* a one-thread row was measured */
     double one_median;
     double one_share;              /* that row's serial share: what the predictions use */
+    double phases_ratio;           /* --bands: the one-thread frame with the front end's phases over without, 0 unknown */
     int    have_profile;           /* the band imbalances were measured */
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS], sched_imbalance[MAX_BAND_COUNTS];
     double front_items;            /* median over the views of each one's least ms_front_items */
@@ -539,9 +541,9 @@ static void print_row_json(FILE *f, const row *r) {
     json_number(f, r->level);
     fprintf(f, ",\"slow_view\":%d", r->slow_view);
     const char *more[] = { "view_level", "ns_per_pixel", "floor_ms", "floor_ratio", "serial_ms", "serial_share",
-                           "predict_share", "front_items_ms" };
+                           "predict_share", "front_items_ms", "phases_share" };
     const double morev[] = { r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->serial,
-                             r->serial_share, r->predict_share, r->front_items };
+                             r->serial_share, r->predict_share, r->front_items, r->phases_share };
     for (size_t i = 0; i < sizeof more / sizeof *more; i++) {
         fprintf(f, ",\"%s\":", more[i]);
         json_number(f, morev[i]);
@@ -921,6 +923,35 @@ out:
 }
 _Static_assert(PROFILE_PASSES == 3, "min3 takes three");
 
+/* --bands: what the front end's phases, which many threads run, cost the
+ * one-thread frame: each view rendered with and without them, the order
+ * swapped from frame to frame (so the machine's drift cancels), each
+ * view's least of PROFILE_PASSES; the sum with over the sum without.  rd
+ * on one thread, left in EW_FRONT_AUTO.  The ratio, or 0 if a camera fails. */
+static double phases_ratio(ew_renderer *rd, const ew_camera *views, int nviews) {
+    double sum[2] = { 0, 0 };
+    for (int v = 0; v < nviews; v++) {
+        double best[2] = { INFINITY, INFINITY };
+        for (int p = 0; p < PROFILE_PASSES; p++)
+            for (int k = 0; k < 2; k++) {
+                int phases = k ^ ((v + p) & 1);
+                ew_set_front_mode(rd, phases ? EW_FRONT_PHASES : EW_FRONT_AUTO);
+                double t0 = now_ms();
+                int bad = ew_render(rd, &views[v], NULL) < 0;
+                double ms = now_ms() - t0;
+                if (bad) {
+                    ew_set_front_mode(rd, EW_FRONT_AUTO);
+                    return 0;
+                }
+                if (ms < best[phases])
+                    best[phases] = ms;
+            }
+        sum[0] += best[0], sum[1] += best[1];
+    }
+    ew_set_front_mode(rd, EW_FRONT_AUTO);
+    return sum[0] > 0 ? sum[1] / sum[0] : 0;
+}
+
 /* One map at one size and thread count; returns 0 or 1 (error printed).
  * scene is an ew_scene or NULL (world only). */
 static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
@@ -1038,10 +1069,15 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->serial = r->serial_share = r->serial_mean = NAN;
     for (int ph = 0; ph < NPHASES; ph++) r->serial_phase[ph] = NAN;
 #endif
-    if (o->nbands && !sx->have_profile && profile_bands(o, rd, views, nviews, h, sx) < 0) {
-        progress_clear();
-        error_line("bench: %s at %dx%d: the row profile failed (out of memory?)", r->map, w, h);
-        goto done;
+    if (o->nbands && !sx->have_profile) {
+        if (profile_bands(o, rd, views, nviews, h, sx) < 0) {
+            progress_clear();
+            error_line("bench: %s at %dx%d: the row profile failed (out of memory?)", r->map, w, h);
+            goto done;
+        }
+#ifndef EW_BENCH_NO_SERIAL
+        sx->phases_ratio = phases_ratio(rd, views, nviews);  /* rd is on one thread now */
+#endif
     }
     /* The front end's largest items wait on one thread however many there
      * are: counted with the serial share. */
@@ -1051,18 +1087,23 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         if (r->predict_share > 1)
             r->predict_share = 1;
     }
+    /* Many threads run the front end's phases, which cost more than the
+     * one-thread loop (10-20% of the front end): the work they share is
+     * the phases frame's, less the serial part (as a share of the loop's
+     * frame, so the speed-up is over the one-thread frame as it runs). */
+    r->phases_share = o->nbands && sx->phases_ratio > 1 ? sx->phases_ratio : 1;
     r->nbands = o->nbands;
     for (int b = 0; b < o->nbands; b++) {
         int n = o->bands[b];
-        double s = r->predict_share, imb = sx->imbalance[b];
+        double s = r->predict_share, ps = r->phases_share, imb = sx->imbalance[b];
         r->bands[b] = n;
         r->imbalance[b] = imb;
         r->imbalance_max[b] = sx->imbalance_max[b];
-        /* Amdahl with imbalance: the serial share stays, the rest is cut
-         * into n bands on n cores and waits for the slowest. */
-        r->speedup[b] = 1 / (s + (1 - s) * imb / n);
+        /* Amdahl with imbalance: the serial share stays, the rest of the
+         * phases frame is cut into n bands on n cores and waits for the slowest. */
+        r->speedup[b] = 1 / (s + (ps - s) * imb / n);
         r->sched_imbalance[b] = sx->sched_imbalance[b];
-        r->sched_speedup[b] = 1 / (s + (1 - s) * r->sched_imbalance[b] / n);
+        r->sched_speedup[b] = 1 / (s + (ps - s) * r->sched_imbalance[b] / n);
     }
     rc = 0;
 done:
