@@ -36,7 +36,11 @@
  * and sched_speedup_N; --bench PATH names the command, by default the
  * `edgewise` beside this program; --no-model skips it).  Built with
  * EW_INPROC_SELF (the `inproc` target of CMake), both sides are this
- * library and no second one is linked.
+ * library and no second one is linked; then `work` is the N-thread
+ * frames' processor time over the A-thread frames' (ew_lab_stats.ms_work:
+ * the caller's and the workers' time in jobs), the extra work the threads
+ * do, which the load of other processes does not change as it changes
+ * wall time (NaN otherwise).
  *
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
  *          [--classic] [--no-entities] [--stage S] [--per-view]
@@ -45,6 +49,9 @@
 #include "edgewise.h"
 #ifdef EW_INPROC_OLD
 #include "inproc_old.h"
+#endif
+#ifdef EW_INPROC_SELF
+#include "edgewise_lab.h"  /* ew_lab_stats.ms_work: one library, so its own probes */
 #endif
 
 #include <math.h>
@@ -111,6 +118,10 @@ static side sides[2] = {
 
 /* --threads-vs A,N: side A on vs[0] threads, side B (this library too) on vs[1]. */
 static int vs[2] = {0, 0}, model = 1;
+/* Each side's processor time inside its frames (ew_lab_stats.ms_work, built
+ * with EW_INPROC_SELF), summed over the timed ones: the work the N threads
+ * do over the one thread's, what they lose beside the wall time. */
+static double work_ms[2];
 static const char *bench_cmd = NULL;
 
 static double now_ms(void) {
@@ -173,7 +184,13 @@ static double side_frame(int s, const ew_camera *views, int v) {
 #endif
     double t0 = now_ms();
     sides[s].render(sides[s].r, &views[v], &u.st);
-    return stage_ms(&u.st, now_ms() - t0);
+    double wall = now_ms() - t0;
+#ifdef EW_INPROC_SELF
+    ew_lab_stats lab;
+    ew_frame_lab_stats(sides[s].r, &lab);
+    work_ms[s] += lab.ms_work;
+#endif
+    return stage_ms(&u.st, wall);
 }
 
 static const uint8_t *side_pixels(int s) {
@@ -275,6 +292,7 @@ static int run(const char *map, const char *size, const char *data, int w, int h
     for (int p = -1; p < passes; p++)
         for (int v = 0; v < nv; v++) {
             int first = (p + v) & 1;  /* which side goes first swaps every frame */
+            if (p == 0 && v == 0) work_ms[0] = work_ms[1] = 0;  /* the timed frames' only */
             for (int k = 0; k < 2; k++) {
                 int s = k ^ first;
                 double ms = side_frame(s, views, v);
@@ -306,9 +324,10 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         double pred = NAN, sched = NAN;
         if (model) model_speedup(map, size, data, classic, entities, &pred, &sched);
         double x = sum[0] / sum[1];
-        printf("%-10s %9s %2d,%-2d %9.4f %9.4f %7.3f %7.3f %7.3f  %.3f-%.3f %7.3f %7.3f %7.3f  %d of %d\n", map, size,
-               vs[0], vs[1], sum[0] / nv, sum[1] / nv, x, med[1] > 0 ? med[0] / med[1] : 1, 1 / view_med,
-               1 / ratio[nv - 1], 1 / ratio[0], pred, sched, x / pred, differ, nv);
+        printf("%-10s %9s %2d,%-2d %9.4f %9.4f %7.3f %7.3f %7.3f  %.3f-%.3f %7.3f %7.3f %7.3f %6.3f  %d of %d\n", map,
+               size, vs[0], vs[1], sum[0] / nv, sum[1] / nv, x, med[1] > 0 ? med[0] / med[1] : 1, 1 / view_med,
+               1 / ratio[nv - 1], 1 / ratio[0], pred, sched, x / pred,
+               work_ms[0] > 0 ? work_ms[1] / work_ms[0] : NAN, differ, nv);
         free(t), free(col), free(ratio);
         return 0;
     }
@@ -371,8 +390,8 @@ int main(int argc, char **argv) {
     if (!nsizes) sizes[0][0] = 640, sizes[0][1] = 480, nsizes = 1;
     if (stage != STAGE_FRAME) printf("timed: the %s stage (ew_stats.ms_%s)\n", stage_names[stage], stage_names[stage]);
     if (vs[1])
-        printf("%-10s %9s %5s %9s %9s %7s %7s %7s  %-11s %7s %7s %7s  %s\n", "map", "size", "thr", "A_ms", "N_ms",
-               "x_mean", "x_med", "x_view", "view range", "x_pred", "x_sched", "x/pred", "frames differing");
+        printf("%-10s %9s %5s %9s %9s %7s %7s %7s  %-11s %7s %7s %7s %6s  %s\n", "map", "size", "thr", "A_ms", "N_ms",
+               "x_mean", "x_med", "x_view", "view range", "x_pred", "x_sched", "x/pred", "work", "frames differing");
     else printf("%-10s %9s %3s %9s %9s %8s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "med_B/A",
            "view_med", "view range", "frames differing");
     for (int m = 0; m < nmaps; m++)
