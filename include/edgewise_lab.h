@@ -149,8 +149,10 @@ typedef struct ew_lab_stats {
     double ms_front_items;
     /* The frame's own work: processor time of the calling thread over
      * ew_render and of each worker inside the frame's jobs (not its
-     * polling between them); the process's processor time per frame over
-     * this shows what is burnt outside the work (bench --gap). */
+     * polling between them; a worker adds its part as it leaves a job, so
+     * the last job's may count in the next frame's); the process's
+     * processor time per frame over this shows what is burnt outside the
+     * work (bench --gap). */
     double ms_work;
 } ew_lab_stats;
 /* The last frame's probes (all 0 before the first frame). */

@@ -206,10 +206,14 @@ static void *worker(void *vp) {
         if (atomic_load(&p->quit)) break;
         seen = g;
         woken = atomic_load(&p->wakes);  /* a wake before this job is used up */
-        if (!join(p, g)) continue;  /* too late: the caller has done it all */
+        /* The processor clock is a system call, where the kernel may switch
+         * threads (with more threads than processors it does): read before
+         * coming in and after leaving, never while holding items the caller
+         * waits for.  So a job's time may land after the caller has read
+         * the sum, and count in the next frame's. */
         long long c0 = thread_cpu_ns();
+        if (!join(p, g)) continue;  /* too late: the caller has done it all */
         p->job(p->ctx, index);  /* job and ctx were set before the bump */
-        atomic_fetch_add_explicit(&p->work[index].ns, thread_cpu_ns() - c0, memory_order_relaxed);  /* published by finished */
         int f = atomic_fetch_add(&p->finished, 1) + 1;
         uint64_t e = atomic_load(&p->entry);
         if (!(e & OPEN) && f == JOINED(e)) {  /* the last one the caller waits for */
@@ -217,6 +221,7 @@ static void *worker(void *vp) {
             pthread_cond_signal(&p->done);
             pthread_mutex_unlock(&p->mu);
         }
+        atomic_fetch_add_explicit(&p->work[index].ns, thread_cpu_ns() - c0, memory_order_relaxed);
     }
     return NULL;
 }

@@ -35,7 +35,8 @@ void     ew_pool_wake(ew_pool *p);
 void     ew_pool_rest(ew_pool *p);
 /* Processor time (ms) the workers spent inside jobs since the pool was
  * made, all workers together (not the caller's: ew_pool_thread_cpu_ms
- * times that); 0 for NULL or one thread.  Read between runs. */
+ * times that); 0 for NULL or one thread.  A worker adds a job's time just
+ * after the caller stops waiting for it, so a read may miss the last one. */
 double   ew_pool_work_ms(const ew_pool *p);
 /* The calling thread's processor time in ms (0 where there is no such clock). */
 double   ew_pool_thread_cpu_ms(void);
