@@ -27,21 +27,46 @@
  * bench/inproc_old.c built against that revision's header; --classic then
  * goes to side B only (the old revision's one look was the classic one).
  *
+ * --threads-vs A,N times the same library on A threads and on N threads
+ * instead, alternating frame by frame as above (so the machine's drift
+ * cancels), and prints per map and size the speed-up of N over A (ratio
+ * of the means, of the median frames, the per-view ratios' median and
+ * range) beside the speed-up bench's model predicts (`edgewise bench
+ * --threads 1 --bands N`, run after the timing: its predicted_speedup_N
+ * and sched_speedup_N; --bench PATH names the command, by default the
+ * `edgewise` beside this program; --no-model skips it).  Built with
+ * EW_INPROC_SELF (the `inproc` target of CMake), both sides are this
+ * library and no second one is linked; then `work` is the N-thread
+ * frames' processor time over the A-thread frames' (ew_lab_stats.ms_work:
+ * the caller's and the workers' time in jobs), the extra work the threads
+ * do, which the load of other processes does not change as it changes
+ * wall time (NaN otherwise).
+ *
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
- *          [--classic] [--no-entities] [--stage S] [--per-view] */
+ *          [--classic] [--no-entities] [--stage S] [--per-view]
+ *   inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] */
 #define _POSIX_C_SOURCE 200809L  /* clock_gettime */
 #include "edgewise.h"
 #ifdef EW_INPROC_OLD
 #include "inproc_old.h"
 #endif
+#ifdef EW_INPROC_SELF
+#include "edgewise_lab.h"  /* ew_lab_stats.ms_work: one library, so its own probes */
+#endif
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-/* Side B: the same functions under the names compare.sh gave them. */
+/* Side B: the same functions under the names compare.sh gave them (or,
+ * built with EW_INPROC_SELF, this library's again). */
+#ifdef EW_INPROC_SELF
+#define B_SIDE(fn)
+#else
 #define B_SIDE(fn) extern __typeof__(fn) b_##fn;
+#endif
 B_SIDE(ew_assets_create)
 B_SIDE(ew_assets_destroy)
 B_SIDE(ew_scene_create_from_map)
@@ -80,10 +105,24 @@ static side sides[2] = {
      ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
      NULL, NULL, NULL},
 #endif
+#ifdef EW_INPROC_SELF
+    {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
+     ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
+     NULL, NULL, NULL},
+#else
     {b_ew_assets_create, b_ew_assets_destroy, b_ew_scene_create_from_map, b_ew_scene_destroy,
      b_ew_benchmark_views, b_ew_renderer_create, b_ew_renderer_destroy, b_ew_set_classic, b_ew_set_scene,
      b_ew_render, b_ew_frame_pixels, NULL, NULL, NULL},
+#endif
 };
+
+/* --threads-vs A,N: side A on vs[0] threads, side B (this library too) on vs[1]. */
+static int vs[2] = {0, 0}, model = 1;
+/* Each side's processor time inside its frames (ew_lab_stats.ms_work, built
+ * with EW_INPROC_SELF), summed over the timed ones: the work the N threads
+ * do over the one thread's, what they lose beside the wall time. */
+static double work_ms[2];
+static const char *bench_cmd = NULL;
 
 static double now_ms(void) {
     struct timespec t;
@@ -103,7 +142,8 @@ static double median(double *v, int n) {
 
 static int usage(const char *why) {
     fprintf(stderr, "inproc: %s\nusage: inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N] "
-                    "[--classic] [--no-entities] [--stage front|scan|draw|models] [--per-view]\n", why);
+                    "[--classic] [--no-entities] [--stage front|scan|draw|models] [--per-view]\n"
+                    "       inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model]\n", why);
     return 2;
 }
 
@@ -144,7 +184,13 @@ static double side_frame(int s, const ew_camera *views, int v) {
 #endif
     double t0 = now_ms();
     sides[s].render(sides[s].r, &views[v], &u.st);
-    return stage_ms(&u.st, now_ms() - t0);
+    double wall = now_ms() - t0;
+#ifdef EW_INPROC_SELF
+    ew_lab_stats lab;
+    ew_frame_lab_stats(sides[s].r, &lab);
+    work_ms[s] += lab.ms_work;
+#endif
+    return stage_ms(&u.st, wall);
 }
 
 static const uint8_t *side_pixels(int s) {
@@ -152,6 +198,42 @@ static const uint8_t *side_pixels(int s) {
     if (s == 0) return inproc_old_pixels(old);
 #endif
     return sides[s].pixels(sides[s].r);
+}
+
+/* The value of "key": in a line of JSON, or NAN. */
+static double json_field(const char *line, const char *key) {
+    char pat[80];
+    snprintf(pat, sizeof pat, "\"%s\":", key);
+    const char *at = strstr(line, pat);
+    return at && strncmp(at + strlen(pat), "null", 4) ? strtod(at + strlen(pat), NULL) : NAN;
+}
+
+/* bench's model of the speed-up of vs[1] threads over vs[0] on this map
+ * and size (cli/cmd_bench.c, docs/performance.md "Threads"): one
+ * one-thread row with --bands, whose predicted_speedup_N (Amdahl with the
+ * serial share and the band imbalance) and sched_speedup_N (the renderer's
+ * own schedule replayed) are read from its JSON; over A threads, the ratio
+ * of the two predictions.  NAN where bench cannot be run. */
+static void model_speedup(const char *map, const char *size, const char *data, int classic, int entities,
+                          double *pred, double *sched) {
+    char cmd[2048], line[1 << 16];
+    snprintf(cmd, sizeof cmd, "'%s' bench '%s' --data '%s' --size %s --threads 1 --bands %d --bands %d "
+             "--passes 3 --quiet%s%s 2>/dev/null", bench_cmd, map, data ? data : ".", size, vs[0] > 1 ? vs[0] : 1,
+             vs[1], classic ? " --classic" : "", entities ? "" : " --no-entities");
+    FILE *f = popen(cmd, "r");
+    if (!f) return;
+    if (fgets(line, sizeof line, f)) {
+        char k[64];
+        double p[2], q[2];
+        for (int i = 0; i < 2; i++) {
+            int n = i == 0 ? (vs[0] > 1 ? vs[0] : 1) : vs[1];
+            snprintf(k, sizeof k, "predicted_speedup_%d", n), p[i] = json_field(line, k);
+            snprintf(k, sizeof k, "sched_speedup_%d", n), q[i] = json_field(line, k);
+        }
+        if (vs[0] <= 1) p[0] = q[0] = 1;  /* one thread: the base itself */
+        *pred = p[1] / p[0], *sched = q[1] / q[0];
+    }
+    pclose(f);
 }
 
 /* One map at one size: 0, or -1 with a line on stderr. */
@@ -179,7 +261,8 @@ static int run(const char *map, const char *size, const char *data, int w, int h
             return -1;
         }
         ew_renderer_desc d = {.world = s->assets->world, .palette = s->assets->palette,
-                              .colormap = s->assets->colormap, .width = w, .height = h, .threads = threads};
+                              .colormap = s->assets->colormap, .width = w, .height = h,
+                              .threads = vs[1] ? vs[k] : threads};
         if (!(s->r = s->renderer_create(&d, &err))) {
             fprintf(stderr, "inproc: side %c: %s\n", "AB"[k], err.msg);
             return -1;
@@ -209,6 +292,7 @@ static int run(const char *map, const char *size, const char *data, int w, int h
     for (int p = -1; p < passes; p++)
         for (int v = 0; v < nv; v++) {
             int first = (p + v) & 1;  /* which side goes first swaps every frame */
+            if (p == 0 && v == 0) work_ms[0] = work_ms[1] = 0;  /* the timed frames' only */
             for (int k = 0; k < 2; k++) {
                 int s = k ^ first;
                 double ms = side_frame(s, views, v);
@@ -233,6 +317,20 @@ static int run(const char *map, const char *size, const char *data, int w, int h
      * are done with it). */
     double med[2];
     for (int s = 0; s < 2; s++) med[s] = median(t + (size_t)s * passes * nv, passes * nv);
+    if (vs[1]) {
+        /* speed-ups: A over B; the per-view ratios above are B/A, so their
+         * order reverses */
+        double view_med = nv % 2 ? ratio[nv / 2] : (ratio[nv / 2 - 1] + ratio[nv / 2]) / 2;
+        double pred = NAN, sched = NAN;
+        if (model) model_speedup(map, size, data, classic, entities, &pred, &sched);
+        double x = sum[0] / sum[1];
+        printf("%-10s %9s %2d,%-2d %9.4f %9.4f %7.3f %7.3f %7.3f  %.3f-%.3f %7.3f %7.3f %7.3f %6.3f  %d of %d\n", map,
+               size, vs[0], vs[1], sum[0] / nv, sum[1] / nv, x, med[1] > 0 ? med[0] / med[1] : 1, 1 / view_med,
+               1 / ratio[nv - 1], 1 / ratio[0], pred, sched, x / pred,
+               work_ms[0] > 0 ? work_ms[1] / work_ms[0] : NAN, differ, nv);
+        free(t), free(col), free(ratio);
+        return 0;
+    }
     printf("%-10s %9s %3d %9.4f %9.4f %8.4f %8.4f %8.4f  %.3f-%.3f  %d of %d\n", map, size, threads, sum[0] / nv,
            sum[1] / nv, sum[1] / sum[0], med[0] > 0 ? med[1] / med[0] : 1,
            nv % 2 ? ratio[nv / 2] : (ratio[nv / 2 - 1] + ratio[nv / 2]) / 2, ratio[0], ratio[nv - 1], differ, nv);
@@ -259,6 +357,12 @@ int main(int argc, char **argv) {
         } else if (!strcmp(a, "--classic")) classic = 1;
         else if (!strcmp(a, "--no-entities")) entities = 0;
         else if (!strcmp(a, "--per-view")) per_view = 1;
+        else if (!strcmp(a, "--threads-vs") && i + 1 < argc) {
+            if (sscanf(argv[++i], "%d,%d", &vs[0], &vs[1]) != 2 || vs[0] < 1 || vs[1] < 1 ||
+                vs[0] > EW_MAX_THREADS || vs[1] > EW_MAX_THREADS)
+                return usage("--threads-vs must be A,N: two thread counts, 1 and up");
+        } else if (!strcmp(a, "--bench") && i + 1 < argc) bench_cmd = argv[++i];
+        else if (!strcmp(a, "--no-model")) model = 0;
         else if (!strcmp(a, "--stage") && i + 1 < argc) {
             const char *n = argv[++i];
             stage = -1;
@@ -271,9 +375,24 @@ int main(int argc, char **argv) {
         else return usage("at most 64 maps");
     }
     if (!nmaps) return usage("no map");
+    char beside[4096];
+    if (vs[1]) {
+#ifdef EW_INPROC_OLD
+        return usage("--threads-vs times this revision's library alone: not with side A from before its calls");
+#endif
+        sides[1] = sides[0];  /* one library, two thread counts */
+        if (!bench_cmd) {  /* the edgewise beside this program */
+            const char *slash = strrchr(argv[0], '/');
+            snprintf(beside, sizeof beside, "%.*sedgewise", slash ? (int)(slash - argv[0] + 1) : 0, argv[0]);
+            bench_cmd = beside;
+        }
+    }
     if (!nsizes) sizes[0][0] = 640, sizes[0][1] = 480, nsizes = 1;
     if (stage != STAGE_FRAME) printf("timed: the %s stage (ew_stats.ms_%s)\n", stage_names[stage], stage_names[stage]);
-    printf("%-10s %9s %3s %9s %9s %8s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "med_B/A",
+    if (vs[1])
+        printf("%-10s %9s %5s %9s %9s %7s %7s %7s  %-11s %7s %7s %7s %6s  %s\n", "map", "size", "thr", "A_ms", "N_ms",
+               "x_mean", "x_med", "x_view", "view range", "x_pred", "x_sched", "x/pred", "work", "frames differing");
+    else printf("%-10s %9s %3s %9s %9s %8s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "med_B/A",
            "view_med", "view range", "frames differing");
     for (int m = 0; m < nmaps; m++)
         for (int s = 0; s < nsizes; s++) {

@@ -388,6 +388,8 @@ typedef struct row {
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS];  /* over views: median, worst */
     double speedup[MAX_BAND_COUNTS];                                    /* predicted on that many cores */
     double sched_imbalance[MAX_BAND_COUNTS], sched_speedup[MAX_BAND_COUNTS];  /* the renderer's own bands */
+    double cpu_per_frame, work_per_frame;  /* --gap: process CPU ms per frame, the frame's own work (ms_work) */
+    double phases_share;           /* the one-thread frame with the front end's phases over its median: the predictions' whole */
     view_row *per_view;            /* --per-view: views entries (freed by the caller), else NULL */
 } row;
 
@@ -396,6 +398,7 @@ typedef struct size_ctx {
     int    have_one;               /* a one-thread row was measured */
     double one_median;
     double one_share;              /* that row's serial share: what the predictions use */
+    double phases_ratio;           /* --bands: the one-thread frame with the front end's phases over without, 0 unknown */
     int    have_profile;           /* the band imbalances were measured */
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS], sched_imbalance[MAX_BAND_COUNTS];
     double front_items;            /* median over the views of each one's least ms_front_items */
@@ -538,9 +541,9 @@ static void print_row_json(FILE *f, const row *r) {
     json_number(f, r->level);
     fprintf(f, ",\"slow_view\":%d", r->slow_view);
     const char *more[] = { "view_level", "ns_per_pixel", "floor_ms", "floor_ratio", "serial_ms", "serial_share",
-                           "predict_share", "front_items_ms" };
+                           "predict_share", "front_items_ms", "phases_share" };
     const double morev[] = { r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->serial,
-                             r->serial_share, r->predict_share, r->front_items };
+                             r->serial_share, r->predict_share, r->front_items, r->phases_share };
     for (size_t i = 0; i < sizeof more / sizeof *more; i++) {
         fprintf(f, ",\"%s\":", more[i]);
         json_number(f, morev[i]);
@@ -556,6 +559,15 @@ static void print_row_json(FILE *f, const row *r) {
     for (int k = 0; k < NPARTS; k++) {
         fprintf(f, ",\"view_level_%s\":", part_names[k]);
         json_number(f, r->part_levels[k]);
+    }
+    if (r->gap_ms > 0) {
+        const char *cn[] = { "cpu_ms_per_frame", "work_ms_per_frame", "cpu_over_work" };
+        const double cv[] = { r->cpu_per_frame, r->work_per_frame,
+                              r->work_per_frame > 0 ? r->cpu_per_frame / r->work_per_frame : NAN };
+        for (int i = 0; i < 3; i++) {
+            fprintf(f, ",\"%s\":", cn[i]);
+            json_number(f, cv[i]);
+        }
     }
     for (int b = 0; b < r->nbands; b++) {
         const char *bn[] = { "imbalance", "imbalance_max", "predicted_speedup", "sched_imbalance", "sched_speedup" };
@@ -723,25 +735,45 @@ int bench_run_views(ew_renderer *rd, const ew_camera *views, int nviews, int pas
 double bench_median(double *v, int n) { return median_of(v, n); }
 
 /* bench_row's progress line before each frame, a floor sample after every
- * other timed one. */
+ * other timed one; with --gap the pause before each frame and the process's
+ * processor time over the timed passes. */
 typedef struct bench_row_hooks_ctx {
     const row     *r;
     int            passes, nviews;
     floor_sampler *fl;
+    double         cpu0, cpu1;  /* --gap: process CPU ms, after the first timed frame's gap, after the last's */
 } bench_row_hooks_ctx;
 
+static double process_cpu_ms(void) {
+    struct timespec t;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) != 0)
+        return NAN;
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
+static void gap_sleep(int ms) {
+    struct timespec ts = { ms / 1000, (long)(ms % 1000) * 1000000L };
+    nanosleep(&ts, NULL);
+}
+
 static void row_before(void *ctx, int pass, int v) {
-    const bench_row_hooks_ctx *c = ctx;
+    bench_row_hooks_ctx *c = ctx;
     progress(c->r->map, c->r->w, c->r->h, c->r->threads, pass, c->passes, v, c->nviews);
     if (c->r->gap_ms > 0) {
-        struct timespec ts = { c->r->gap_ms / 1000, (long)(c->r->gap_ms % 1000) * 1000000L };
-        nanosleep(&ts, NULL);
+        gap_sleep(c->r->gap_ms);
+        /* From here every timed frame and the gap after it: what the
+         * workers do between frames (poll or sleep) is in the count. */
+        if (pass == 1 && v == 0)
+            c->cpu0 = process_cpu_ms();
     }
 }
 
 static void row_after(void *ctx, int pass, int v) {
-    (void)pass;
-    const bench_row_hooks_ctx *c = ctx;
+    bench_row_hooks_ctx *c = ctx;
+    if (c->r->gap_ms > 0 && pass == c->passes && v == c->nviews - 1) {
+        gap_sleep(c->r->gap_ms);  /* the last frame's gap, which the next frame would follow */
+        c->cpu1 = process_cpu_ms();
+    }
     if (!c->fl) return;
     /* On more threads the samples of a pass wait for its end: a fill on the
      * calling thread outlasts the pool's polling, so taken between frames it
@@ -891,6 +923,35 @@ out:
 }
 _Static_assert(PROFILE_PASSES == 3, "min3 takes three");
 
+/* --bands: what the front end's phases, which many threads run, cost the
+ * one-thread frame: each view rendered with and without them, the order
+ * swapped from frame to frame (so the machine's drift cancels), each
+ * view's least of PROFILE_PASSES; the sum with over the sum without.  rd
+ * on one thread, left in EW_FRONT_AUTO.  The ratio, or 0 if a camera fails. */
+static double phases_ratio(ew_renderer *rd, const ew_camera *views, int nviews) {
+    double sum[2] = { 0, 0 };
+    for (int v = 0; v < nviews; v++) {
+        double best[2] = { INFINITY, INFINITY };
+        for (int p = 0; p < PROFILE_PASSES; p++)
+            for (int k = 0; k < 2; k++) {
+                int phases = k ^ ((v + p) & 1);
+                ew_set_front_mode(rd, phases ? EW_FRONT_PHASES : EW_FRONT_AUTO);
+                double t0 = now_ms();
+                int bad = ew_render(rd, &views[v], NULL) < 0;
+                double ms = now_ms() - t0;
+                if (bad) {
+                    ew_set_front_mode(rd, EW_FRONT_AUTO);
+                    return 0;
+                }
+                if (ms < best[phases])
+                    best[phases] = ms;
+            }
+        sum[0] += best[0], sum[1] += best[1];
+    }
+    ew_set_front_mode(rd, EW_FRONT_AUTO);
+    return sum[0] > 0 ? sum[1] / sum[0] : 0;
+}
+
 /* One map at one size and thread count; returns 0 or 1 (error printed).
  * scene is an ew_scene or NULL (world only). */
 static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
@@ -946,9 +1007,20 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         error_line("bench: out of memory");
         goto done;
     }
-    bench_row_hooks_ctx hc = { r, o->passes, nviews, fl_ok ? &fl : NULL };
+    /* --gap counts the process's processor time: no floor samples among
+     * the frames then (the floor is measured on its own). */
+    if (o->gap_ms > 0)
+        fl_ok = 0;
+    bench_row_hooks_ctx hc = { r, o->passes, nviews, fl_ok ? &fl : NULL, NAN, NAN };
     bench_hooks hooks = { row_before, row_after, &hc };
     int bad = bench_run_views(rd, views, nviews, o->passes, frames, stats, labs, &hooks);
+    if (o->gap_ms > 0 && n > 0) {
+        double work = 0;
+        for (size_t i = 0; i < n; i++)
+            work += labs[i].ms_work;
+        r->cpu_per_frame = (hc.cpu1 - hc.cpu0) / (double)n;
+        r->work_per_frame = work / (double)n;
+    }
     if (bad) {
         progress_clear();
         error_line("%s: view %d: cannot render this camera", r->map, -bad - 1);
@@ -997,10 +1069,15 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->serial = r->serial_share = r->serial_mean = NAN;
     for (int ph = 0; ph < NPHASES; ph++) r->serial_phase[ph] = NAN;
 #endif
-    if (o->nbands && !sx->have_profile && profile_bands(o, rd, views, nviews, h, sx) < 0) {
-        progress_clear();
-        error_line("bench: %s at %dx%d: the row profile failed (out of memory?)", r->map, w, h);
-        goto done;
+    if (o->nbands && !sx->have_profile) {
+        if (profile_bands(o, rd, views, nviews, h, sx) < 0) {
+            progress_clear();
+            error_line("bench: %s at %dx%d: the row profile failed (out of memory?)", r->map, w, h);
+            goto done;
+        }
+#ifndef EW_BENCH_NO_SERIAL
+        sx->phases_ratio = phases_ratio(rd, views, nviews);  /* rd is on one thread now */
+#endif
     }
     /* The front end's largest items wait on one thread however many there
      * are: counted with the serial share. */
@@ -1010,18 +1087,23 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         if (r->predict_share > 1)
             r->predict_share = 1;
     }
+    /* Many threads run the front end's phases, which cost more than the
+     * one-thread loop (10-20% of the front end): the work they share is
+     * the phases frame's, less the serial part (as a share of the loop's
+     * frame, so the speed-up is over the one-thread frame as it runs). */
+    r->phases_share = o->nbands && sx->phases_ratio > 1 ? sx->phases_ratio : 1;
     r->nbands = o->nbands;
     for (int b = 0; b < o->nbands; b++) {
         int n = o->bands[b];
-        double s = r->predict_share, imb = sx->imbalance[b];
+        double s = r->predict_share, ps = r->phases_share, imb = sx->imbalance[b];
         r->bands[b] = n;
         r->imbalance[b] = imb;
         r->imbalance_max[b] = sx->imbalance_max[b];
-        /* Amdahl with imbalance: the serial share stays, the rest is cut
-         * into n bands on n cores and waits for the slowest. */
-        r->speedup[b] = 1 / (s + (1 - s) * imb / n);
+        /* Amdahl with imbalance: the serial share stays, the rest of the
+         * phases frame is cut into n bands on n cores and waits for the slowest. */
+        r->speedup[b] = 1 / (s + (ps - s) * imb / n);
         r->sched_imbalance[b] = sx->sched_imbalance[b];
-        r->sched_speedup[b] = 1 / (s + (1 - s) * r->sched_imbalance[b] / n);
+        r->sched_speedup[b] = 1 / (s + (ps - s) * r->sched_imbalance[b] / n);
     }
     rc = 0;
 done:

@@ -147,6 +147,13 @@ typedef struct ew_lab_stats {
      * work item of each of the parallel front end's phases, summed: what
      * no number of threads can shorten in the front end (else 0). */
     double ms_front_items;
+    /* The frame's own work: processor time of the calling thread over
+     * ew_render and of each worker inside the frame's jobs (not its
+     * polling between them; a worker adds its part as it leaves a job, so
+     * the last job's may count in the next frame's); the process's
+     * processor time per frame over this shows what is burnt outside the
+     * work (bench --gap). */
+    double ms_work;
 } ew_lab_stats;
 /* The last frame's probes (all 0 before the first frame). */
 EW_API void ew_frame_lab_stats(const ew_renderer *r, ew_lab_stats *lab);

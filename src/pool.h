@@ -29,5 +29,16 @@ double   ew_pool_parallel_ms(const ew_pool *p);
 /* Gets sleeping workers polling for a while (a frame's serial front end is
  * starting), so the first parallel phase does not wait on a kernel wake-up. */
 void     ew_pool_wake(ew_pool *p);
+/* The frame is over: workers stop polling and sleep (until the next
+ * ew_pool_wake or job), at once unless frames come back to back (then
+ * after 0.1 ms at most), so nothing is burnt between spaced frames. */
+void     ew_pool_rest(ew_pool *p);
+/* Processor time (ms) the workers spent inside jobs since the pool was
+ * made, all workers together (not the caller's: ew_pool_thread_cpu_ms
+ * times that); 0 for NULL or one thread.  A worker adds a job's time just
+ * after the caller stops waiting for it, so a read may miss the last one. */
+double   ew_pool_work_ms(const ew_pool *p);
+/* The calling thread's processor time in ms (0 where there is no such clock). */
+double   ew_pool_thread_cpu_ms(void);
 
 #endif

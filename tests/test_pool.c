@@ -47,6 +47,27 @@ static void job(void *vp, int index) {
     atomic_fetch_sub(&r->inside, 1);
 }
 
+static double process_cpu_ms(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec / 1e6;
+}
+
+/* A worker that comes in burns 2 ms of its own processor time; the caller
+ * waits (up to 2 s) for one to come in and finish. */
+typedef struct busy { atomic_int joined, done; } busy;
+static void busy_job(void *vp, int index) {
+    busy *b = vp;
+    if (index > 0) {
+        atomic_store(&b->joined, 1);
+        double t0 = ew_pool_thread_cpu_ms();
+        while (ew_pool_thread_cpu_ms() - t0 < 2.0) atomic_store_explicit(&sink, 1, memory_order_relaxed);
+        atomic_store(&b->done, 1);
+        return;
+    }
+    for (int ms = 0; !atomic_load(&b->done) && ms < 2000; ms++) nap_us(1000);
+}
+
 /* A pool that loses track of its workers can hang instead of failing. */
 static void hung(int sig) {
     (void)sig;
@@ -138,6 +159,35 @@ int main(void) {
               ew_pool_cores(), CPU_COUNT(&was));
     }
 #endif
+    /* The end of a frame (ew_pool_rest): the workers sleep at once, where
+     * they polled 0.6-4.8 ms after each frame before; a viewer spacing its
+     * frames 16 ms apart burnt a third of a core on it. */
+    if (ew_pool_cores() >= 2) {
+        ew_pool *p = ew_pool_create(2);
+        double idle_cpu = 0;
+        for (int k = 0; p && k < 10; k++) {
+            ew_pool_wake(p);  /* a frame starts: the worker polls for its first job */
+            run r = {.n = 20};
+            ew_pool_run(p, job, &r);
+            ew_pool_rest(p);
+            double c0 = process_cpu_ms();
+            nap_us(20000);
+            idle_cpu += process_cpu_ms() - c0;
+        }
+        CHECK(p && idle_cpu < 2.0, "after ew_pool_rest the workers sleep: %.2f ms of processor time in 10 pauses of 20 ms",
+              idle_cpu);
+        printf("processor time in 10 pauses of 20 ms after ew_pool_rest: %.3f ms\n", idle_cpu);
+        /* The workers' time inside jobs is counted (not the caller's). */
+        double w0 = ew_pool_work_ms(p);
+        busy b = {0};
+        ew_pool_run(p, busy_job, &b);
+        nap_us(20000);  /* the worker adds its time after leaving the job */
+        double w = ew_pool_work_ms(p) - w0;
+        CHECK(!atomic_load(&b.joined) || (w >= 1.5 && w < 1000),
+              "a worker's 2 ms of processor time in a job counted as %.3f ms", w);
+        CHECK(ew_pool_work_ms(NULL) == 0, "no pool: no workers' time");
+        ew_pool_free(p);
+    }
     /* NULL: the caller alone. */
     run r = {0};
     r.n = 10;
