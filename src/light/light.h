@@ -40,6 +40,9 @@ typedef struct ew_surf_cache {
 } ew_surf_cache;
 
 int  ew_cache_init(ew_surf_cache *c, int numfaces, size_t budget);
+/* Every surface evicted (the slabs stay, their blocks free), as before a
+ * first frame: the next frame builds all it shows. */
+void ew_cache_flush(ew_surf_cache *c);
 void ew_cache_free(ew_surf_cache *c);
 
 
