@@ -21,7 +21,7 @@ void ew_lightcurve_fit(ew_lightcurve *lc, const uint8_t palette[768], const uint
             int lit = colormap[k * 256 + c], next = colormap[(k < 63 ? k + 1 : 63) * 256 + c];
             for (int ch = 0; ch < 3; ch++) {
                 lc->pair[k][c][ch] = palette[lit * 3 + ch];
-                lc->pair[k][c][4 + ch] = palette[next * 3 + ch];
+                lc->pair[k][c][4 + ch] = (int16_t)(2 * (palette[next * 3 + ch] - palette[lit * 3 + ch]));
             }
             lc->pair[k][c][3] = lc->pair[k][c][7] = 0;
         }

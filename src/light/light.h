@@ -55,20 +55,20 @@ void ew_cache_free(ew_surf_cache *c);
  * row.  Fullbright colours (unchanged in every row) stay unlit. */
 typedef struct ew_lightcurve {
     const uint8_t *palette;
-    /* pair[row][c]: R, G, B, 0 of palette[colormap[row][c]], then the same
-     * of row + 1 (row 64 = row 63): the two ends a texel's light runs
-     * between, in one 8-byte load (the true-colour surface build's). */
-    uint8_t        pair[64][256][8];
+    /* pair[row][c]: R, G, B, 0 of palette[colormap[row][c]], then twice
+     * the step to the same of row + 1 (row 64 = row 63), as 16-bit lanes:
+     * a texel's light runs between the two, and the true-colour surface
+     * build reads both in one aligned 16-byte load. */
+    _Alignas(16) int16_t pair[64][256][8];
     uint8_t        fullbright[256];
     uint32_t       rgba[256];     /* the palette as 32-bit pixels (ew_rgba) */
 } ew_lightcurve;
 void ew_lightcurve_fit(ew_lightcurve *lc, const uint8_t palette[768], const uint8_t *colormap);
 /* Channel ch of colour c under light row l (8.8, below 64 << 8: light_row's
- * range in light/surface.c). */
+ * range in light/surface.c): a + (((b - a) * f) >> 8) between the rows. */
 static inline int ew_lightcurve_at(const ew_lightcurve *lc, int c, int l, int ch) {
-    const uint8_t *p = lc->pair[l >> 8][c];
-    int a = p[ch], b = p[4 + ch];
-    return a + (((b - a) * (l & 255)) >> 8);
+    const int16_t *p = lc->pair[l >> 8][c];
+    return p[ch] + (((p[4 + ch] / 2) * (l & 255)) >> 8);
 }
 
 /* ---- the frame's lit surfaces (light's own state) ----

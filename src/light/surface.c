@@ -328,25 +328,15 @@ CMAP_BLOCKS(4, 2)
 CMAP_BLOCKS(2, 1)
 
 #if defined(__SSE2__)
-/* True colour, two texels at once: p holds each one's light curve pair
- * (lightcurve.pair: a, the colour at its light row, then b, at the next
- * row), f128 each one's fraction of the way from a to b times 128, per
- * channel (texel 0 in lanes 0-3, texel 1 in 4-7).  a + ((b - a) * f >> 8)
- * per channel as 16-bit lanes, exactly ew_lightcurve_at: the high half of
- * 2 (b - a) * 128 f is (b - a) * f >> 8, rounded down as the shift does,
- * and both factors fit a signed 16-bit lane. */
-static inline __m128i curve2(__m128i p, __m128i f128) {
-    const __m128i zero = _mm_setzero_si128();
-    const __m128i q = _mm_shuffle_epi32(p, _MM_SHUFFLE(3, 1, 2, 0));  /* a0 a1 b0 b1 */
-    const __m128i a = _mm_unpacklo_epi8(q, zero), b = _mm_unpackhi_epi8(q, zero);
-    const __m128i d = _mm_sub_epi16(b, a);
-    return _mm_add_epi16(a, _mm_mulhi_epi16(_mm_add_epi16(d, d), f128));
-}
-
-/* The pairs of texels i and i + 1 for channel lights idx (row * 256 + colour, as 16-bit lanes). */
-static inline __m128i pair2(const uint8_t *pairs, const uint16_t *idx, int i) {
-    return _mm_unpacklo_epi64(_mm_loadl_epi64((const __m128i *)(const void *)(pairs + idx[i] * 8)),
-                              _mm_loadl_epi64((const __m128i *)(const void *)(pairs + idx[i + 1] * 8)));
+/* True colour, two texels at once: p0 and p1 each one's light curve pair
+ * (lightcurve.pair: a, the colour at its light row, and 2 (b - a), b the
+ * colour at the next row), f128 each one's fraction of the way from a to
+ * b times 128, per channel (texel 0 in lanes 0-3, texel 1 in 4-7).  The
+ * high half of 2 (b - a) * 128 f is (b - a) * f >> 8, rounded down as the
+ * shift does, both factors fit a signed 16-bit lane: exactly
+ * ew_lightcurve_at. */
+static inline __m128i curve2(__m128i p0, __m128i p1, __m128i f128) {
+    return _mm_add_epi16(_mm_unpacklo_epi64(p0, p1), _mm_mulhi_epi16(_mm_unpackhi_epi64(p0, p1), f128));
 }
 
 /* One row of a true-colour block of bs (8 or 16) texels, src its bs texel
@@ -356,7 +346,7 @@ static inline __m128i pair2(const uint8_t *pairs, const uint16_t *idx, int i) {
  * cmap_row's.  The light in 16-bit lanes: below 1 << 14 (light_row's range,
  * and stepping between samples stays between them), so exact.  Alpha 255,
  * or 0 for colour 255 of a fence texture (a hole). */
-static inline void rgba_row(uint32_t *dst, const uint8_t *src, const uint8_t *pairs, const int *right,
+static inline void rgba_row(uint32_t *dst, const uint8_t *src, const int16_t *pairs, const int *right,
                             const int *step, int nc, int fence, int bs) {
     const __m128i zero = _mm_setzero_si128(), hi8 = _mm_set1_epi16((short)0xFF00), lo8 = _mm_set1_epi16(0xFF);
     const __m128i alpha = _mm_set1_epi32((int)0xFF000000u);
@@ -383,20 +373,26 @@ static inline void rgba_row(uint32_t *dst, const uint8_t *src, const uint8_t *pa
         }
         __m128i hole = zero;
         if (fence) hole = _mm_cmpeq_epi16(tex, lo8);
+        const __m128i *pp = (const __m128i *)(const void *)pairs;
         for (int h = 0; h < 2; h++) {  /* texels 0-3, then 4-7 */
             __m128i c[2];
             for (int q = 0; q < 2; q++) {
                 const int i = h * 4 + q * 2;
-                __m128i p;
+                __m128i p0, p1;
                 if (nc == 1) {
-                    p = pair2(pairs, idx[0], i);
+                    p0 = _mm_load_si128(pp + idx[0][i]), p1 = _mm_load_si128(pp + idx[0][i + 1]);
                 } else {  /* each channel from the pair of its own light */
-                    const __m128i mr = _mm_set1_epi32(0xFF), mg = _mm_set1_epi32(0xFF00), mb = _mm_set1_epi32(0xFF0000);
-                    p = _mm_or_si128(_mm_or_si128(_mm_and_si128(pair2(pairs, idx[0], i), mr),
-                                                  _mm_and_si128(pair2(pairs, idx[1], i), mg)),
-                                     _mm_and_si128(pair2(pairs, idx[2], i), mb));
+                    const __m128i mr = _mm_setr_epi16(-1, 0, 0, 0, -1, 0, 0, 0),
+                                  mg = _mm_setr_epi16(0, -1, 0, 0, 0, -1, 0, 0),
+                                  mb = _mm_setr_epi16(0, 0, -1, 0, 0, 0, -1, 0);
+                    p0 = _mm_or_si128(_mm_or_si128(_mm_and_si128(_mm_load_si128(pp + idx[0][i]), mr),
+                                                   _mm_and_si128(_mm_load_si128(pp + idx[1][i]), mg)),
+                                      _mm_and_si128(_mm_load_si128(pp + idx[2][i]), mb));
+                    p1 = _mm_or_si128(_mm_or_si128(_mm_and_si128(_mm_load_si128(pp + idx[0][i + 1]), mr),
+                                                   _mm_and_si128(_mm_load_si128(pp + idx[1][i + 1]), mg)),
+                                      _mm_and_si128(_mm_load_si128(pp + idx[2][i + 1]), mb));
                 }
-                c[q] = curve2(p, t[h * 2 + q]);
+                c[q] = curve2(p0, p1, t[h * 2 + q]);
             }
             __m128i px = _mm_or_si128(_mm_packus_epi16(c[0], c[1]), alpha);
             if (fence) {
@@ -414,7 +410,7 @@ static inline void rgba_row(uint32_t *dst, const uint8_t *src, const uint8_t *pa
 __attribute__((always_inline))
 #endif
 static inline void rgba_blocks(uint32_t *out, int width, const int *bl, int nc, int smax, int tmax,
-                               const uint8_t *tp, int tw, int th, int s0, int t0, const uint8_t *pairs, int fence,
+                               const uint8_t *tp, int tw, int th, int s0, int t0, const int16_t *pairs, int fence,
                                int bs, int shift) {
     uint8_t wrapped[16];
     for (int j = 0; j < tmax - 1; j++) {
@@ -447,10 +443,10 @@ static inline void rgba_blocks(uint32_t *out, int width, const int *bl, int nc, 
 }
 
 typedef void rgba_block_fn(uint32_t *, int, const int *, int, int, const uint8_t *, int, int, int, int,
-                           const uint8_t *, int);
+                           const int16_t *, int);
 #define RGBA_BLOCKS(bs, shift, nc)                                                                          \
     static void rgba_blocks##bs##_##nc(uint32_t *out, int width, const int *bl, int smax, int tmax,         \
-                                       const uint8_t *tp, int tw, int th, int s0, int t0, const uint8_t *pairs, \
+                                       const uint8_t *tp, int tw, int th, int s0, int t0, const int16_t *pairs, \
                                        int fence) {                                                         \
         rgba_blocks(out, width, bl, nc, smax, tmax, tp, tw, th, s0, t0, pairs, fence, bs, shift);           \
     }
