@@ -22,6 +22,16 @@
  * renderer's own ew_stats times), so a change to that stage alone is not
  * lost in the frame's noise; --per-view prints each view's two medians.
  *
+ * --color true renders both sides in true colour (frames compared as 4-byte
+ * pixels), --no-lit without the maps' coloured light (ew_set_lit), --cold
+ * each frame after the side's surface cache was emptied (ew_flush_surfaces,
+ * untimed), so a frame pays for every surface it builds, as the first frame
+ * of a new view does.  --vs-color draws side A in 8-bit and side B in true
+ * colour (frames not compared): B/A is then what true colour costs over
+ * 8-bit; run it with the same revision on both sides.  slow_B/A is B's
+ * slowest view (its median) over A's slowest view: the worst frame's ratio
+ * without one-off spikes.
+ *
  * Built with EW_INPROC_OLD, side A is instead a revision from before these
  * public calls (cde885f, the many-core work's baseline), reached through
  * bench/inproc_old.c built against that revision's header; --classic then
@@ -44,9 +54,10 @@
  *
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
  *          [--classic] [--no-entities] [--stage S] [--per-view]
+ *          [--color 8bit|true] [--vs-color] [--no-lit] [--cold]
  *   inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] */
 #define _POSIX_C_SOURCE 200809L  /* clock_gettime */
-#include "edgewise.h"
+#include "edgewise_lab.h"  /* ew_flush_surfaces */
 #ifdef EW_INPROC_OLD
 #include "inproc_old.h"
 #endif
@@ -78,6 +89,9 @@ B_SIDE(ew_set_classic)
 B_SIDE(ew_set_scene)
 B_SIDE(ew_render)
 B_SIDE(ew_frame_pixels)
+B_SIDE(ew_frame_rgba)
+B_SIDE(ew_set_lit)
+B_SIDE(ew_flush_surfaces)
 
 typedef struct side {
     __typeof__(ew_assets_create) *assets_create;
@@ -91,6 +105,9 @@ typedef struct side {
     __typeof__(ew_set_scene) *set_scene;
     __typeof__(ew_render) *render;
     __typeof__(ew_frame_pixels) *pixels;
+    __typeof__(ew_frame_rgba) *rgba;
+    __typeof__(ew_set_lit) *set_lit;
+    __typeof__(ew_flush_surfaces) *flush;
     /* per map and size */
     ew_assets   *assets;
     ew_scene    *scene;
@@ -103,16 +120,16 @@ static side sides[2] = {
 #else
     {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
      ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
-     NULL, NULL, NULL},
+     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, NULL, NULL, NULL},
 #endif
 #ifdef EW_INPROC_SELF
     {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
      ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
-     NULL, NULL, NULL},
+     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, NULL, NULL, NULL},
 #else
     {b_ew_assets_create, b_ew_assets_destroy, b_ew_scene_create_from_map, b_ew_scene_destroy,
      b_ew_benchmark_views, b_ew_renderer_create, b_ew_renderer_destroy, b_ew_set_classic, b_ew_set_scene,
-     b_ew_render, b_ew_frame_pixels, NULL, NULL, NULL},
+     b_ew_render, b_ew_frame_pixels, b_ew_frame_rgba, b_ew_set_lit, b_ew_flush_surfaces, NULL, NULL, NULL},
 #endif
 };
 
@@ -143,6 +160,7 @@ static double median(double *v, int n) {
 static int usage(const char *why) {
     fprintf(stderr, "inproc: %s\nusage: inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N] "
                     "[--classic] [--no-entities] [--stage front|scan|draw|models] [--per-view]\n"
+                    "       [--color 8bit|true] [--vs-color] [--no-lit] [--cold]\n"
                     "       inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model]\n", why);
     return 2;
 }
@@ -151,6 +169,8 @@ static int usage(const char *why) {
 enum { STAGE_FRAME, STAGE_FRONT, STAGE_SCAN, STAGE_DRAW, STAGE_MODELS };
 static const char *const stage_names[] = {"frame", "front", "scan", "draw", "models"};
 static int stage = STAGE_FRAME, per_view = 0;
+/* --color true, --vs-color (A 8-bit, B true colour), --no-lit, --cold */
+static int truecolor = 0, vs_color = 0, no_lit = 0, cold = 0;
 
 static double stage_ms(const ew_stats *st, double wall) {
     switch (stage) {
@@ -182,6 +202,7 @@ static double side_frame(int s, const ew_camera *views, int v) {
         return stage == STAGE_FRAME ? wall : ms[stage - STAGE_FRONT];
     }
 #endif
+    if (cold) sides[s].flush(sides[s].r);  /* untimed: the frame pays for its builds only */
     double t0 = now_ms();
     sides[s].render(sides[s].r, &views[v], &u.st);
     double wall = now_ms() - t0;
@@ -197,7 +218,8 @@ static const uint8_t *side_pixels(int s) {
 #ifdef EW_INPROC_OLD
     if (s == 0) return inproc_old_pixels(old);
 #endif
-    return sides[s].pixels(sides[s].r);
+    const uint8_t *p = sides[s].pixels(sides[s].r);
+    return p ? p : (const uint8_t *)(const void *)sides[s].rgba(sides[s].r);
 }
 
 /* The value of "key": in a line of JSON, or NAN. */
@@ -262,12 +284,14 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         }
         ew_renderer_desc d = {.world = s->assets->world, .palette = s->assets->palette,
                               .colormap = s->assets->colormap, .width = w, .height = h,
-                              .threads = vs[1] ? vs[k] : threads};
+                              .threads = vs[1] ? vs[k] : threads,
+                              .color = truecolor || (vs_color && k == 1) ? EW_COLOR_TRUE : EW_COLOR_8BIT};
         if (!(s->r = s->renderer_create(&d, &err))) {
             fprintf(stderr, "inproc: side %c: %s\n", "AB"[k], err.msg);
             return -1;
         }
         s->set_classic(s->r, classic);
+        if (no_lit) s->set_lit(s->r, 0);
         if (s->scene) s->set_scene(s->r, s->scene);
         nv = s->views(s->assets->world, views);  /* the same cameras from either side */
     }
@@ -298,15 +322,17 @@ static int run(const char *map, const char *size, const char *data, int w, int h
                 double ms = side_frame(s, views, v);
                 if (p >= 0) t[((size_t)s * passes + (size_t)p) * nv + v] = ms;
             }
-            if (p < 0 && memcmp(side_pixels(0), side_pixels(1), (size_t)w * h)) differ++;
+            if (p < 0 && !vs_color && memcmp(side_pixels(0), side_pixels(1), (size_t)w * h * (truecolor ? 4 : 1)))
+                differ++;
         }
-    double sum[2] = {0, 0};
+    double sum[2] = {0, 0}, slow[2] = {0, 0};
     for (int v = 0; v < nv; v++) {
         double m[2];
         for (int s = 0; s < 2; s++) {
             for (int p = 0; p < passes; p++) col[p] = t[((size_t)s * passes + (size_t)p) * nv + v];
             m[s] = median(col, passes);
             sum[s] += m[s];
+            if (m[s] > slow[s]) slow[s] = m[s];
         }
         ratio[v] = m[0] > 0 ? m[1] / m[0] : 1;
         if (per_view) printf("  view %2d %9.4f %9.4f %8.4f\n", v, m[0], m[1], ratio[v]);
@@ -331,9 +357,12 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         free(t), free(col), free(ratio);
         return 0;
     }
-    printf("%-10s %9s %3d %9.4f %9.4f %8.4f %8.4f %8.4f  %.3f-%.3f  %d of %d\n", map, size, threads, sum[0] / nv,
-           sum[1] / nv, sum[1] / sum[0], med[0] > 0 ? med[1] / med[0] : 1,
-           nv % 2 ? ratio[nv / 2] : (ratio[nv / 2 - 1] + ratio[nv / 2]) / 2, ratio[0], ratio[nv - 1], differ, nv);
+    char differing[32];
+    if (vs_color) snprintf(differing, sizeof differing, "- of %d", nv);  /* two pixel formats */
+    else snprintf(differing, sizeof differing, "%d of %d", differ, nv);
+    printf("%-10s %9s %3d %9.4f %9.4f %8.4f %8.4f %8.4f %8.4f  %.3f-%.3f  %s\n", map, size, threads, sum[0] / nv,
+           sum[1] / nv, sum[1] / sum[0], med[0] > 0 ? med[1] / med[0] : 1, slow[0] > 0 ? slow[1] / slow[0] : 1,
+           nv % 2 ? ratio[nv / 2] : (ratio[nv / 2 - 1] + ratio[nv / 2]) / 2, ratio[0], ratio[nv - 1], differing);
     free(t), free(col), free(ratio);
     return 0;
 }
@@ -363,6 +392,14 @@ int main(int argc, char **argv) {
                 return usage("--threads-vs must be A,N: two thread counts, 1 and up");
         } else if (!strcmp(a, "--bench") && i + 1 < argc) bench_cmd = argv[++i];
         else if (!strcmp(a, "--no-model")) model = 0;
+        else if (!strcmp(a, "--vs-color")) vs_color = 1;
+        else if (!strcmp(a, "--no-lit")) no_lit = 1;
+        else if (!strcmp(a, "--cold")) cold = 1;
+        else if (!strcmp(a, "--color") && i + 1 < argc) {
+            const char *c = argv[++i];
+            if (strcmp(c, "true") && strcmp(c, "8bit")) return usage("--color must be 8bit or true");
+            truecolor = !strcmp(c, "true");
+        }
         else if (!strcmp(a, "--stage") && i + 1 < argc) {
             const char *n = argv[++i];
             stage = -1;
@@ -375,6 +412,7 @@ int main(int argc, char **argv) {
         else return usage("at most 64 maps");
     }
     if (!nmaps) return usage("no map");
+    if (vs[1] && vs_color) return usage("--threads-vs and --vs-color: one comparison at a time");
     char beside[4096];
     if (vs[1]) {
 #ifdef EW_INPROC_OLD
@@ -387,13 +425,19 @@ int main(int argc, char **argv) {
             bench_cmd = beside;
         }
     }
+    if (vs_color && truecolor) return usage("--vs-color draws A in 8-bit and B in true colour: no --color");
+#ifdef EW_INPROC_OLD
+    if (truecolor || vs_color || no_lit || cold) return usage("side A is an old revision: no --color, --vs-color, --no-lit or --cold");
+#endif
+    if (vs_color) printf("A: 8-bit, B: true colour\n");
+    if (cold) printf("cold: each frame after its side's surface cache was emptied\n");
     if (!nsizes) sizes[0][0] = 640, sizes[0][1] = 480, nsizes = 1;
     if (stage != STAGE_FRAME) printf("timed: the %s stage (ew_stats.ms_%s)\n", stage_names[stage], stage_names[stage]);
     if (vs[1])
         printf("%-10s %9s %5s %9s %9s %7s %7s %7s  %-11s %7s %7s %7s %6s  %s\n", "map", "size", "thr", "A_ms", "N_ms",
                "x_mean", "x_med", "x_view", "view range", "x_pred", "x_sched", "x/pred", "work", "frames differing");
-    else printf("%-10s %9s %3s %9s %9s %8s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "med_B/A",
-           "view_med", "view range", "frames differing");
+    else printf("%-10s %9s %3s %9s %9s %8s %8s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "med_B/A",
+           "slow_B/A", "view_med", "view range", "frames differing");
     for (int m = 0; m < nmaps; m++)
         for (int s = 0; s < nsizes; s++) {
             char size[24];

@@ -10,8 +10,8 @@
  * 8-bit and true colour, over every STEP-th view:
  *   - cache, warm: each view's frame after the same view was drawn (the
  *     surfaces it needs are cached): median and worst view;
- *   - cache, cold: each view's first frame after every surface was made
- *     out of date (ew_flush_surfaces), as on a new view with nothing
+ *   - cache, cold: each view's first frame after the surface cache was
+ *     emptied (ew_flush_surfaces), as on a new view with nothing
  *     cached: median and worst view, surfaces built, and builds per second
  *     (built surfaces over the time they add, cold less warm);
  *   - two-pass: median and worst view (cold and warm are the same: it

@@ -2,7 +2,7 @@
  * edgewise bench: the benchmark protocol of ../shared/BENCHMARK.md.
  *
  *   edgewise bench MAP... [--data DIR] [--size WxH]... [--threads N]...
- *                  [--passes P] [--gap MS] [--bands N]... [drawing options] [--table]
+ *                  [--passes P] [--gap MS] [--bands N]... [--cold] [drawing options] [--table]
  *                  [--out FILE.jsonl]
  *   edgewise bench --floor [--size WxH]... [--table] [--out FILE.jsonl]
  *
@@ -79,6 +79,7 @@ typedef struct bench_opts {
     int         passes;
     int         gap_ms;         /* --gap: pause before each frame */
     int         table, floor_only, quiet, per_view;
+    int         cold;           /* --cold: the surface cache emptied before each frame */
     draw_opts   draw;           /* what is drawn (cli/draw_options.c) */
 } bench_opts;
 
@@ -98,6 +99,8 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
                 o->table = 1;
             else if (strcmp(name, "--per-view") == 0)
                 o->per_view = 1;
+            else if (strcmp(name, "--cold") == 0)
+                o->cold = 1;
             else
                 o->floor_only = 1;
             continue;
@@ -145,7 +148,8 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
         error_line("bench: missing MAP (a .bsp path, a map name with --data, or 'builtin')");
         return -1;
     }
-    if (o->floor_only && (o->data || o->nthreads || passes_given || o->draw.given || o->quiet || o->nbands || gap_given)) {
+    if (o->floor_only && (o->data || o->nthreads || passes_given || o->draw.given || o->quiet || o->nbands || gap_given ||
+                          o->cold)) {
         error_line("bench: --floor takes only --size, --table and --out");
         return -1;
     }
@@ -369,6 +373,7 @@ typedef struct row {
     char   map[256];
     int    w, h, threads, threads_requested, threads_applied, views, passes, entities, max_view;
     int    gap_ms;        /* --gap: the pause before each frame */
+    int    cold;          /* --cold: each frame after the surface cache was emptied */
     int    slow_view;     /* the view with the highest median over the passes */
     draw_opts draw;       /* what was drawn */
     double median, mean, p99, max, level, ns_per_pixel, floor_ms, floor_ratio;
@@ -537,7 +542,7 @@ static void print_row_json(FILE *f, const row *r) {
         fprintf(f, ",\"%s\":", names[i]);
         json_number(f, vals[i]);
     }
-    fprintf(f, ",\"max_view\":%d,\"level\":", r->max_view);
+    fprintf(f, ",\"cold\":%s,\"max_view\":%d,\"level\":", r->cold ? "true" : "false", r->max_view);
     json_number(f, r->level);
     fprintf(f, ",\"slow_view\":%d", r->slow_view);
     const char *more[] = { "view_level", "ns_per_pixel", "floor_ms", "floor_ratio", "serial_ms", "serial_share",
@@ -609,8 +614,8 @@ static void print_row_json(FILE *f, const row *r) {
 }
 
 static void print_table_header(const bench_opts *o) {
-    printf("%-10s %9s %3s %5s %8s %8s %8s %8s %4s %5s %5s %6s %7s %6s %7s %7s %7s %7s %6s %7s %6s", "map",
-           "size", "thr", "views", "median", "mean", "p99", "max", "@", "level", "vlev", "ns/px",
+    printf("%-10s %9s %3s %5s %4s %8s %8s %8s %8s %4s %5s %5s %6s %7s %6s %7s %7s %7s %7s %6s %7s %6s", "map",
+           "size", "thr", "views", "cold", "median", "mean", "p99", "max", "@", "level", "vlev", "ns/px",
            "floor", "xfloor", "front", "scan", "draw", "models", "seethr", "serial", "ser%");
     for (int b = 0; b < o->nbands; b++) {
         char imb[16], x[16], xs[16];
@@ -625,9 +630,9 @@ static void print_table_header(const bench_opts *o) {
 static void print_table_row(const row *r) {
     char size[24];
     snprintf(size, sizeof size, "%dx%d", r->w, r->h);
-    printf("%-10.10s %9s %3d %5d %8.3f %8.3f %8.3f %8.3f %4d %5.2f %5.2f %6.2f %7.3f %6.2f %7.3f "
+    printf("%-10.10s %9s %3d %5d %4s %8.3f %8.3f %8.3f %8.3f %4d %5.2f %5.2f %6.2f %7.3f %6.2f %7.3f "
            "%7.3f %7.3f %7.3f %6.1f",
-           r->map, size, r->threads, r->views, r->median, r->mean, r->p99, r->max, r->max_view,
+           r->map, size, r->threads, r->views, r->cold ? "yes" : "no", r->median, r->mean, r->p99, r->max, r->max_view,
            r->level, r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->stages[ST_FRONT],
            r->stages[ST_SCAN], r->stages[ST_DRAW], r->stages[ST_MODELS],
            r->counters[counter_of(offsetof(ew_stats, seethrough_surfaces))]);
@@ -739,6 +744,7 @@ double bench_median(double *v, int n) { return median_of(v, n); }
  * processor time over the timed passes. */
 typedef struct bench_row_hooks_ctx {
     const row     *r;
+    ew_renderer   *rd;      /* --cold: its surface cache emptied before each frame */
     int            passes, nviews;
     floor_sampler *fl;
     double         cpu0, cpu1;  /* --gap: process CPU ms, after the first timed frame's gap, after the last's */
@@ -758,14 +764,19 @@ static void gap_sleep(int ms) {
 
 static void row_before(void *ctx, int pass, int v) {
     bench_row_hooks_ctx *c = ctx;
-    progress(c->r->map, c->r->w, c->r->h, c->r->threads, pass, c->passes, v, c->nviews);
-    if (c->r->gap_ms > 0) {
+    if (c->r)
+        progress(c->r->map, c->r->w, c->r->h, c->r->threads, pass, c->passes, v, c->nviews);
+    if (c->r && c->r->gap_ms > 0) {
         gap_sleep(c->r->gap_ms);
         /* From here every timed frame and the gap after it: what the
          * workers do between frames (poll or sleep) is in the count. */
         if (pass == 1 && v == 0)
             c->cpu0 = process_cpu_ms();
     }
+    /* Outside the timed call: the frame then pays for its surface builds,
+     * not for the eviction. */
+    if (c->rd)
+        ew_flush_surfaces(c->rd);
 }
 
 static void row_after(void *ctx, int pass, int v) {
@@ -873,6 +884,8 @@ static int profile_bands(const bench_opts *o, ew_renderer *rd, const ew_camera *
     for (int p = 0; p < PROFILE_PASSES; p++)
         for (int v = 0; v < nviews; v++) {
             ew_stats st;
+            if (o->cold)
+                ew_flush_surfaces(rd);
             if (ew_render(rd, &views[v], &st) < 0)
                 goto out;
             ew_frame_row_ms(rd, scan + hv * p + (size_t)h * v, draw + hv * p + (size_t)h * v, h);
@@ -967,6 +980,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->views = nviews;
     r->passes = o->passes;
     r->gap_ms = o->gap_ms;
+    r->cold = o->cold;
 
     ew_error err = { "" };
     ew_renderer *rd = ew_renderer_create(&(ew_renderer_desc){
@@ -1011,7 +1025,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
      * the frames then (the floor is measured on its own). */
     if (o->gap_ms > 0)
         fl_ok = 0;
-    bench_row_hooks_ctx hc = { r, o->passes, nviews, fl_ok ? &fl : NULL, NAN, NAN };
+    bench_row_hooks_ctx hc = { r, o->cold ? rd : NULL, o->passes, nviews, fl_ok ? &fl : NULL, NAN, NAN };
     bench_hooks hooks = { row_before, row_after, &hc };
     int bad = bench_run_views(rd, views, nviews, o->passes, frames, stats, labs, &hooks);
     if (o->gap_ms > 0 && n > 0) {
@@ -1038,7 +1052,9 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
      * (ew_set_front_mode), over this row's faster median below. */
     if (r->threads == 1) {
         ew_set_front_mode(rd, EW_FRONT_PHASES);
-        bad = bench_run_views(rd, views, nviews, 1, frames, stats, labs, NULL);
+        bench_row_hooks_ctx cc = { NULL, rd, 1, nviews, NULL, NAN, NAN };  /* --cold: that pass cold too */
+        bad = bench_run_views(rd, views, nviews, 1, frames, stats, labs,
+                              o->cold ? &(bench_hooks){ row_before, NULL, &cc } : NULL);
         ew_set_front_mode(rd, EW_FRONT_AUTO);
         if (bad) {
             progress_clear();

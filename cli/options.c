@@ -86,6 +86,9 @@ const cli_option cli_options[] = {
     { "--per-view", NULL, CLI_ARG_NONE, NULL, B(BENCH), 0,
       "also each view's median time, stages and counts (what\nmakes the slow views slow; with --table also the "
       "level\nof the geometry, the draw and the pixel work alone)", NULL },
+    { "--cold", NULL, CLI_ARG_NONE, NULL, B(BENCH), 0,
+      "empty the surface cache before each frame (untimed), so\nevery frame builds the surfaces it shows, as the "
+      "first\nframe of a new view does", NULL },
     { "--quiet", NULL, CLI_ARG_NONE, NULL, B(BENCH) | B(HSR) | B(SHOTS), 0,
       "no warning lines about the maps' optional data", NULL },
     /* ---- hsr ---- */

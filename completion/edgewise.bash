@@ -116,9 +116,9 @@ _edgewise()
         views) opts='--help --data --quiet' ;;
         info) opts='--help --data --quiet' ;;
         bench) opts='--help --data --size --threads --passes --gap --bands --table --out --floor
-                  --per-view --quiet --no-entities --alias-raster --subdiv-threshold --full-zfill
-                  --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp --hsr
-                  --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
+                  --per-view --cold --quiet --no-entities --alias-raster --subdiv-threshold
+                  --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
+                  --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
         hsr) opts='--help --data --quiet --methods --size --threads --repeat --json --heatmap
                   --svg --stress --no-entities --alias-raster --subdiv-threshold --full-zfill
                   --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp --hsr

@@ -85,8 +85,12 @@ typedef enum ew_light_fault {
     EW_LIGHT_FAULT_NONE = 0, EW_LIGHT_FAULT_SHIFT = 1, EW_LIGHT_FAULT_SWAP = 2
 } ew_light_fault;
 EW_API void ew_set_light_fault(ew_renderer *r, ew_light_fault fault);
-/* Every cached lit surface out of date: the next frames build each one they
- * show again, as the first frame of a new view does (bench/lighting_lab.c). */
+/* Empties the surface cache (every lit surface, the item boxes' too): the
+ * next frame builds each one it shows, as the first frame of a new view
+ * does, and draws the same pixels (`edgewise bench --cold`,
+ * bench/lighting_lab.c).  Here, not in edgewise.h: an application never
+ * needs it (a change of any setting that alters surfaces rebuilds them by
+ * itself); it is for measuring what the builds cost. */
 EW_API void ew_flush_surfaces(ew_renderer *r);
 
 /* How the renderer cuts a frame for its threads, in two phases with a wait

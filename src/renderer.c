@@ -321,7 +321,7 @@ void ew_set_light_fault(ew_renderer *r, ew_light_fault fault) {
     if (r->f.cfg.light_fault != (int)fault) relight(r);
     r->f.cfg.light_fault = fault;
 }
-void ew_flush_surfaces(ew_renderer *r) { relight(r); }
+void ew_flush_surfaces(ew_renderer *r) { ew_cache_flush(&r->lit.cache); }
 /* Two-pass lighting wants it for every lit surface of the frame. */
 static int two_pass(const ew_renderer *r) { return r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode; }
 void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }

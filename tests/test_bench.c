@@ -251,6 +251,34 @@ static void test_builtin(void) {
     free(r);
 }
 
+/* --cold: every timed frame builds all the lit surfaces it shows (none
+ * from the cache), where a warm row's frames build almost none; the rows
+ * say which they are, in the JSON and in the table. */
+static void test_cold(void) {
+    run_result *r = malloc(sizeof *r);
+    expect_ok(r, "builtin warm", ARGS("bench", "builtin", "--size", "320x200", "--passes", "2"));
+    char *warm = strdup(r->out);
+    if (!warm) {
+        free(r);
+        return;
+    }
+    expect_ok(r, "builtin --cold", ARGS("bench", "builtin", "--size", "320x200", "--passes", "2", "--cold"));
+    check_row("builtin --cold", r->out, 320, 200, 0, 2);
+    CHECK(strstr(r->out, "\"cold\":true") && strstr(warm, "\"cold\":false"), "cold field: %s / %s", r->out, warm);
+    double built = field(r->out, "surfaces_built"), cached = field(r->out, "surfaces_cached");
+    CHECK(built > 0 && cached == 0, "--cold: built %g cached %g a frame: %s", built, cached, r->out);
+    CHECK(built == field(warm, "surfaces_built") + field(warm, "surfaces_cached"),
+          "--cold builds %g a frame, the warm row shows %g + %g", built, field(warm, "surfaces_built"),
+          field(warm, "surfaces_cached"));
+    /* with another drawing option, in the table */
+    expect_ok(r, "builtin --cold --color true --table",
+              ARGS("bench", "builtin", "--size", "320x200", "--passes", "1", "--cold", "--color", "true", "--table"));
+    CHECK(count_lines(r->out) == 2 && strstr(r->out, " cold ") && strstr(r->out, " yes "), "--cold table: %s",
+          r->out);
+    free(warm);
+    free(r);
+}
+
 /* A normal non-zero exit and exactly one "edgewise: ..." line on stderr. */
 static void expect_fail(const char *const *args, const char *needle) {
     run_result *r = malloc(sizeof *r);
@@ -290,6 +318,8 @@ static void test_bad_args(void) {
     expect_fail(ARGS("bench", "builtin", "--gap", "1001"), "--gap 1001: expected 0 to 1000");
     expect_fail(ARGS("bench", "builtin", "--gap", "x"), "--gap x");
     expect_fail(ARGS("bench", "--floor", "--gap", "3"), "--floor");
+    expect_fail(ARGS("bench", "--floor", "--cold"), "--floor");
+    expect_fail(ARGS("bench", "builtin", "--cold=yes"), "--cold");
     expect_fail(ARGS("bench", "nosuchmap", "--data", tmpdir), "nosuchmap");
     expect_fail(ARGS("bench", tmp_path(path, "no-such.bsp")), "no-such.bsp");
     expect_fail(ARGS("bench", "builtin", "--out", tmp_path(path, "nodir/x.jsonl")), "nodir");
@@ -309,6 +339,7 @@ int main(void) {
     }
     test_start();
     test_builtin();
+    test_cold();
     test_bad_args();
     char path[512];
     remove(tmp_path(path, "stdout.txt"));

@@ -665,8 +665,22 @@ static void test_settings(void) {
     } while (0)
         FRAME("first");
         frame_copy(r, first);
+        int built_first = st.surfaces_built;
         FRAME("warm");
         CHECK(st.surfaces_built == 0 && !memcmp(now, first, frame_bytes(r)), "%s: warm frame rebuilt %d surfaces",
+              label, st.surfaces_built);
+        /* Emptied (bench --cold): the next frame builds what the first one
+         * did, and draws the same pixels. */
+        ew_flush_surfaces(r);
+        FRAME("cold");
+        printf("7. %-11s first frame built %d surfaces, cold frame %d (frame %s)\n", label, built_first,
+               st.surfaces_built, memcmp(now, first, frame_bytes(r)) ? "differs" : "= first");
+        CHECK(built_first > 0 && st.surfaces_built == built_first && st.surfaces_cached == 0,
+              "%s: cold frame built %d cached %d, the first built %d", label, st.surfaces_built, st.surfaces_cached,
+              built_first);
+        CHECK(!memcmp(now, first, frame_bytes(r)), "%s: the cold frame differs from the first", label);
+        FRAME("warm after cold");
+        CHECK(st.surfaces_built == 0 && !memcmp(now, first, frame_bytes(r)), "%s: warm after cold: built %d",
               label, st.surfaces_built);
         ew_set_lit(r, 0);
         FRAME("lit off");

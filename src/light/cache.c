@@ -170,6 +170,11 @@ static void evict(ew_surf_cache *c, ew_cached_surf *e) {
     block_free(c, e);
 }
 
+void ew_cache_flush(ew_surf_cache *c) {
+    while (c->lru_tail) evict(c, c->lru_tail);
+    c->gen++;  /* and what keeps its own surfaces by the gen (item boxes) rebuilds them */
+}
+
 void ew_cache_free(ew_surf_cache *c) {
     while (c->slabs) {
         ew_cache_slab *s = c->slabs;

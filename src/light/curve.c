@@ -16,9 +16,13 @@ void ew_lightcurve_fit(ew_lightcurve *lc, const uint8_t palette[768], const uint
         lc->fullbright[c] = (uint8_t)same;
         lc->rgba[c] = ew_rgba(palette[c * 3], palette[c * 3 + 1], palette[c * 3 + 2]);
     }
-    for (int k = 0; k <= 64; k++)
+    for (int k = 0; k < 64; k++)
         for (int c = 0; c < 256; c++) {
-            int lit = colormap[(k < 64 ? k : 63) * 256 + c];
-            for (int ch = 0; ch < 3; ch++) lc->rows[k][c][ch] = palette[lit * 3 + ch];
+            int lit = colormap[k * 256 + c], next = colormap[(k < 63 ? k + 1 : 63) * 256 + c];
+            for (int ch = 0; ch < 3; ch++) {
+                lc->pair[k][c][ch] = palette[lit * 3 + ch];
+                lc->pair[k][c][4 + ch] = (int16_t)(2 * (palette[next * 3 + ch] - palette[lit * 3 + ch]));
+            }
+            lc->pair[k][c][3] = lc->pair[k][c][7] = 0;
         }
 }

@@ -40,6 +40,9 @@ typedef struct ew_surf_cache {
 } ew_surf_cache;
 
 int  ew_cache_init(ew_surf_cache *c, int numfaces, size_t budget);
+/* Every surface evicted (the slabs stay, their blocks free), as before a
+ * first frame: the next frame builds all it shows. */
+void ew_cache_flush(ew_surf_cache *c);
 void ew_cache_free(ew_surf_cache *c);
 
 
@@ -52,16 +55,20 @@ void ew_cache_free(ew_surf_cache *c);
  * row.  Fullbright colours (unchanged in every row) stay unlit. */
 typedef struct ew_lightcurve {
     const uint8_t *palette;
-    uint8_t        rows[65][256][3];  /* palette[colormap[row][c]], row 64 = row 63 */
+    /* pair[row][c]: R, G, B, 0 of palette[colormap[row][c]], then twice
+     * the step to the same of row + 1 (row 64 = row 63), as 16-bit lanes:
+     * a texel's light runs between the two, and the true-colour surface
+     * build reads both in one aligned 16-byte load. */
+    _Alignas(16) int16_t pair[64][256][8];
     uint8_t        fullbright[256];
     uint32_t       rgba[256];     /* the palette as 32-bit pixels (ew_rgba) */
 } ew_lightcurve;
 void ew_lightcurve_fit(ew_lightcurve *lc, const uint8_t palette[768], const uint8_t *colormap);
-/* Channel ch of colour c under light row l (8.8). */
+/* Channel ch of colour c under light row l (8.8, below 64 << 8: light_row's
+ * range in light/surface.c): a + (((b - a) * f) >> 8) between the rows. */
 static inline int ew_lightcurve_at(const ew_lightcurve *lc, int c, int l, int ch) {
-    int row = l >> 8, f = l & 255;
-    int a = lc->rows[row][c][ch], b = lc->rows[row + 1][c][ch];
-    return a + (((b - a) * f) >> 8);
+    const int16_t *p = lc->pair[l >> 8][c];
+    return p[ch] + (((p[4 + ch] / 2) * (l & 255)) >> 8);
 }
 
 /* ---- the frame's lit surfaces (light's own state) ----

@@ -327,6 +327,135 @@ CMAP_BLOCKS(8, 3)
 CMAP_BLOCKS(4, 2)
 CMAP_BLOCKS(2, 1)
 
+#if defined(__SSE2__)
+/* True colour, two texels at once: p0 and p1 each one's light curve pair
+ * (lightcurve.pair: a, the colour at its light row, and 2 (b - a), b the
+ * colour at the next row), f128 each one's fraction of the way from a to
+ * b times 128, per channel (texel 0 in lanes 0-3, texel 1 in 4-7).  The
+ * high half of 2 (b - a) * 128 f is (b - a) * f >> 8, rounded down as the
+ * shift does, both factors fit a signed 16-bit lane: exactly
+ * ew_lightcurve_at. */
+static inline __m128i curve2(__m128i p0, __m128i p1, __m128i f128) {
+    return _mm_add_epi16(_mm_unpacklo_epi64(p0, p1), _mm_mulhi_epi16(_mm_unpackhi_epi64(p0, p1), f128));
+}
+
+/* One row of a true-colour block of bs (8 or 16) texels, src its bs texel
+ * indices: dst[x] the colour of src[x] under light l = right + (bs - 1 - x)
+ * * step per channel (nc 1: white, the same light in all three; 3: RGB),
+ * the light the scalar loop reaches at x stepping leftwards from right, as
+ * cmap_row's.  The light in 16-bit lanes: below 1 << 14 (light_row's range,
+ * and stepping between samples stays between them), so exact.  Alpha 255,
+ * or 0 for colour 255 of a fence texture (a hole). */
+static inline void rgba_row(uint32_t *dst, const uint8_t *src, const int16_t *pairs, const int *right,
+                            const int *step, int nc, int fence, int bs) {
+    const __m128i zero = _mm_setzero_si128(), hi8 = _mm_set1_epi16((short)0xFF00), lo8 = _mm_set1_epi16(0xFF);
+    const __m128i alpha = _mm_set1_epi32((int)0xFF000000u);
+    for (int x0 = 0; x0 < bs; x0 += 8) {
+        const __m128i k = _mm_add_epi16(_mm_setr_epi16(7, 6, 5, 4, 3, 2, 1, 0), _mm_set1_epi16((short)(bs - 8 - x0)));
+        const __m128i tex = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)(src + x0)), zero);
+        uint16_t idx[3][8];
+        __m128i f[3];
+        for (int ch = 0; ch < nc; ch++) {
+            const __m128i l = _mm_add_epi16(splat16(right[ch]), _mm_mullo_epi16(splat16(step[ch]), k));
+            _mm_storeu_si128((__m128i *)(void *)idx[ch], _mm_add_epi16(_mm_and_si128(l, hi8), tex));
+            f[ch] = _mm_slli_epi16(_mm_and_si128(l, lo8), 7);
+        }
+        __m128i t[4];  /* the fractions of texels (0, 1), (2, 3), (4, 5), (6, 7), per channel */
+        if (nc == 1) {
+            const __m128i lo = _mm_unpacklo_epi16(f[0], f[0]), hi = _mm_unpackhi_epi16(f[0], f[0]);
+            t[0] = _mm_unpacklo_epi32(lo, lo), t[1] = _mm_unpackhi_epi32(lo, lo);
+            t[2] = _mm_unpacklo_epi32(hi, hi), t[3] = _mm_unpackhi_epi32(hi, hi);
+        } else {
+            const __m128i rg_lo = _mm_unpacklo_epi16(f[0], f[1]), rg_hi = _mm_unpackhi_epi16(f[0], f[1]);
+            const __m128i b_lo = _mm_unpacklo_epi16(f[2], zero), b_hi = _mm_unpackhi_epi16(f[2], zero);
+            t[0] = _mm_unpacklo_epi32(rg_lo, b_lo), t[1] = _mm_unpackhi_epi32(rg_lo, b_lo);
+            t[2] = _mm_unpacklo_epi32(rg_hi, b_hi), t[3] = _mm_unpackhi_epi32(rg_hi, b_hi);
+        }
+        __m128i hole = zero;
+        if (fence) hole = _mm_cmpeq_epi16(tex, lo8);
+        const __m128i *pp = (const __m128i *)(const void *)pairs;
+        for (int h = 0; h < 2; h++) {  /* texels 0-3, then 4-7 */
+            __m128i c[2];
+            for (int q = 0; q < 2; q++) {
+                const int i = h * 4 + q * 2;
+                __m128i p0, p1;
+                if (nc == 1) {
+                    p0 = _mm_load_si128(pp + idx[0][i]), p1 = _mm_load_si128(pp + idx[0][i + 1]);
+                } else {  /* each channel from the pair of its own light */
+                    const __m128i mr = _mm_setr_epi16(-1, 0, 0, 0, -1, 0, 0, 0),
+                                  mg = _mm_setr_epi16(0, -1, 0, 0, 0, -1, 0, 0),
+                                  mb = _mm_setr_epi16(0, 0, -1, 0, 0, 0, -1, 0);
+                    p0 = _mm_or_si128(_mm_or_si128(_mm_and_si128(_mm_load_si128(pp + idx[0][i]), mr),
+                                                   _mm_and_si128(_mm_load_si128(pp + idx[1][i]), mg)),
+                                      _mm_and_si128(_mm_load_si128(pp + idx[2][i]), mb));
+                    p1 = _mm_or_si128(_mm_or_si128(_mm_and_si128(_mm_load_si128(pp + idx[0][i + 1]), mr),
+                                                   _mm_and_si128(_mm_load_si128(pp + idx[1][i + 1]), mg)),
+                                      _mm_and_si128(_mm_load_si128(pp + idx[2][i + 1]), mb));
+                }
+                c[q] = curve2(p0, p1, t[h * 2 + q]);
+            }
+            __m128i px = _mm_or_si128(_mm_packus_epi16(c[0], c[1]), alpha);
+            if (fence) {
+                const __m128i m = h ? _mm_unpackhi_epi16(hole, hole) : _mm_unpacklo_epi16(hole, hole);
+                px = _mm_andnot_si128(m, px);
+            }
+            _mm_storeu_si128((__m128i *)(void *)(dst + x0 + h * 4), px);
+        }
+    }
+}
+
+/* The true-colour path of ew_build_surface for blocks of bs >= 8 texels:
+ * cmap_blocks' stepping per channel, each row of a block by rgba_row. */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void rgba_blocks(uint32_t *out, int width, const int *bl, int nc, int smax, int tmax,
+                               const uint8_t *tp, int tw, int th, int s0, int t0, const int16_t *pairs, int fence,
+                               int bs, int shift) {
+    uint8_t wrapped[16];
+    for (int j = 0; j < tmax - 1; j++) {
+        for (int i = 0; i < smax - 1; i++) {
+            int left[3], right[3], lstep[3], rstep[3];
+            for (int k = 0; k < nc; k++) {
+                int l00 = bl[(j * smax + i) * nc + k], l10 = bl[(j * smax + i + 1) * nc + k];
+                int l01 = bl[((j + 1) * smax + i) * nc + k], l11 = bl[((j + 1) * smax + i + 1) * nc + k];
+                lstep[k] = (l01 - l00) >> shift, rstep[k] = (l11 - l10) >> shift;
+                left[k] = l00, right[k] = l10;
+            }
+            int sx0 = (s0 + i * bs + bs - 1) % tw, ty = (t0 + j * bs) % th;
+            for (int y = 0; y < bs; y++) {
+                const uint8_t *row = tp + ty * tw, *src = row + sx0 - (bs - 1);
+                if (++ty == th) ty = 0;
+                if (sx0 < bs - 1) {  /* the block runs past the texture's left edge: its columns, wrapped */
+                    for (int x = bs - 1, sx = sx0; x >= 0; x--) {
+                        wrapped[x] = row[sx];
+                        if (--sx < 0) sx = tw - 1;
+                    }
+                    src = wrapped;
+                }
+                int step[3];
+                for (int k = 0; k < nc; k++) step[k] = (left[k] - right[k]) >> shift;
+                rgba_row(out + (size_t)(j * bs + y) * width + i * bs, src, pairs, right, step, nc, fence, bs);
+                for (int k = 0; k < nc; k++) left[k] += lstep[k], right[k] += rstep[k];
+            }
+        }
+    }
+}
+
+typedef void rgba_block_fn(uint32_t *, int, const int *, int, int, const uint8_t *, int, int, int, int,
+                           const int16_t *, int);
+#define RGBA_BLOCKS(bs, shift, nc)                                                                          \
+    static void rgba_blocks##bs##_##nc(uint32_t *out, int width, const int *bl, int smax, int tmax,         \
+                                       const uint8_t *tp, int tw, int th, int s0, int t0, const int16_t *pairs, \
+                                       int fence) {                                                         \
+        rgba_blocks(out, width, bl, nc, smax, tmax, tp, tw, th, s0, t0, pairs, fence, bs, shift);           \
+    }
+RGBA_BLOCKS(16, 4, 1)
+RGBA_BLOCKS(16, 4, 3)
+RGBA_BLOCKS(8, 3, 1)
+RGBA_BLOCKS(8, 3, 3)
+#endif
+
 /* A lit surface of width x height texels in mip's colour (the mips debug mode). */
 static void mip_surface(const ew_debug *dbg, int bpp, int mip, uint8_t *out, int width, int height) {
     size_t n = (size_t)width * (size_t)height;
@@ -416,6 +545,14 @@ void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, 
         fn(out, width, bl, smax, tmax, tp, tw, th, s0, t0, fr->colormap);
         return;
     }
+#if defined(__SSE2__)
+    if (e.mode == OUT_RGBA && bs >= 8) {
+        rgba_block_fn *fn = bs == 16 ? (nc == 3 ? rgba_blocks16_3 : rgba_blocks16_1)
+                                     : (nc == 3 ? rgba_blocks8_3 : rgba_blocks8_1);
+        fn(out32, width, bl, smax, tmax, tp, tw, th, s0, t0, &lit->curve.pair[0][0][0], e.fence);
+        return;
+    }
+#endif
     /* The same stepping per channel, each texel through the emitter. */
     for (int j = 0; j < tmax - 1; j++) {
         for (int i = 0; i < smax - 1; i++) {

@@ -177,6 +177,46 @@ static void sky_span8(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
         ps = S, pt = T;
     }
 }
+
+/* The same for a true-colour frame: each pixel the palette's rgba[] of
+ * the texel (sky_run8 kept apart, so the 8-bit loop stays as it was). */
+#if defined(__GNUC__)
+__attribute__((noinline))  /* inlined, it cost the 8-bit caller registers */
+#endif
+static void sky_run32(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, int32_t bs, int32_t bt, int32_t ds,
+                      int32_t dt, unsigned hm, unsigned rm, unsigned width, unsigned half, int n, const uint32_t *rgba) {
+    int k = 0;
+    if (n >= 4) {
+        const __m128i mask = _mm_setr_epi32((int)hm, (int)rm, (int)hm, (int)rm);
+        const __m128i mul = _mm_set1_epi32((int)((width << 16) | 1u)), off = _mm_set1_epi32((int)half);
+        __m128i d = _mm_unpacklo_epi32(_mm_cvtsi32_si128(ds), _mm_cvtsi32_si128(dt));
+        __m128i fa = pair_lanes(fs, ft, d), ba = pair_lanes(bs, bt, d);
+        d = _mm_add_epi32(d, d);
+        d = _mm_unpacklo_epi64(d, d);
+        __m128i fb = _mm_add_epi32(fa, d), bb = _mm_add_epi32(ba, d);
+        const __m128i step = _mm_add_epi32(d, d);
+        for (; k + 4 <= n; k += 4) {
+            __m128i fi = sky_index4(fa, fb, mask, mul);
+            __m128i bi = _mm_add_epi32(sky_index4(ba, bb, mask, mul), off);
+            uint8_t f0 = px[_mm_extract_epi16(fi, 0)], f1 = px[_mm_extract_epi16(fi, 2)];
+            uint8_t f2 = px[_mm_extract_epi16(fi, 4)], f3 = px[_mm_extract_epi16(fi, 6)];
+            uint8_t *o = dst + (size_t)k * 4;
+            memcpy(o, &rgba[f0 ? f0 : px[_mm_extract_epi16(bi, 0)]], 4);
+            memcpy(o + 4, &rgba[f1 ? f1 : px[_mm_extract_epi16(bi, 2)]], 4);
+            memcpy(o + 8, &rgba[f2 ? f2 : px[_mm_extract_epi16(bi, 4)]], 4);
+            memcpy(o + 12, &rgba[f3 ? f3 : px[_mm_extract_epi16(bi, 6)]], 4);
+            fa = _mm_add_epi32(fa, step), fb = _mm_add_epi32(fb, step);
+            ba = _mm_add_epi32(ba, step), bb = _mm_add_epi32(bb, step);
+        }
+        fs = _mm_cvtsi128_si32(fa), ft = _mm_cvtsi128_si32(_mm_srli_si128(fa, 4));
+        bs = _mm_cvtsi128_si32(ba), bt = _mm_cvtsi128_si32(_mm_srli_si128(ba, 4));
+    }
+    for (; k < n; k++) {
+        uint8_t f = px[(((unsigned)ft >> 16) & rm) * width + (((unsigned)fs >> 16) & hm)];
+        memcpy(dst + (size_t)k * 4, &rgba[f ? f : px[(((unsigned)bt >> 16) & rm) * width + half + (((unsigned)bs >> 16) & hm)]], 4);
+        fs += ds, ft += dt, bs += ds, bt += dt;
+    }
+}
 #endif
 
 void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *t) {
@@ -213,8 +253,12 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
             int32_t ds = (int32_t)((s1 - s0) * 65536.0f / step), dt = (int32_t)((t1 - t0) * 65536.0f / step);
             unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
 #if defined(__SSE2__)
-            if (bpp == 1 && t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
-                sky_run8(dst + i, px, fs, ft, bs, bt, ds, dt, hm, rm, (unsigned)t->width, (unsigned)half, n);
+            if (t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
+                if (bpp == 1)
+                    sky_run8(dst + i, px, fs, ft, bs, bt, ds, dt, hm, rm, (unsigned)t->width, (unsigned)half, n);
+                else
+                    sky_run32(dst + (size_t)i * 4, px, fs, ft, bs, bt, ds, dt, hm, rm, (unsigned)t->width,
+                              (unsigned)half, n, rgba);
                 s0 = s1, t0 = t1;
                 continue;
             }

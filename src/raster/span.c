@@ -22,8 +22,11 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
         for (; i + 4 <= n; i += 4) {
             uint32_t k[4];
             texel_lanes_next(&l, k, 0);
-            __m128i four = _mm_setr_epi32((int)src[k[0]], (int)src[k[1]], (int)src[k[2]], (int)src[k[3]]);
-            _mm_storeu_si128((__m128i *)(void *)(dst + (size_t)i * 4), four);
+            uint8_t *d = dst + (size_t)i * 4;  /* a load and a store a pixel, as texel_run16 */
+            memcpy(d, &src[k[0]], 4);
+            memcpy(d + 4, &src[k[1]], 4);
+            memcpy(d + 8, &src[k[2]], 4);
+            memcpy(d + 12, &src[k[3]], 4);
         }
         if (i < n) {  /* the last 1 to 3, as ew_texel_run */
             uint32_t k[4];
@@ -130,9 +133,14 @@ static inline void texel_run16(uint8_t *dst, const uint8_t *pixels, __m128i st, 
             dst[i + 2] = pixels[k[2]];
             dst[i + 3] = pixels[k[3]];
         } else {
+            /* A load and a store a pixel, as the bytes above: building the
+             * vector of four took three shuffles more. */
             const uint32_t *src = (const uint32_t *)(const void *)pixels;
-            __m128i four = _mm_setr_epi32((int)src[k[0]], (int)src[k[1]], (int)src[k[2]], (int)src[k[3]]);
-            _mm_storeu_si128((__m128i *)(void *)(dst + (size_t)i * 4), four);
+            uint8_t *d = dst + (size_t)i * 4;
+            memcpy(d, &src[k[0]], 4);
+            memcpy(d + 4, &src[k[1]], 4);
+            memcpy(d + 8, &src[k[2]], 4);
+            memcpy(d + 12, &src[k[3]], 4);
         }
     }
 }
