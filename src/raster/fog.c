@@ -38,7 +38,8 @@ void ew_fog_levels(ew_fog *f) {
     }
 }
 
-void ew_fog_prepare(ew_fog *fog, ew_frame *f, ew_blend *blend, int may_fill) {
+void ew_fog_prepare(ew_span_ctx *draw, ew_frame *f, ew_blend *blend, int may_fill) {
+    ew_fog *fog = &draw->fog;
     fog->table = NULL;
     fog->fill = 0;
     if (f->cfg.classic) return;
@@ -69,6 +70,7 @@ void ew_fog_prepare(ew_fog *fog, ew_frame *f, ew_blend *blend, int may_fill) {
         fog->full_px = ew_rgba(fog->rgb[0], fog->rgb[1], fog->rgb[2]);
     }
     fog->fill = may_fill && fog->full < EW_FOG_LEVELS;
+    fog->seg = 1 << draw->subdiv_shift;
 }
 
 /* ---- a span's 1/z: zi0 + i dz at its i-th pixel, as the z-fill writes it ---- */
@@ -86,7 +88,7 @@ static inline int at_least(const ew_fog *f, float zi, int k) {
  * below k and at e - 1 at least k (rise), or the other way round: the first
  * j in (i, e) past the change, from where the threshold falls (rdz: 1/dz),
  * checked there and by halving if that was off. */
-static int line_flip(const ew_fog *f, float zi0, float dz, float rdz, int i, int e, int k, int rise) {
+static inline int line_flip(const ew_fog *f, float zi0, float dz, float rdz, int i, int e, int k, int rise) {
     int lo = i, hi = e - 1;  /* P(lo) false, P(hi) true; P(j): past the change */
 #define P(j) (at_least(f, line_zi(zi0, dz, (j)), k) == rise)
     float t = (f->zt[k] - zi0) * rdz;  /* where 1/z crosses the threshold */
@@ -129,11 +131,9 @@ static void fog_run8(const ew_fog *f, uint8_t *p, int n, int k) {
     }
     const uint8_t *tab = f->table + k * 256;
     int x = 0;
-    for (; x + 8 <= n; x += 8) {  /* eight at a time: one load and store */
-        uint64_t v, o = 0;
-        memcpy(&v, p + x, 8);
-        for (int b = 0; b < 64; b += 8) o |= (uint64_t)tab[(v >> b) & 255] << b;
-        memcpy(p + x, &o, 8);
+    for (; x + 4 <= n; x += 4) {  /* four loads before the stores, which might alias them */
+        uint8_t a = tab[p[x]], b = tab[p[x + 1]], c = tab[p[x + 2]], d = tab[p[x + 3]];
+        p[x] = a, p[x + 1] = b, p[x + 2] = c, p[x + 3] = d;
     }
     for (; x < n; x++) p[x] = tab[p[x]];
 }
@@ -253,10 +253,36 @@ static long fog_piece(const fog_line *l, int x0, int x1, int zread) {
         if (zread) n += fog_zread(l, l->u + i, l->u + j, k);
         else fog_run(f, l->bpp, l->row, l->u + i, j - i, k), n += j - i;
         if (j >= e) break;
+        /* The next level: one step on, or more where they come fast. */
         i = j;
-        k = ew_fog_level(f, line_zi(l->zi0, l->dz, i));
+        const float zj = line_zi(l->zi0, l->dz, i);
+        if (rise)
+            for (k++; k < kend && at_least(f, zj, k + 1);) k++;
+        else
+            for (k--; k > kend && !at_least(f, zj, k);) k--;
     }
     return n;
+}
+
+/* The span draw's choice (fog->fill): from which of span sp's pixels on
+ * (its count: none) fog covers it whole and its fog colour is written
+ * instead of what its drawer would draw.  The span is cut only after a
+ * whole segment, where the drawer's steps up to the cut are those of the
+ * whole span: the lit and liquid drawers aim a last segment at its own
+ * last pixel, so one pixel past a segment; two-pass lighting at the next
+ * segment's first, so at a segment's end. */
+static int fill_from(const ew_fog *f, const ew_span *sp, const ew_surf_draw *d, float zi0, float dz) {
+    const int kind = d->kind, full = f->full;
+    if (kind != EW_DRAW_LIT && kind != EW_DRAW_TURB && kind != EW_DRAW_TWOPASS && kind != EW_DRAW_FLAT)
+        return sp->count;
+    float z1 = line_zi(zi0, dz, sp->count - 1);
+    if (!(zi0 > 0 && z1 > 0) || !at_least(f, z1, full)) return sp->count;
+    if (at_least(f, zi0, full)) return 0;
+    int j = line_flip(f, zi0, dz, 1.0f / dz, 0, sp->count, full, 1), keep;
+    if (kind == EW_DRAW_TWOPASS) keep = (j + 15) / 16 * 16;
+    else if (kind == EW_DRAW_FLAT) keep = j;
+    else keep = (j - 1 + f->seg - 1) / f->seg * f->seg + 1;
+    return keep < sp->count ? keep : sp->count;
 }
 
 /* One span of a row whose z-buffer holds what is nearest over [lo, hi). */
@@ -266,9 +292,14 @@ static long fog_span(const ew_fog *f, const ew_target *t, const ew_span *sp, con
     fog_line l = {f, t->bpp, ew_target_at(t, 0, sp->v), ew_target_z(t, 0, sp->v), sp->u,
                   g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, g->zi_u, d->kind == EW_DRAW_SKY};
     int a = sp->u, e = sp->u + sp->count;
+    /* What the span draw filled is done (outside the z-buffer's part). */
+    int ef = f->fill && !l.sky ? sp->u + fill_from(f, sp, d, l.zi0, l.dz) : e;
     int za = lo > a ? lo : a, zb = hi < e ? hi : e;
-    if (za >= zb) return fog_piece(&l, a, e, 0);
-    return fog_piece(&l, a, za, 0) + fog_piece(&l, za, zb, 1) + fog_piece(&l, zb, e, 0);
+    if (za >= zb) return fog_piece(&l, a, ef, 0) + (e - ef);
+    long n = fog_piece(&l, a, za < ef ? za : ef, 0) + fog_piece(&l, za, zb, 1) + fog_piece(&l, zb, ef, 0);
+    /* the filled pixels left out, counted as fogged */
+    int skip = e - ef - (zb > ef ? zb - (za > ef ? za : ef) : 0);
+    return n + skip;
 }
 
 /* ---- the rows the old way: every pixel's depth from the z-buffer ---- */
@@ -346,29 +377,13 @@ static void fill_px(const ew_target *t, int u, int v, int n, uint32_t px) {
 
 void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z) {
     const ew_fog *f = &c->fog;
-    const int full = f->full, seg = 1 << c->subdiv_shift;
     int from = 0;  /* spans [from, i) go to the drawers as they are */
     for (int i = 0; i < n; i++) {
         const ew_span *sp = &spans[i];
         const ew_surf_draw *d = &draw[sp->surf];
-        int kind = d->kind;
-        if (kind != EW_DRAW_LIT && kind != EW_DRAW_TURB && kind != EW_DRAW_TWOPASS && kind != EW_DRAW_FLAT) continue;
         const ew_gradients *g = &d->g;
-        float zi0 = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, dz = g->zi_u;
-        float z1 = line_zi(zi0, dz, sp->count - 1);
-        if (!(zi0 > 0 && z1 > 0) || !at_least(f, z1, full)) continue;
-        int keep = 0;  /* the pixels drawn */
-        if (!at_least(f, zi0, full)) {
-            /* The end alone: cut after a whole segment, where the drawer's
-             * steps up to the cut are those of the whole span (the lit and
-             * liquid drawers aim a last segment at its own last pixel, so
-             * one pixel past the segment; two-pass lighting at the next). */
-            int j = line_flip(f, zi0, dz, 1.0f / dz, 0, sp->count, full, 1);
-            if (kind == EW_DRAW_TWOPASS) keep = (j + 15) / 16 * 16;
-            else if (kind == EW_DRAW_FLAT) keep = j;
-            else keep = (j - 1 + seg - 1) / seg * seg + 1;
-            if (keep >= sp->count) continue;
-        }
+        int keep = fill_from(f, sp, d, g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, g->zi_u);
+        if (keep >= sp->count) continue;
         if (i > from) ew_draw_spans(c, spans + from, i - from, draw, full_z);
         from = i + 1;
         if (keep > 0) {

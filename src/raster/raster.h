@@ -57,6 +57,7 @@ typedef struct ew_fog {
      * (ew_fog_draw_spans).  The level is at least k where 1/z <= zt[k]:
      * surely where 1/z <= zt_lo[k], surely not where 1/z > zt_hi[k]. */
     int      full, fill;
+    int      seg;             /* the drawers' segment: 1 << subdiv_shift */
     uint32_t full_px;
     float    zt[EW_FOG_LEVELS + 1], zt_lo[EW_FOG_LEVELS + 1], zt_hi[EW_FOG_LEVELS + 1];
     uint16_t first[EW_FOG_LEVELS + 1];  /* the first entry of level[] at each level or above */
@@ -226,11 +227,12 @@ void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx
  * frame's fog (fog->table NULL: none); may_fill: the span draw may leave
  * out the texels fog covers whole (not in the debug views, nor with the
  * full z-fill, whose z the drawers write). */
-void ew_fog_prepare(ew_fog *fog, ew_frame *f, ew_blend *blend, int may_fill);
+void ew_fog_prepare(ew_span_ctx *draw, ew_frame *f, ew_blend *blend, int may_fill);
 /* ew_draw_spans for a frame with fog->fill: a span, or the end of one, that
- * fog covers whole is filled with the fog colour instead of drawn.  The
- * span is cut only where its drawer's pixels before the cut stay the same
- * (after a whole segment), so the fogged frame is the same. */
+ * fog covers whole is filled with the fog colour instead of drawn (and the
+ * fog pass leaves it).  The span is cut only where its drawer's pixels
+ * before the cut stay the same (after a whole segment), so the fogged frame
+ * is the same. */
 void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z);
 void ew_draw_fog(const ew_fog *fog, const ew_target *t, struct ew_zfill *zf, const ew_surf_draw *surf_draw,
                  const ew_rows *rows);

@@ -31,7 +31,7 @@ static void translucent_draw(const ew_pass_ctx *c, const ew_rows *rows) {
  * views (they show what is drawn) nor with the full z-fill (the drawers
  * write its z). */
 static int fog_prepare(const ew_pass_ctx *c) {
-    ew_fog_prepare(&c->draw->fog, c->f, c->blend, c->dbg->mode == EW_DEBUG_NONE && !c->zf->all);
+    ew_fog_prepare(c->draw, c->f, c->blend, c->dbg->mode == EW_DEBUG_NONE && !c->zf->all);
     return 0;
 }
 static void fog_draw(const ew_pass_ctx *c, const ew_rows *rows) {
