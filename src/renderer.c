@@ -728,7 +728,8 @@ static void job_draw(void *ctx, int thread) {
                 for (y1 = y + 1; y1 < it->y1 && zf->row_band[y1] == band && zf->row_span0[y1] == s0 + n; y1++)
                     n += zf->row_nspans[y1];
                 if (r->draw.fog.fill)  /* what fog covers whole: its colour, no texels */
-                    ew_fog_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw, zf->all);
+                    ew_fog_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw, zf->all,
+                                      zf->bands[band].unsorted);
                 else
                     ew_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw, zf->all);
             }

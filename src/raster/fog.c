@@ -9,11 +9,17 @@
  * falls into runs of one level, each found from the level's 1/z threshold
  * (no divide unless 1/z lies within a hair of it), and a run is one table
  * row (8-bit) or one blend weight (true colour, four pixels at a time).
- * The z-buffer is read only where moving things may have drawn nearer
- * (the rows' deferred z-fill, zlo..zhi).  Each pixel takes the level the
- * old whole-frame pass gave it (every pixel's 1/z filled, then a divide
- * per pixel): the same frames.  And where fog is whole the fog colour is
- * all that shows, so the span draw writes it instead of texels. */
+ * Each pixel takes the level the old whole-frame pass gave it (every
+ * pixel's 1/z filled, then a divide per pixel): the same frames.
+ *
+ * In the normal frame (fog->fill) this is done in the span draw, a few
+ * dozen spans at a time right after they are drawn, while their pixels
+ * are in the cache; and where fog is whole the fog colour is all that
+ * shows, so it is written instead of texels.  The fog pass after the
+ * models then reads the z-buffer only where moving things may have drawn
+ * nearer (the rows' deferred z-fill, zlo..zhi) and fogs what they drew by
+ * its own depth.  Otherwise (debug views, the full z-fill) the pass fogs
+ * everything, span by span likewise. */
 #include "raster/zfill.h"
 
 #include <math.h>
@@ -302,6 +308,34 @@ static long fog_span(const ew_fog *f, const ew_target *t, const ew_span *sp, con
     return n + skip;
 }
 
+/* The pixels of a span whose 1/z is above 0, or all of a sky's: those the
+ * fog changes (or would, at level 0). */
+static long span_fogged(const fog_line *l, int count) {
+    if (l->sky) return count;
+    if (line_zi(l->zi0, l->dz, 0) > 0 && line_zi(l->zi0, l->dz, count - 1) > 0) return count;
+    long n = 0;
+    for (int i = 0; i < count; i++) n += line_zi(l->zi0, l->dz, i) > 0;
+    return n;
+}
+
+/* A span of a sorted row fogged as it was drawn (fog->fill): what was
+ * drawn over it within [lo, hi), where the z-buffer holds what is nearest
+ * (a 1/z not the span's own), is fogged by its own depth. */
+static long fog_over(const ew_fog *f, const ew_target *t, const ew_span *sp, const ew_surf_draw *d, int lo, int hi) {
+    const ew_gradients *g = &d->g;
+    fog_line l = {f, t->bpp, ew_target_at(t, 0, sp->v), ew_target_z(t, 0, sp->v), sp->u,
+                  g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, g->zi_u, d->kind == EW_DRAW_SKY};
+    long n = span_fogged(&l, sp->count);
+    int a = lo > sp->u ? lo : sp->u, e = hi < sp->u + sp->count ? hi : sp->u + sp->count;
+    for (int x = a; x < e; x++) {
+        float z = l.zr[x];
+        if (z == line_zi(l.zi0, l.dz, x - l.u) || !(z > 0)) continue;
+        int k = ew_fog_level(f, z);
+        if (k > 0) fog_px(f, l.bpp, l.row, x, k);
+    }
+    return n;
+}
+
 /* ---- the rows the old way: every pixel's depth from the z-buffer ---- */
 
 /* Pixels [x0, x1) of a row by their depth (zi 0: nothing drawn there). */
@@ -361,6 +395,10 @@ void ew_draw_fog(const ew_fog *fog, const ew_target *t, ew_zfill *zf, const ew_s
         }
         /* Spans in order: the z-buffer is read only where it was filled. */
         int lo = zf->all ? 0 : zf->zlo[y], hi = zf->all ? t->width : zf->zhi[y];
+        if (fog->fill) {  /* the world fogged as drawn: what is over it */
+            for (int i = 0; i < ns; i++) n += fog_over(fog, t, &spans[i], &surf_draw[spans[i].surf], lo, hi);
+            continue;
+        }
         for (int i = 0; i < ns; i++) n += fog_span(fog, t, &spans[i], &surf_draw[spans[i].surf], lo, hi);
     }
     free(done);
@@ -375,23 +413,44 @@ static void fill_px(const ew_target *t, int u, int v, int n, uint32_t px) {
     else fill32(p, n, px);
 }
 
-void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z) {
+/* The spans at most so many at a time: drawn, then fogged while their
+ * pixels are at hand. */
+enum { CHUNK = 64 };
+
+void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z,
+                       int unsorted) {
     const ew_fog *f = &c->fog;
-    int from = 0;  /* spans [from, i) go to the drawers as they are */
-    for (int i = 0; i < n; i++) {
-        const ew_span *sp = &spans[i];
-        const ew_surf_draw *d = &draw[sp->surf];
-        const ew_gradients *g = &d->g;
-        int keep = fill_from(f, sp, d, g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, g->zi_u);
-        if (keep >= sp->count) continue;
-        if (i > from) ew_draw_spans(c, spans + from, i - from, draw, full_z);
-        from = i + 1;
-        if (keep > 0) {
-            ew_span head = *sp;
-            head.count = keep;
-            ew_draw_spans(c, &head, 1, draw, full_z);
+    const ew_target *t = c->target;
+    for (int i0 = 0; i0 < n; i0 += CHUNK) {
+        const int i1 = i0 + CHUNK < n ? i0 + CHUNK : n;
+        int keep[CHUNK];  /* each span's pixels drawn, the rest filled */
+        int from = i0;    /* spans [from, i) go to the drawers as they are */
+        for (int i = i0; i < i1; i++) {
+            const ew_span *sp = &spans[i];
+            const ew_surf_draw *d = &draw[sp->surf];
+            const ew_gradients *g = &d->g;
+            int k = keep[i - i0] = fill_from(f, sp, d, g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, g->zi_u);
+            if (k >= sp->count) continue;
+            if (i > from) ew_draw_spans(c, spans + from, i - from, draw, full_z);
+            from = i + 1;
+            if (k > 0) {
+                ew_span head = *sp;
+                head.count = k;
+                ew_draw_spans(c, &head, 1, draw, full_z);
+            }
+            fill_px(t, sp->u + k, sp->v, sp->count - k, f->full_px);
         }
-        fill_px(c->target, sp->u + keep, sp->v, sp->count - keep, f->full_px);
+        if (i1 > from) ew_draw_spans(c, spans + from, i1 - from, draw, full_z);
+        /* An unsorted band's spans overlap: the fog pass finds each pixel's
+         * top one. */
+        if (unsorted) continue;
+        for (int i = i0; i < i1; i++) {
+            const ew_span *sp = &spans[i];
+            const ew_surf_draw *d = &draw[sp->surf];
+            const ew_gradients *g = &d->g;
+            fog_line l = {f, t->bpp, ew_target_at(t, 0, sp->v), NULL, sp->u,
+                          g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, g->zi_u, d->kind == EW_DRAW_SKY};
+            fog_piece(&l, sp->u, sp->u + keep[i - i0], 0);
+        }
     }
-    if (n > from) ew_draw_spans(c, spans + from, n - from, draw, full_z);
 }

@@ -229,11 +229,13 @@ void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx
  * full z-fill, whose z the drawers write). */
 void ew_fog_prepare(ew_span_ctx *draw, ew_frame *f, ew_blend *blend, int may_fill);
 /* ew_draw_spans for a frame with fog->fill: a span, or the end of one, that
- * fog covers whole is filled with the fog colour instead of drawn (and the
- * fog pass leaves it).  The span is cut only where its drawer's pixels
- * before the cut stay the same (after a whole segment), so the fogged frame
- * is the same. */
-void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z);
+ * fog covers whole is filled with the fog colour instead of drawn, and the
+ * rest is fogged as soon as drawn (unless the band is unsorted: its spans
+ * overlap, and the fog pass finds each pixel's top one).  The span is cut
+ * only where its drawer's pixels before the cut stay the same (after a
+ * whole segment), so the fogged frame is the same. */
+void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z,
+                       int unsorted);
 void ew_draw_fog(const ew_fog *fog, const ew_target *t, struct ew_zfill *zf, const ew_surf_draw *surf_draw,
                  const ew_rows *rows);
 
