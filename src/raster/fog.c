@@ -251,21 +251,33 @@ static long fog_piece(const fog_line *l, int x0, int x1, int zread) {
     if (!(za > 0 && ze > 0)) return fog_each(l, x0, x1, zread);
     int k = ew_fog_level(f, za), kend = ew_fog_level(f, ze);
     if (abs(kend - k) * MIN_RUN > e - i) return fog_each(l, x0, x1, zread);
-    const int rise = kend > k;
-    const float rdz = 1.0f / l->dz;
+    if (k == kend) {
+        if (zread) return fog_zread(l, x0, x1, k);
+        fog_run(f, l->bpp, l->row, x0, x1 - x0, k);
+        return x1 - x0;
+    }
+    /* Where each level ends, all first: each from where 1/z crosses its
+     * threshold, checked on both sides of it (by the level itself, or a
+     * search, only where 1/z is within a hair of it), so no run waits on
+     * the one before; then the runs. */
+    const int rise = kend > k, nb = rise ? kend - k : k - kend;
+    const float zi0 = l->zi0, dz = l->dz, rdz = 1.0f / dz;
+    int end[EW_FOG_LEVELS];
+    for (int q = 0; q < nb; q++) {
+        const int m = rise ? k + 1 + q : k - q;  /* past it: level >= m (rise), < m (fall) */
+        const float t = (f->zt[m] - zi0) * rdz;
+        int j = t > (float)i && t < (float)(e - 1) ? (int)t + 1 : t <= (float)i ? i + 1 : e - 1;
+        const float z1 = line_zi(zi0, dz, j), z0 = line_zi(zi0, dz, j - 1);
+        const int sure = rise ? z1 <= f->zt_lo[m] && z0 > f->zt_hi[m] : z1 > f->zt_hi[m] && z0 <= f->zt_lo[m];
+        end[q] = sure ? j : line_flip(f, zi0, dz, rdz, i, e, m, rise);
+    }
     long n = 0;
-    for (;;) {
-        int j = k == kend ? e : line_flip(f, l->zi0, l->dz, rdz, i, e, rise ? k + 1 : k, rise);
-        if (zread) n += fog_zread(l, l->u + i, l->u + j, k);
-        else fog_run(f, l->bpp, l->row, l->u + i, j - i, k), n += j - i;
-        if (j >= e) break;
-        /* The next level: one step on, or more where they come fast. */
+    for (int q = 0; q <= nb; q++) {
+        const int j = q < nb ? end[q] : e, kk = rise ? k + q : k - q;
+        if (j <= i) continue;
+        if (zread) n += fog_zread(l, l->u + i, l->u + j, kk);
+        else fog_run(f, l->bpp, l->row, l->u + i, j - i, kk), n += j - i;
         i = j;
-        const float zj = line_zi(l->zi0, l->dz, i);
-        if (rise)
-            for (k++; k < kend && at_least(f, zj, k + 1);) k++;
-        else
-            for (k--; k > kend && !at_least(f, zj, k);) k--;
     }
     return n;
 }
