@@ -18,7 +18,7 @@
  * frames (bench's median_ms), and the median and range of the per-view
  * ratios.
  *
- * What is drawn: --fog D,R,G,B, --no-fog, --color 8bit|true and --classic
+ * What is drawn: --fog D,R,G,B, --no-fog, --color 8bit|true, --hsr METHOD and --classic
  * go to both sides; --a-args "OPTS" and --b-args "OPTS" (those options,
  * split at spaces) to one side after them.  With the same revision on
  * both sides (bench/compare.sh WORKTREE WORKTREE) that times one library
@@ -39,7 +39,7 @@
  *
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
  *          [--classic] [--no-entities] [--stage S] [--per-view]
- *          [--fog D,R,G,B | --no-fog] [--color 8bit|true] [--a-args OPTS] [--b-args OPTS] */
+ *          [--fog D,R,G,B | --no-fog] [--color 8bit|true] [--hsr METHOD] [--a-args OPTS] [--b-args OPTS] */
 #define _POSIX_C_SOURCE 200809L  /* clock_gettime */
 #include "edgewise.h"
 #ifdef EW_INPROC_OLD
@@ -67,6 +67,7 @@ B_SIDE(ew_frame_pixels)
 B_SIDE(ew_frame_rgba)
 B_SIDE(ew_frame_palette)
 B_SIDE(ew_set_fog)
+B_SIDE(ew_set_hsr)
 
 typedef struct side {
     __typeof__(ew_assets_create) *assets_create;
@@ -83,6 +84,7 @@ typedef struct side {
     __typeof__(ew_frame_rgba) *rgba;
     __typeof__(ew_frame_palette) *palette;
     __typeof__(ew_set_fog) *set_fog;
+    __typeof__(ew_set_hsr) *set_hsr;
     /* per map and size */
     ew_assets   *assets;
     ew_scene    *scene;
@@ -95,16 +97,17 @@ static side sides[2] = {
 #else
     {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
      ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
-     ew_frame_rgba, ew_frame_palette, ew_set_fog, NULL, NULL, NULL},
+     ew_frame_rgba, ew_frame_palette, ew_set_fog, ew_set_hsr, NULL, NULL, NULL},
 #endif
     {b_ew_assets_create, b_ew_assets_destroy, b_ew_scene_create_from_map, b_ew_scene_destroy,
      b_ew_benchmark_views, b_ew_renderer_create, b_ew_renderer_destroy, b_ew_set_classic, b_ew_set_scene,
-     b_ew_render, b_ew_frame_pixels, b_ew_frame_rgba, b_ew_frame_palette, b_ew_set_fog, NULL, NULL, NULL},
+     b_ew_render, b_ew_frame_pixels, b_ew_frame_rgba, b_ew_frame_palette, b_ew_set_fog, b_ew_set_hsr, NULL, NULL, NULL},
 };
 
 /* What a side draws: the options for both, then its own. */
 typedef struct side_opts {
     int   classic, color;
+    int   hsr;          /* ew_hsr_method + 1 (0: the default) */
     int   fog_set;      /* 0: the map's fog; else fog[] (density 0: none) */
     float fog[4];
 } side_opts;
@@ -124,6 +127,13 @@ static int draw_opt(int argc, char **argv, int *i, side_opts *o) {
         float *f = o->fog;
         if (sscanf(argv[++*i], "%f,%f,%f,%f", &f[0], &f[1], &f[2], &f[3]) != 4 || !(f[0] >= 0)) return -1;
         return o->fog_set = 1;
+    }
+    if (!strcmp(a, "--hsr")) {
+        if (*i + 1 >= argc) return -1;
+        int m = ew_hsr_from_name(argv[++*i]);
+        if (m < 0) return -1;
+        o->hsr = m + 1;
+        return 1;
     }
     if (!strcmp(a, "--color")) {
         if (*i + 1 >= argc) return -1;
@@ -169,7 +179,7 @@ static double median(double *v, int n) {
 static int usage(const char *why) {
     fprintf(stderr, "inproc: %s\nusage: inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N] "
                     "[--classic] [--no-entities] [--stage front|scan|draw|models] [--per-view] "
-                    "[--fog D,R,G,B | --no-fog] [--color 8bit|true] [--a-args OPTS] [--b-args OPTS]\n", why);
+                    "[--fog D,R,G,B | --no-fog] [--color 8bit|true] [--hsr METHOD] [--a-args OPTS] [--b-args OPTS]\n", why);
     return 2;
 }
 
@@ -269,6 +279,10 @@ static int run(const char *map, const char *size, const char *data, int w, int h
             return -1;
         }
         s->set_classic(s->r, opts[k].classic);
+        if (opts[k].hsr && s->set_hsr(s->r, (ew_hsr_method)(opts[k].hsr - 1)) != 0) {
+            fprintf(stderr, "inproc: side %c: no such method in this build\n", "AB"[k]);
+            return -1;
+        }
         if (opts[k].fog_set) s->set_fog(s->r, opts[k].fog[0], opts[k].fog[1], opts[k].fog[2], opts[k].fog[3]);
         if (s->scene) s->set_scene(s->r, s->scene);
         nv = s->views(s->assets->world, views);  /* the same cameras from either side */
@@ -372,7 +386,7 @@ int main(int argc, char **argv) {
             if (stage < 0) return usage("--stage must be frame, front, scan, draw or models");
         } else if (!strcmp(a, "--quiet")) continue;  /* what compare.sh passes to bench too */
         else if ((k = draw_opt(argc, argv, &i, &both)) != 0) {
-            if (k < 0) return usage("--fog must be D,R,G,B (D at least 0), --color 8bit or true");
+            if (k < 0) return usage("--fog must be D,R,G,B (D at least 0), --color 8bit or true, --hsr a method");
         }
         else if (a[0] == '-') return usage("unknown option");
         else if (nmaps < 64) maps[nmaps++] = a;
@@ -381,11 +395,11 @@ int main(int argc, char **argv) {
     if (!nmaps) return usage("no map");
     for (int k = 0; k < 2; k++) {
         opts[k] = both;
-        if (own[k] && side_args(own[k], &opts[k]) < 0) return usage("--a-args/--b-args take --fog, --no-fog, --color, --classic");
+        if (own[k] && side_args(own[k], &opts[k]) < 0) return usage("--a-args/--b-args take --fog, --no-fog, --color, --hsr, --classic");
     }
 #ifdef EW_INPROC_OLD
-    if (opts[0].color || opts[1].color || opts[0].fog_set || opts[1].fog_set || own[0])
-        return usage("the old revision's side A takes none of --fog, --color, --a-args");
+    if (opts[0].color || opts[1].color || opts[0].fog_set || opts[1].fog_set || opts[0].hsr || opts[1].hsr || own[0])
+        return usage("the old revision's side A takes none of --fog, --color, --hsr, --a-args");
     opts[0].classic = 0;  /* its one look was the classic one */
 #endif
     if (!nsizes) sizes[0][0] = 640, sizes[0][1] = 480, nsizes = 1;
