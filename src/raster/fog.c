@@ -396,7 +396,25 @@ static long fog_over(const ew_fog *f, const ew_target *t, const ew_span *sp, con
                   g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, g->zi_u, d->kind == EW_DRAW_SKY};
     long n = span_fogged(&l, sp->count);
     int a = lo > sp->u ? lo : sp->u, e = hi < sp->u + sp->count ? hi : sp->u + sp->count;
-    for (int x = a; x < e; x++) {
+    int x = a;
+#if defined(__SSE2__)
+    /* Mostly the world's own 1/z: four compared at a time (each lane the
+     * scalar's multiply and add), the rest looked at one by one. */
+    const __m128 zi0 = _mm_set1_ps(l.zi0), dz = _mm_set1_ps(l.dz), zero = _mm_setzero_ps();
+    for (; x + 4 <= e; x += 4) {
+        const __m128 i = _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(x - l.u), _mm_setr_epi32(0, 1, 2, 3)));
+        const __m128 z = _mm_loadu_ps(l.zr + x);
+        const __m128 over = _mm_and_ps(_mm_cmpneq_ps(z, _mm_add_ps(zi0, _mm_mul_ps(i, dz))), _mm_cmpgt_ps(z, zero));
+        if (!_mm_movemask_ps(over)) continue;
+        for (int k = x; k < x + 4; k++) {
+            float zk = l.zr[k];
+            if (zk == line_zi(l.zi0, l.dz, k - l.u) || !(zk > 0)) continue;
+            int lev = ew_fog_level(f, zk);
+            if (lev > 0) fog_px(f, l.bpp, l.row, k, lev);
+        }
+    }
+#endif
+    for (; x < e; x++) {
         float z = l.zr[x];
         if (z == line_zi(l.zi0, l.dz, x - l.u) || !(z > 0)) continue;
         int k = ew_fog_level(f, z);
