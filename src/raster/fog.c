@@ -483,7 +483,23 @@ void ew_draw_fog(const ew_fog *fog, const ew_target *t, ew_zfill *zf, const ew_s
         /* Spans in order: the z-buffer is read only where it was filled. */
         int lo = zf->all ? 0 : zf->zlo[y], hi = zf->all ? t->width : zf->zhi[y];
         if (fog->fill) {  /* the world fogged as drawn: what is over it */
-            for (int i = 0; i < ns; i++) n += fog_over(fog, t, &spans[i], &surf_draw[spans[i].surf], lo, hi);
+            for (int i = 0; i < ns; i++) {
+                const ew_span *sp = &spans[i];
+                const ew_surf_draw *d = &surf_draw[sp->surf];
+                if (sp->u < hi && sp->u + sp->count > lo) {
+                    n += fog_over(fog, t, sp, d, lo, hi);
+                    continue;
+                }
+                /* only counted: the pixels fogged as drawn */
+                const ew_gradients *g = &d->g;
+                float zi0 = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0;
+                if (d->kind == EW_DRAW_SKY || (zi0 > 0 && line_zi(zi0, g->zi_u, sp->count - 1) > 0)) {
+                    n += sp->count;
+                } else if (d->kind != EW_DRAW_BACKGROUND) {
+                    fog_line l = {fog, t->bpp, NULL, NULL, sp->u, zi0, g->zi_u, 0};
+                    n += span_fogged(&l, sp->count);
+                }
+            }
             continue;
         }
         for (int i = 0; i < ns; i++) n += fog_span(fog, t, &spans[i], &surf_draw[spans[i].surf], lo, hi);
