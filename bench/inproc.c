@@ -18,6 +18,16 @@
  * frames (bench's median_ms), and the median and range of the per-view
  * ratios.
  *
+ * What is drawn: --fog D,R,G,B, --no-fog, --color 8bit|true, --hsr METHOD, --no-lit
+ * and --classic go to both sides; --a-args "OPTS" and --b-args "OPTS" (those options,
+ * split at spaces) to one side after them.  With the same revision on
+ * both sides (bench/compare.sh WORKTREE WORKTREE) that times one library
+ * against itself under two option sets: e.g. --b-args "--fog 1,0.3,0.3,0.35"
+ * gives the cost of fog as B/A, each view with and without fog in turn.
+ * Frames are compared as RGB (8-bit ones through the palette): the last
+ * columns are the pixels that differ over the warm-up pass's views and
+ * the largest difference of a channel.
+ *
  * --stage front|scan|draw|models times one stage of the frame instead (the
  * renderer's own ew_stats times), so a change to that stage alone is not
  * lost in the frame's noise; --per-view prints each view's two medians.
@@ -55,6 +65,7 @@
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
  *          [--classic] [--no-entities] [--stage S] [--per-view]
  *          [--color 8bit|true] [--vs-color] [--no-lit] [--cold]
+ *          [--fog D,R,G,B | --no-fog] [--hsr METHOD] [--a-args OPTS] [--b-args OPTS]
  *   inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] */
 #define _POSIX_C_SOURCE 200809L  /* clock_gettime */
 #include "edgewise_lab.h"  /* ew_flush_surfaces */
@@ -92,6 +103,9 @@ B_SIDE(ew_frame_pixels)
 B_SIDE(ew_frame_rgba)
 B_SIDE(ew_set_lit)
 B_SIDE(ew_flush_surfaces)
+B_SIDE(ew_frame_palette)
+B_SIDE(ew_set_fog)
+B_SIDE(ew_set_hsr)
 
 typedef struct side {
     __typeof__(ew_assets_create) *assets_create;
@@ -108,6 +122,9 @@ typedef struct side {
     __typeof__(ew_frame_rgba) *rgba;
     __typeof__(ew_set_lit) *set_lit;
     __typeof__(ew_flush_surfaces) *flush;
+    __typeof__(ew_frame_palette) *palette;
+    __typeof__(ew_set_fog) *set_fog;
+    __typeof__(ew_set_hsr) *set_hsr;
     /* per map and size */
     ew_assets   *assets;
     ew_scene    *scene;
@@ -120,18 +137,76 @@ static side sides[2] = {
 #else
     {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
      ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
-     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, NULL, NULL, NULL},
+     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, ew_frame_palette, ew_set_fog, ew_set_hsr, NULL, NULL, NULL},
 #endif
 #ifdef EW_INPROC_SELF
     {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
      ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
-     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, NULL, NULL, NULL},
+     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, ew_frame_palette, ew_set_fog, ew_set_hsr, NULL, NULL, NULL},
 #else
     {b_ew_assets_create, b_ew_assets_destroy, b_ew_scene_create_from_map, b_ew_scene_destroy,
      b_ew_benchmark_views, b_ew_renderer_create, b_ew_renderer_destroy, b_ew_set_classic, b_ew_set_scene,
-     b_ew_render, b_ew_frame_pixels, b_ew_frame_rgba, b_ew_set_lit, b_ew_flush_surfaces, NULL, NULL, NULL},
+     b_ew_render, b_ew_frame_pixels, b_ew_frame_rgba, b_ew_set_lit, b_ew_flush_surfaces, b_ew_frame_palette,
+     b_ew_set_fog, b_ew_set_hsr, NULL, NULL, NULL},
 #endif
 };
+
+/* What a side draws: the options for both, then its own. */
+typedef struct side_opts {
+    int   classic, color, no_lit;
+    int   hsr;          /* ew_hsr_method + 1 (0: the default) */
+    int   fog_set;      /* 0: the map's fog; else fog[] (density 0: none) */
+    float fog[4];
+} side_opts;
+static side_opts opts[2];
+
+/* One option of what is drawn at argv[*i] (taking its value), into o:
+ * 1 if it was one, 0 if not, -1 if its value is wrong. */
+static int draw_opt(int argc, char **argv, int *i, side_opts *o) {
+    const char *a = argv[*i];
+    if (!strcmp(a, "--classic")) return o->classic = 1;
+    if (!strcmp(a, "--no-lit")) return o->no_lit = 1;
+    if (!strcmp(a, "--no-fog")) {
+        o->fog_set = 1, o->fog[0] = 0;
+        return 1;
+    }
+    if (!strcmp(a, "--fog")) {
+        if (*i + 1 >= argc) return -1;
+        float *f = o->fog;
+        if (sscanf(argv[++*i], "%f,%f,%f,%f", &f[0], &f[1], &f[2], &f[3]) != 4 || !(f[0] >= 0)) return -1;
+        return o->fog_set = 1;
+    }
+    if (!strcmp(a, "--hsr")) {
+        if (*i + 1 >= argc) return -1;
+        int m = ew_hsr_from_name(argv[++*i]);
+        if (m < 0) return -1;
+        o->hsr = m + 1;
+        return 1;
+    }
+    if (!strcmp(a, "--color")) {
+        if (*i + 1 >= argc) return -1;
+        const char *m = argv[++*i];
+        if (!strcmp(m, "true")) o->color = EW_COLOR_TRUE;
+        else if (!strcmp(m, "8bit")) o->color = EW_COLOR_8BIT;
+        else return -1;
+        return 1;
+    }
+    return 0;
+}
+
+/* --a-args/--b-args: the options in one string, split at spaces. */
+static int side_args(const char *s, side_opts *o) {
+    char buf[512], *argv[32];
+    int argc = 0;
+    if (strlen(s) >= sizeof buf) return -1;
+    strcpy(buf, s);
+    for (char *t = strtok(buf, " "); t; t = strtok(NULL, " "))
+        if (argc < 32) argv[argc++] = t;
+        else return -1;
+    for (int i = 0; i < argc; i++)
+        if (draw_opt(argc, argv, &i, o) != 1) return -1;
+    return 0;
+}
 
 /* --threads-vs A,N: side A on vs[0] threads, side B (this library too) on vs[1]. */
 static int vs[2] = {0, 0}, model = 1;
@@ -160,7 +235,8 @@ static double median(double *v, int n) {
 static int usage(const char *why) {
     fprintf(stderr, "inproc: %s\nusage: inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N] "
                     "[--classic] [--no-entities] [--stage front|scan|draw|models] [--per-view]\n"
-                    "       [--color 8bit|true] [--vs-color] [--no-lit] [--cold]\n"
+                    "       [--color 8bit|true] [--vs-color] [--no-lit] [--cold] [--fog D,R,G,B | --no-fog] [--hsr METHOD]\n"
+                    "       [--a-args OPTS] [--b-args OPTS]\n"
                     "       inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model]\n", why);
     return 2;
 }
@@ -169,8 +245,8 @@ static int usage(const char *why) {
 enum { STAGE_FRAME, STAGE_FRONT, STAGE_SCAN, STAGE_DRAW, STAGE_MODELS };
 static const char *const stage_names[] = {"frame", "front", "scan", "draw", "models"};
 static int stage = STAGE_FRAME, per_view = 0;
-/* --color true, --vs-color (A 8-bit, B true colour), --no-lit, --cold */
-static int truecolor = 0, vs_color = 0, no_lit = 0, cold = 0;
+/* --cold: each frame after its side's surface cache was emptied */
+static int cold = 0;
 
 static double stage_ms(const ew_stats *st, double wall) {
     switch (stage) {
@@ -214,12 +290,28 @@ static double side_frame(int s, const ew_camera *views, int v) {
     return stage_ms(&u.st, wall);
 }
 
-static const uint8_t *side_pixels(int s) {
+/* Pixel i of side s's frame as RGB. */
+static void side_rgb(int s, int n, uint8_t *rgb) {
 #ifdef EW_INPROC_OLD
-    if (s == 0) return inproc_old_pixels(old);
+    if (s == 0) {
+        const uint8_t *px = inproc_old_pixels(old);
+        for (int i = 0; i < n; i++) rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = px[i];  /* indices: equal or not */
+        return;
+    }
 #endif
-    const uint8_t *p = sides[s].pixels(sides[s].r);
-    return p ? p : (const uint8_t *)(const void *)sides[s].rgba(sides[s].r);
+    if (opts[s].color == EW_COLOR_TRUE) {
+        const uint8_t *px = (const uint8_t *)sides[s].rgba(sides[s].r);
+        for (int i = 0; i < n; i++) memcpy(rgb + 3 * i, px + 4 * i, 3);
+        return;
+    }
+    const uint8_t *px = sides[s].pixels(sides[s].r), *pal = sides[s].palette(sides[s].r);
+#ifdef EW_INPROC_OLD
+    pal = NULL;  /* side A gives indices: so must B */
+#endif
+    for (int i = 0; i < n; i++) {
+        if (pal) memcpy(rgb + 3 * i, pal + 3 * px[i], 3);
+        else rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = px[i];
+    }
 }
 
 /* The value of "key": in a line of JSON, or NAN. */
@@ -259,7 +351,7 @@ static void model_speedup(const char *map, const char *size, const char *data, i
 }
 
 /* One map at one size: 0, or -1 with a line on stderr. */
-static int run(const char *map, const char *size, const char *data, int w, int h, int passes, int threads, int classic,
+static int run(const char *map, const char *size, const char *data, int w, int h, int passes, int threads,
                int entities) {
     ew_error err;
     ew_camera views[EW_MAX_VIEWS];
@@ -285,13 +377,18 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         ew_renderer_desc d = {.world = s->assets->world, .palette = s->assets->palette,
                               .colormap = s->assets->colormap, .width = w, .height = h,
                               .threads = vs[1] ? vs[k] : threads,
-                              .color = truecolor || (vs_color && k == 1) ? EW_COLOR_TRUE : EW_COLOR_8BIT};
+                              .color = (ew_color_mode)opts[k].color};
         if (!(s->r = s->renderer_create(&d, &err))) {
             fprintf(stderr, "inproc: side %c: %s\n", "AB"[k], err.msg);
             return -1;
         }
-        s->set_classic(s->r, classic);
-        if (no_lit) s->set_lit(s->r, 0);
+        s->set_classic(s->r, opts[k].classic);
+        if (opts[k].no_lit) s->set_lit(s->r, 0);
+        if (opts[k].hsr && s->set_hsr(s->r, (ew_hsr_method)(opts[k].hsr - 1)) != 0) {
+            fprintf(stderr, "inproc: side %c: no such method in this build\n", "AB"[k]);
+            return -1;
+        }
+        if (opts[k].fog_set) s->set_fog(s->r, opts[k].fog[0], opts[k].fog[1], opts[k].fog[2], opts[k].fog[3]);
         if (s->scene) s->set_scene(s->r, s->scene);
         nv = s->views(s->assets->world, views);  /* the same cameras from either side */
     }
@@ -307,12 +404,16 @@ static int run(const char *map, const char *size, const char *data, int w, int h
 #endif
     double *t = malloc(sizeof(double) * 2 * (size_t)nv * (size_t)passes), *col = malloc(sizeof(double) * (size_t)passes);
     double *ratio = malloc(sizeof(double) * (size_t)nv);
-    if (!t || !col || !ratio) {
+    uint8_t *rgb[2] = {malloc((size_t)w * h * 3), malloc((size_t)w * h * 3)};
+    if (!t || !col || !ratio || !rgb[0] || !rgb[1]) {
         fprintf(stderr, "inproc: out of memory\n");
-        free(t), free(col), free(ratio);
+        free(t), free(col), free(ratio), free(rgb[0]), free(rgb[1]);
         return -1;
     }
-    int differ = 0;
+    /* Two pixel formats draw different pictures: their frames are not compared. */
+    const int compare = opts[0].color == opts[1].color;
+    int differ = 0, maxdiff = 0;
+    long pxdiff = 0;
     for (int p = -1; p < passes; p++)
         for (int v = 0; v < nv; v++) {
             int first = (p + v) & 1;  /* which side goes first swaps every frame */
@@ -322,8 +423,21 @@ static int run(const char *map, const char *size, const char *data, int w, int h
                 double ms = side_frame(s, views, v);
                 if (p >= 0) t[((size_t)s * passes + (size_t)p) * nv + v] = ms;
             }
-            if (p < 0 && !vs_color && memcmp(side_pixels(0), side_pixels(1), (size_t)w * h * (truecolor ? 4 : 1)))
-                differ++;
+            if (p < 0 && compare) {
+                side_rgb(0, w * h, rgb[0]), side_rgb(1, w * h, rgb[1]);
+                if (memcmp(rgb[0], rgb[1], (size_t)w * h * 3)) {
+                    differ++;
+                    for (long i = 0; i < (long)w * h; i++) {
+                        int d = 0;
+                        for (int c = 0; c < 3; c++) {
+                            int e = abs(rgb[0][3 * i + c] - rgb[1][3 * i + c]);
+                            d = e > d ? e : d;
+                        }
+                        pxdiff += d > 0;
+                        maxdiff = d > maxdiff ? d : maxdiff;
+                    }
+                }
+            }
         }
     double sum[2] = {0, 0}, slow[2] = {0, 0};
     for (int v = 0; v < nv; v++) {
@@ -348,29 +462,31 @@ static int run(const char *map, const char *size, const char *data, int w, int h
          * order reverses */
         double view_med = nv % 2 ? ratio[nv / 2] : (ratio[nv / 2 - 1] + ratio[nv / 2]) / 2;
         double pred = NAN, sched = NAN;
-        if (model) model_speedup(map, size, data, classic, entities, &pred, &sched);
+        if (model) model_speedup(map, size, data, opts[1].classic, entities, &pred, &sched);
         double x = sum[0] / sum[1];
         printf("%-10s %9s %2d,%-2d %9.4f %9.4f %7.3f %7.3f %7.3f  %.3f-%.3f %7.3f %7.3f %7.3f %6.3f  %d of %d\n", map,
                size, vs[0], vs[1], sum[0] / nv, sum[1] / nv, x, med[1] > 0 ? med[0] / med[1] : 1, 1 / view_med,
                1 / ratio[nv - 1], 1 / ratio[0], pred, sched, x / pred,
                work_ms[0] > 0 ? work_ms[1] / work_ms[0] : NAN, differ, nv);
-        free(t), free(col), free(ratio);
+        free(t), free(col), free(ratio), free(rgb[0]), free(rgb[1]);
         return 0;
     }
-    char differing[32];
-    if (vs_color) snprintf(differing, sizeof differing, "- of %d", nv);  /* two pixel formats */
-    else snprintf(differing, sizeof differing, "%d of %d", differ, nv);
+    char differing[64];
+    if (!compare) snprintf(differing, sizeof differing, "- of %d", nv);
+    else snprintf(differing, sizeof differing, "%d of %d  %ld %d", differ, nv, pxdiff, maxdiff);
     printf("%-10s %9s %3d %9.4f %9.4f %8.4f %8.4f %8.4f %8.4f  %.3f-%.3f  %s\n", map, size, threads, sum[0] / nv,
            sum[1] / nv, sum[1] / sum[0], med[0] > 0 ? med[1] / med[0] : 1, slow[0] > 0 ? slow[1] / slow[0] : 1,
            nv % 2 ? ratio[nv / 2] : (ratio[nv / 2 - 1] + ratio[nv / 2]) / 2, ratio[0], ratio[nv - 1], differing);
-    free(t), free(col), free(ratio);
+    free(t), free(col), free(ratio), free(rgb[0]), free(rgb[1]);
     return 0;
 }
 
 int main(int argc, char **argv) {
     const char *maps[64], *data = NULL;
-    int nmaps = 0, sizes[16][2], nsizes = 0, passes = 10, threads = 1, classic = 0, entities = 1;
-    for (int i = 1; i < argc; i++) {
+    int nmaps = 0, sizes[16][2], nsizes = 0, passes = 10, threads = 1, entities = 1, vs_color = 0;
+    const char *own[2] = {NULL, NULL};  /* --a-args, --b-args */
+    side_opts both = {0};
+    for (int i = 1, k; i < argc; i++) {
         const char *a = argv[i];
         if (!strcmp(a, "--data") && i + 1 < argc) data = argv[++i];
         else if (!strcmp(a, "--size") && i + 1 < argc) {
@@ -383,7 +499,8 @@ int main(int argc, char **argv) {
         } else if (!strcmp(a, "--threads") && i + 1 < argc) {
             threads = atoi(argv[++i]);
             if (threads < 0 || threads > EW_MAX_THREADS) return usage("--threads out of range");
-        } else if (!strcmp(a, "--classic")) classic = 1;
+        } else if (!strcmp(a, "--a-args") && i + 1 < argc) own[0] = argv[++i];
+        else if (!strcmp(a, "--b-args") && i + 1 < argc) own[1] = argv[++i];
         else if (!strcmp(a, "--no-entities")) entities = 0;
         else if (!strcmp(a, "--per-view")) per_view = 1;
         else if (!strcmp(a, "--threads-vs") && i + 1 < argc) {
@@ -393,13 +510,7 @@ int main(int argc, char **argv) {
         } else if (!strcmp(a, "--bench") && i + 1 < argc) bench_cmd = argv[++i];
         else if (!strcmp(a, "--no-model")) model = 0;
         else if (!strcmp(a, "--vs-color")) vs_color = 1;
-        else if (!strcmp(a, "--no-lit")) no_lit = 1;
         else if (!strcmp(a, "--cold")) cold = 1;
-        else if (!strcmp(a, "--color") && i + 1 < argc) {
-            const char *c = argv[++i];
-            if (strcmp(c, "true") && strcmp(c, "8bit")) return usage("--color must be 8bit or true");
-            truecolor = !strcmp(c, "true");
-        }
         else if (!strcmp(a, "--stage") && i + 1 < argc) {
             const char *n = argv[++i];
             stage = -1;
@@ -407,6 +518,9 @@ int main(int argc, char **argv) {
                 if (!strcmp(n, stage_names[k])) stage = k;
             if (stage < 0) return usage("--stage must be frame, front, scan, draw or models");
         } else if (!strcmp(a, "--quiet")) continue;  /* what compare.sh passes to bench too */
+        else if ((k = draw_opt(argc, argv, &i, &both)) != 0) {
+            if (k < 0) return usage("--fog must be D,R,G,B (D at least 0), --color 8bit or true, --hsr a method");
+        }
         else if (a[0] == '-') return usage("unknown option");
         else if (nmaps < 64) maps[nmaps++] = a;
         else return usage("at most 64 maps");
@@ -425,11 +539,23 @@ int main(int argc, char **argv) {
             bench_cmd = beside;
         }
     }
-    if (vs_color && truecolor) return usage("--vs-color draws A in 8-bit and B in true colour: no --color");
+    if (vs_color && both.color) return usage("--vs-color draws A in 8-bit and B in true colour: no --color");
+    for (int k = 0; k < 2; k++) {
+        opts[k] = both;
+        if (vs_color) opts[k].color = k ? EW_COLOR_TRUE : EW_COLOR_8BIT;
+        if (own[k] && side_args(own[k], &opts[k]) < 0)
+            return usage("--a-args/--b-args take --fog, --no-fog, --color, --hsr, --classic, --no-lit");
+    }
 #ifdef EW_INPROC_OLD
-    if (truecolor || vs_color || no_lit || cold) return usage("side A is an old revision: no --color, --vs-color, --no-lit or --cold");
+    if (own[0] || own[1] || both.color || both.hsr || both.fog_set || both.no_lit || vs_color || cold)
+        return usage("side A is an old revision: only --classic of what is drawn (to B)");
+    opts[0].classic = 0;  /* its one look was the classic one */
 #endif
-    if (vs_color) printf("A: 8-bit, B: true colour\n");
+    for (int k = 0; k < 2; k++)
+        if (memcmp(&opts[k], &(side_opts){0}, sizeof opts[k]))
+            printf("side %c: %s%s%s%s\n", "AB"[k], opts[k].classic ? "classic " : "", opts[k].no_lit ? "white light " : "",
+                   opts[k].color ? "true colour " : "8-bit ",
+                   !opts[k].fog_set ? "the map's fog" : opts[k].fog[0] > 0 ? "fog" : "no fog");
     if (cold) printf("cold: each frame after its side's surface cache was emptied\n");
     if (!nsizes) sizes[0][0] = 640, sizes[0][1] = 480, nsizes = 1;
     if (stage != STAGE_FRAME) printf("timed: the %s stage (ew_stats.ms_%s)\n", stage_names[stage], stage_names[stage]);
@@ -437,12 +563,12 @@ int main(int argc, char **argv) {
         printf("%-10s %9s %5s %9s %9s %7s %7s %7s  %-11s %7s %7s %7s %6s  %s\n", "map", "size", "thr", "A_ms", "N_ms",
                "x_mean", "x_med", "x_view", "view range", "x_pred", "x_sched", "x/pred", "work", "frames differing");
     else printf("%-10s %9s %3s %9s %9s %8s %8s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "med_B/A",
-           "slow_B/A", "view_med", "view range", "frames differing");
+           "slow_B/A", "view_med", "view range", "frames differing, px differing, max");
     for (int m = 0; m < nmaps; m++)
         for (int s = 0; s < nsizes; s++) {
             char size[24];
             snprintf(size, sizeof size, "%dx%d", sizes[s][0], sizes[s][1]);
-            int rc = run(maps[m], size, data, sizes[s][0], sizes[s][1], passes, threads, classic, entities);
+            int rc = run(maps[m], size, data, sizes[s][0], sizes[s][1], passes, threads, entities);
 #ifdef EW_INPROC_OLD
             inproc_old_close(old);
             old = NULL;

@@ -727,7 +727,11 @@ static void job_draw(void *ctx, int thread) {
                 int band = zf->row_band[y], s0 = zf->row_span0[y], n = zf->row_nspans[y];
                 for (y1 = y + 1; y1 < it->y1 && zf->row_band[y1] == band && zf->row_span0[y1] == s0 + n; y1++)
                     n += zf->row_nspans[y1];
-                ew_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw, zf->all);
+                if (r->draw.fog.fill)  /* what fog covers whole: its colour, no texels */
+                    ew_fog_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw, zf->all,
+                                      zf->bands[band].unsorted);
+                else
+                    ew_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw, zf->all);
             }
         }
         double t1 = ew_now_ms();

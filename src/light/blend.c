@@ -129,6 +129,17 @@ const uint8_t *ew_blend_fog(ew_blend *b, const float rgb[3]) {
             t[k * 256 + c] = (uint8_t)nearest_exact(p, r, g, bl);
         }
     }
+    /* The last rows are often one colour: the nearest to the fog's. */
+    int full = EW_FOG_LEVELS;
+    for (int k = EW_FOG_LEVELS - 1; k > 0; k--) {
+        const uint8_t *row = t + k * 256;
+        int one = row[0] == t[(EW_FOG_LEVELS - 1) * 256];
+        for (int c = 1; c < 256 && one; c++) one = row[c] == row[0];
+        if (!one) break;
+        full = k;
+    }
+    b->fog_full = full;
+    b->fog_full_colour = t[(EW_FOG_LEVELS - 1) * 256];
     memcpy(b->fog_rgb, rgb, sizeof b->fog_rgb);
     b->fog = t;
     return t;

@@ -21,6 +21,8 @@ typedef struct ew_blend {
     uint8_t  *alpha[EW_BLEND_LEVELS + 1];    /* [level][src * 256 + dst], built on first use */
     uint8_t  *fog;                           /* [level * 256 + colour] for fog_rgb */
     float     fog_rgb[3];
+    int       fog_full;                      /* the rows from this level on map every colour to fog_full_colour */
+    uint8_t   fog_full_colour;
     uint8_t   tint[256];                     /* the underwater tint for tint_rgb/tint_amount */
     int       tint_rgb[3], tint_amount;      /* tint[] is valid for these (amount 0: none built) */
 } ew_blend;
@@ -55,7 +57,10 @@ int  ew_blend_level(float alpha);
  * needed (serial: before the bands draw); NULL out of memory. */
 const uint8_t *ew_blend_alpha(ew_blend *b, int level);
 /* Fog tables for colour rgb (0..1): [k * 256 + c] is colour c fogged by
- * k / (EW_FOG_LEVELS - 1).  Rebuilt when the colour changes; NULL out of memory. */
+ * k / (EW_FOG_LEVELS - 1).  Rebuilt when the colour changes; NULL out of memory.
+ * With them b->fog_full: the first level from which every row is one colour,
+ * b->fog_full_colour (EW_FOG_LEVELS if even the last row is not), where a
+ * pixel fogged that much need not be drawn first. */
 const uint8_t *ew_blend_fog(ew_blend *b, const float rgb[3]);
 /* tint[c]: colour c moved amount/256 of the way to rgb (0..255). */
 const uint8_t *ew_blend_tint(ew_blend *b, const int rgb[3], int amount);

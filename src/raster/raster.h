@@ -51,6 +51,17 @@ typedef struct ew_fog {
     float   w;                /* (density / 64)^2, so q = w / zi^2 = (density z / 64)^2 */
     int     sky_level;        /* the sky is fogged half way, as the ports do */
     int     rgb[3];           /* true colour: the fog colour, 0..255 */
+    /* Set by the prepare for the drawers: from level `full` on, every colour
+     * becomes full_px (the fog colour as the target stores it); with fill
+     * the span draw writes full_px where fog is whole instead of the texels
+     * (ew_fog_draw_spans).  The level is at least k where 1/z <= zt[k]:
+     * surely where 1/z <= zt_lo[k], surely not where 1/z > zt_hi[k]. */
+    int      full, fill;
+    int      seg;             /* the drawers' segment: 1 << subdiv_shift */
+    int      simd;            /* 1: the processor has AVX-512 (BW), 2: and VBMI (ew_fog_levels) */
+    uint32_t full_px;
+    float    zt[EW_FOG_LEVELS + 1], zt_lo[EW_FOG_LEVELS + 1], zt_hi[EW_FOG_LEVELS + 1];
+    uint16_t first[EW_FOG_LEVELS + 1];  /* the first entry of level[] at each level or above */
     uint8_t level[EW_FOG_QSTEPS + 1];  /* q -> level of 1 - exp(-q) */
 } ew_fog;
 /* Fills the level table (once, at the renderer's creation). */
@@ -214,8 +225,18 @@ void ew_draw_translucent(const ew_see *see, const ew_frame *f, const ew_span_ctx
 
 /* raster/fog.c: fog over what is opaque by its depth (the translucent
  * surfaces fog their own texels as they blend).  The prepare sets this
- * frame's fog (fog->table NULL: none). */
-void ew_fog_prepare(ew_fog *fog, ew_frame *f, ew_blend *blend);
+ * frame's fog (fog->table NULL: none); may_fill: the span draw may leave
+ * out the texels fog covers whole (not in the debug views, nor with the
+ * full z-fill, whose z the drawers write). */
+void ew_fog_prepare(ew_span_ctx *draw, ew_frame *f, ew_blend *blend, int may_fill);
+/* ew_draw_spans for a frame with fog->fill: a span, or the end of one, that
+ * fog covers whole is filled with the fog colour instead of drawn, and the
+ * rest is fogged as soon as drawn (unless the band is unsorted: its spans
+ * overlap, and the fog pass finds each pixel's top one).  The span is cut
+ * only where its drawer's pixels before the cut stay the same (after a
+ * whole segment), so the fogged frame is the same. */
+void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z,
+                       int unsorted);
 void ew_draw_fog(const ew_fog *fog, const ew_target *t, struct ew_zfill *zf, const ew_surf_draw *surf_draw,
                  const ew_rows *rows);
 

@@ -27,15 +27,21 @@ static void translucent_draw(const ew_pass_ctx *c, const ew_rows *rows) {
     ew_draw_translucent(c->see, c->f, c->draw, c->zf, rows);
 }
 
+/* The span draw may leave out what fog covers whole, but not in the debug
+ * views (they show what is drawn) nor with the full z-fill (the drawers
+ * write its z). */
 static int fog_prepare(const ew_pass_ctx *c) {
-    ew_fog_prepare(&c->draw->fog, c->f, c->blend);
+    ew_fog_prepare(c->draw, c->f, c->blend, c->dbg->mode == EW_DEBUG_NONE && !c->zf->all);
     return 0;
 }
 static void fog_draw(const ew_pass_ctx *c, const ew_rows *rows) {
     ew_draw_fog(&c->draw->fog, &c->f->target, c->zf, c->lit->surf_draw, rows);
 }
 
-static int compose_prepare(const ew_pass_ctx *c) { return ew_ref_compose_prepare(c->hsr); }
+static int compose_prepare(const ew_pass_ctx *c) {
+    c->draw->fog.fill = 0;  /* its fog is its own: the spans drawn whole */
+    return ew_ref_compose_prepare(c->hsr);
+}
 static void compose_draw(const ew_pass_ctx *c, const ew_rows *rows) { ew_ref_compose_draw(c->hsr, rows); }
 
 /* The underwater view reads rows of other bands; none in the modes that
