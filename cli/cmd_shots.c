@@ -424,11 +424,6 @@ static ew_assets *load_item(const map_item *m, const char *data, ew_error *err) 
 
 /* ---- choosing the best view ------------------------------------------------------ */
 
-/* The view-set index of the first info_intermission (*inter) and of the
- * first player start (*start), -1 when there is none: the entities walked
- * as ew_benchmark_views walks them (four views a player start, one an
- * intermission). */
-
 #define YAWS 24
 /* The player start's eye turned, level, to the most open direction. */
 static void most_open(const ew_world *w, ew_camera *cam) {
@@ -454,6 +449,61 @@ static void most_open(const ew_world *w, ew_camera *cam) {
 }
 
 /* ---- one map -------------------------------------------------------------------- */
+
+static double frame_luma(const ew_renderer *r);
+#define DARK_LUMA 8.0  /* mean luma below this: "dark" */
+
+/* --views best: the candidates are every info_intermission camera of the
+ * entity lump (in its order, wherever it falls beyond the view set's 32),
+ * then every player start turned level to its most open direction, at
+ * most BEST_MAX of each.  Each is drawn small (a 320x200 probe, the
+ * renderer's smallest frame) with the batch's drawing options; the first
+ * whose eye is not in solid and whose probe is not nearly black wins, so
+ * an intermission camera is taken when it is lit and an unlit one never
+ * is while another candidate is lit.  When every probe is dark (or in
+ * solid), the brightest.  *kind: 1 an intermission camera, 0 a player
+ * start (both left alone without candidates); *probed: the probes drawn;
+ * returns the winner's probe luma, or -1 when no probe could be drawn
+ * (then the first candidate, unprobed). */
+#define BEST_MAX 12
+#define PROBE_W 320
+#define PROBE_H 200
+static double choose_best(const shots_opts *o, const ew_assets *a, const ew_scene *scene, ew_camera *best,
+                          int *kind, int *probed) {
+    ew_camera all[4 * BEST_MAX], cand[2 * BEST_MAX];
+    int kinds[4 * BEST_MAX], ckind[2 * BEST_MAX], n = 0, ni = 0, ns = 0;
+    int nall = ew_entity_cameras(a->world, all, kinds, 4 * BEST_MAX);
+    for (int i = 0; i < nall && ni < BEST_MAX; i++)
+        if (kinds[i]) cand[n] = all[i], ckind[n++] = 1, ni++;
+    for (int i = 0; i < nall && ns < BEST_MAX; i++)
+        if (!kinds[i]) {
+            cand[n] = all[i];
+            most_open(a->world, &cand[n]);
+            ckind[n++] = 0, ns++;
+        }
+    *probed = 0;
+    if (n == 0) return -1;
+    *best = cand[0], *kind = ckind[0];
+    ew_error err = {""};
+    ew_renderer *p = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = PROBE_W, .height = PROBE_H, .threads = 1,
+            .color = (ew_color_mode)o->draw.color }, &err);
+    if (!p || draw_opts_apply(&o->draw, p, scene) < 0) {
+        ew_renderer_destroy(p);
+        return -1;
+    }
+    double best_luma = -2;
+    for (int i = 0; i < n; i++) {
+        int solid = ew_point_contents(a->world, EW_HULL_POINT, cand[i].origin) == EW_CONTENTS_SOLID;
+        if (ew_render(p, &cand[i], NULL) < 0) continue;
+        (*probed)++;
+        double luma = frame_luma(p), score = solid ? -1 : luma;
+        if (score > best_luma) best_luma = score, *best = cand[i], *kind = ckind[i];
+        if (!solid && luma >= DARK_LUMA) break;  /* the first lit one, in the order of preference */
+    }
+    ew_renderer_destroy(p);
+    return *probed ? best_luma : -1;
+}
 
 typedef struct map_result {
     int status;     /* 0 rendered, 1 failed, 2 no views (noted) */
@@ -549,8 +599,6 @@ static double frame_luma(const ew_renderer *r) {
     }
     return n ? sum / (double)n : 0;
 }
-#define DARK_LUMA 8.0  /* mean luma below this: "dark" */
-
 static void picture_path(const shots_opts *o, const map_item *m, int view, char *out, size_t size) {
     if (view == -2) snprintf(out, size, "%s/%s_best.png", o->outdir, m->stem);
     else snprintf(out, size, "%s/%s_v%d.png", o->outdir, m->stem, view);
@@ -609,11 +657,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         goto done;
     }
     if (o->views_mode == 0) {
-        int inter, start;
-        ew_benchmark_view_roles(a->world, &inter, &start);
-        best_cam = views[inter >= 0 ? inter : start >= 0 ? start : 0];
-        if (inter < 0) most_open(a->world, &best_cam);
-        list[nlist++] = -2;
+        list[nlist++] = -2;  /* its camera chosen once the scene is made (choose_best) */
     } else if (o->views_mode == 1) {
         for (int i = 0; i < nv; i++) list[nlist++] = i;
     } else {
@@ -642,6 +686,9 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         res.status = 1;
         goto done;
     }
+    int best_kind = -1, best_probed = 0;  /* kind -1: the view set's first view (no candidate) */
+    best_cam = views[0];
+    if (o->views_mode == 0) choose_best(o, a, scene, &best_cam, &best_kind, &best_probed);
     for (int i = 0; i < nlist; i++) {
         int v = list[i];
         picture_path(o, m, v, file, sizeof file);
@@ -694,6 +741,9 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         lb_add(b, ",\"luma\":");
         lb_num(b, luma);
         lb_add(b, ",\"dark\":%s", luma < DARK_LUMA ? "true" : "false");
+        if (v == -2)
+            lb_add(b, ",\"best_from\":\"%s\",\"best_probed\":%d",
+                   best_kind == 1 ? "intermission" : best_kind == 0 ? "player_start" : "view_set", best_probed);
         lb_add(b, ",\"stats\":{\"pixels_written\":%ld,\"surfaces\":%d,\"edges\":%d,\"spans\":%d,"
                "\"visible_leaves\":%d,\"entities_drawn\":%d,\"models_missing\":%d,\"dropped\":%d}",
                st.pixels_written, st.surfaces, st.edges, st.spans, st.visible_leaves, st.entities_drawn,
