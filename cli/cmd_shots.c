@@ -490,8 +490,6 @@ static void most_open(const ew_world *w, ew_camera *cam) {
 
 /* ---- one map -------------------------------------------------------------------- */
 
-static double frame_luma(const ew_renderer *r);
-#define DARK_LUMA 8.0  /* mean luma below this: "dark" */
 
 /* --views best: the candidates are every info_intermission camera of the
  * entity lump (in its order, wherever it falls beyond the view set's 32),
@@ -537,7 +535,7 @@ static double choose_best(const shots_opts *o, const ew_assets *a, const ew_scen
         int solid = ew_point_contents(a->world, EW_HULL_POINT, cand[i].origin) == EW_CONTENTS_SOLID;
         if (ew_render(p, &cand[i], NULL) < 0) continue;
         (*probed)++;
-        double luma = frame_luma(p), score = solid ? -1 : luma;
+        double luma = frame_mean_luma(p), score = solid ? -1 : luma;
         if (score > best_luma) best_luma = score, *best = cand[i], *kind = ckind[i];
         if (!solid && luma >= DARK_LUMA) break;  /* the first lit one, in the order of preference */
     }
@@ -628,22 +626,6 @@ static void line_error(map_result *res, line_buf *b, const map_item *m, int view
     line_emit(b, fd);
 }
 
-/* Mean luma (0..255) of the frame. */
-static double frame_luma(const ew_renderer *r) {
-    size_t n = (size_t)ew_frame_width(r) * (size_t)ew_frame_height(r);
-    double sum = 0;
-    const uint8_t *px = ew_frame_pixels(r);
-    if (px) {
-        const uint8_t *pal = ew_frame_palette(r);
-        double lum[256];
-        for (int i = 0; i < 256; i++) lum[i] = 0.299 * pal[3 * i] + 0.587 * pal[3 * i + 1] + 0.114 * pal[3 * i + 2];
-        for (size_t i = 0; i < n; i++) sum += lum[px[i]];
-    } else if (ew_frame_rgba(r)) {
-        const uint8_t *c = (const uint8_t *)ew_frame_rgba(r);
-        for (size_t i = 0; i < n; i++) sum += 0.299 * c[4 * i] + 0.587 * c[4 * i + 1] + 0.114 * c[4 * i + 2];
-    }
-    return n ? sum / (double)n : 0;
-}
 static void picture_path(const shots_opts *o, const map_item *m, int view, char *out, size_t size) {
     if (view == -2) snprintf(out, size, "%s/%s_best.png", o->outdir, m->stem);
     else snprintf(out, size, "%s/%s_v%d.png", o->outdir, m->stem, view);
@@ -770,7 +752,8 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
             continue;
         }
         double render_ms = ew_clock_ms() - t1;
-        double luma = frame_luma(r);
+        double luma = 0;
+        warn_if_dark(r, a->world, &cam, file, o->quiet, &luma);  /* one line per dark picture */
         double t2 = ew_clock_ms();
         if (ew_write_frame_png(r, file, &err) < 0) {
             line_error(&res, b, m, v, NULL, err.msg, fd);

@@ -51,6 +51,7 @@ void draw_opts_init(draw_opts *d) {
     d->occlusion = EW_OCCLUSION_AUTO;
     d->wateralpha = -1;
     d->hsr = EW_HSR_EDGE;
+    d->map_rgb = -1;
 }
 
 void draw_opts_usage(FILE *f) { cli_print_options(f, CLI_RENDER, 1); }
@@ -264,7 +265,7 @@ void draw_opts_json(FILE *f, const draw_opts *d) {
     fprintf(f, ",\"waterwarp\":%s,\"hsr\":\"%s\"", d->no_waterwarp || d->classic ? "false" : "true",
             ew_hsr_name((ew_hsr_method)d->hsr));
     fprintf(f, ",\"color\":\"%s\",\"lit\":%s,\"dither\":%s", d->color == EW_COLOR_TRUE ? "true" : "8bit",
-            d->no_lit || d->classic ? "false" : "true", d->dither ? "true" : "false");
+            d->no_lit || d->classic || d->map_rgb == 0 ? "false" : "true", d->dither ? "true" : "false");
     fprintf(f, ",\"lighting\":\"%s\"", d->lighting == EW_LIGHTING_TWO_PASS ? "two-pass" : "cache");
     fputs(",\"gamma\":", f);
     json_number(f, d->gamma > 0 ? d->gamma : 1.0);

@@ -303,6 +303,7 @@ static void screenshot(viewer *v, const char *path, const ew_camera *cam) {
         error_line("%s", err.msg);
         return;
     }
+    warn_if_dark(v->r, v->a->world, cam, path, v->o->quiet, NULL);  /* a black screenshot is never silent */
     printf("%s --pos %.9g,%.9g,%.9g --angles %.9g,%.9g,%.9g --time %.9g --size %dx%d\n", path, cam->origin[0],
            cam->origin[1], cam->origin[2], cam->angles[0], cam->angles[1], cam->angles[2], cam->time, v->fw,
            v->fh);
