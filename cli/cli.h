@@ -31,6 +31,9 @@ _Static_assert(EW_MAX_THREADS == 64, "THREADS_RULE states EW_MAX_THREADS");
 int  parse_threads(const char *v, int *out);
 /* "WxH" within the renderer's limits; 0 or -1 (error printed). */
 int  parse_size(const char *s, int *w, int *h);
+/* A picture's file name: it must end in .png (any case), the one format
+ * edgewise writes; 0, or -1 after one error line naming opt and the name. */
+int  check_png_name(const char *opt, const char *name);
 /* MAP is the word 'builtin'. */
 int  is_builtin(const char *map);
 /* "maps/e1m1.bsp" -> "e1m1". */

@@ -378,7 +378,10 @@ static int parse(int argc, char **argv, shots_opts *o) {
             o->jobs = (int)l;
             break;
         case 5: o->manifest = v; break;
-        case 6: o->sheet = v; break;
+        case 6:
+            if (check_png_name("--contact-sheet", v) < 0) return -1;
+            o->sheet = v;
+            break;
         }
     }
     if (args.stop)

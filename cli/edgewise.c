@@ -238,6 +238,15 @@ bad:
     return -1;
 }
 
+int check_png_name(const char *opt, const char *name) {
+    size_t n = strlen(name);
+    if (n > 4 && name[n - 4] == '.' && tolower((unsigned char)name[n - 3]) == 'p' &&
+        tolower((unsigned char)name[n - 2]) == 'n' && tolower((unsigned char)name[n - 1]) == 'g')
+        return 0;
+    error_line("%s %s: edgewise writes PNG pictures only: the name must end in .png", opt, name);
+    return -1;
+}
+
 /* Checks and stores one option's value; prints the error itself. */
 static int set_option(options *o, int flag, const char *name, const char *v) {
     long l;
@@ -255,6 +264,7 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
             error_line("--out: empty file name");
             return -1;
         }
+        if (check_png_name("--out", v) < 0) return -1;
         o->out = v;
         return 0;
     case O_SIZE:
@@ -649,9 +659,15 @@ static int cmd_views(options *o) {
         return 1;
     ew_camera views[EW_MAX_VIEWS];
     int n = ew_benchmark_views(a->world, views);
-    for (int i = 0; i < n; i++)
+    for (int i = 0; i < n; i++) {
+        /* The yaw as a compass reading, 0 to under 360 (a player start's
+         * four views turn by 90 from its angle and may pass 360). */
+        double yaw = fmod((double)views[i].angles[1], 360.0);
+        if (yaw < 0) yaw += 360.0;
+        if (yaw >= 359.9995) yaw = 0;  /* would print as 360 */
         printf("%d %g %g %g %g %g %g\n", i, views[i].origin[0], views[i].origin[1],
-               views[i].origin[2], views[i].angles[0], views[i].angles[1], views[i].angles[2]);
+               views[i].origin[2], views[i].angles[0], yaw, views[i].angles[2]);
+    }
     ew_assets_destroy(a);
     if (fflush(stdout) != 0) {
         error_line("stdout: %s", strerror(errno));

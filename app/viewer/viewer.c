@@ -358,6 +358,10 @@ static int load_script(const char *path, script_cmd **out, int *count) {
             c.kind = S_SCREENSHOT;
             ok = got == 3;
             snprintf(c.path, sizeof c.path, "%s", arg1);
+            if (ok && check_png_name("screenshot", c.path) < 0) {  /* PNG only, as --out: one line */
+                rc = -1;
+                break;
+            }
         } else if (ok && strcmp(verb, "quit") == 0) {
             c.kind = S_QUIT;
             ok = got == 2;
