@@ -31,6 +31,9 @@ _Static_assert(EW_MAX_THREADS == 64, "THREADS_RULE states EW_MAX_THREADS");
 int  parse_threads(const char *v, int *out);
 /* "WxH" within the renderer's limits; 0 or -1 (error printed). */
 int  parse_size(const char *s, int *w, int *h);
+/* A picture's file name: it must end in .png (any case), the one format
+ * edgewise writes; 0, or -1 after one error line naming opt and the name. */
+int  check_png_name(const char *opt, const char *name);
 /* MAP is the word 'builtin'. */
 int  is_builtin(const char *map);
 /* "maps/e1m1.bsp" -> "e1m1". */
@@ -74,6 +77,9 @@ typedef struct draw_opts {
     } styles[64];
     int    nstyles;
     int    debug;             /* ew_debug_mode (--debug) */
+    int    map_rgb;           /* the map has coloured light (.lit, BSPX RGBLIGHTING): 1, 0, or -1
+                               * unknown (draw_opts_init); draw_opts_json's "lit" is true only when
+                               * coloured light is drawn: on, not classic, and not map_rgb 0 */
 } draw_opts;
 
 /* The defaults: what the map asks for, drawn by the edge list. */
@@ -137,6 +143,21 @@ int  stress_detail(const char *map);
 ew_assets *load_map(const char *map, const char *data, int quiet);
 void print_world_warnings(const ew_world *w, int quiet);
 void print_scene_warnings(const ew_scene *s, int quiet);
+
+/* ---- nearly black frames (cli/dark.c) ---------------------------------------
+ * A frame whose mean brightness (luma, 0..255) is under DARK_LUMA (about 3%
+ * of full scale) is "dark"; every command that writes a picture warns. */
+#define DARK_LUMA 8.0
+/* The frame's mean luma, 0..255 (either colour mode, the palette with gamma). */
+double frame_mean_luma(const ew_renderer *r);
+/* The likely cause of a dark frame, one phrase into why: the camera in
+ * solid (inside a wall or outside the map), nothing in view, the map's light
+ * data dark, a near wall filling the frame, or dark light where it looks. */
+void dark_cause(ew_renderer *r, const ew_world *w, const ew_camera *cam, char *why, size_t size);
+/* 1 if r's frame is dark, after one "edgewise: warning: WHAT: ..." line
+ * naming the cause unless quiet; else 0.  *mean (may be NULL) gets the luma. */
+int  warn_if_dark(ew_renderer *r, const ew_world *w, const ew_camera *cam, const char *what, int quiet,
+                  double *mean);
 
 /* ---- the benchmark protocol (cli/cmd_bench.c), shared by bench and hsr ----
  * The view set rendered once untimed (the warm-up: pages in the frame and

@@ -569,6 +569,8 @@ int cmd_fly(int argc, char **argv) {
 
     int tty = isatty(2);
     double start = ew_clock_ms(), last = 0;
+    long dark_frames = 0, first_dark = -1;
+    char dark_why[400] = "";
     for (long k = 0; k < frames; k++) {
         if (stop_signal) {
             error_line("fly: stopped by signal %d after %ld of %ld frames; nothing written", (int)stop_signal, k,
@@ -589,6 +591,12 @@ int cmd_fly(int argc, char **argv) {
             error_line("frame %ld: cannot render this camera (origin %g,%g,%g angles %g,%g,%g)", k, cam.origin[0],
                        cam.origin[1], cam.origin[2], cam.angles[0], cam.angles[1], cam.angles[2]);
             goto done;
+        }
+        /* Nearly black frames: counted, one warning a run (below) with the first one's cause. */
+        double luma = frame_mean_luma(r);
+        if (luma < DARK_LUMA && dark_frames++ == 0) {
+            first_dark = k;
+            dark_cause(r, a->world, &cam, dark_why, sizeof dark_why);
         }
         if (o.kind == OUT_PNG) {
             char file[4200];
@@ -618,6 +626,9 @@ int cmd_fly(int argc, char **argv) {
         }
     }
     if (tty) fputc('\n', stderr);
+    if (dark_frames && !o.quiet)
+        error_line("warning: fly: %ld of %ld frames are nearly black (mean brightness under %.1f%% of full scale); "
+                   "the first, frame %ld: %s", dark_frames, frames, DARK_LUMA / 2.55, first_dark, dark_why);
     if (video) {
         FILE *v = video;
         video = NULL;

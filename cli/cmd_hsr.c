@@ -873,6 +873,7 @@ int cmd_hsr(int argc, char **argv) {
         } else if (draw_opts_scene(&o.draw, a, o.maps[m], o.data, 0, o.quiet, &sc) < 0) {
             rc = 1;
         }
+        o.draw.map_rgb = a ? ew_world_has_rgb_light(a->world) : -1;  /* "lit": coloured light actually drawn */
         lab_ctx c = { &o, o.maps[m], a, sc, views, nviews, stress };
         for (int s = 0; s < o.nsizes && !rc; s++) {
             hsr_row *r = &rows[nrows];

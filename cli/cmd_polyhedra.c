@@ -119,6 +119,7 @@ int parse_polyhedra_args(int argc, char **argv, cli_cmd form, const char *help, 
                 error_line("--out: empty file name");
                 return EXIT_USAGE;
             }
+            if (check_png_name("--out", v) < 0) return EXIT_USAGE;
             o->out = v;
         }
     }

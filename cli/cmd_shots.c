@@ -33,12 +33,15 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
 #include <sys/mman.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #define MAX_JOBS 256
+#define SUMMARY_FAILURES 10  /* failed maps named in the summary, then a count */
 #define LINE_MAX_BYTES 4000  /* one manifest line: below PIPE_BUF (4096) */
 
 static const char shots_usage[] =
@@ -52,10 +55,13 @@ static const char shots_usage[] =
     "view, camera, size, ms, stats, \"dark\" when the picture is nearly black, or\n"
     "the error.  A MAP is a .bsp path, a map name with --data, or 'builtin'; a\n"
     "DIR a game directory (maps/*.bsp, loose and in its pak*.pak) or a folder of\n"
-    ".bsp files; a PAK every maps/*.bsp inside it.  A map that fails is recorded\n"
-    "and the batch goes on; maps without views (item boxes) are noted, not\n"
-    "failures.  Exit status 0 if every map rendered, 1 if some failed, 2 for\n"
-    "bad arguments.  Progress is a bar on a terminal, else one summary line.\n"
+    ".bsp files; a PAK every maps/*.bsp inside it.  A map that fails, or a pak\n"
+    "that is empty or corrupt, is recorded and the batch goes on; maps without\n"
+    "views (item boxes) are noted, not failures.  Exit status 0 if every map\n"
+    "rendered, 1 if some failed, 2 for bad arguments.  Progress is a bar on a\n"
+    "terminal, else one summary line; then each failed map with its error (the\n"
+    "first ten, then how many more).  Killed (SIGINT, SIGTERM, SIGHUP), shots\n"
+    "stops its --jobs workers with it.\n"
     "\n"
     CLI_OPTIONS_HERE
     "\n"
@@ -63,7 +69,9 @@ static const char shots_usage[] =
 
 /* ---- the list of maps ------------------------------------------------------ */
 
-enum { SRC_FILE, SRC_GAMEDIR, SRC_PAK, SRC_BUILTIN };
+/* SRC_FAILED: a source that gave no maps (an empty or corrupt .pak): one
+ * failed entry of the batch, with its error, while the rest goes on. */
+enum { SRC_FILE, SRC_GAMEDIR, SRC_PAK, SRC_BUILTIN, SRC_FAILED };
 
 typedef struct map_item {
     int  kind;
@@ -71,6 +79,7 @@ typedef struct map_item {
     char load[1024];    /* what to load: the path, the map name, the inner path */
     char dir[1024];     /* the game directory (SRC_GAMEDIR), else "" */
     char stem[128];     /* output name, unique in the batch */
+    char error[400];    /* SRC_FAILED: why */
 } map_item;
 
 typedef struct map_list {
@@ -182,13 +191,26 @@ static int pak_maps(const char *pak, char ***out, int *count, ew_error *err) {
     return names ? 0 : -1;
 }
 
+/* A source that failed (SRC_FAILED) as one entry of the batch, named by its file. */
+static int add_failed(map_list *l, const char *source, const char *msg) {
+    char stem[256];
+    const char *b = strrchr(source, '/');
+    snprintf(stem, sizeof stem, "%.255s", b && b[1] ? b + 1 : source);
+    map_item *m = list_add(l, SRC_FAILED, source, source, NULL, stem);
+    if (!m) return -1;
+    snprintf(m->error, sizeof m->error, "%.399s", msg);
+    return 0;
+}
+
 static int name_in(char **names, int n, const char *s) {
     for (int i = 0; i < n; i++)
         if (!strcmp(names[i], s)) return 1;
     return 0;
 }
 
-/* Expands one input; -1 after an error line (a usage error: nothing to render). */
+/* Expands one input; -1 after an error line (a usage error: nothing to
+ * render).  A .pak that cannot be read (empty, corrupt) or holds no maps
+ * is one failed entry (SRC_FAILED), not a usage error: the batch goes on. */
 static int expand_input(map_list *l, const char *in) {
     struct stat st;
     char path[1024];
@@ -198,7 +220,7 @@ static int expand_input(map_list *l, const char *in) {
         struct stat ms;
         if (stat(path, &ms) == 0 && S_ISDIR(ms.st_mode)) {
             /* A game directory: loose maps, then those only in its paks. */
-            int nl = 0, total = 0;
+            int nl = 0, total = 0, first = l->n, bad_pak = 0;
             char **loose = bsp_names(path, &nl);
             for (int i = 0; i < nl; i++) {
                 char src[1200];
@@ -212,15 +234,35 @@ static int expand_input(map_list *l, const char *in) {
                 snprintf(pak, sizeof pak, "%s/pak%d.pak", in, p);
                 if (access(pak, F_OK) != 0) break;
                 if (pak_maps(pak, &names, &np, &err) < 0) {
-                    error_line("%s", err.msg);
-                    free_names(loose, nl);
-                    return -1;
+                    if (add_failed(l, pak, err.msg) < 0) {
+                        free_names(loose, nl);
+                        return -1;
+                    }
+                    total++, bad_pak = 1;
+                    continue;
                 }
                 for (int i = 0; i < np; i++)
                     if (!name_in(loose, nl, names[i])) list_add(l, SRC_GAMEDIR, pak, names[i], in, names[i]), total++;
                 free_names(names, np);
             }
             free_names(loose, nl);
+            /* The library's game directory refuses a corrupt pak: then each
+             * loose map loads as a file (its palette from ../gfx) and each
+             * map of a good pak from that pak, as if given alone. */
+            for (int i = first; bad_pak && i < l->n; i++) {
+                map_item *it = &l->items[i];
+                if (it->kind != SRC_GAMEDIR) continue;
+                if (ends_with_ci(it->source, ".pak")) {
+                    char inner[1024];
+                    snprintf(inner, sizeof inner, "maps/%.1000s.bsp", it->load);
+                    snprintf(it->load, sizeof it->load, "%s", inner);
+                    it->kind = SRC_PAK;
+                } else {
+                    snprintf(it->load, sizeof it->load, "%s", it->source);
+                    it->kind = SRC_FILE;
+                }
+                it->dir[0] = '\0';
+            }
             if (!total) {
                 error_line("shots: %s: a game directory without maps", in);
                 return -1;
@@ -245,10 +287,7 @@ static int expand_input(map_list *l, const char *in) {
         char **names;
         int n;
         ew_error err = {""};
-        if (pak_maps(in, &names, &n, &err) < 0) {
-            error_line("%s", err.msg);
-            return -1;
-        }
+        if (pak_maps(in, &names, &n, &err) < 0) return add_failed(l, in, err.msg);
         for (int i = 0; i < n; i++) {
             char inner[200];
             snprintf(inner, sizeof inner, "maps/%s.bsp", names[i]);
@@ -256,8 +295,9 @@ static int expand_input(map_list *l, const char *in) {
         }
         free_names(names, n);
         if (!n) {
-            error_line("shots: %s: no maps/*.bsp inside", in);
-            return -1;
+            char msg[1200];
+            snprintf(msg, sizeof msg, "%s: no maps/*.bsp inside", in);
+            return add_failed(l, in, msg);
         }
         return 0;
     }
@@ -338,7 +378,10 @@ static int parse(int argc, char **argv, shots_opts *o) {
             o->jobs = (int)l;
             break;
         case 5: o->manifest = v; break;
-        case 6: o->sheet = v; break;
+        case 6:
+            if (check_png_name("--contact-sheet", v) < 0) return -1;
+            o->sheet = v;
+            break;
         }
     }
     if (args.stop)
@@ -424,11 +467,6 @@ static ew_assets *load_item(const map_item *m, const char *data, ew_error *err) 
 
 /* ---- choosing the best view ------------------------------------------------------ */
 
-/* The view-set index of the first info_intermission (*inter) and of the
- * first player start (*start), -1 when there is none: the entities walked
- * as ew_benchmark_views walks them (four views a player start, one an
- * intermission). */
-
 #define YAWS 24
 /* The player start's eye turned, level, to the most open direction. */
 static void most_open(const ew_world *w, ew_camera *cam) {
@@ -455,10 +493,64 @@ static void most_open(const ew_world *w, ew_camera *cam) {
 
 /* ---- one map -------------------------------------------------------------------- */
 
+
+/* --views best: the candidates are every info_intermission camera of the
+ * entity lump (in its order, wherever it falls beyond the view set's 32),
+ * then every player start turned level to its most open direction, at
+ * most BEST_MAX of each.  Each is drawn small (a 320x200 probe, the
+ * renderer's smallest frame) with the batch's drawing options; the first
+ * whose eye is not in solid and whose probe is not nearly black wins, so
+ * an intermission camera is taken when it is lit and an unlit one never
+ * is while another candidate is lit.  When every probe is dark (or in
+ * solid), the brightest.  *kind: 1 an intermission camera, 0 a player
+ * start (both left alone without candidates); *probed: the probes drawn;
+ * returns the winner's probe luma, or -1 when no probe could be drawn
+ * (then the first candidate, unprobed). */
+#define BEST_MAX 12
+#define PROBE_W 320
+#define PROBE_H 200
+static double choose_best(const shots_opts *o, const ew_assets *a, const ew_scene *scene, ew_camera *best,
+                          int *kind, int *probed) {
+    ew_camera all[4 * BEST_MAX], cand[2 * BEST_MAX];
+    int kinds[4 * BEST_MAX], ckind[2 * BEST_MAX], n = 0, ni = 0, ns = 0;
+    int nall = ew_entity_cameras(a->world, all, kinds, 4 * BEST_MAX);
+    for (int i = 0; i < nall && ni < BEST_MAX; i++)
+        if (kinds[i]) cand[n] = all[i], ckind[n++] = 1, ni++;
+    for (int i = 0; i < nall && ns < BEST_MAX; i++)
+        if (!kinds[i]) {
+            cand[n] = all[i];
+            most_open(a->world, &cand[n]);
+            ckind[n++] = 0, ns++;
+        }
+    *probed = 0;
+    if (n == 0) return -1;
+    *best = cand[0], *kind = ckind[0];
+    ew_error err = {""};
+    ew_renderer *p = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = PROBE_W, .height = PROBE_H, .threads = 1,
+            .color = (ew_color_mode)o->draw.color }, &err);
+    if (!p || draw_opts_apply(&o->draw, p, scene) < 0) {
+        ew_renderer_destroy(p);
+        return -1;
+    }
+    double best_luma = -2;
+    for (int i = 0; i < n; i++) {
+        int solid = ew_point_contents(a->world, EW_HULL_POINT, cand[i].origin) == EW_CONTENTS_SOLID;
+        if (ew_render(p, &cand[i], NULL) < 0) continue;
+        (*probed)++;
+        double luma = frame_mean_luma(p), score = solid ? -1 : luma;
+        if (score > best_luma) best_luma = score, *best = cand[i], *kind = ckind[i];
+        if (!solid && luma >= DARK_LUMA) break;  /* the first lit one, in the order of preference */
+    }
+    ew_renderer_destroy(p);
+    return *probed ? best_luma : -1;
+}
+
 typedef struct map_result {
-    int status;     /* 0 rendered, 1 failed, 2 no views (noted) */
-    int pictures;   /* written */
-    int skipped;    /* already there */
+    int  status;     /* 0 rendered, 1 failed, 2 no views (noted) */
+    int  pictures;   /* written */
+    int  skipped;    /* already there */
+    char error[400]; /* the first error of a failed map, one line */
 } map_result;
 
 typedef struct line_buf {
@@ -522,34 +614,20 @@ static void line_emit(line_buf *b, int fd) {
     if (fd >= 0 && write(fd, b->s, b->n) < 0) error_line("manifest: %s", strerror(errno));
 }
 
-static void line_error(line_buf *b, const map_item *m, int view, const char *file, const char *msg, int fd) {
+/* An error line in the manifest; the map failed (res), its first error kept for the summary. */
+static void line_error(map_result *res, line_buf *b, const map_item *m, int view, const char *file, const char *msg,
+                       int fd) {
     char clean[600];
     snprintf(clean, sizeof clean, "%s", msg);
     char *nl = strchr(clean, '\n');
     if (nl) *nl = '\0';
+    if (res->status != 1) snprintf(res->error, sizeof res->error, "%.399s", clean);
+    res->status = 1;
     line_start(b, m, view, file);
     lb_add(b, ",\"status\":\"error\",\"error\":");
     lb_str(b, clean);
     line_emit(b, fd);
 }
-
-/* Mean luma (0..255) of the frame. */
-static double frame_luma(const ew_renderer *r) {
-    size_t n = (size_t)ew_frame_width(r) * (size_t)ew_frame_height(r);
-    double sum = 0;
-    const uint8_t *px = ew_frame_pixels(r);
-    if (px) {
-        const uint8_t *pal = ew_frame_palette(r);
-        double lum[256];
-        for (int i = 0; i < 256; i++) lum[i] = 0.299 * pal[3 * i] + 0.587 * pal[3 * i + 1] + 0.114 * pal[3 * i + 2];
-        for (size_t i = 0; i < n; i++) sum += lum[px[i]];
-    } else if (ew_frame_rgba(r)) {
-        const uint8_t *c = (const uint8_t *)ew_frame_rgba(r);
-        for (size_t i = 0; i < n; i++) sum += 0.299 * c[4 * i] + 0.587 * c[4 * i + 1] + 0.114 * c[4 * i + 2];
-    }
-    return n ? sum / (double)n : 0;
-}
-#define DARK_LUMA 8.0  /* mean luma below this: "dark" */
 
 static void picture_path(const shots_opts *o, const map_item *m, int view, char *out, size_t size) {
     if (view == -2) snprintf(out, size, "%s/%s_best.png", o->outdir, m->stem);
@@ -563,10 +641,20 @@ static void line_skipped(line_buf *b, const map_item *m, int view, const char *f
 }
 
 static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
-    map_result res = {0, 0, 0};
+    map_result res;
+    memset(&res, 0, sizeof res);
     line_buf *b = malloc(sizeof *b);
-    if (!b) return (map_result){1, 0, 0};
+    if (!b) {
+        res.status = 1;
+        snprintf(res.error, sizeof res.error, "out of memory");
+        return res;
+    }
     char file[1400];
+    if (m->kind == SRC_FAILED) {
+        line_error(&res, b, m, -1, NULL, m->error, fd);
+        free(b);
+        return res;
+    }
     /* Resume without loading when the pictures are known by name. */
     if (!o->force && o->views_mode != 1) {
         int have = 0, want = o->views_mode == 0 ? 1 : o->nviews;
@@ -592,9 +680,9 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
     ew_scene *scene = NULL;
     ew_renderer *r = NULL;
     if (!a) {
-        line_error(b, m, -1, NULL, err.msg[0] ? err.msg : "cannot load the map", fd);
+        line_error(&res, b, m, -1, NULL, err.msg[0] ? err.msg : "cannot load the map", fd);
         free(b);
-        return (map_result){1, 0, 0};
+        return res;
     }
     double load_ms = ew_clock_ms() - t0;
     ew_camera views[EW_MAX_VIEWS];
@@ -609,11 +697,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         goto done;
     }
     if (o->views_mode == 0) {
-        int inter, start;
-        ew_benchmark_view_roles(a->world, &inter, &start);
-        best_cam = views[inter >= 0 ? inter : start >= 0 ? start : 0];
-        if (inter < 0) most_open(a->world, &best_cam);
-        list[nlist++] = -2;
+        list[nlist++] = -2;  /* its camera chosen once the scene is made (choose_best) */
     } else if (o->views_mode == 1) {
         for (int i = 0; i < nv; i++) list[nlist++] = i;
     } else {
@@ -626,22 +710,25 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         scene = m->kind == SRC_BUILTIN ? ew_scene_create_builtin(a->world, &err)
                                        : ew_scene_create_from_map(a->world, scene_map, game, &err);
         if (!scene) {
-            line_error(b, m, -1, NULL, err.msg[0] ? err.msg : "cannot make the scene", fd);
+            line_error(&res, b, m, -1, NULL, err.msg[0] ? err.msg : "cannot make the scene", fd);
             res.status = 1;
             goto done;
         }
     } else if (draw_opts_scene(&o->draw, a, "builtin", NULL, 0, 1, &scene) < 0) {
-        res.status = 1;
+        line_error(&res, b, m, -1, NULL, "cannot make the scene", fd);
         goto done;
     }
     r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
             .colormap = a->colormap, .width = o->width, .height = o->height, .threads = 1,
             .color = (ew_color_mode)o->draw.color }, &err);
     if (!r || draw_opts_apply(&o->draw, r, scene) < 0) {
-        line_error(b, m, -1, NULL, err.msg[0] ? err.msg : "cannot create the renderer", fd);
+        line_error(&res, b, m, -1, NULL, err.msg[0] ? err.msg : "cannot create the renderer", fd);
         res.status = 1;
         goto done;
     }
+    int best_kind = -1, best_probed = 0;  /* kind -1: the view set's first view (no candidate) */
+    best_cam = views[0];
+    if (o->views_mode == 0) choose_best(o, a, scene, &best_cam, &best_kind, &best_probed);
     for (int i = 0; i < nlist; i++) {
         int v = list[i];
         picture_path(o, m, v, file, sizeof file);
@@ -649,7 +736,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
             char msg[160];
             snprintf(msg, sizeof msg, "view %d: out of range, the map has %d view%s (0 to %d)", v, nv,
                      nv == 1 ? "" : "s", nv - 1);
-            line_error(b, m, v, NULL, msg, fd);
+            line_error(&res, b, m, v, NULL, msg, fd);
             res.status = 1;
             continue;
         }
@@ -663,15 +750,16 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         memset(&st, 0, sizeof st);
         double t1 = ew_clock_ms();
         if (ew_render(r, &cam, &st) < 0) {
-            line_error(b, m, v, NULL, "cannot render this camera", fd);
+            line_error(&res, b, m, v, NULL, "cannot render this camera", fd);
             res.status = 1;
             continue;
         }
         double render_ms = ew_clock_ms() - t1;
-        double luma = frame_luma(r);
+        double luma = 0;
+        warn_if_dark(r, a->world, &cam, file, o->quiet, &luma);  /* one line per dark picture */
         double t2 = ew_clock_ms();
         if (ew_write_frame_png(r, file, &err) < 0) {
-            line_error(b, m, v, NULL, err.msg, fd);
+            line_error(&res, b, m, v, NULL, err.msg, fd);
             res.status = 1;
             continue;
         }
@@ -694,6 +782,9 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         lb_add(b, ",\"luma\":");
         lb_num(b, luma);
         lb_add(b, ",\"dark\":%s", luma < DARK_LUMA ? "true" : "false");
+        if (v == -2)
+            lb_add(b, ",\"best_from\":\"%s\",\"best_probed\":%d",
+                   best_kind == 1 ? "intermission" : best_kind == 0 ? "player_start" : "view_set", best_probed);
         lb_add(b, ",\"stats\":{\"pixels_written\":%ld,\"surfaces\":%d,\"edges\":%d,\"spans\":%d,"
                "\"visible_leaves\":%d,\"entities_drawn\":%d,\"models_missing\":%d,\"dropped\":%d}",
                st.pixels_written, st.surfaces, st.edges, st.spans, st.visible_leaves, st.entities_drawn,
@@ -712,6 +803,8 @@ done:
 
 typedef struct progress {
     int    tty, total, done, failed, noviews, pictures, skipped;
+    map_result *results;      /* per map of the list (NULL: none kept) */
+    unsigned char *finished;  /* per map: its finish was reported */
     double t0, last;
     char   current[128];
 } progress;
@@ -752,6 +845,11 @@ static void account(progress *p, const map_list *l, const report *rp) {
     if (rp->kind == 0) {
         snprintf(p->current, sizeof p->current, "%s", l->items[rp->index].stem);
     } else {
+        if (p->finished) {
+            if (p->finished[rp->index]) return;  /* reported twice: counted once */
+            p->finished[rp->index] = 1;
+        }
+        if (p->results) p->results[rp->index] = rp->res;
         p->done++;
         p->pictures += rp->res.pictures;
         p->skipped += rp->res.skipped;
@@ -772,6 +870,20 @@ static int write_all(int fd, const void *buf, size_t n) {
     return 0;
 }
 
+/* The workers of the batch, for the parent's signal handler: a SIGINT,
+ * SIGTERM or SIGHUP to the parent stops them (SIGTERM each), then the
+ * parent dies of the signal as it would have.  (Each worker also asks the
+ * kernel for SIGKILL when its parent dies: PR_SET_PDEATHSIG.) */
+static volatile pid_t worker_pids[MAX_JOBS];
+static volatile sig_atomic_t nworkers;
+
+static void stop_workers(int sig) {
+    for (int j = 0; j < nworkers; j++)
+        if (worker_pids[j] > 0) kill(worker_pids[j], SIGTERM);
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
 /* Renders every map with N worker processes; 0, or -1 (fork failed). */
 static int run_jobs(const shots_opts *o, const map_list *l, int fd, progress *p) {
     atomic_int *next = mmap(NULL, sizeof *next, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
@@ -785,14 +897,42 @@ static int run_jobs(const shots_opts *o, const map_list *l, int fd, progress *p)
     pid_t pids[MAX_JOBS];
     int started = 0;
     fflush(NULL);
+    pid_t parent = getpid();
+    struct sigaction sa, prev[3];
+    const int sigs[3] = {SIGINT, SIGTERM, SIGHUP};
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = stop_workers;
+    sigemptyset(&sa.sa_mask);
+    for (int k = 0; k < 3; k++) {
+        sigaction(sigs[k], NULL, &prev[k]);
+        if (prev[k].sa_handler != SIG_IGN) sigaction(sigs[k], &sa, NULL);  /* nohup's SIG_IGN stays */
+    }
+    sigset_t block, old;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    sigaddset(&block, SIGHUP);
     for (int j = 0; j < o->jobs && j < l->n; j++) {
+        /* No signal between the fork and the worker's pid in the list. */
+        sigprocmask(SIG_BLOCK, &block, &old);
         pid_t pid = fork();
-        if (pid < 0) break;
+        if (pid < 0) {
+            sigprocmask(SIG_SETMASK, &old, NULL);
+            break;
+        }
         if (pid == 0) {
+            /* The worker dies with its parent (killed by anything, even
+             * SIGKILL), and takes the default actions, not the parent's. */
+            signal(SIGINT, SIG_DFL), signal(SIGTERM, SIG_DFL), signal(SIGHUP, SIG_DFL);
+            prctl(PR_SET_PDEATHSIG, SIGKILL);
+            sigprocmask(SIG_SETMASK, &old, NULL);
+            if (getppid() != parent) _exit(1);  /* the parent went before the line above */
             close(pipefd[0]);
             int i;
             while ((i = atomic_fetch_add(next, 1)) < l->n) {
-                report rp = {0, i, {0, 0, 0}};
+                report rp;
+                memset(&rp, 0, sizeof rp);
+                rp.index = i;
                 write_all(pipefd[1], &rp, sizeof rp);
                 rp.res = shoot_map(o, &l->items[i], fd);
                 rp.kind = 1;
@@ -802,6 +942,9 @@ static int run_jobs(const shots_opts *o, const map_list *l, int fd, progress *p)
             _exit(0);
         }
         pids[started++] = pid;
+        worker_pids[nworkers] = pid;
+        nworkers = started;
+        sigprocmask(SIG_SETMASK, &old, NULL);
     }
     close(pipefd[1]);
     report rp;
@@ -816,7 +959,15 @@ static int run_jobs(const shots_opts *o, const map_list *l, int fd, progress *p)
     }
     close(pipefd[0]);
     for (int j = 0; j < started; j++) waitpid(pids[j], NULL, 0);
+    nworkers = 0;
+    for (int k = 0; k < 3; k++) sigaction(sigs[k], &prev[k], NULL);
     /* A worker that died (a crash, killed) leaves its maps unfinished: failures. */
+    for (int i = 0; p->finished && i < l->n; i++)
+        if (!p->finished[i] && p->results) {
+            p->results[i].status = 1;
+            snprintf(p->results[i].error, sizeof p->results[i].error,
+                     "not finished: its worker stopped (crashed or killed)");
+        }
     p->failed += l->n - p->done;
     p->done = l->n;
     munmap(next, sizeof *next);
@@ -991,6 +1142,8 @@ int cmd_shots(int argc, char **argv) {
     if (o.manifest) snprintf(manifest, sizeof manifest, "%s", o.manifest);
     else snprintf(manifest, sizeof manifest, "%s/manifest.jsonl", o.outdir);
     int rc = 1, fd = -1;
+    progress p;
+    memset(&p, 0, sizeof p);
     if (make_dirs(o.outdir) < 0) {
         error_line("--out %s: %s", o.outdir, strerror(errno));
         goto done;
@@ -1000,14 +1153,16 @@ int cmd_shots(int argc, char **argv) {
         error_line("--manifest %s: %s", manifest, strerror(errno));
         goto done;
     }
-    progress p;
-    memset(&p, 0, sizeof p);
     p.tty = isatty(2);
     p.total = l.n;
     p.t0 = ew_clock_ms();
+    p.results = calloc((size_t)l.n, sizeof *p.results);
+    p.finished = calloc((size_t)l.n, 1);
     if (o.jobs == 1) {
         for (int i = 0; i < l.n; i++) {
-            report rp = {0, i, {0, 0, 0}};
+            report rp;
+            memset(&rp, 0, sizeof rp);
+            rp.index = i;
             account(&p, &l, &rp);
             rp.res = shoot_map(&o, &l.items[i], fd);
             rp.kind = 1;
@@ -1023,10 +1178,23 @@ int cmd_shots(int argc, char **argv) {
             "%d failed, %.1f s (%.1f pictures/s), manifest %s\n", p.total, p.total == 1 ? "" : "s", p.pictures,
             p.pictures == 1 ? "" : "s", p.skipped, p.noviews, p.failed, secs, secs > 0 ? p.pictures / secs : 0,
             manifest);
+    /* Each failed map with its error, in the list's order: the first ten, then a count. */
+    int named = 0;
+    for (int i = 0; p.results && i < l.n; i++) {
+        if (p.results[i].status != 1) continue;
+        if (named++ < SUMMARY_FAILURES)
+            error_line("shots: failed: %s: %s", l.items[i].stem,
+                       p.results[i].error[0] ? p.results[i].error : "(no message)");
+    }
+    if (named > SUMMARY_FAILURES)
+        error_line("shots: ... and %d more failed (every error is in the manifest %s)", named - SUMMARY_FAILURES,
+                   manifest);
     rc = p.failed ? 1 : 0;
     if (o.sheet && contact_sheet(&o, &l) < 0) rc = 1;
 done:
     if (fd >= 0) close(fd);
+    free(p.results);
+    free(p.finished);
     free(l.items);
     free(o.inputs);
     return rc;

@@ -279,6 +279,7 @@ int cmd_soak(int argc, char **argv) {
     int rc = 0;
     if (!a)
         return 1;
+    o.draw.map_rgb = ew_world_has_rgb_light(a->world);  /* "lit": coloured light actually drawn */
     ew_scene *scene = NULL;
     if (draw_opts_scene(&o.draw, a, o.map, o.data, 0, o.quiet, &scene) < 0) {
         ew_assets_destroy(a);

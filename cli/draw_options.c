@@ -43,7 +43,8 @@ static const char *const debug_names[] = { "spans", "edges", "overdraw", "lighti
 enum { NDEBUG_NAMES = sizeof debug_names / sizeof *debug_names };
 
 /* The options --classic turns off, so they cannot go with it. */
-#define CLASSIC_CONFLICTS ((1 << D_WATERALPHA) | (1 << D_FOG) | (1 << D_NOFOG) | (1 << D_NOWARP) | (1 << D_COLOR))
+#define CLASSIC_CONFLICTS \
+    ((1 << D_WATERALPHA) | (1 << D_FOG) | (1 << D_NOFOG) | (1 << D_NOWARP) | (1 << D_COLOR) | (1 << D_DITHER))
 
 void draw_opts_init(draw_opts *d) {
     memset(d, 0, sizeof *d);
@@ -51,6 +52,7 @@ void draw_opts_init(draw_opts *d) {
     d->occlusion = EW_OCCLUSION_AUTO;
     d->wateralpha = -1;
     d->hsr = EW_HSR_EDGE;
+    d->map_rgb = -1;
 }
 
 void draw_opts_usage(FILE *f) { cli_print_options(f, CLI_RENDER, 1); }
@@ -194,8 +196,23 @@ int draw_option(draw_opts *d, const char *cmd, const cli_option *opt, const char
     if ((k == D_CLASSIC && (d->given & CLASSIC_CONFLICTS)) ||
         (((1 << k) & CLASSIC_CONFLICTS) && (d->given & (1 << D_CLASSIC)))) {
         error_line("%s: --classic is the 1996 look (8-bit, white light, no see-through surfaces, fog or "
-                   "underwater warp): it cannot be combined with --color, --wateralpha, --fog, --no-fog or "
-                   "--no-waterwarp", cmd);
+                   "underwater warp): it cannot be combined with --color, --wateralpha, --fog, --no-fog, "
+                   "--no-waterwarp or --dither", cmd);
+        return -1;
+    }
+    /* --dither mixes palette colours for coloured light in 8-bit frames:
+     * with true colour or without coloured light it would do nothing. */
+    int dither = k == D_DITHER || (d->given & (1 << D_DITHER));
+    int true_color = (k == D_COLOR || (d->given & (1 << D_COLOR))) && d->color == EW_COLOR_TRUE;
+    int no_lit = k == D_NOLIT || (d->given & (1 << D_NOLIT));
+    if (dither && true_color) {
+        error_line("%s: --dither mixes palette colours for coloured light in 8-bit frames: it does nothing with "
+                   "--color true", cmd);
+        return -1;
+    }
+    if (dither && no_lit) {
+        error_line("%s: --dither mixes palette colours for coloured light in 8-bit frames: it does nothing with "
+                   "--no-lit", cmd);
         return -1;
     }
     d->given |= 1 << k;
@@ -264,7 +281,7 @@ void draw_opts_json(FILE *f, const draw_opts *d) {
     fprintf(f, ",\"waterwarp\":%s,\"hsr\":\"%s\"", d->no_waterwarp || d->classic ? "false" : "true",
             ew_hsr_name((ew_hsr_method)d->hsr));
     fprintf(f, ",\"color\":\"%s\",\"lit\":%s,\"dither\":%s", d->color == EW_COLOR_TRUE ? "true" : "8bit",
-            d->no_lit || d->classic ? "false" : "true", d->dither ? "true" : "false");
+            d->no_lit || d->classic || d->map_rgb == 0 ? "false" : "true", d->dither ? "true" : "false");
     fprintf(f, ",\"lighting\":\"%s\"", d->lighting == EW_LIGHTING_TWO_PASS ? "two-pass" : "cache");
     fputs(",\"gamma\":", f);
     json_number(f, d->gamma > 0 ? d->gamma : 1.0);

@@ -238,6 +238,15 @@ bad:
     return -1;
 }
 
+int check_png_name(const char *opt, const char *name) {
+    size_t n = strlen(name);
+    if (n > 4 && name[n - 4] == '.' && tolower((unsigned char)name[n - 3]) == 'p' &&
+        tolower((unsigned char)name[n - 2]) == 'n' && tolower((unsigned char)name[n - 1]) == 'g')
+        return 0;
+    error_line("%s %s: edgewise writes PNG pictures only: the name must end in .png", opt, name);
+    return -1;
+}
+
 /* Checks and stores one option's value; prints the error itself. */
 static int set_option(options *o, int flag, const char *name, const char *v) {
     long l;
@@ -255,6 +264,7 @@ static int set_option(options *o, int flag, const char *name, const char *v) {
             error_line("--out: empty file name");
             return -1;
         }
+        if (check_png_name("--out", v) < 0) return -1;
         o->out = v;
         return 0;
     case O_SIZE:
@@ -457,26 +467,6 @@ void json_number(FILE *f, double v) {
         fputs("null", f);
 }
 
-/* A frame is "dark" when its mean brightness (luma, 0 to 255) is under 2% of
- * full scale although the map has light data: the light lump is black, not
- * a map drawn fullbright.  *mean gets the mean. */
-#define DARK_FRACTION 0.02
-static int frame_is_dark(const ew_renderer *r, const ew_assets *a, double *mean) {
-    long n = (long)ew_frame_width(r) * ew_frame_height(r);
-    const uint8_t *px = ew_frame_pixels(r);
-    const uint8_t *rgba = (const uint8_t *)ew_frame_rgba(r);
-    double sum = 0;
-    for (long i = 0; i < n; i++) {
-        const uint8_t *c = px ? a->palette + 3 * px[i] : rgba + 4 * i;
-        sum += 0.299 * c[0] + 0.587 * c[1] + 0.114 * c[2];
-    }
-    *mean = n > 0 ? sum / (double)n : 0;
-    ew_world_info info;
-    memset(&info, 0, sizeof info);
-    ew_world_get_info(a->world, &info);
-    return info.lumps[8].length > 0 && *mean < DARK_FRACTION * 255;  /* lump 8: lighting */
-}
-
 static void print_stats(const char *name, const options *o, int view, const ew_camera *cam,
                         const char *out, const ew_stats *s, int dark) {
     FILE *f = stdout;
@@ -645,15 +635,11 @@ static int cmd_render(options *o, int default_view, const char *default_out) {
         error_line("%s", err.msg);
         goto done;
     }
-    if (o->given & O_STATS) {
-        double mean;
-        int dark = frame_is_dark(r, a, &mean);
-        if (dark && !(o->given & O_QUIET))
-            fprintf(stderr, "edgewise: warning: %s: the frame is nearly black (mean brightness %.1f%% of full "
-                    "scale, under %g%%) although the map has light data: its light lump is dark\n",
-                    name, mean / 2.55, DARK_FRACTION * 100);
+    /* A nearly black picture is never silent (cli/dark.c): one warning with its likely cause. */
+    int dark = warn_if_dark(r, a->world, &cam, out, !!(o->given & O_QUIET), NULL);
+    o->draw.map_rgb = ew_world_has_rgb_light(a->world);  /* "lit": coloured light actually used */
+    if (o->given & O_STATS)
         print_stats(name, o, view, &cam, out, &st, dark);
-    }
     fprintf(stderr, "wrote %s (%dx%d)\n", out, o->width, o->height);
     rc = 0;
 done:
@@ -673,9 +659,15 @@ static int cmd_views(options *o) {
         return 1;
     ew_camera views[EW_MAX_VIEWS];
     int n = ew_benchmark_views(a->world, views);
-    for (int i = 0; i < n; i++)
+    for (int i = 0; i < n; i++) {
+        /* The yaw as a compass reading, 0 to under 360 (a player start's
+         * four views turn by 90 from its angle and may pass 360). */
+        double yaw = fmod((double)views[i].angles[1], 360.0);
+        if (yaw < 0) yaw += 360.0;
+        if (yaw >= 359.9995) yaw = 0;  /* would print as 360 */
         printf("%d %g %g %g %g %g %g\n", i, views[i].origin[0], views[i].origin[1],
-               views[i].origin[2], views[i].angles[0], views[i].angles[1], views[i].angles[2]);
+               views[i].origin[2], views[i].angles[0], yaw, views[i].angles[2]);
+    }
     ew_assets_destroy(a);
     if (fflush(stdout) != 0) {
         error_line("stdout: %s", strerror(errno));

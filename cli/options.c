@@ -229,7 +229,8 @@ const cli_option cli_options[] = {
       "a view of the pipeline instead of the normal frame",
       "spans (each span its own colour), edges (the edge list over the frame), overdraw "
       "(writes per pixel), lighting (light maps only), textures (no light), mips (a colour "
-      "per mip level) or builds (surfaces built this frame)" },
+      "per mip level) or builds (surfaces the frame built, magenta: a single render builds every one, "
+      "so all is magenta; view and fly show the rebuilds between frames)" },
 };
 const int cli_noptions = (int)(sizeof cli_options / sizeof cli_options[0]);
 

@@ -569,7 +569,10 @@ typedef enum ew_debug_mode {
      * 2 blue, 3 yellow (sky and liquids as normal). */
     EW_DEBUG_MIPS,
     /* Surfaces built this frame (surface-cache misses) drawn flat magenta;
-     * the others as normal.  Edge method only. */
+     * the others as normal.  The first frame of a renderer (and the first
+     * after the cache is flushed) builds every surface it shows, so it is
+     * all magenta: the mode shows the rebuilds between frames.  Edge
+     * method only. */
     EW_DEBUG_BUILDS
 } ew_debug_mode;
 /* Sets the mode (an unknown value is EW_DEBUG_NONE).  The modes that change

@@ -202,6 +202,19 @@ EW_API ew_assets *ew_assets_create_stress(int detail, const char *name, ew_error
  * the first player start (*start), -1 where there is none. */
 EW_API void ew_benchmark_view_roles(const ew_world *w, int *inter, int *start);
 
+/* Every camera of the entity lump, not only the view set's first 32: each
+ * info_intermission (from its "mangle") and each info_player_* (its eye
+ * EW_EYE_HEIGHT units over its origin, turned by its "angle"), in the
+ * lump's order, into cams (at most max); kinds[i] (kinds may be NULL) is 1
+ * for an intermission camera, 0 for a player start.  Returns the count. */
+EW_API int ew_entity_cameras(const ew_world *w, ew_camera *cams, int *kinds, int max);
+/* The mean of the map's monochrome light samples (0..255), or -1 for a
+ * map without light data (drawn fullbright). */
+EW_API double ew_world_light_mean(const ew_world *w);
+/* 1 if the world carries coloured light (a .lit attached, or a BSPX
+ * RGBLIGHTING lump read), which ew_set_lit turns on and off; else 0. */
+EW_API int ew_world_has_rgb_light(const ew_world *w);
+
 /* ---- files --------------------------------------------------------------- */
 
 /* Reads an RGB/RGBA/gray PNG to malloc'd RGB8 (used by the fidelity tests). */

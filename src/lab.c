@@ -166,3 +166,47 @@ int ew_frame_row_ms(const ew_renderer *r, float *scan_ms, float *draw_ms, int n)
     }
     return r->f.target.height;
 }
+
+/* ---- cameras and light for choosing and checking pictures ---- */
+
+int ew_entity_cameras(const ew_world *w, ew_camera *cams, int *kinds, int max) {
+    const char *text = w ? ew_world_entities(w) : NULL;
+    if (!text || !cams || max <= 0) return 0;
+    ew_entities ents;
+    ew_entities_parse(text, strlen(text), &ents, NULL);  /* keep what parsed */
+    int n = 0;
+    for (int i = 0; i < ents.count && n < max; i++) {
+        const ew_entity *e = &ents.ents[i];
+        const char *cls = ew_entity_get(e, "classname");
+        if (!cls) continue;
+        int inter = strcmp(cls, "info_intermission") == 0;
+        if (!inter && strncmp(cls, "info_player", 11) != 0) continue;
+        float origin[3] = {0, 0, 0}, a[3] = {0, 0, 0};
+        ew_entity_floats(e, "origin", origin, 3);
+        ew_camera *c = &cams[n];
+        memset(c, 0, sizeof *c);
+        memcpy(c->origin, origin, sizeof origin);
+        if (inter) {
+            ew_entity_floats(e, "mangle", a, 3);
+            memcpy(c->angles, a, sizeof a);
+        } else {
+            ew_entity_floats(e, "angle", a, 1);
+            c->origin[2] += EW_EYE_HEIGHT;
+            c->angles[1] = a[0];
+        }
+        c->fov = 90.0f;
+        if (kinds) kinds[n] = inter;
+        n++;
+    }
+    ew_entities_free(&ents);
+    return n;
+}
+
+double ew_world_light_mean(const ew_world *w) {
+    if (!w || !w->lighting || w->lightsize <= 0) return -1;
+    double sum = 0;
+    for (int i = 0; i < w->lightsize; i++) sum += w->lighting[i];
+    return sum / w->lightsize;
+}
+
+int ew_world_has_rgb_light(const ew_world *w) { return w && w->rgblight != NULL; }

@@ -238,8 +238,8 @@ static void dark(void) {
 
     ew_t_run *r = run(ARGS("render", "g/maps/dark.bsp", "--no-entities", "--stats", "--out", "d.png"));
     CHECK(r->status == 0 && ew_t_json_num(r->out, "dark") == 1, "dark map: exit %d, out %s", r->status, r->out);
-    CHECK(strcmp(r->err, "edgewise: warning: dark: the frame is nearly black (mean brightness 0.0% of full scale, "
-                         "under 2%) although the map has light data: its light lump is dark\n"
+    CHECK(strcmp(r->err, "edgewise: warning: d.png: the frame is nearly black (mean brightness 0.0% of full scale, "
+                         "under 3.1%): the map's light data is dark (its light samples average 0.0 of 255)\n"
                          "wrote d.png (640x480)\n") == 0,
           "dark map: stderr:\n%s", r->err);
     r = run(ARGS("render", "g/maps/dark.bsp", "--no-entities", "--stats", "--out", "d.png", "--quiet"));

@@ -164,8 +164,9 @@ static void broken(const char *maps) {
     const char *const args[] = {"shots", "builtin", cut, box, "--out", out, "--manifest", man, "--size", "320x200", NULL};
     ew_t_run *r = run(args);
     CHECK(r->status == 1 && strstr(r->err, "1 failed") && strstr(r->err, "1 without views") &&
-              ew_t_count_lines(r->err) == 1,
-          "broken: want exit 1 and one summary line saying 1 failed, got %d: %s", r->status, r->err);
+              ew_t_count_lines(r->err) == 2 && strstr(r->err, "shots: failed: cut: ") && strstr(r->err, "cut.bsp: "),
+          "broken: want exit 1, one summary line saying 1 failed and a line naming cut with its error, got %d: %s",
+          r->status, r->err);
     char *m = slurp_big(man);
     const char *e = strstr(m, "\"map\":\"cut\"");
     CHECK(e && strstr(e, "\"status\":\"error\",\"error\":\"") && strstr(e, "cut.bsp:"),

@@ -303,6 +303,7 @@ static void screenshot(viewer *v, const char *path, const ew_camera *cam) {
         error_line("%s", err.msg);
         return;
     }
+    warn_if_dark(v->r, v->a->world, cam, path, v->o->quiet, NULL);  /* a black screenshot is never silent */
     printf("%s --pos %.9g,%.9g,%.9g --angles %.9g,%.9g,%.9g --time %.9g --size %dx%d\n", path, cam->origin[0],
            cam->origin[1], cam->origin[2], cam->angles[0], cam->angles[1], cam->angles[2], cam->time, v->fw,
            v->fh);
@@ -357,6 +358,10 @@ static int load_script(const char *path, script_cmd **out, int *count) {
             c.kind = S_SCREENSHOT;
             ok = got == 3;
             snprintf(c.path, sizeof c.path, "%s", arg1);
+            if (ok && check_png_name("screenshot", c.path) < 0) {  /* PNG only, as --out: one line */
+                rc = -1;
+                break;
+            }
         } else if (ok && strcmp(verb, "quit") == 0) {
             c.kind = S_QUIT;
             ok = got == 2;
