@@ -1,5 +1,5 @@
 /*
- * edgewise fly MAP [--data DIR] [--path views|FILE] [--seconds S] [--fps F]
+ * edgewise fly MAP [--data DIR] [--path views|straight|FILE] [--seconds S] [--fps F]
  *                  [--size WxH] [--cameras FILE] [--quiet] [what is drawn]
  *                  --out FILE.y4m|FILE.mp4|PATTERN.png
  *
@@ -11,6 +11,7 @@
 #define _DEFAULT_SOURCE
 #include "cli.h"
 #include "edgewise.h"
+#include "fly_route.h"
 #include "edgewise_lab.h"  /* ew_clock_ms */
 
 #include <errno.h>
@@ -28,8 +29,8 @@
 #define TURN_SECONDS 8.0      /* one origin: a full turn in place */
 
 static const char fly_usage[] =
-    "usage: edgewise fly MAP [--data DIR] [--path views|FILE] [--seconds S] [--fps F]\n"
-    "                    [--size WxH] [--cameras FILE] [--quiet] [what is drawn]\n"
+    "usage: edgewise fly MAP [--data DIR] [--path views|straight|FILE] [--seconds S]\n"
+    "                    [--fps F] [--size WxH] [--cameras FILE] [--quiet] [what is drawn]\n"
     "                    --out FILE.y4m|FILE.mp4|DIR/%05d.png\n"
     "\n"
     "Renders a flythrough video.  Frame k shows the path at k/F seconds, with the\n"
@@ -222,8 +223,42 @@ static double catmull_rom(double p0, double p1, double p2, double p3, double t) 
                   (3 * p1 - p0 - 3 * p2 + p3) * t * t * t);
 }
 
-/* The camera at fraction f (0..1) of the view path. */
-static void views_camera(const key *k, int n, double f, ew_camera *cam) {
+/* The default path (fly_route.c): the views whose eyes are in the open and
+ * that a path through open space reaches, kept in k (in order, their count
+ * returned), the path between them in *route.  A skipped view is named in
+ * a warning.  -1 with the error printed. */
+static int open_route(const ew_world *w, const char *map, int quiet, key *k, int n, fly_route **route) {
+    double (*pos)[3] = malloc(sizeof *pos * (size_t)n);
+    int *kept = malloc(sizeof *kept * (size_t)n), nkept = 0;
+    if (!pos || !kept) {
+        free(pos);
+        free(kept);
+        error_line("out of memory");
+        return -1;
+    }
+    for (int i = 0; i < n; i++) memcpy(pos[i], k[i].pos, sizeof pos[i]);
+    *route = fly_route_build(w, (const double(*)[3])pos, n, kept, &nkept);
+    if (*route) {
+        for (int i = 0, j = 0; i < n; i++) {
+            if (j < nkept && kept[j] == i) {
+                k[j++] = k[i];
+                continue;
+            }
+            if (!quiet)
+                fprintf(stderr, "edgewise: warning: %s: fly: skipped the view at %g,%g,%g: its eye is in solid or "
+                        "the sky, or no path through open space reaches it\n", map, pos[i][0], pos[i][1],
+                        pos[i][2]);
+        }
+        unwrap_angles(k, nkept);
+    }
+    free(pos);
+    free(kept);
+    return *route ? nkept : 0;
+}
+
+/* The camera at fraction f (0..1) of the view path: the views' own
+ * Catmull-Rom spline (route NULL, --path straight) or the route. */
+static void views_camera(const key *k, int n, const fly_route *route, double f, ew_camera *cam) {
     if (n == 1) {
         for (int c = 0; c < 3; c++) cam->origin[c] = (float)k[0].pos[c];
         cam->angles[0] = 0;
@@ -237,8 +272,10 @@ static void views_camera(const key *k, int n, double f, ew_camera *cam) {
     if (s < 0) s = 0;
     double t = u - s;
     const key *p0 = &k[s > 0 ? s - 1 : 0], *p1 = &k[s], *p2 = &k[s + 1], *p3 = &k[s + 2 < n ? s + 2 : n - 1];
+    double eye[3];
+    if (route) fly_route_eye(route, s, t, eye);
     for (int c = 0; c < 3; c++) {
-        cam->origin[c] = (float)catmull_rom(p0->pos[c], p1->pos[c], p2->pos[c], p3->pos[c], t);
+        cam->origin[c] = (float)(route ? eye[c] : catmull_rom(p0->pos[c], p1->pos[c], p2->pos[c], p3->pos[c], t));
         /* Smoothstep between the two views' angles: no overshoot, no flip. */
         double e = t * t * (3 - 2 * t);
         cam->angles[c] = (float)wrap180(p1->ang[c] + (p2->ang[c] - p1->ang[c]) * e);
@@ -488,7 +525,8 @@ int cmd_fly(int argc, char **argv) {
         return 1;
     }
     key *keys = NULL;
-    int nkeys = 0, from_file = strcmp(o.path, "views") != 0;
+    int nkeys = 0, straight = !strcmp(o.path, "straight"), from_file = !straight && strcmp(o.path, "views") != 0;
+    fly_route *route = NULL;
     if (from_file && (nkeys = read_path(o.path, &keys)) < 0) return 1;
 
     int rc = 1;
@@ -509,6 +547,12 @@ int cmd_fly(int argc, char **argv) {
         nkeys = view_keys(a->world, keys);
         if (!nkeys) {
             error_line("%s: no views (no info_player* or info_intermission entity); use --path FILE", o.map);
+            goto done;
+        }
+        if (!straight && (nkeys = open_route(a->world, o.map, o.quiet, keys, nkeys, &route)) <= 0) {
+            if (nkeys == 0)
+                error_line("%s: no view has its eye in the open (all in solid or the sky); use --path straight "
+                           "or --path FILE", o.map);
             goto done;
         }
         seconds = o.seconds > 0 ? o.seconds : nkeys == 1 ? TURN_SECONDS : SECONDS_PER_SEGMENT * (nkeys - 1);
@@ -581,7 +625,7 @@ int cmd_fly(int argc, char **argv) {
         memset(&cam, 0, sizeof cam);
         double t = (double)k / o.fps;
         if (from_file) file_camera(keys, nkeys, t, &cam);
-        else views_camera(keys, nkeys, t / seconds, &cam);
+        else views_camera(keys, nkeys, route, t / seconds, &cam);
         cam.fov = 90;
         cam.time = t;
         if (cams)
@@ -693,6 +737,7 @@ done:
     free(rgb);
     free(yuv);
     free(keys);
+    fly_route_destroy(route);
     ew_renderer_destroy(r);
     ew_scene_destroy(scene);
     ew_assets_destroy(a);

@@ -135,10 +135,13 @@ const cli_option cli_options[] = {
     { "--contact-sheet", "FILE", CLI_ARG_FILE, NULL, B(SHOTS), 0,
       "a grid PNG of the batch's pictures with their names", NULL },
     /* ---- fly ---- */
-    { "--path", "views|FILE", CLI_ARG_FILE_OR_WORD, "views", B(FLY), 0,
-      "views (default): a smooth path through the map's view set: a\nCatmull-Rom spline through the distinct view "
-      "origins, in\norder, the angles turning the shortest way between views;\nwith a single origin, a slow full "
-      "turn in place.  The path\ngoes straight between views and may pass through walls.\nFILE: a camera path as "
+    { "--path", "views|straight|FILE", CLI_ARG_FILE_OR_WORD, "views straight", B(FLY), 0,
+      "views (default): a smooth path\nthrough the map's view set that stays in the open: the\ndistinct view "
+      "origins in order, joined straight where the\nway is clear, else by a path through open space (a grid\n"
+      "search, checked with traces); a view whose eye is in solid\nor that no open path reaches is skipped (a "
+      "warning says so);\nthe angles turn the shortest way between views; with a\nsingle origin, a slow full turn "
+      "in place.\nstraight: a Catmull-Rom spline straight through the view\norigins, which may pass through walls.\n"
+      "FILE: a camera path as "
       "the viewer's --record writes it, lines\n'time x y z pitch yaw roll' (decimal numbers, # comments),\nsampled "
       "every 1/F seconds from its first time to its last\n(linear in between); times not going back, spanning at\n"
       "most 3600 s; positions and angles within +-1000000", NULL },

@@ -51,7 +51,7 @@ _edgewise()
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         fly:--path)
             compopt -o filenames 2>/dev/null
-            COMPREPLY=($(compgen -W 'views' -- "$cur") $(compgen -f -- "$cur")); return 0 ;;
+            COMPREPLY=($(compgen -W 'views straight' -- "$cur") $(compgen -f -- "$cur")); return 0 ;;
         fly:--out)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         fly:--cameras)

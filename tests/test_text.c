@@ -8,6 +8,10 @@
  * overlay is read back with a small "OCR" (each cell against the font's own
  * glyphs) and must say the numbers of the ew_stats it was given.
  *
+ * g and q (issue 33: they read as 9): drawn, read back, each is a small
+ * letter with a descender at least 10 pixels from '9' at any vertical
+ * shift, q's stem ends in a spur.  EW_FONT_PNG=file.png writes them big.
+ *
  * EW_OVERLAY_PNG=file.png writes start.bsp's first view at 640x480 with
  * the overlay (docs/overlay.png).
  */
@@ -114,6 +118,70 @@ static int nearest(const uint8_t *pal, int r, int g, int b) {
     }
     return best;
 }
+
+/* ---- g and q are not 9 (issue 33) ---------------------------------------- */
+
+/* Pixels that differ between two glyphs, the least over vertical shifts of
+ * a (a small letter shifted down still reads as the digit). */
+static int glyph_distance(const uint8_t a[EW_FONT_GLYPH_H], const uint8_t b[EW_FONT_GLYPH_H]) {
+    int best = 99;
+    for (int k = -3; k <= 3; k++) {
+        int d = 0;
+        for (int r = 0; r < EW_FONT_GLYPH_H; r++) {
+            int ar = r - k >= 0 && r - k < EW_FONT_GLYPH_H ? a[r - k] : 0;
+            d += __builtin_popcount((unsigned)(ar ^ b[r]) & 0x1f);
+        }
+        if (d < best) best = d;
+    }
+    return best;
+}
+
+/* "9gqp" drawn into the frame at scale s, each cell read back from the
+ * pixels that changed. */
+static void read_cells(fixture *f, int s, uint8_t cells[4][EW_FONT_GLYPH_H]) {
+    rerender(f);
+    ew_text_style st = {{255, 255, 255}, 1, 254, 0};
+    int x0 = 20, y0 = 20;
+    ew_draw_text(f->r, x0, y0, s, "9gqp", &st);
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < EW_FONT_GLYPH_H; r++) {
+            cells[c][r] = 0;
+            for (int b = 0; b < EW_FONT_GLYPH_W; b++)
+                if (px_changed(f, x0 + s + (c * EW_FONT_CELL_W + b) * s, y0 + s + r * s))
+                    cells[c][r] |= (uint8_t)(0x10 >> b);
+        }
+}
+
+static void test_g_q(fixture *f) {
+    uint8_t cell[4][EW_FONT_GLYPH_H];  /* 9 g q p as drawn */
+    read_cells(f, 3, cell);
+    for (int c = 0; c < 4; c++) {
+        uint8_t rows[EW_FONT_GLYPH_H];
+        ew_font_glyph("9gqp"[c], rows);
+        CHECK(!memcmp(rows, cell[c], EW_FONT_GLYPH_H), "'%c' drawn as its glyph", "9gqp"[c]);
+    }
+    for (int c = 1; c <= 2; c++) {
+        char ch = "9gqp"[c];
+        int d = glyph_distance(cell[c], cell[0]);
+        CHECK(d >= 10, "'%c' differs from '9' in only %d pixels (at its best vertical shift): it reads as 9", ch, d);
+        CHECK(cell[c][0] == 0 && cell[c][1] == 0, "'%c' is a small letter: nothing above the x-height (rows 0-1)",
+              ch);
+        CHECK(cell[c][6] != 0, "'%c' has a descender", ch);
+    }
+    /* q's stem ends in a spur: its last row is not the stem alone (as p's
+     * is), so it is not a 9 or a mirrored p read small. */
+    CHECK(cell[2][6] != cell[2][5], "'q' ends in a spur");
+    CHECK(glyph_distance(cell[1], cell[2]) >= 3, "'g' and 'q' differ");
+    const char *png = getenv("EW_FONT_PNG");  /* the four letters, to look at */
+    if (png && f->bpp == 1) {
+        ew_error err;
+        rerender(f);
+        ew_text_style st = {{255, 255, 255}, 1, 254, EW_TEXT_BOX};
+        ew_draw_text(f->r, 20, 20, 8, "9gqp 9 g q\nQ9 gig qaq", &st);
+        if (ew_write_frame_png(f->r, png, &err) < 0) fprintf(stderr, "%s\n", err.msg);
+    }
+}
+
 
 /* ---- drawing ------------------------------------------------------------- */
 
@@ -320,6 +388,7 @@ int main(void) {
             fixture f;
             if (fixture_open(&f, a, modes[m], 640, 480) < 0) continue;
             test_plain(&f);
+            test_g_q(&f);
             test_styles_and_clip(&f);
             test_overlay(&f);
             fixture_close(&f);

@@ -14,8 +14,12 @@
  *     the floor, W stops at a wall 16 units short and climbs stairs step
  *     by step (the recorded path against point traces of the map);
  *   - H cycles the available hidden-surface methods;
- *   - without a display, view says so in one line and fails; a bad
- *     --present value is refused.
+ *   - without a display, view says so in one line and fails; so it does
+ *     with DISPLAY naming no X server (issue 33: SDL fell back to its
+ *     offscreen driver and the viewer rendered to nothing until killed);
+ *     a bad --present value is refused;
+ *   - T cycles the threads 1, 2, all cores (issue 33: stuck at 1 after
+ *     --threads 1); keys 0-9 go to views 0-9, counted from 0 as --view.
  * In a build without SDL2, only that `view` says it was built without it.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -252,6 +256,64 @@ static void test_overlay_and_debug(const char *data) {
         CHECK(0, "overlay/debug screenshots missing");
     }
     free(o0); free(o1); free(d0); free(d1);
+}
+
+/* T from --threads 1: 1, 2, all cores, round again (issue 33); keys 0-9
+ * are views 0-9 (counted from 0 as --view and `edgewise views`). */
+static void test_threads_and_view_keys(void) {
+    ew_error err = { "" };
+    ew_assets *a = ew_assets_create_builtin(&err);
+    CHECK(a != NULL, "builtin: %s", err.msg);
+    if (!a) return;
+    ew_renderer *rd = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
+            .colormap = a->colormap, .width = 320, .height = 200, .threads = 0 }, &err);
+    int cores = rd ? ew_get_threads(rd) : 1;
+    ew_renderer_destroy(rd);
+    char want[256];
+    if (cores > 2)
+        snprintf(want, sizeof want, "threads: 2\nthreads: %d (all cores)\nthreads: 1\nthreads: 2\n", cores);
+    else if (cores == 2)
+        snprintf(want, sizeof want, "threads: 2 (all cores)\nthreads: 1\nthreads: 2 (all cores)\nthreads: 1\n");
+    else
+        snprintf(want, sizeof want, "threads: 1 (all cores)\nthreads: 1 (all cores)\nthreads: 1 (all cores)\n");
+    write_text(tpath("t.script"), "at 0 key T\nat 0.1 key T\nat 0.2 key T\nat 0.3 key T\nat 0.4 quit\n");
+    ew_t_run r;
+    const char *args[] = { "view", "builtin", "--size", "320x240", "--threads", "1", "--script", tpath("t.script"),
+                           NULL };
+    ew_t_run_cli(&r, tmpdir, args);
+    CHECK(r.status == 0 && strstr(r.err, want), "T four times from --threads 1 (%d cores): want '%s': %s", cores,
+          want, r.err);
+
+    ew_camera views[EW_MAX_VIEWS];
+    int nv = ew_benchmark_views(a->world, views);
+    CHECK(nv >= 5, "builtin has %d views", nv);
+    char script[1024];
+    snprintf(script, sizeof script,
+             "at 0 key 4\nat 0.1 screenshot %s\nat 0.2 key 0\nat 0.3 screenshot %s\nat 0.35 key 1\n"
+             "at 0.4 screenshot %s\nat 0.5 quit\n", tpath("k4.png"), tpath("k0.png"), tpath("k1.png"));
+    write_text(tpath("k.script"), script);
+    const char *argsk[] = { "view", "builtin", "--size", "320x240", "--view", "2", "--script", tpath("k.script"),
+                            NULL };
+    ew_t_run_cli(&r, tmpdir, argsk);
+    CHECK(r.status == 0 && ew_t_count_lines(r.out) == 3, "keys 4, 0, 1: %d %s %s", r.status, r.out, r.err);
+    const char *line = r.out;
+    static const int want_view[3] = { 4, 0, 1 };
+    for (int i = 0; i < 3 && nv >= 5; i++) {
+        char path[512];
+        float p[3], g[3];
+        int ok = sscanf(line, "%511s --pos %f,%f,%f --angles %f,%f,%f", path, &p[0], &p[1], &p[2], &g[0], &g[1],
+                        &g[2]) == 7;
+        const ew_camera *v = &views[want_view[i]];
+        float dy = fmodf(fabsf(g[1] - v->angles[1]), 360.0f);
+        CHECK(ok && fabsf(p[0] - v->origin[0]) < 0.01f && fabsf(p[1] - v->origin[1]) < 0.01f &&
+              fabsf(p[2] - v->origin[2]) < 0.01f && fabsf(g[0] - v->angles[0]) < 0.01f &&
+              (dy < 0.01f || dy > 359.99f), "key %d: view %d (%g,%g,%g yaw %g), got: %.*s", want_view[i],
+              want_view[i], v->origin[0], v->origin[1], v->origin[2], v->angles[1],
+              (int)strcspn(line, "\n"), line);
+        const char *nl = strchr(line, '\n');
+        line = nl ? nl + 1 : line + strlen(line);
+    }
+    ew_assets_destroy(a);
 }
 
 /* Walk mode: gravity lands the player, a wall stops it. */
@@ -600,6 +662,28 @@ int main(void) {
     CHECK(r.status != 0 && strstr(r.err, "no display") && ew_t_count_lines(r.err) == 1, "no display: %d %s",
           r.status, r.err);
 
+    /* DISPLAY naming no X server: one line, exit 1 (not a window-less run;
+     * the script quits a run that wrongly goes on). */
+    {
+        int free_d = -1;
+        for (int d = 150; d < 250 && free_d < 0; d++) {
+            char lock[64], sock[64];
+            snprintf(lock, sizeof lock, "/tmp/.X%d-lock", d);
+            snprintf(sock, sizeof sock, "/tmp/.X11-unix/X%d", d);
+            if (!file_exists(lock) && !file_exists(sock)) free_d = d;
+        }
+        char disp[16];
+        snprintf(disp, sizeof disp, ":%d", free_d);
+        setenv("DISPLAY", disp, 1);
+        write_text(tpath("q.script"), "at 1 quit\n");
+        const char *argsx[] = { "view", "builtin", "--script", tpath("q.script"), NULL };
+        ew_t_run_cli(&r, tmpdir, argsx);
+        CHECK(r.status == 1 && strstr(r.err, "cannot open the display") && strstr(r.err, disp) &&
+              ew_t_count_lines(r.err) == 1, "DISPLAY=%s (no X server): exit %d, want 1 and one line: %s", disp,
+              r.status, r.err);
+        unsetenv("DISPLAY");
+    }
+
     const char *argsp[] = { "view", "builtin", "--present", "bogus", NULL };
     ew_t_run_cli(&r, tmpdir, argsp);
     CHECK(r.status == 2 && strstr(r.err, "--present bogus") && ew_t_count_lines(r.err) == 1, "--present bogus: %d %s",
@@ -650,6 +734,7 @@ int main(void) {
             ew_t_run_cli(&r, tmpdir, argsh);
             CHECK(r.status == 0 && strstr(r.err, want), "H twice: want '%s': %s", want, r.err);
         }
+        test_threads_and_view_keys();
         if (have_tool("xdotool")) test_xdotool_walk();
         else ew_t_skip("no xdotool (Debian package 'xdotool'): no keys sent through X");
         if (ew_t_need_shared("data/librequake/maps/e1m1.bsp")) {

@@ -27,7 +27,12 @@ static const char view_usage[] =
     "usage: edgewise view MAP [options]\n"
     "\n"
     "A window in which MAP ('builtin' for the built-in scene) is rendered by\n"
-    "edgewise; see docs/viewer.md for the keys and formats.\n"
+    "edgewise; see docs/viewer.md for the keys and formats.  Keys: mouse look\n"
+    "(click to grab, Esc releases), W A S D move, Space/C up/down, F fly/walk,\n"
+    "0-9 view 0-9 of the view set (counted from 0, as --view N and edgewise views\n"
+    "list them), PgUp/PgDn the next/previous view, P pause, Tab overlay, F1-F7\n"
+    "debug modes, F12 screenshot, H hidden-surface method, L PVS lock, X exact\n"
+    "perspective, T threads (1, 2, all cores), E entities, R alias rasterizer.\n"
     "\n"
     "options:\n"
     CLI_OPTIONS_HERE
@@ -159,7 +164,8 @@ typedef struct viewer {
     ew_player     player;
     float         eye[3], angles[3];
     double        time;
-    int           paused, overlay, grabbed, quit, entities, threads_all, exact, pvs_lock;
+    int           paused, overlay, grabbed, quit, entities, exact, pvs_lock;
+    int           threads;    /* asked for: 0 all cores (T cycles 1, 2, all) */
     int           alias_raster;
     ew_debug_mode debug;
     int           shot_count;
@@ -179,7 +185,7 @@ static void set_view(viewer *v, int n) {
 static int make_renderer(viewer *v, int w, int h) {
     ew_error err = { "" };
     ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = v->a->world, .palette = v->a->palette,
-            .colormap = v->a->colormap, .width = w, .height = h, .threads = v->o->threads,
+            .colormap = v->a->colormap, .width = w, .height = h, .threads = v->threads,
             .color = (ew_color_mode)v->o->draw.color }, &err);
     if (!r) {
         error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
@@ -194,7 +200,6 @@ static int make_renderer(viewer *v, int w, int h) {
     ew_set_debug(r, v->debug);
     ew_set_pvs_lock(r, v->pvs_lock);
     if (v->exact) ew_set_subdivision(r, 1);
-    if (!v->threads_all) ew_set_threads(r, 1);
     ew_set_alias_raster(r, (ew_alias_raster)v->alias_raster, 0);
     SDL_Texture *tex = NULL;
     if (v->sdl && !(tex = SDL_CreateTexture(v->sdl, v->tex_format, SDL_TEXTUREACCESS_STREAMING, w, h))) {
@@ -230,8 +235,8 @@ static void press(viewer *v, SDL_Keycode k) {
         fprintf(stderr, "debug: %s\n", debug_names[v->debug]);
         return;
     }
-    if (k >= SDLK_1 && k <= SDLK_9) {
-        set_view(v, k - SDLK_1);
+    if (k >= SDLK_0 && k <= SDLK_9) {  /* views counted from 0, as --view and `edgewise views` */
+        set_view(v, k - SDLK_0);
         return;
     }
     switch (k) {
@@ -258,11 +263,18 @@ static void press(viewer *v, SDL_Keycode k) {
         ew_set_subdivision(v->r, v->exact ? 1 : 16);
         fprintf(stderr, "perspective: %s\n", v->exact ? "exact" : "16-pixel subdivision");
         break;
-    case SDLK_t:
-        v->threads_all = !v->threads_all;
-        ew_set_threads(v->r, v->threads_all ? v->o->threads : 1);
-        fprintf(stderr, "threads: %d\n", ew_get_threads(v->r));
+    case SDLK_t: {  /* 1, 2, all cores, 1, ... (from --threads N: the next one up) */
+        int cur = ew_get_threads(v->r), cores = ew_set_threads(v->r, 0);
+        int next = cur < 2 && cores > 2 ? 2 : cur < cores ? 0 : 1;
+        if (cores < 0 || ew_set_threads(v->r, next) < 0) {
+            fprintf(stderr, "threads: out of memory\n");
+            break;
+        }
+        v->threads = next;
+        int n = ew_get_threads(v->r);
+        fprintf(stderr, "threads: %d%s\n", n, n == cores ? " (all cores)" : "");
         break;
+    }
     case SDLK_e:
         v->entities = !v->entities;
         ew_set_scene(v->r, v->entities ? v->scene : v->empty);
@@ -716,6 +728,23 @@ static int run(viewer *v) {
     return rc;
 }
 
+/* SDL found no display it can show a window on when it falls back to a
+ * driver that draws to nothing ("offscreen", "dummy"): with DISPLAY naming
+ * no X server, SDL 2.26 opens its offscreen driver and the viewer would
+ * render into it until killed.  Allowed when asked for by name
+ * (SDL_VIDEODRIVER).  1, or 0 with the error printed. */
+static int real_video_driver(void) {
+    const char *drv = SDL_GetCurrentVideoDriver(), *asked = getenv("SDL_VIDEODRIVER");
+    if (!drv || (strcmp(drv, "offscreen") && strcmp(drv, "dummy"))) return 1;
+    if (asked && strstr(asked, drv)) return 1;
+    const char *x = getenv("DISPLAY"), *wl = getenv("WAYLAND_DISPLAY");
+    error_line("view: cannot open the display %s%s%s%s%s: no window can be shown there (SDL fell back to its "
+               "'%s' video driver; set SDL_VIDEODRIVER=%s to render to nothing on purpose)",
+               x && *x ? "DISPLAY=" : "", x && *x ? x : "", x && *x && wl && *wl ? ", " : "",
+               wl && *wl ? "WAYLAND_DISPLAY=" : "", wl && *wl ? wl : "", drv, drv);
+    return 0;
+}
+
 int cmd_view(int argc, char **argv) {
     view_opts o;
     memset(&o, 0, sizeof o);
@@ -734,7 +763,7 @@ int cmd_view(int argc, char **argv) {
     memset(&v, 0, sizeof v);
     v.o = &o;
     v.entities = 1;
-    v.threads_all = 1;
+    v.threads = o.threads;
     v.alias_raster = o.draw.alias_raster;
     v.debug = (ew_debug_mode)o.draw.debug;
     int rc = 1;
@@ -760,8 +789,17 @@ int cmd_view(int argc, char **argv) {
     }
     set_view(&v, o.view);
 
+    /* DISPLAY alone: X11 is the one driver that can show the window.  Asked
+     * for by name, SDL neither probes Wayland (whose library prints its own
+     * line without a WAYLAND_DISPLAY) nor falls back to drawing to nothing. */
+    if ((!wl || !*wl) && !getenv("SDL_VIDEODRIVER")) setenv("SDL_VIDEODRIVER", "x11", 0);
     if (SDL_Init(SDL_INIT_VIDEO) != 0) {
-        error_line("view: cannot open the display: %s", SDL_GetError());
+        error_line("view: cannot open the display %s%s: %s%s", x && *x ? "DISPLAY=" : "", x && *x ? x : "",
+                   SDL_GetError(), x && *x && (!wl || !*wl) ? " (is an X server running there?)" : "");
+        goto done;
+    }
+    if (!real_video_driver()) {
+        SDL_Quit();
         goto done;
     }
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "0");

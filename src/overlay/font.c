@@ -4,7 +4,9 @@
  * use the full seven rows; lowercase letters have an x-height of five rows
  * (rows 2..6) and ascenders to row 0; the descenders of g, j, p, q, y stay
  * inside the seven rows (their bowls sit higher), so every line of text is
- * eight rows with one row of spacing.  Every printable glyph differs from
+ * eight rows with one row of spacing.  g and q start at the x-height, a
+ * bowl beside a stem (g's tail hooked left, q's stem ending in a spur to
+ * the right), so they do not read as a 9 (tests/test_text.c checks).  Every printable glyph differs from
  * every other (tests/test_text.c checks), so text can be read back. */
 #include "overlay/overlay.h"
 
@@ -507,10 +509,10 @@ static const char *const ew_font_art[EW_FONT_LAST - EW_FONT_FIRST + 1][EW_FONT_G
                ".#...",
                ".#..."},
     /* 'g' */ {".....",
-               ".####",
-               "#...#",
-               "#...#",
-               ".####",
+               ".....",
+               ".##.#",
+               "#..##",
+               ".##.#",
                "....#",
                ".###."},
     /* 'h' */ {"#....",
@@ -578,11 +580,11 @@ static const char *const ew_font_art[EW_FONT_LAST - EW_FONT_FIRST + 1][EW_FONT_G
                "#...."},
     /* 'q' */ {".....",
                ".....",
-               ".##.#",
-               "#..##",
-               ".####",
-               "....#",
-               "....#"},
+               ".###.",
+               "#..#.",
+               ".###.",
+               "...#.",
+               "...##"},
     /* 'r' */ {".....",
                ".....",
                "#.##.",
