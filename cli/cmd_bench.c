@@ -1004,6 +1004,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->threads_applied = 1;
 #endif
     r->draw = o->draw;
+    r->draw.map_rgb = ew_world_has_rgb_light(a->world);  /* "lit": coloured light actually drawn */
     r->draw.no_entities = scene == NULL;
     draw_opts_apply(&o->draw, rd, scene);
     size_t n = (size_t)nviews * (size_t)o->passes;
