@@ -69,6 +69,14 @@
  *   inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] */
 #define _POSIX_C_SOURCE 200809L  /* clock_gettime */
 #include "edgewise_lab.h"  /* ew_flush_surfaces */
+/* Calls an older revision on side A may lack: weak, so a missing one is
+ * NULL there and the option that needs it is refused (need() in main). */
+#pragma weak ew_frame_rgba
+#pragma weak ew_set_lit
+#pragma weak ew_flush_surfaces
+#pragma weak ew_frame_palette
+#pragma weak ew_set_fog
+#pragma weak ew_set_hsr
 #ifdef EW_INPROC_OLD
 #include "inproc_old.h"
 #endif
@@ -304,7 +312,9 @@ static void side_rgb(int s, int n, uint8_t *rgb) {
         for (int i = 0; i < n; i++) memcpy(rgb + 3 * i, px + 4 * i, 3);
         return;
     }
-    const uint8_t *px = sides[s].pixels(sides[s].r), *pal = sides[s].palette(sides[s].r);
+    const uint8_t *px = sides[s].pixels(sides[s].r);
+    /* Through the palette where both sides have it, else the indices. */
+    const uint8_t *pal = sides[0].palette && sides[1].palette ? sides[s].palette(sides[s].r) : NULL;
 #ifdef EW_INPROC_OLD
     pal = NULL;  /* side A gives indices: so must B */
 #endif
@@ -545,6 +555,18 @@ int main(int argc, char **argv) {
         if (vs_color) opts[k].color = k ? EW_COLOR_TRUE : EW_COLOR_8BIT;
         if (own[k] && side_args(own[k], &opts[k]) < 0)
             return usage("--a-args/--b-args take --fog, --no-fog, --color, --hsr, --classic, --no-lit");
+    }
+    for (int k = 0; k < 2; k++) {
+        const side *sd = &sides[k];
+        const char *miss = opts[k].color && !sd->rgba ? "--color true (ew_frame_rgba)"
+                         : opts[k].no_lit && !sd->set_lit ? "--no-lit (ew_set_lit)"
+                         : cold && !sd->flush ? "--cold (ew_flush_surfaces)"
+                         : opts[k].fog_set && !sd->set_fog ? "--fog (ew_set_fog)"
+                         : opts[k].hsr && !sd->set_hsr ? "--hsr (ew_set_hsr)" : NULL;
+        if (miss) {
+            fprintf(stderr, "inproc: side %c's library has no %s\n", "AB"[k], miss);
+            return 2;
+        }
     }
 #ifdef EW_INPROC_OLD
     if (own[0] || own[1] || both.color || both.hsr || both.fog_set || both.no_lit || vs_color || cold)
