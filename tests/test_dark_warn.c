@@ -26,41 +26,20 @@
 #include <unistd.h>
 
 static char tmpdir[256];
+#define IN_TMP(rel) ew_t_in_dir(tmpdir, rel)
 static ew_t_run *run_r;
 static uint8_t *bsp, pal[768], cmap[EW_COLORMAP_SIZE];
 static size_t bsp_size;
-
-static int write_file(const char *path, const void *d, size_t n) {
-    FILE *f = fopen(path, "wb");
-    if (!f) return -1;
-    int ok = fwrite(d, 1, n, f) == n;
-    return fclose(f) == 0 && ok ? 0 : -1;
-}
-
-static const char *in_tmp(const char *rel) {
-    static char buf[4][512];
-    static int k;
-    k = (k + 1) % 4;
-    snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, rel);
-    return buf[k];
-}
-
-static uint32_t get32(const uint8_t *p) {
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-static void put32(uint8_t *p, uint32_t v) {
-    for (int i = 0; i < 4; i++) p[i] = (uint8_t)(v >> (8 * i));
-}
 
 /* The built-in map with the first `fraction` of its light lump zeroed. */
 static void write_dimmed(const char *rel, double fraction) {
     uint8_t *b = malloc(bsp_size);
     if (!b) return;
     memcpy(b, bsp, bsp_size);
-    uint32_t ofs = get32(b + 4 + 8 * 8), len = get32(b + 8 + 8 * 8);  /* lump 8: lighting */
+    uint32_t ofs = ew_t_le32(b + 4 + 8 * 8), len = ew_t_le32(b + 8 + 8 * 8);  /* lump 8: lighting */
     CHECK(len > 0 && ofs + (uint64_t)len <= bsp_size, "light lump %u+%u", ofs, len);
     if (len > 0 && ofs + (uint64_t)len <= bsp_size) memset(b + ofs, 0, (size_t)(len * fraction));
-    CHECK(write_file(in_tmp(rel), b, bsp_size) == 0, "write %s", rel);
+    CHECK(ew_t_write_file(IN_TMP(rel), b, bsp_size) == 0, "write %s", rel);
     free(b);
 }
 
@@ -73,8 +52,8 @@ static void write_void_cameras(const char *rel) {
     if (!b) return;
     memcpy(b, bsp, bsp_size);
     memcpy(b + at, text, sizeof text);
-    put32(b + 4, (uint32_t)at), put32(b + 8, (uint32_t)sizeof text);
-    CHECK(write_file(in_tmp(rel), b, at + sizeof text) == 0, "write %s", rel);
+    ew_t_put_le32(b + 4, (uint32_t)at), ew_t_put_le32(b + 8, (uint32_t)sizeof text);
+    CHECK(ew_t_write_file(IN_TMP(rel), b, at + sizeof text) == 0, "write %s", rel);
     free(b);
 }
 
@@ -100,7 +79,7 @@ static void expect_warning(const char *what, ew_t_run *r, const char *cause) {
 }
 
 static void render_cases(void) {
-    const char *bi = in_tmp("g/maps/bi.bsp");
+    const char *bi = IN_TMP("g/maps/bi.bsp");
     ew_t_run *r = run(ARGS("render", bi, "--pos", "20000,20000,20000", "--angles", "0,45,0", "--out", "void.png"));
     expect_warning("render in the void", r, "is in solid: inside a wall or outside the map");
     r = run(ARGS("render", bi, "--pos", "20000,20000,20000", "--angles", "0,225,0", "--out", "void2.png", "--stats"));
@@ -108,10 +87,10 @@ static void render_cases(void) {
     CHECK(ew_t_json_num(r->out, "dark") == 1, "void --stats: \"dark\" %g", ew_t_json_num(r->out, "dark"));
 
     /* (view 2: the sky, drawn without light, stays out of it) */
-    r = run(ARGS("render", in_tmp("g/maps/black.bsp"), "--no-entities", "--view", "2", "--out", "black.png"));
+    r = run(ARGS("render", IN_TMP("g/maps/black.bsp"), "--no-entities", "--view", "2", "--out", "black.png"));
     expect_warning("render, light lump zeroed", r, "the map's light data is dark");
 
-    r = run(ARGS("render", in_tmp("g/maps/dim.bsp"), "--no-entities", "--pos", "230,564,110", "--angles", "0,90,0",
+    r = run(ARGS("render", IN_TMP("g/maps/dim.bsp"), "--no-entities", "--pos", "230,564,110", "--angles", "0,90,0",
                  "--out", "wall.png"));
     expect_warning("render, 12 units from an unlit wall", r, "the camera faces a dark wall");
 
@@ -123,27 +102,27 @@ static void render_cases(void) {
 
 static void other_commands(void) {
     /* shots: every camera in the void. */
-    ew_t_run *r = run(ARGS("shots", in_tmp("g/maps/void.bsp"), "--out", in_tmp("shots"), "--size", "320x200"));
+    ew_t_run *r = run(ARGS("shots", IN_TMP("g/maps/void.bsp"), "--out", IN_TMP("shots"), "--size", "320x200"));
     printf("shots: exit %d, stderr:\n%s", r->status, r->err);
     CHECK(r->status == 0 && count_str(r->err, "edgewise: warning: ") == 1 && strstr(r->err, "void_best.png: the frame "
               "is nearly black") && strstr(r->err, "outside the map"),
           "shots: want a warning for the dark picture, got %d:\n%s", r->status, r->err);
 
     /* fly: a path through the void, then into the room. */
-    FILE *f = fopen(in_tmp("path.txt"), "w");
+    FILE *f = fopen(IN_TMP("path.txt"), "w");
     if (f) {
         fputs("0 20000 20000 20000 0 45 0\n1 20000 20000 20000 0 45 0\n2 230 290 110 0 90 0\n3 230 290 110 0 90 0\n", f);
         fclose(f);
     }
-    mkdir(in_tmp("fly"), 0777);
-    r = run(ARGS("fly", in_tmp("g/maps/bi.bsp"), "--path", in_tmp("path.txt"), "--fps", "4", "--seconds", "3",
-                 "--size", "320x200", "--out", in_tmp("fly/%03d.png")));
+    mkdir(IN_TMP("fly"), 0777);
+    r = run(ARGS("fly", IN_TMP("g/maps/bi.bsp"), "--path", IN_TMP("path.txt"), "--fps", "4", "--seconds", "3",
+                 "--size", "320x200", "--out", IN_TMP("fly/%03d.png")));
     printf("fly: exit %d, stderr:\n%s", r->status, r->err);
     CHECK(r->status == 0 && count_str(r->err, "edgewise: warning: ") == 1 && strstr(r->err, " of 12 frames are nearly black") &&
               strstr(r->err, "the first, frame 0: ") && strstr(r->err, "outside the map"),
           "fly: want one warning with the count and the first's cause, got %d:\n%s", r->status, r->err);
-    r = run(ARGS("fly", in_tmp("g/maps/bi.bsp"), "--path", in_tmp("path.txt"), "--fps", "4", "--seconds", "3",
-                 "--size", "320x200", "--out", in_tmp("fly/q%03d.png"), "--quiet"));
+    r = run(ARGS("fly", IN_TMP("g/maps/bi.bsp"), "--path", IN_TMP("path.txt"), "--fps", "4", "--seconds", "3",
+                 "--size", "320x200", "--out", IN_TMP("fly/q%03d.png"), "--quiet"));
     CHECK(r->status == 0 && !strstr(r->err, "warning"), "fly --quiet warns: %s", r->err);
 
     /* view: a screenshot in the void, under a virtual X server. */
@@ -151,9 +130,9 @@ static void other_commands(void) {
         ew_t_skip("xvfb-run is not installed (Debian package 'xvfb'): the viewer's screenshot is not checked");
         return;
     }
-    f = fopen(in_tmp("v.script"), "w");
+    f = fopen(IN_TMP("v.script"), "w");
     if (f) {
-        fprintf(f, "at 0 camera 20000,20000,20000 0,45,0\nat 0.2 screenshot %s\nat 0.3 quit\n", in_tmp("vs.png"));
+        fprintf(f, "at 0 camera 20000,20000,20000 0,45,0\nat 0.2 screenshot %s\nat 0.3 quit\n", IN_TMP("vs.png"));
         fclose(f);
     }
     char cmd[2048];
@@ -161,7 +140,7 @@ static void other_commands(void) {
              "v.script --size 320x200 >view.out 2>view.err", tmpdir, getenv("EW_CLI"));
     int rc = system(cmd);
     char err[8192];
-    ew_t_slurp(in_tmp("view.err"), err, sizeof err);
+    ew_t_slurp(IN_TMP("view.err"), err, sizeof err);
     if (strstr(err, "built without")) {
         ew_t_skip("edgewise view was built without SDL2: the viewer's screenshot is not checked");
         return;
@@ -186,12 +165,12 @@ int main(void) {
     ew_error err = {""};
     CHECK(ew_builtin_generate(&bsp, &bsp_size, pal, cmap, &err) == 0, "generate: %s", err.msg);
     if (bsp) {
-        mkdir(in_tmp("g"), 0777);
-        mkdir(in_tmp("g/maps"), 0777);
-        mkdir(in_tmp("g/gfx"), 0777);
-        CHECK(write_file(in_tmp("g/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
-        CHECK(write_file(in_tmp("g/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
-        CHECK(write_file(in_tmp("g/maps/bi.bsp"), bsp, bsp_size) == 0, "bi.bsp");
+        mkdir(IN_TMP("g"), 0777);
+        mkdir(IN_TMP("g/maps"), 0777);
+        mkdir(IN_TMP("g/gfx"), 0777);
+        CHECK(ew_t_write_file(IN_TMP("g/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
+        CHECK(ew_t_write_file(IN_TMP("g/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
+        CHECK(ew_t_write_file(IN_TMP("g/maps/bi.bsp"), bsp, bsp_size) == 0, "bi.bsp");
         write_dimmed("g/maps/black.bsp", 1.0);
         write_dimmed("g/maps/dim.bsp", 0.85);
         write_void_cameras("g/maps/void.bsp");

@@ -27,22 +27,8 @@
 #include <unistd.h>
 
 static char tmpdir[256];
+#define IN_TMP(rel) ew_t_in_dir(tmpdir, rel)
 static ew_t_run *run_r;
-
-static int write_file(const char *path, const void *d, size_t n) {
-    FILE *f = fopen(path, "wb");
-    if (!f) return -1;
-    int ok = fwrite(d, 1, n, f) == n;
-    return fclose(f) == 0 && ok ? 0 : -1;
-}
-
-static const char *in_tmp(const char *rel) {
-    static char buf[4][512];
-    static int k;
-    k = (k + 1) % 4;
-    snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, rel);
-    return buf[k];
-}
 
 static ew_t_run *run(const char *const *args) {
     ew_t_run_cli(run_r, tmpdir, args);
@@ -52,9 +38,9 @@ static ew_t_run *run(const char *const *args) {
 
 /* A map of the built-in level: plain, with a .lit beside it, or with BSPX RGBLIGHTING. */
 static void make_maps(void) {
-    mkdir(in_tmp("g"), 0777);
-    mkdir(in_tmp("g/maps"), 0777);
-    mkdir(in_tmp("g/gfx"), 0777);
+    mkdir(IN_TMP("g"), 0777);
+    mkdir(IN_TMP("g/maps"), 0777);
+    mkdir(IN_TMP("g/gfx"), 0777);
     uint8_t pal[768], cmap[EW_COLORMAP_SIZE];
     const char *names[] = {"plain", "withlit", "rgbx"};
     for (int k = 0; k < 3; k++) {
@@ -67,15 +53,15 @@ static void make_maps(void) {
         CHECK(ew_builtin_generate_ex(&o, &bsp, &n, pal, cmap, &lit, &nl, &err) == 0, "generate: %s", err.msg);
         char rel[64];
         snprintf(rel, sizeof rel, "g/maps/%s.bsp", names[k]);
-        CHECK(bsp && write_file(in_tmp(rel), bsp, n) == 0, "write %s", rel);
+        CHECK(bsp && ew_t_write_file(IN_TMP(rel), bsp, n) == 0, "write %s", rel);
         if (lit) {
             snprintf(rel, sizeof rel, "g/maps/%s.lit", names[k]);
-            CHECK(write_file(in_tmp(rel), lit, nl) == 0, "write %s", rel);
+            CHECK(ew_t_write_file(IN_TMP(rel), lit, nl) == 0, "write %s", rel);
         }
         free(bsp), free(lit);
     }
-    CHECK(write_file(in_tmp("g/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
-    CHECK(write_file(in_tmp("g/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
+    CHECK(ew_t_write_file(IN_TMP("g/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
+    CHECK(ew_t_write_file(IN_TMP("g/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
 }
 
 static void lit_field(void) {
@@ -114,14 +100,14 @@ static void refused(const char *what, ew_t_run *r, const char *needle) {
 
 static void png_names(void) {
     refused("render --out x.jpg", run(ARGS("render", "g/maps/plain.bsp", "--out", "x.jpg")), "must end in .png");
-    CHECK(access(in_tmp("x.jpg"), F_OK) != 0, "render --out x.jpg wrote x.jpg");
+    CHECK(access(IN_TMP("x.jpg"), F_OK) != 0, "render --out x.jpg wrote x.jpg");
     refused("demo --out a.JPG", run(ARGS("demo", "--out", "a.JPG")), "--out a.JPG: edgewise writes PNG");
     refused("demo --out png", run(ARGS("demo", "--out", "png")), "must end in .png");
     refused("polyhedra --out p.gif", run(ARGS("render", "builtin:polyhedra", "--out", "p.gif")), "must end in .png");
     refused("shots --contact-sheet s.jpg",
             run(ARGS("shots", "g/maps/plain.bsp", "--out", "sh", "--contact-sheet", "s.jpg")), "must end in .png");
     ew_t_run *r = run(ARGS("render", "g/maps/plain.bsp", "--size", "320x200", "--out", "Upper.PNG"));
-    CHECK(r->status == 0 && access(in_tmp("Upper.PNG"), F_OK) == 0, "render --out Upper.PNG: %d %s", r->status,
+    CHECK(r->status == 0 && access(IN_TMP("Upper.PNG"), F_OK) == 0, "render --out Upper.PNG: %d %s", r->status,
           r->err);
 }
 
@@ -168,7 +154,7 @@ static void debug_builds(void) {
     int w = 0, h = 0;
     ew_error err;
     long magenta = 0;
-    if (r->status == 0 && ew_read_png_rgb(in_tmp("b.png"), &rgb, &w, &h, &err) == 0) {
+    if (r->status == 0 && ew_read_png_rgb(IN_TMP("b.png"), &rgb, &w, &h, &err) == 0) {
         for (long i = 0; i < (long)w * h; i++)
             magenta += rgb[3 * i] > 200 && rgb[3 * i + 1] < 60 && rgb[3 * i + 2] > 200;
         free(rgb);

@@ -24,20 +24,6 @@ static ew_t_run *run_r;
 static uint8_t *base_bsp;
 static size_t base_size;
 
-static void put32(uint8_t *p, uint32_t v) {
-    for (int i = 0; i < 4; i++) p[i] = (uint8_t)(v >> (8 * i));
-}
-static uint32_t get32(const uint8_t *p) {
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
-static int write_file(const char *path, const void *d, size_t n) {
-    FILE *f = fopen(path, "wb");
-    if (!f) return -1;
-    int ok = fwrite(d, 1, n, f) == n;
-    return fclose(f) == 0 && ok ? 0 : -1;
-}
-
 /* The built-in map with its entity lump replaced by text: the new lump
  * appended at the end (4-byte aligned), lump 0's offset and length set. */
 static void write_map(const char *name, const char *text) {
@@ -46,16 +32,16 @@ static void write_map(const char *name, const char *text) {
     if (!b) return;
     memcpy(b, base_bsp, base_size);
     memcpy(b + at, text, len);
-    put32(b + 4, (uint32_t)at), put32(b + 8, (uint32_t)len);
+    ew_t_put_le32(b + 4, (uint32_t)at), ew_t_put_le32(b + 8, (uint32_t)len);
     char path[400];
     snprintf(path, sizeof path, "%s/g/maps/%s.bsp", tmpdir, name);
-    CHECK(write_file(path, b, at + len) == 0, "write %s", path);
+    CHECK(ew_t_write_file(path, b, at + len) == 0, "write %s", path);
     free(b);
 }
 
 /* The base map's entity text (NUL-terminated copy), split after its worldspawn. */
 static char *base_entities(size_t *world_end) {
-    uint32_t ofs = get32(base_bsp + 4), len = get32(base_bsp + 8);
+    uint32_t ofs = ew_t_le32(base_bsp + 4), len = ew_t_le32(base_bsp + 8);
     char *t = malloc(len + 1);
     if (!t) return NULL;
     memcpy(t, base_bsp + ofs, len);
@@ -118,9 +104,9 @@ int main(void) {
     snprintf(p, sizeof p, "%s/g/gfx", tmpdir);
     mkdir(p, 0777);
     snprintf(p, sizeof p, "%s/g/gfx/palette.lmp", tmpdir);
-    CHECK(write_file(p, pal, sizeof pal) == 0, "palette");
+    CHECK(ew_t_write_file(p, pal, sizeof pal) == 0, "palette");
     snprintf(p, sizeof p, "%s/g/gfx/colormap.lmp", tmpdir);
-    CHECK(write_file(p, cmap, sizeof cmap) == 0, "colormap");
+    CHECK(ew_t_write_file(p, cmap, sizeof cmap) == 0, "colormap");
 
     size_t wend = 0;
     char *ents = base_entities(&wend);

@@ -30,24 +30,10 @@
 #include <unistd.h>
 
 static char tmpdir[256];
+#define IN_TMP(rel) ew_t_in_dir(tmpdir, rel)
 static ew_t_run *run_r;
 static uint8_t *bsp, pal[768], cmap[EW_COLORMAP_SIZE];
 static size_t bsp_size;
-
-static int write_file(const char *path, const void *d, size_t n) {
-    FILE *f = fopen(path, "wb");
-    if (!f) return -1;
-    int ok = fwrite(d, 1, n, f) == n;
-    return fclose(f) == 0 && ok ? 0 : -1;
-}
-
-static const char *in_tmp(const char *rel) {
-    static char buf[4][512];
-    static int k;
-    k = (k + 1) % 4;
-    snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, rel);
-    return buf[k];
-}
 
 static void mkdirs(const char *rel) {
     char p[512];
@@ -69,9 +55,9 @@ static void no_palette(void) {
     for (int i = 0; i < 12; i++) {
         char rel[64];
         snprintf(rel, sizeof rel, "nopal/m%02d.bsp", i);
-        CHECK(write_file(in_tmp(rel), bsp, bsp_size) == 0, "write %s", rel);
+        CHECK(ew_t_write_file(IN_TMP(rel), bsp, bsp_size) == 0, "write %s", rel);
     }
-    const char *const args[] = {"shots", in_tmp("nopal"), "--out", in_tmp("nopal_out"), "--size", "320x200", NULL};
+    const char *const args[] = {"shots", IN_TMP("nopal"), "--out", IN_TMP("nopal_out"), "--size", "320x200", NULL};
     ew_t_run_cli(run_r, tmpdir, args);
     printf("no palette: exit %d, stderr:\n%s", run_r->status, run_r->err);
     CHECK(run_r->status == 1 && strstr(run_r->err, "12 failed"), "no palette: exit %d: %s", run_r->status,
@@ -89,13 +75,13 @@ static void no_palette(void) {
 static void bad_paks(void) {
     mkdirs("paks/gfx");
     mkdirs("paks/maps");
-    CHECK(write_file(in_tmp("paks/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
-    CHECK(write_file(in_tmp("paks/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
-    CHECK(write_file(in_tmp("paks/maps/good.bsp"), bsp, bsp_size) == 0, "good.bsp");
-    CHECK(write_file(in_tmp("paks/empty.pak"), "", 0) == 0, "empty.pak");
-    CHECK(write_file(in_tmp("paks/junk.pak"), "PACK\377\377\377\177\020\000\000\000garbage!", 20) == 0, "junk.pak");
-    const char *const args[] = {"shots", in_tmp("paks/empty.pak"), in_tmp("paks/maps/good.bsp"),
-                                in_tmp("paks/junk.pak"), "--out", in_tmp("paks_out"), "--size", "320x200", NULL};
+    CHECK(ew_t_write_file(IN_TMP("paks/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
+    CHECK(ew_t_write_file(IN_TMP("paks/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
+    CHECK(ew_t_write_file(IN_TMP("paks/maps/good.bsp"), bsp, bsp_size) == 0, "good.bsp");
+    CHECK(ew_t_write_file(IN_TMP("paks/empty.pak"), "", 0) == 0, "empty.pak");
+    CHECK(ew_t_write_file(IN_TMP("paks/junk.pak"), "PACK\377\377\377\177\020\000\000\000garbage!", 20) == 0, "junk.pak");
+    const char *const args[] = {"shots", IN_TMP("paks/empty.pak"), IN_TMP("paks/maps/good.bsp"),
+                                IN_TMP("paks/junk.pak"), "--out", IN_TMP("paks_out"), "--size", "320x200", NULL};
     ew_t_run_cli(run_r, tmpdir, args);
     printf("bad paks: exit %d, stderr:\n%s", run_r->status, run_r->err);
     CHECK(run_r->status == 1 && strstr(run_r->err, "3 maps, 1 picture written") && strstr(run_r->err, "2 failed"),
@@ -103,21 +89,21 @@ static void bad_paks(void) {
           run_r->err);
     CHECK(strstr(run_r->err, "failed: empty.pak: ") && strstr(run_r->err, "failed: junk.pak: "),
           "bad paks: the paks are not named with their errors: %s", run_r->err);
-    CHECK(access(in_tmp("paks_out/good_best.png"), F_OK) == 0, "bad paks: good_best.png not written");
+    CHECK(access(IN_TMP("paks_out/good_best.png"), F_OK) == 0, "bad paks: good_best.png not written");
 
     /* A game directory: a loose map and a corrupt pak0.pak. */
     mkdirs("game/maps");
     mkdirs("game/gfx");
-    CHECK(write_file(in_tmp("game/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
-    CHECK(write_file(in_tmp("game/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
-    CHECK(write_file(in_tmp("game/maps/loose.bsp"), bsp, bsp_size) == 0, "loose.bsp");
-    CHECK(write_file(in_tmp("game/pak0.pak"), "PACK", 4) == 0, "pak0.pak");
-    const char *const game[] = {"shots", in_tmp("game"), "--out", in_tmp("game_out"), "--size", "320x200", NULL};
+    CHECK(ew_t_write_file(IN_TMP("game/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
+    CHECK(ew_t_write_file(IN_TMP("game/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
+    CHECK(ew_t_write_file(IN_TMP("game/maps/loose.bsp"), bsp, bsp_size) == 0, "loose.bsp");
+    CHECK(ew_t_write_file(IN_TMP("game/pak0.pak"), "PACK", 4) == 0, "pak0.pak");
+    const char *const game[] = {"shots", IN_TMP("game"), "--out", IN_TMP("game_out"), "--size", "320x200", NULL};
     ew_t_run_cli(run_r, tmpdir, game);
     CHECK(run_r->status == 1 && strstr(run_r->err, "1 picture written") && strstr(run_r->err, "1 failed") &&
               strstr(run_r->err, "failed: pak0.pak: "),
           "game dir with a corrupt pak: got %d: %s", run_r->status, run_r->err);
-    CHECK(access(in_tmp("game_out/loose_best.png"), F_OK) == 0, "game dir: loose_best.png not written");
+    CHECK(access(IN_TMP("game_out/loose_best.png"), F_OK) == 0, "game dir: loose_best.png not written");
 }
 
 /* ---- killing the batch ---- */
@@ -194,18 +180,11 @@ static int alive(pid_t pid) {
     return state != 'Z' && state != 'X';
 }
 
-static void put32(uint8_t *p, uint32_t v) {
-    for (int i = 0; i < 4; i++) p[i] = (uint8_t)(v >> (8 * i));
-}
-static uint32_t get32(const uint8_t *p) {
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
 /* The built-in map with eight more player starts after its worldspawn (a
  * full view set of 32 views: seconds of work a map at 8K), its entity lump
  * replaced by one appended at the end. */
 static int write_slow_map(const char *rel) {
-    uint32_t ofs = get32(bsp + 4), len = get32(bsp + 8);
+    uint32_t ofs = ew_t_le32(bsp + 4), len = ew_t_le32(bsp + 8);
     char *ents = malloc(len + 1);
     if (!ents) return -1;
     memcpy(ents, bsp + ofs, len);
@@ -225,8 +204,8 @@ static int write_slow_map(const char *rel) {
     if (!b) return -1;
     memcpy(b, bsp, bsp_size);
     memcpy(b + at, text, tl);
-    put32(b + 4, (uint32_t)at), put32(b + 8, (uint32_t)tl);
-    int rc = write_file(in_tmp(rel), b, at + tl);
+    ew_t_put_le32(b + 4, (uint32_t)at), ew_t_put_le32(b + 8, (uint32_t)tl);
+    int rc = ew_t_write_file(IN_TMP(rel), b, at + tl);
     free(b);
     return rc;
 }
@@ -237,8 +216,8 @@ static void kill_midway(int sig, const char *name) {
     /* Six maps of 32 views each at 8K: many seconds of work. */
     mkdirs("slow/maps");
     mkdirs("slow/gfx");
-    CHECK(write_file(in_tmp("slow/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
-    CHECK(write_file(in_tmp("slow/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
+    CHECK(ew_t_write_file(IN_TMP("slow/gfx/palette.lmp"), pal, sizeof pal) == 0, "palette");
+    CHECK(ew_t_write_file(IN_TMP("slow/gfx/colormap.lmp"), cmap, sizeof cmap) == 0, "colormap");
     for (int i = 0; i < 6; i++) {
         char rel[64];
         snprintf(rel, sizeof rel, "slow/maps/s%d.bsp", i);
@@ -246,7 +225,7 @@ static void kill_midway(int sig, const char *name) {
     }
     const char *cli = getenv("EW_CLI");
     char maps[512];
-    snprintf(maps, sizeof maps, "%s", in_tmp("slow/maps"));
+    snprintf(maps, sizeof maps, "%s", IN_TMP("slow/maps"));
     const char *const args[] = {cli, "shots", maps, "--views", "all", "--size", "7680x4320", "--jobs", "2",
                                 "--out", out, NULL};
     fflush(NULL);

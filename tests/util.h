@@ -77,4 +77,14 @@ void ew_t_slurp(const char *path, char *buf, size_t size);
 /* The number after "key": in a JSON text (true/false read as 1/0); NAN if absent. */
 double ew_t_json_num(const char *json, const char *key);
 
+/* ---- files the tests write ------------------------------------------------ */
+
+/* Writes n bytes to path: 0, or -1 if it could not. */
+int ew_t_write_file(const char *path, const void *d, size_t n);
+/* dir/rel in one of four rotating buffers (so two can be used in one call). */
+const char *ew_t_in_dir(const char *dir, const char *rel);
+/* Little-endian 32-bit numbers, as in a .bsp or .pak. */
+uint32_t ew_t_le32(const uint8_t *p);
+void ew_t_put_le32(uint8_t *p, uint32_t v);
+
 #endif
