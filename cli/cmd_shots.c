@@ -758,7 +758,15 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         double luma = 0;
         warn_if_dark(r, a->world, &cam, file, o->quiet, &luma);  /* one line per dark picture */
         double t2 = ew_clock_ms();
-        if (ew_write_frame_png(r, file, &err) < 0) {
+        /* Written under a temporary name and renamed when whole: a batch
+         * killed mid-picture leaves no truncated PNG that a resumed run
+         * would skip as done. */
+        char part[sizeof file + 32];
+        snprintf(part, sizeof part, "%s.%ld.part", file, (long)getpid());
+        err.msg[0] = '\0';
+        if (ew_write_frame_png(r, part, &err) < 0 || rename(part, file) != 0) {
+            if (!err.msg[0]) snprintf(err.msg, sizeof err.msg, "%.400s: cannot rename its temporary file into place", file);
+            remove(part);
             line_error(&res, b, m, v, NULL, err.msg, fd);
             res.status = 1;
             continue;

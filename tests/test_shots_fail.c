@@ -210,6 +210,30 @@ static int write_slow_map(const char *rel) {
     return rc;
 }
 
+/* The PNGs under dir (depth levels of folders): how many, how many unreadable. */
+static void check_pngs(const char *dir, int depth, int *pngs, int *broken) {
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    while (d && (e = readdir(d)) != NULL) {
+        if (e->d_name[0] == '.') continue;
+        char p[1024];
+        struct stat st;
+        if (snprintf(p, sizeof p, "%s/%s", dir, e->d_name) >= (int)sizeof p || stat(p, &st) < 0) continue;
+        size_t n = strlen(e->d_name);
+        if (S_ISDIR(st.st_mode)) {
+            if (depth > 0) check_pngs(p, depth - 1, pngs, broken);
+        } else if (n >= 4 && !strcmp(e->d_name + n - 4, ".png")) {
+            uint8_t *rgb = NULL;
+            int w = 0, h = 0;
+            ew_error err = {""};
+            (*pngs)++;
+            if (ew_read_png_rgb(p, &rgb, &w, &h, &err) < 0) (*broken)++;
+            free(rgb);
+        }
+    }
+    if (d) closedir(d);
+}
+
 static void kill_midway(int sig, const char *name) {
     char out[512];
     snprintf(out, sizeof out, "%s/kill_%s", tmpdir, name);
@@ -269,6 +293,12 @@ static void kill_midway(int sig, const char *name) {
           name, a.files, a.bytes, b.files, b.bytes);
     for (int i = 0; i < nk; i++)
         if (alive(kids[i])) kill(kids[i], SIGKILL);  /* leave nothing behind */
+    /* Every picture left under its own name is whole: a resumed batch skips
+     * what exists, so a truncated one would stay truncated. */
+    int pngs = 0, broken = 0;
+    check_pngs(out, 2, &pngs, &broken);
+    printf("%s: %d pictures left, %d of them unreadable\n", name, pngs, broken);
+    CHECK(broken == 0, "%s: %d of the %d pictures left after the kill are truncated", name, broken, pngs);
 }
 
 int main(void) {

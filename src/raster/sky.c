@@ -142,42 +142,6 @@ static inline __m128i floor4(__m128 x) {
     return _mm_add_epi32(i, _mm_andnot_si128(bad, above));
 }
 
-/* A power-of-two sky's span on an 8-bit frame with the default 32-pixel
- * segments: ew_draw_sky_span's arithmetic, each four segments' end points,
- * 16.16 starts and steps made in the lanes of one vector (one square root
- * and two divides for four segments, and no floorf calls). */
-static void sky_span8(const ew_span_ctx *c, const ew_span *sp, const ew_texture *t, uint8_t *dst) {
-    const ew_view *v = c->view;
-    const unsigned half = (unsigned)t->width / 2, rows = (unsigned)t->height, width = (unsigned)t->width;
-    const float scroll = c->sky_scroll, scroll2 = 2 * scroll;
-    const uint8_t *px = t->mip[0];
-    const float y = (float)sp->v;
-    float s0, t0;
-    sky_st(v, t, (float)sp->u, y, &s0, &t0);
-    __m128 ps = _mm_set1_ps(s0), pt = _mm_set1_ps(t0);  /* lane 3: the last end point */
-    const __m128i ends = _mm_setr_epi32(SKY_STEP, 2 * SKY_STEP, 3 * SKY_STEP, 4 * SKY_STEP);
-    for (int i = 0; i < sp->count; i += 4 * SKY_STEP) {
-        __m128 S, T;
-        sky_st4(v, t, _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(sp->u + i), ends)), y, &S, &T);
-        /* Each segment's start: the carried point, then the first three ends. */
-        const __m128 S0 = _mm_shuffle_ps(_mm_shuffle_ps(ps, S, _MM_SHUFFLE(0, 0, 3, 3)), S, _MM_SHUFFLE(2, 1, 2, 0));
-        const __m128 T0 = _mm_shuffle_ps(_mm_shuffle_ps(pt, T, _MM_SHUFFLE(0, 0, 3, 3)), T, _MM_SHUFFLE(2, 1, 2, 0));
-        const __m128 k16 = _mm_set1_ps(65536.0f), fstep = _mm_set1_ps((float)SKY_STEP);
-        int32_t fs[4], ft[4], bs[4], bt[4], ds[4], dt[4];
-        _mm_storeu_si128((__m128i *)(void *)fs, floor4(_mm_mul_ps(_mm_add_ps(S0, _mm_set1_ps(scroll2)), k16)));
-        _mm_storeu_si128((__m128i *)(void *)ft, floor4(_mm_mul_ps(_mm_add_ps(T0, _mm_set1_ps(scroll2)), k16)));
-        _mm_storeu_si128((__m128i *)(void *)bs, floor4(_mm_mul_ps(_mm_add_ps(S0, _mm_set1_ps(scroll)), k16)));
-        _mm_storeu_si128((__m128i *)(void *)bt, floor4(_mm_mul_ps(_mm_add_ps(T0, _mm_set1_ps(scroll)), k16)));
-        _mm_storeu_si128((__m128i *)(void *)ds, _mm_cvttps_epi32(_mm_div_ps(_mm_mul_ps(_mm_sub_ps(S, S0), k16), fstep)));
-        _mm_storeu_si128((__m128i *)(void *)dt, _mm_cvttps_epi32(_mm_div_ps(_mm_mul_ps(_mm_sub_ps(T, T0), k16), fstep)));
-        for (int j = 0; j < 4 && i + j * SKY_STEP < sp->count; j++) {
-            const int at = i + j * SKY_STEP, n = sp->count - at < SKY_STEP ? sp->count - at : SKY_STEP;
-            sky_run8(dst + at, px, fs[j], ft[j], bs[j], bt[j], ds[j], dt[j], half - 1, rows - 1, width, half, n);
-        }
-        ps = S, pt = T;
-    }
-}
-
 /* The same for a true-colour frame: each pixel the palette's rgba[] of
  * the texel (sky_run8 kept apart, so the 8-bit loop stays as it was). */
 #if defined(__GNUC__)
@@ -217,6 +181,47 @@ static void sky_run32(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, i
         fs += ds, ft += dt, bs += ds, bt += dt;
     }
 }
+
+/* A power-of-two sky's span with the default 32-pixel segments, in either
+ * pixel format: ew_draw_sky_span's arithmetic, each four segments' end points,
+ * 16.16 starts and steps made in the lanes of one vector (one square root
+ * and two divides for four segments, and no floorf calls). */
+static void sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *t, uint8_t *dst, int bpp,
+                     const uint32_t *rgba) {
+    const ew_view *v = c->view;
+    const unsigned half = (unsigned)t->width / 2, rows = (unsigned)t->height, width = (unsigned)t->width;
+    const float scroll = c->sky_scroll, scroll2 = 2 * scroll;
+    const uint8_t *px = t->mip[0];
+    const float y = (float)sp->v;
+    float s0, t0;
+    sky_st(v, t, (float)sp->u, y, &s0, &t0);
+    __m128 ps = _mm_set1_ps(s0), pt = _mm_set1_ps(t0);  /* lane 3: the last end point */
+    const __m128i ends = _mm_setr_epi32(SKY_STEP, 2 * SKY_STEP, 3 * SKY_STEP, 4 * SKY_STEP);
+    for (int i = 0; i < sp->count; i += 4 * SKY_STEP) {
+        __m128 S, T;
+        sky_st4(v, t, _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(sp->u + i), ends)), y, &S, &T);
+        /* Each segment's start: the carried point, then the first three ends. */
+        const __m128 S0 = _mm_shuffle_ps(_mm_shuffle_ps(ps, S, _MM_SHUFFLE(0, 0, 3, 3)), S, _MM_SHUFFLE(2, 1, 2, 0));
+        const __m128 T0 = _mm_shuffle_ps(_mm_shuffle_ps(pt, T, _MM_SHUFFLE(0, 0, 3, 3)), T, _MM_SHUFFLE(2, 1, 2, 0));
+        const __m128 k16 = _mm_set1_ps(65536.0f), fstep = _mm_set1_ps((float)SKY_STEP);
+        int32_t fs[4], ft[4], bs[4], bt[4], ds[4], dt[4];
+        _mm_storeu_si128((__m128i *)(void *)fs, floor4(_mm_mul_ps(_mm_add_ps(S0, _mm_set1_ps(scroll2)), k16)));
+        _mm_storeu_si128((__m128i *)(void *)ft, floor4(_mm_mul_ps(_mm_add_ps(T0, _mm_set1_ps(scroll2)), k16)));
+        _mm_storeu_si128((__m128i *)(void *)bs, floor4(_mm_mul_ps(_mm_add_ps(S0, _mm_set1_ps(scroll)), k16)));
+        _mm_storeu_si128((__m128i *)(void *)bt, floor4(_mm_mul_ps(_mm_add_ps(T0, _mm_set1_ps(scroll)), k16)));
+        _mm_storeu_si128((__m128i *)(void *)ds, _mm_cvttps_epi32(_mm_div_ps(_mm_mul_ps(_mm_sub_ps(S, S0), k16), fstep)));
+        _mm_storeu_si128((__m128i *)(void *)dt, _mm_cvttps_epi32(_mm_div_ps(_mm_mul_ps(_mm_sub_ps(T, T0), k16), fstep)));
+        for (int j = 0; j < 4 && i + j * SKY_STEP < sp->count; j++) {
+            const int at = i + j * SKY_STEP, n = sp->count - at < SKY_STEP ? sp->count - at : SKY_STEP;
+            if (bpp == 1)
+                sky_run8(dst + at, px, fs[j], ft[j], bs[j], bt[j], ds[j], dt[j], half - 1, rows - 1, width, half, n);
+            else
+                sky_run32(dst + (size_t)at * 4, px, fs[j], ft[j], bs[j], bt[j], ds[j], dt[j], half - 1, rows - 1, width,
+                          half, n, rgba);
+        }
+        ps = S, pt = T;
+    }
+}
 #endif
 
 void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *t) {
@@ -234,8 +239,8 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
     float s0, t0, s1, t1;
     int step = c->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
 #if defined(__SSE2__)
-    if (pow2 && bpp == 1 && step == SKY_STEP && t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
-        sky_span8(c, sp, t, dst);
+    if (pow2 && step == SKY_STEP && t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
+        sky_span(c, sp, t, dst, bpp, rgba);
         return;
     }
 #endif
