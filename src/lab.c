@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "asset/entity_lump.h"
+#include "scene/bench_views.h"
 #include "ew_util.h"
 #include "ew_world.h"
 #include "mapgen/mapgen.h"
@@ -176,25 +177,8 @@ int ew_entity_cameras(const ew_world *w, ew_camera *cams, int *kinds, int max) {
     ew_entities_parse(text, strlen(text), &ents, NULL);  /* keep what parsed */
     int n = 0;
     for (int i = 0; i < ents.count && n < max; i++) {
-        const ew_entity *e = &ents.ents[i];
-        const char *cls = ew_entity_get(e, "classname");
-        if (!cls) continue;
-        int inter = strcmp(cls, "info_intermission") == 0;
-        if (!inter && strncmp(cls, "info_player", 11) != 0) continue;
-        float origin[3] = {0, 0, 0}, a[3] = {0, 0, 0};
-        ew_entity_floats(e, "origin", origin, 3);
-        ew_camera *c = &cams[n];
-        memset(c, 0, sizeof *c);
-        memcpy(c->origin, origin, sizeof origin);
-        if (inter) {
-            ew_entity_floats(e, "mangle", a, 3);
-            memcpy(c->angles, a, sizeof a);
-        } else {
-            ew_entity_floats(e, "angle", a, 1);
-            c->origin[2] += EW_EYE_HEIGHT;
-            c->angles[1] = a[0];
-        }
-        c->fov = 90.0f;
+        int inter;
+        if (!ew_entity_camera(&ents.ents[i], &cams[n], &inter)) continue;
         if (kinds) kinds[n] = inter;
         n++;
     }

@@ -12,6 +12,27 @@ int ew_benchmark_views(const ew_world *w, ew_camera views[EW_MAX_VIEWS]) {
     return ew_benchmark_views_from_entities(ew_world_entities(w), views, EW_MAX_VIEWS);
 }
 
+int ew_entity_camera(const ew_entity *e, ew_camera *c, int *intermission) {
+    const char *cls = ew_entity_get(e, "classname");
+    if (!cls) return 0;
+    int inter = strcmp(cls, "info_intermission") == 0;
+    if (!inter && strncmp(cls, "info_player", 11) != 0) return 0;
+    float a[3] = {0, 0, 0};
+    memset(c, 0, sizeof *c);
+    ew_entity_floats(e, "origin", c->origin, 3);
+    if (inter) {
+        ew_entity_floats(e, "mangle", a, 3);
+        memcpy(c->angles, a, sizeof a);
+    } else {
+        ew_entity_floats(e, "angle", a, 1);
+        c->origin[2] += EW_EYE_HEIGHT;
+        c->angles[1] = a[0];
+    }
+    c->fov = 90.0f;
+    if (intermission) *intermission = inter;
+    return 1;
+}
+
 /* Each player start (info_player_*) gives four views, its eye 22 units over
  * the origin, turned by 0, 90, 180 and 270 degrees from its "angle"; each
  * info_intermission one, from its "mangle". */
@@ -22,31 +43,13 @@ int ew_benchmark_views_from_entities(const char *text, ew_camera *views, int max
     ew_entities_parse(text, strlen(text), &ents, NULL);  /* keep what parsed */
     int n = 0;
     for (int i = 0; i < ents.count && n < max; i++) {
-        const ew_entity *e = &ents.ents[i];
-        const char *cls = ew_entity_get(e, "classname");
-        if (!cls)
+        ew_camera c;
+        int inter;
+        if (!ew_entity_camera(&ents.ents[i], &c, &inter))
             continue;
-        float origin[3], a[3];
-        if (strncmp(cls, "info_player", 11) == 0) {
-            ew_entity_floats(e, "origin", origin, 3);
-            ew_entity_floats(e, "angle", a, 1);
-            for (int k = 0; k < 4 && n < max; k++) {
-                ew_camera *c = &views[n++];
-                memset(c, 0, sizeof *c);
-                c->origin[0] = origin[0];
-                c->origin[1] = origin[1];
-                c->origin[2] = origin[2] + 22.0f;   /* eye height */
-                c->angles[1] = a[0] + 90.0f * (float)k;
-                c->fov = 90.0f;
-            }
-        } else if (strcmp(cls, "info_intermission") == 0) {
-            ew_entity_floats(e, "origin", origin, 3);
-            ew_entity_floats(e, "mangle", a, 3);
-            ew_camera *c = &views[n++];
-            memset(c, 0, sizeof *c);
-            memcpy(c->origin, origin, sizeof origin);
-            memcpy(c->angles, a, sizeof a);
-            c->fov = 90.0f;
+        for (int k = 0; k < (inter ? 1 : 4) && n < max; k++) {
+            views[n] = c;
+            views[n++].angles[1] = c.angles[1] + 90.0f * (float)k;
         }
     }
     ew_entities_free(&ents);
