@@ -327,6 +327,18 @@ CMAP_BLOCKS(8, 3)
 CMAP_BLOCKS(4, 2)
 CMAP_BLOCKS(2, 1)
 
+/* Block (i, j)'s light at its left and right edges and their steps down a
+ * row, per channel, from the four samples at its corners. */
+static inline void block_edges(const int *bl, int nc, int smax, int i, int j, int shift, int *left, int *right,
+                               int *lstep, int *rstep) {
+    for (int k = 0; k < nc; k++) {
+        int l00 = bl[(j * smax + i) * nc + k], l10 = bl[(j * smax + i + 1) * nc + k];
+        int l01 = bl[((j + 1) * smax + i) * nc + k], l11 = bl[((j + 1) * smax + i + 1) * nc + k];
+        lstep[k] = (l01 - l00) >> shift, rstep[k] = (l11 - l10) >> shift;
+        left[k] = l00, right[k] = l10;
+    }
+}
+
 #if defined(__SSE2__)
 /* True colour, two texels at once: p0 and p1 each one's light curve pair
  * (lightcurve.pair: a, the colour at its light row, and 2 (b - a), b the
@@ -416,12 +428,7 @@ static inline void rgba_blocks(uint32_t *out, int width, const int *bl, int nc, 
     for (int j = 0; j < tmax - 1; j++) {
         for (int i = 0; i < smax - 1; i++) {
             int left[3], right[3], lstep[3], rstep[3];
-            for (int k = 0; k < nc; k++) {
-                int l00 = bl[(j * smax + i) * nc + k], l10 = bl[(j * smax + i + 1) * nc + k];
-                int l01 = bl[((j + 1) * smax + i) * nc + k], l11 = bl[((j + 1) * smax + i + 1) * nc + k];
-                lstep[k] = (l01 - l00) >> shift, rstep[k] = (l11 - l10) >> shift;
-                left[k] = l00, right[k] = l10;
-            }
+            block_edges(bl, nc, smax, i, j, shift, left, right, lstep, rstep);
             int sx0 = (s0 + i * bs + bs - 1) % tw, ty = (t0 + j * bs) % th;
             for (int y = 0; y < bs; y++) {
                 const uint8_t *row = tp + ty * tw, *src = row + sx0 - (bs - 1);
@@ -557,12 +564,7 @@ void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, 
     for (int j = 0; j < tmax - 1; j++) {
         for (int i = 0; i < smax - 1; i++) {
             int left[3], right[3], lstep[3], rstep[3];
-            for (int k = 0; k < nc; k++) {
-                int l00 = bl[(j * smax + i) * nc + k], l10 = bl[(j * smax + i + 1) * nc + k];
-                int l01 = bl[((j + 1) * smax + i) * nc + k], l11 = bl[((j + 1) * smax + i + 1) * nc + k];
-                lstep[k] = (l01 - l00) >> shift, rstep[k] = (l11 - l10) >> shift;
-                left[k] = l00, right[k] = l10;
-            }
+            block_edges(bl, nc, smax, i, j, shift, left, right, lstep, rstep);
             for (int y = 0; y < bs; y++) {
                 int yy = j * bs + y;
                 const uint8_t *row = tp + ((t0 + yy) % th) * tw;
