@@ -403,6 +403,7 @@ typedef struct size_ctx {
     int    have_one;               /* a one-thread row was measured */
     double one_median;
     double one_share;              /* that row's serial share: what the predictions use */
+    double loop_share;             /* its serial share with the one-loop front end (NaN: unknown) */
     double phases_ratio;           /* --bands: the one-thread frame with the front end's phases over without, 0 unknown */
     int    have_profile;           /* the band imbalances were measured */
     double imbalance[MAX_BAND_COUNTS], imbalance_max[MAX_BAND_COUNTS], sched_imbalance[MAX_BAND_COUNTS];
@@ -414,12 +415,17 @@ static double stage_of(const ew_stats *st, int s) {
          : s == ST_MODELS ? st->ms_models : st->ms_total;
 }
 
-/* The serial time of n frames' stats: its median, mean and parts. */
-static void summarize_serial(row *r, const ew_stats *stats, const ew_lab_stats *labs, int n,
-                             double *scratch) {
+/* n frames' serial times into scratch. */
+static void serial_times(const ew_stats *stats, const ew_lab_stats *labs, int n, double *scratch) {
     for (int i = 0; i < n; i++) scratch[i] = phase_of(&stats[i], &labs[i], PH_OTHER) + phase_of(&stats[i], &labs[i], PH_BEGIN) +
                                              phase_of(&stats[i], &labs[i], PH_WALK) + phase_of(&stats[i], &labs[i], PH_BRUSH) +
                                              phase_of(&stats[i], &labs[i], PH_PREPARE) + phase_of(&stats[i], &labs[i], PH_PASSES);
+}
+
+/* The serial time of n frames' stats: its median, mean and parts. */
+static void summarize_serial(row *r, const ew_stats *stats, const ew_lab_stats *labs, int n,
+                             double *scratch) {
+    serial_times(stats, labs, n, scratch);
     r->serial_mean = 0;
     for (int i = 0; i < n; i++) r->serial_mean += scratch[i] / n;
     r->serial = median_of(scratch, n);
@@ -1046,7 +1052,14 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     else  /* no memory for the interleaved samples: measured on its own */
         r->floor_ms = floor_for(fc, w, h);
     summarize(r, frames, stats, labs, scratch);
+    /* The one-loop frame's serial time (a one-thread row): its walk is
+     * serial on up to EW_FRONT_LOOP_THREADS threads too (their prediction). */
+    double loop_serial = NAN;
 #ifndef EW_BENCH_NO_SERIAL
+    if (r->threads == 1) {
+        serial_times(stats, labs, r->views * r->passes, scratch);
+        loop_serial = median_of(scratch, r->views * r->passes);
+    }
     /* One thread walks the front end in one loop, outside the pool: its
      * serial time would not be a many-thread frame's.  That comes from one
      * more pass (after a warm-up) with the phases many threads run
@@ -1074,7 +1087,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->serial_base_own = !sx->have_one;
     r->serial_share = r->serial / (sx->have_one ? sx->one_median : r->median);
     if (first_one)
-        sx->one_share = r->serial_share;
+        sx->one_share = r->serial_share, sx->loop_share = loop_serial / r->median;
     /* The predictions model the work of one frame, so they take the
      * one-thread row's share: a row on more threads measures its serial
      * part with the pool's wake-ups in it, and on a busy machine that part
@@ -1116,6 +1129,9 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         r->bands[b] = n;
         r->imbalance[b] = imb;
         r->imbalance_max[b] = sx->imbalance_max[b];
+        /* On few threads the frame is the one-loop frame, its walk serial. */
+        if (n <= EW_FRONT_LOOP_THREADS && isfinite(sx->loop_share))
+            s = sx->loop_share < 1 ? sx->loop_share : 1, ps = 1;
         /* Amdahl with imbalance: the serial share stays, the rest of the
          * phases frame is cut into n bands on n cores and waits for the slowest. */
         r->speedup[b] = 1 / (s + (ps - s) * imb / n);
@@ -1183,6 +1199,7 @@ int cmd_bench(int argc, char **argv) {
             for (int s = 0; s < o.nsizes && !rc; s++) {
                 size_ctx sx;
                 memset(&sx, 0, sizeof sx);
+                sx.loop_share = NAN;
                 for (int t = 0; t < o.nthreads && !rc; t++) {
                     row r;
                     rc = bench_row(&o, o.maps[m], a, scene, views, nviews, o.sizes[s][0],

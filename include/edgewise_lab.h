@@ -67,13 +67,16 @@ EW_API void ew_set_hide_occluded(ew_renderer *r, int on);
 typedef enum ew_occlusion_mode { EW_OCCLUSION_OFF, EW_OCCLUSION_AUTO, EW_OCCLUSION_ALWAYS } ew_occlusion_mode;
 EW_API void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode);
 
-/* The front end (BSP walk, clipping, edge set-up) of a frame on one
- * thread.  AUTO, the default: one loop down the tree, as ew_walk_world
- * does.  PHASES: the phases the front end runs in on many threads
- * (world/front_par.c), on one thread too, which costs it 10-20% more
- * there; bench sets it to measure what of a many-thread frame is serial
- * (ew_stats.ms_serial, the row profile) on one thread.  The frame is the
- * same either way; with more than one thread it is always the phases. */
+/* The front end (BSP walk, clipping, edge set-up) of a frame.  AUTO, the
+ * default: on at most EW_FRONT_LOOP_THREADS threads one loop down the tree
+ * on the calling thread, as ew_walk_world does (the other thread waits: on
+ * two, the phases' hand-offs cost what the second thread saves); on more,
+ * the phases the front end runs in on every thread (world/front_par.c).
+ * PHASES: the phases on any number of threads, one too, which costs it
+ * 10-20% more there; bench sets it to measure what of a many-thread frame
+ * is serial (ew_stats.ms_serial, the row profile) on one thread.  The
+ * frame is the same either way. */
+#define EW_FRONT_LOOP_THREADS 2
 typedef enum ew_front_mode { EW_FRONT_AUTO, EW_FRONT_PHASES } ew_front_mode;
 EW_API void ew_set_front_mode(ew_renderer *r, ew_front_mode mode);
 

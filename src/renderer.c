@@ -920,10 +920,11 @@ static void frame_stats(ew_renderer *r, const frame_clock *c) {
     lab->ms_front_items = r->front.ms_front_items;
 }
 
-/* The walk, brush models, then the bands scanned.  On more than one
- * thread (or with EW_FRONT_PHASES) the walk, the faces' clipping and edge
- * setup run on every thread, the scan follows in the same pool run
- * (world/front_par.c); one thread walks in one loop below.  The serial
+/* The walk, brush models, then the bands scanned.  On more than
+ * EW_FRONT_LOOP_THREADS threads (or with EW_FRONT_PHASES) the walk, the
+ * faces' clipping and edge setup run on every thread, the scan follows in
+ * the same pool run (world/front_par.c); on fewer the calling thread walks
+ * in one loop below.  The serial
  * steps in that run (its layout and numbering, the brush models, band
  * placement) are counted in ms_serial by their own clocks. */
 static void front_end(ew_renderer *r, frame_clock *c) {
