@@ -933,6 +933,7 @@ static void front_end(ew_renderer *r, frame_clock *c) {
     if (ew_walk_world_parallel(&r->front, r->f.cfg.front_phases, front_tail, &ft, job_scan, r, front_serial) < 0) {
         ew_pvs_finish(&r->front);
         ew_walk_world(&r->front);
+        ew_pool_wake(r->sched.pool);  /* for the scan (a second wake is harmless) */
         double tb = ew_now_ms();
         ew_walk_brush_models(&r->front);
         front_tail(&ft);
@@ -953,8 +954,11 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     clock_mark(r, &clock, MARK_START);
     /* The frame's processor time: this thread's, and the workers' in jobs. */
     double cpu0 = ew_pool_thread_cpu_ms(), work0 = ew_pool_work_ms(r->sched.pool);
-    /* Woken first, so a worker's kernel wake-up overlaps the frame's begin. */
-    ew_pool_wake(r->sched.pool);
+    /* Woken first, so a worker's kernel wake-up overlaps the frame's begin;
+     * where the calling thread walks the front end alone (front_end), only
+     * once the walk is done, so the worker does not poll all through it. */
+    const int walk_alone = r->sched.nthreads <= EW_FRONT_LOOP_THREADS && !r->f.cfg.front_phases;
+    if (!walk_alone) ew_pool_wake(r->sched.pool);
     if (ew_frame_begin(r, cam) < 0) {
         ew_pool_rest(r->sched.pool);
         return -1;
