@@ -7,7 +7,8 @@
  * per-scanline lists), the surfaces, the counters, every span and every
  * pixel equal the serial front end's: one thread in the default mode,
  * which walks the tree in one loop.  The renderers under test run the
- * phases on one thread too (EW_FRONT_PHASES, as bench does).
+ * phases on one thread too (EW_FRONT_PHASES, as bench does); in the
+ * default mode two threads walk in one loop and three take the phases.
  * The methods that share the edge list's front end (spans, painter,
  * drawbuffer) are checked the same way at 640x480. */
 #include "renderer.h"
@@ -178,6 +179,30 @@ static void check_irregular(ew_assets *a, ew_scene *sc, const ew_camera *views, 
     *se = saved, *sv = saved_v;
 }
 
+/* The default mode on several threads: up to EW_FRONT_LOOP_THREADS the
+ * calling thread walks in one loop, above it the phases; the same frames. */
+static void check_default_mode(const ew_assets *a, ew_scene *sc, const ew_camera *views, int nv) {
+    ew_renderer *one = make(a, sc, 640, 480, 1, EW_HSR_EDGE);
+    if (one) ew_set_front_mode(one, EW_FRONT_AUTO);
+    for (int n = 2; n <= EW_FRONT_LOOP_THREADS + 1; n++) {
+        ew_renderer *r = make(a, sc, 640, 480, n, EW_HSR_EDGE);
+        if (r) ew_set_front_mode(r, EW_FRONT_AUTO);
+        for (int v = 0; v < nv && one && r; v++) {
+            ew_stats st;
+            CHECK(ew_render(one, &views[v], &st) == 0, "view %d", v);
+            frame_sig want = sign_frame(one, &st);
+            CHECK(ew_render(r, &views[v], &st) == 0, "view %d", v);
+            frame_sig got = sign_frame(r, &st);
+            CHECK((r->front.par == NULL) == (n <= EW_FRONT_LOOP_THREADS),
+                  "%d threads by default: %s", n, n <= EW_FRONT_LOOP_THREADS ? "one loop" : "the phases");
+            CHECK(got.edges == want.edges && got.spans == want.spans && got.pixels == want.pixels,
+                  "%d threads by default, view %d: the frame differs from one thread's", n, v);
+        }
+        ew_renderer_destroy(r);
+    }
+    ew_renderer_destroy(one);
+}
+
 int main(void) {
     for (size_t m = 0; m < sizeof maps / sizeof *maps; m++) {
         ew_scene *sc;
@@ -191,6 +216,7 @@ int main(void) {
         if (m == 0) {
             check_limited(maps[m], a, sc, views, nv, 640, 480, EW_HSR_EDGE, 150);
             check_irregular(a, sc, views, nv);
+            check_default_mode(a, sc, views, nv);
         }
         const ew_hsr_method shared_front[] = {EW_HSR_SPANS, EW_HSR_PAINTER, EW_HSR_DRAWBUFFER};
         for (size_t k = 0; k < sizeof shared_front / sizeof *shared_front; k++)
