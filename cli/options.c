@@ -38,6 +38,9 @@ const cli_option cli_options[] = {
     /* ---- every command ---- */
     { "--help", NULL, CLI_ARG_NONE, NULL, ALL, 0, "this text", NULL },
     /* ---- render and demo ---- */
+    { "--game", "DIR", CLI_ARG_DIR, NULL, B(RENDER) | B(VIEWS) | B(INFO) | B(BENCH) | B(HSR) | B(SOAK) | B(VIEW) |
+      B(SHOTS) | B(FLY), 0,
+      "a mod's game directory, searched before --data's (maps, models, gfx, paks), as Quake's -game over id1", NULL },
     { "--data", "DIR", CLI_ARG_DIR, NULL, B(RENDER) | B(VIEWS) | B(INFO), 0,
       "game directory (maps/, gfx/palette.lmp, gfx/colormap.lmp)", NULL },
     { "--size", "WxH", CLI_ARG_NUMBER, NULL, B(RENDER) | B(DEMO), 0,
@@ -337,6 +340,18 @@ static int known_anywhere(const char *name, size_t n) {
     return 0;
 }
 
+/* --game DIR, taken by the parser itself for every command that has it:
+ * the command line's one mod directory (cli_search_path). */
+static const char *cli_game;
+
+const char *cli_search_path(const char *data) {
+    static char path[8192];
+    if (!cli_game) return data;
+    if (!data) return cli_game;
+    snprintf(path, sizeof path, "%s:%s", cli_game, data);
+    return path;
+}
+
 int cli_parse(cli_parser *p, const cli_option **opt, const char **value) {
     const char *form = cli_commands[p->cmd].form;
     *opt = NULL, *value = NULL;
@@ -372,6 +387,18 @@ int cli_parse(cli_parser *p, const cli_option **opt, const char **value) {
         } else {
             error_line("%s: option '%s' needs a value", form, o->name);
             return -1;
+        }
+        if (cli_is(o, "--game")) {
+            if (!**value || strchr(*value, ':')) {
+                error_line("%s: --game '%s': %s", form, *value, **value ? "a directory name without ':'" : "empty directory name");
+                return -1;
+            }
+            if (cli_game && strcmp(cli_game, *value) != 0) {
+                error_line("%s: --game given twice", form);
+                return -1;
+            }
+            cli_game = *value;
+            continue;
         }
         *opt = o;
         return CLI_OPTION;

@@ -90,6 +90,11 @@ typedef struct cli_parser {
 } cli_parser;
 void cli_parser_init(cli_parser *p, cli_cmd cmd, int argc, char **argv, int first);
 int  cli_parse(cli_parser *p, const cli_option **opt, const char **value);
+/* The game directories to search: data ("DIR" of --data, NULL if none)
+ * behind the --game DIR that cli_parse took (the parser keeps it for
+ * every command that has it), as a search list "GAME:DATA" (ew_fs_create);
+ * data itself without --game. */
+const char *cli_search_path(const char *data);
 /* opt is the option named name. */
 int  cli_is(const cli_option *opt, const char *name);
 

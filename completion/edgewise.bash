@@ -23,6 +23,8 @@ _edgewise()
 
     # The values of options.
     case $cmd:$prev in
+        render:--game|views:--game|info:--game|bench:--game|hsr:--game|soak:--game|shots:--game|fly:--game|view:--game)
+            compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         render:--data|views:--data|info:--data)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         render:--out|demo:--out)
@@ -105,37 +107,37 @@ _edgewise()
 
     local opts
     case $cmd in
-        render) opts='--help --data --size --view --pos --angles --fov --time --out --stats --dlight
-                  --particles --threads --quiet --no-entities --alias-raster --subdiv-threshold
+        render) opts='--help --game --data --size --view --pos --angles --fov --time --out --stats
+                  --dlight --particles --threads --quiet --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
         demo) opts='--help --size --view --fov --time --out --stats --dlight --particles --threads
                   --quiet --no-entities --alias-raster --subdiv-threshold --full-zfill --occlusion
                   --classic --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit
                   --dither --lighting --lightstyle --gamma --debug' ;;
-        views) opts='--help --data --quiet' ;;
-        info) opts='--help --data --quiet' ;;
-        bench) opts='--help --data --size --threads --passes --gap --bands --table --out --floor
-                  --per-view --cold --quiet --no-entities --alias-raster --subdiv-threshold
+        views) opts='--help --game --data --quiet' ;;
+        info) opts='--help --game --data --quiet' ;;
+        bench) opts='--help --game --data --size --threads --passes --gap --bands --table --out
+                  --floor --per-view --cold --quiet --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
-        hsr) opts='--help --data --quiet --methods --size --threads --repeat --json --heatmap
-                  --svg --stress --no-entities --alias-raster --subdiv-threshold --full-zfill
-                  --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp --hsr
-                  --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
-        soak) opts='--help --quiet --data --threads --frames --size --seed --no-entities --alias-raster
-                  --subdiv-threshold --full-zfill --occlusion --classic --wateralpha --fog
-                  --no-fog --no-waterwarp --hsr --color --no-lit --dither --lighting --lightstyle
-                  --gamma --debug' ;;
-        shots) opts='--help --quiet --data --out --size --views --jobs --force --manifest --contact-sheet
-                  --no-entities --alias-raster --subdiv-threshold --full-zfill --occlusion
-                  --classic --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit
-                  --dither --lighting --lightstyle --gamma --debug' ;;
-        fly) opts='--help --quiet --data --path --seconds --fps --size --out --cameras --no-entities
+        hsr) opts='--help --game --data --quiet --methods --size --threads --repeat --json
+                  --heatmap --svg --stress --no-entities --alias-raster --subdiv-threshold
+                  --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
+                  --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
+        soak) opts='--help --game --quiet --data --threads --frames --size --seed --no-entities
                   --alias-raster --subdiv-threshold --full-zfill --occlusion --classic --wateralpha
                   --fog --no-fog --no-waterwarp --hsr --color --no-lit --dither --lighting
                   --lightstyle --gamma --debug' ;;
-        view) opts='--help --quiet --data --size --scale --threads --fov --view --fullscreen
+        shots) opts='--help --game --quiet --data --out --size --views --jobs --force --manifest
+                  --contact-sheet --no-entities --alias-raster --subdiv-threshold --full-zfill
+                  --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp --hsr
+                  --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
+        fly) opts='--help --game --quiet --data --path --seconds --fps --size --out --cameras
+                  --no-entities --alias-raster --subdiv-threshold --full-zfill --occlusion
+                  --classic --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit
+                  --dither --lighting --lightstyle --gamma --debug' ;;
+        view) opts='--help --game --quiet --data --size --scale --threads --fov --view --fullscreen
                   --present --script --record --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;

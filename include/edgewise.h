@@ -70,7 +70,12 @@ typedef struct ew_error {
 EW_API int ew_read_file(const char *path, uint8_t **data, size_t *size, ew_error *err);
 
 /* A Quake game directory: loose files win over paks, later paks
- * (pak1.pak over pak0.pak) win over earlier ones, as Quake searches. */
+ * (pak1.pak over pak0.pak) win over earlier ones, as Quake searches.
+ * dir may also be a search list "GAME:BASE" (any number of directories
+ * joined by ':', used when dir is not itself a directory): each is a game
+ * directory of its own, searched in that order, as Quake's -game over id1
+ * (`edgewise --game DIR --data DIR`).  Every data_dir below takes the
+ * same lists. */
 typedef struct ew_fs ew_fs;
 
 EW_API ew_fs *ew_fs_create(const char *dir, ew_error *err);
