@@ -13,7 +13,7 @@
 
 #define B(c) CLI_BIT(CLI_##c)
 /* The commands that take the drawing options (what is drawn). */
-#define DRAWN (B(RENDER) | B(DEMO) | B(BENCH) | B(HSR) | B(SOAK) | B(SHOTS) | B(FLY) | B(VIEW))
+#define DRAWN (B(RENDER) | B(DEMO) | B(BENCH) | B(HSR) | B(SOAK) | B(SHOTS) | B(FLY) | B(VIEW) | B(TIMEDEMO))
 #define ALL ((1u << CLI_NCMDS) - 1)
 
 const cli_command cli_commands[CLI_NCMDS] = {
@@ -29,6 +29,8 @@ const cli_command cli_commands[CLI_NCMDS] = {
     [CLI_SHOTS] = { "shots", "shots", "MAP|DIR|PAK... [options]", "pictures of many maps (see edgewise shots --help)" },
     [CLI_FLY] = { "fly", "fly", "MAP --out FILE [options]", "a flythrough video (see edgewise fly --help)" },
     [CLI_VIEW] = { "view", "view", "MAP [options]", "walk through MAP in a window (see edgewise view --help)" },
+    [CLI_TIMEDEMO] = { "timedemo", "timedemo", "DEMO [options]",
+                       "play a recorded game (.dem), every block one frame, as fast as it goes" },
     [CLI_RENDER_POLYHEDRA] = { "render", "render builtin:polyhedra", "[options]", "" },
     [CLI_VIEW_POLYHEDRA] = { "view", "view builtin:polyhedra", "[options]", "" },
     [CLI_HELP] = { "help", "help", "\n--help\n--version", "this text" },
@@ -39,7 +41,7 @@ const cli_option cli_options[] = {
     { "--help", NULL, CLI_ARG_NONE, NULL, ALL, 0, "this text", NULL },
     /* ---- render and demo ---- */
     { "--game", "DIR", CLI_ARG_DIR, NULL, B(RENDER) | B(VIEWS) | B(INFO) | B(BENCH) | B(HSR) | B(SOAK) | B(VIEW) |
-      B(SHOTS) | B(FLY), 0,
+      B(SHOTS) | B(FLY) | B(TIMEDEMO), 0,
       "a mod's game directory, searched before --data's (maps, models, gfx, paks), as Quake's -game over id1", NULL },
     { "--data", "DIR", CLI_ARG_DIR, NULL, B(RENDER) | B(VIEWS) | B(INFO), 0,
       "game directory (maps/, gfx/palette.lmp, gfx/colormap.lmp)", NULL },
@@ -173,6 +175,18 @@ const cli_option cli_options[] = {
       "play timed commands (deterministic frames: time from the script)", NULL },
     { "--record", "FILE", CLI_ARG_FILE, NULL, B(VIEW), 0,
       "write the camera path: one line 'time x y z pitch yaw roll' a frame", NULL },
+    /* ---- timedemo ---- */
+    { "--data", "DIR", CLI_ARG_DIR, NULL, B(TIMEDEMO), 0,
+      "game directory: the demo's map (maps/), its models (progs/), gfx/", NULL },
+    { "--size", "WxH", CLI_ARG_NUMBER, NULL, B(TIMEDEMO), 0, "frame size, 320x200 up to 7680x4320 (default 640x480)",
+      NULL },
+    { "--threads", "N", CLI_ARG_NUMBER, NULL, B(TIMEDEMO), 0, "render threads, " THREADS_RULE " (default 0)", NULL },
+    { "--out", "FILE.png", CLI_ARG_FILE, NULL, B(TIMEDEMO), 0,
+      "also write one frame: the first drawn at demo time --at or later\n(default: the last frame)", NULL },
+    { "--at", "T", CLI_ARG_NUMBER, NULL, B(TIMEDEMO), 0, "the demo time (seconds, as the demo's svc_time) of --out",
+      NULL },
+    { "--quiet", NULL, CLI_ARG_NONE, NULL, B(TIMEDEMO), 0, "no warning lines (missing models, the map's optional data)",
+      NULL },
     /* ---- render builtin:polyhedra ---- */
     { "--time", "T", CLI_ARG_NUMBER, NULL, B(RENDER_POLYHEDRA), 0, "seconds, 0 to 1000000 (default 0)", NULL },
     { "--size", "WxH", CLI_ARG_NUMBER, NULL, B(RENDER_POLYHEDRA) | B(VIEW_POLYHEDRA), 0,

@@ -23,7 +23,7 @@
 /* The commands, and the two forms with their own options. */
 typedef enum cli_cmd {
     CLI_RENDER, CLI_DEMO, CLI_VIEWS, CLI_INFO, CLI_BENCH, CLI_HSR, CLI_SOAK, CLI_SHOTS, CLI_FLY,
-    CLI_VIEW, CLI_RENDER_POLYHEDRA, CLI_VIEW_POLYHEDRA, CLI_HELP, CLI_NCMDS
+    CLI_VIEW, CLI_TIMEDEMO, CLI_RENDER_POLYHEDRA, CLI_VIEW_POLYHEDRA, CLI_HELP, CLI_NCMDS
 } cli_cmd;
 #define CLI_BIT(c) (1u << (c))
 

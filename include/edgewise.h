@@ -670,12 +670,20 @@ EW_API int  ew_scene_add_particles(ew_scene *s, int n, const float center[3], fl
 EW_API int  ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius);
 EW_API int  ew_scene_add_dlight_rgb(ew_scene *s, const float origin[3], float radius, const float color[3]);
 EW_API void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing);
+/* Removes every entity, dynamic light and particle, keeping the loaded
+ * models (a scene rebuilt each frame: a demo's client).  Give the scene to
+ * the renderer again (ew_set_scene) after refilling it. */
+EW_API void ew_scene_clear(ew_scene *s);
+/* One particle of palette colour 0..255 at org; its index, or -1 (bad
+ * colour or place, no memory, a million particles). */
+EW_API int  ew_scene_add_particle(ew_scene *s, const float org[3], int color);
 /* Warnings met while making the scene from a map's entities (a brush
  * entity's "alpha" that is not a number from 0 to 1, ...), one line each;
  * i from 0, NULL past the last. */
 EW_API const char *ew_scene_warning(const ew_scene *s, int i);
 /* The scene ew_render draws with the world (NULL: world only).  It must
- * outlive its use by the renderer. */
+ * outlive its use by the renderer.  Call it again after adding entities
+ * to the scene it draws (the renderer sizes its per-entity room here). */
 EW_API void ew_set_scene(ew_renderer *r, const ew_scene *s);
 
 /* ---- text and the statistics overlay ------------------------------------ */
@@ -965,6 +973,47 @@ EW_API void     ew_demo_rewind(ew_demo *d);
 EW_API const ew_demo_state *ew_demo_get_state(const ew_demo *d);
 /* The protocol's name of a message kind ("svc_time"), or NULL. */
 EW_API const char *ew_demo_svc_name(int svc);
+
+/* ---- a demo's client: what the game's client would draw ----------------
+ * Reads a demo block by block and makes, for any time between the two
+ * latest messages, the scene and camera the game's client draws: entities
+ * interpolated between their two latest updates (angles the short way
+ * round), items that spin (model flag EF_ROTATE) turned by time, brush
+ * entities (doors, lifts) moved, static entities, the view at the view
+ * entity's origin plus the view height with the recorded angles (in an
+ * intermission or cutscene: the view entity's own origin and angles), the
+ * weapon model in front of the view, dynamic lights for muzzle flashes,
+ * bright and dim lights, rockets and explosions, particles for
+ * explosions, blood, spikes and gunshots (svc_particle), rocket, grenade
+ * and gib trails, teleport and lava splashes, and beams (lightning) from
+ * their models.  Sounds, text and the status bar are left out.  The scene
+ * belongs to the client; give it to the renderer (ew_set_scene) after each
+ * ew_demo_client_frame.  Deterministic: the same time gives the same frame. */
+typedef struct ew_demo_client ew_demo_client;
+
+/* A client reading d (which it does not own; d must outlive it) over world
+ * w, the demo's map, loading the models the demo precaches from data_dir
+ * (a game directory or search list, as ew_fs_create; NULL: none, every
+ * model missing).  Missing model files are counted, not errors. */
+EW_API ew_demo_client *ew_demo_client_create(ew_demo *d, const ew_world *w, const char *data_dir,
+                                             ew_error *err);
+EW_API void ew_demo_client_destroy(ew_demo_client *c);
+/* Reads the next block (ew_demo_read_block) and takes in what it brought
+ * (models newly precached, temp entities as effects): 1, 0 at the end,
+ * -1 with err set. */
+EW_API int  ew_demo_client_read(ew_demo_client *c, ew_error *err);
+/* Reads blocks until the latest message's time reaches t (or the demo
+ * ends): 1, 0 once the demo has ended, -1 with err set. */
+EW_API int  ew_demo_client_advance(ew_demo_client *c, double t, ew_error *err);
+/* Makes the scene and the camera (fov 90) at client time t, clamped to the
+ * two latest messages' times.  0, or -1 before any server info. */
+EW_API int  ew_demo_client_frame(ew_demo_client *c, double t, ew_camera *cam);
+EW_API ew_scene *ew_demo_client_scene(ew_demo_client *c);
+/* The map the demo plays on: the first model precache ("maps/x.bsp"), or
+ * "" before the server info. */
+EW_API const char *ew_demo_client_map(const ew_demo_client *c);
+/* Model precaches that no file was found for (or that did not load). */
+EW_API int  ew_demo_client_missing(const ew_demo_client *c);
 
 /* ---- output --------------------------------------------------------------*/
 
