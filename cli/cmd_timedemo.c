@@ -18,7 +18,7 @@
 
 static const char timedemo_usage[] =
     "usage: edgewise timedemo DEMO [--game DIR] [--data DIR] [--size WxH] [--threads N]\n"
-    "                         [--out FILE.png [--at T]] [--quiet] [what is drawn]\n"
+    "                         [--out FILE.png [--at T]] [--to T] [--quiet] [what is drawn]\n"
     "\n"
     "Plays DEMO (a .dem file: protocols 15, 666 and 999), every block drawn as\n"
     "one frame as fast as possible, on the map and with the models the demo\n"
@@ -36,8 +36,8 @@ static const char timedemo_usage[] =
 typedef struct td_opts {
     const char *demo, *data, *out;
     int         width, height, threads, quiet;
-    double      at;
-    int         at_given;
+    double      at, to;
+    int         at_given, to_given;
     draw_opts   draw;
 } td_opts;
 
@@ -63,6 +63,13 @@ static int parse(int argc, char **argv, td_opts *o) {
                 return -1;
             }
             o->at_given = 1;
+        } else if (cli_is(opt, "--to")) {
+            const char *end;
+            if (parse_decimal(v, &end, &o->to) < 0 || *end || fabs(o->to) > 1e9) {
+                error_line("--to %s: expected a time in seconds", v);
+                return -1;
+            }
+            o->to_given = 1;
         }
     }
     if (args.stop) return args.stop;
@@ -164,11 +171,21 @@ int cmd_timedemo(int argc, char **argv) {
     ew_scene *scene = ew_demo_client_scene(c);
     draw_opts_apply(&o.draw, r, o.draw.no_entities ? NULL : scene);
     const ew_demo_state *st = ew_demo_get_state(d);
-    int frames = 0, in_solid = 0, wrote = 0, read_rc;
+    int frames = 0, in_solid = 0, wrote = 0, read_rc, stopped = 0;
+    ew_camera out_cam;
+    memset(&out_cam, 0, sizeof out_cam);
     double worst_time = 0, total = 0;
     double t_start = ew_clock_ms();
     while ((read_rc = ew_demo_client_read(c, &err)) == 1) {
-        if (!st->protocol || st->nmodels < 1) continue;  /* nothing to draw yet */
+        /* nothing to draw before the view entity's first update (the
+         * game's client waits for its signon too) */
+        if (!st->protocol || st->nmodels < 1 || st->view_entity <= 0 || st->view_entity >= st->nentities ||
+            st->entities[st->view_entity].msgtime < 0)
+            continue;
+        if (o.to_given && st->time > o.to) {
+            stopped = 1;
+            break;
+        }
         double t0 = ew_clock_ms();
         ew_camera cam;
         if (ew_demo_client_frame(c, st->time, &cam) < 0) continue;
@@ -189,8 +206,9 @@ int cmd_timedemo(int argc, char **argv) {
                 free(times);
                 goto done;
             }
-            wrote = 1;
+            wrote = 1, out_cam = cam;
         }
+        if (o.out && !wrote) out_cam = cam;  /* the last frame's, unless --at chose one */
         frames++;
     }
     double wall = (ew_clock_ms() - t_start) / 1000;
@@ -233,8 +251,15 @@ int cmd_timedemo(int argc, char **argv) {
     json_number(stdout, worst_ms);
     printf(",\"worst_time\":");
     json_number(stdout, worst_time);
+    if (wrote) {
+        printf(",\"out\":");
+        json_string(stdout, o.out);
+        printf(",\"out_camera\":[%.9g,%.9g,%.9g,%.9g,%.9g,%.9g],\"out_time\":%.9g", out_cam.origin[0],
+               out_cam.origin[1], out_cam.origin[2], out_cam.angles[0], out_cam.angles[1], out_cam.angles[2],
+               out_cam.time);
+    }
     printf(",\"camera_in_solid\":%d,\"models_missing\":%d,\"complete\":%s", in_solid, ew_demo_client_missing(c),
-           read_rc == 0 ? "true" : "false");
+           read_rc == 0 && !stopped ? "true" : "false");
     draw_opts_json(stdout, &o.draw);
     printf("}\n");
     fflush(stdout);

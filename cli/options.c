@@ -185,6 +185,7 @@ const cli_option cli_options[] = {
       "also write one frame: the first drawn at demo time --at or later\n(default: the last frame)", NULL },
     { "--at", "T", CLI_ARG_NUMBER, NULL, B(TIMEDEMO), 0, "the demo time (seconds, as the demo's svc_time) of --out",
       NULL },
+    { "--to", "T", CLI_ARG_NUMBER, NULL, B(TIMEDEMO), 0, "stop at demo time T (default: the whole demo)", NULL },
     { "--quiet", NULL, CLI_ARG_NONE, NULL, B(TIMEDEMO), 0, "no warning lines (missing models, the map's optional data)",
       NULL },
     /* ---- render builtin:polyhedra ---- */

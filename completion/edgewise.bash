@@ -94,20 +94,20 @@ _edgewise()
         soak:--seed|shots:--size|shots:--jobs|fly:--seconds|\
         fly:--fps|fly:--size|view:--size|view:--scale|\
         view:--threads|view:--fov|view:--view|timedemo:--size|\
-        timedemo:--threads|timedemo:--at|render-polyhedra:--time|render-polyhedra:--size|\
-        view-polyhedra:--size|render-polyhedra:--objects|view-polyhedra:--objects|view-polyhedra:--scale|\
-        view-polyhedra:--time|view-polyhedra:--frames|render:--subdiv-threshold|demo:--subdiv-threshold|\
-        bench:--subdiv-threshold|hsr:--subdiv-threshold|soak:--subdiv-threshold|shots:--subdiv-threshold|\
-        fly:--subdiv-threshold|view:--subdiv-threshold|timedemo:--subdiv-threshold|render:--wateralpha|\
-        demo:--wateralpha|bench:--wateralpha|hsr:--wateralpha|soak:--wateralpha|\
-        shots:--wateralpha|fly:--wateralpha|view:--wateralpha|timedemo:--wateralpha|\
-        render:--fog|demo:--fog|bench:--fog|hsr:--fog|\
-        soak:--fog|shots:--fog|fly:--fog|view:--fog|\
-        timedemo:--fog|render:--lightstyle|demo:--lightstyle|bench:--lightstyle|\
-        hsr:--lightstyle|soak:--lightstyle|shots:--lightstyle|fly:--lightstyle|\
-        view:--lightstyle|timedemo:--lightstyle|render:--gamma|demo:--gamma|\
-        bench:--gamma|hsr:--gamma|soak:--gamma|shots:--gamma|\
-        fly:--gamma|view:--gamma|timedemo:--gamma)
+        timedemo:--threads|timedemo:--at|timedemo:--to|render-polyhedra:--time|\
+        render-polyhedra:--size|view-polyhedra:--size|render-polyhedra:--objects|view-polyhedra:--objects|\
+        view-polyhedra:--scale|view-polyhedra:--time|view-polyhedra:--frames|render:--subdiv-threshold|\
+        demo:--subdiv-threshold|bench:--subdiv-threshold|hsr:--subdiv-threshold|soak:--subdiv-threshold|\
+        shots:--subdiv-threshold|fly:--subdiv-threshold|view:--subdiv-threshold|timedemo:--subdiv-threshold|\
+        render:--wateralpha|demo:--wateralpha|bench:--wateralpha|hsr:--wateralpha|\
+        soak:--wateralpha|shots:--wateralpha|fly:--wateralpha|view:--wateralpha|\
+        timedemo:--wateralpha|render:--fog|demo:--fog|bench:--fog|\
+        hsr:--fog|soak:--fog|shots:--fog|fly:--fog|\
+        view:--fog|timedemo:--fog|render:--lightstyle|demo:--lightstyle|\
+        bench:--lightstyle|hsr:--lightstyle|soak:--lightstyle|shots:--lightstyle|\
+        fly:--lightstyle|view:--lightstyle|timedemo:--lightstyle|render:--gamma|\
+        demo:--gamma|bench:--gamma|hsr:--gamma|soak:--gamma|\
+        shots:--gamma|fly:--gamma|view:--gamma|timedemo:--gamma)
             return 0 ;;
     esac
 
@@ -147,7 +147,7 @@ _edgewise()
                   --present --script --record --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
-        timedemo) opts='--help --game --data --size --threads --out --at --quiet --no-entities
+        timedemo) opts='--help --game --data --size --threads --out --at --to --quiet --no-entities
                   --alias-raster --subdiv-threshold --full-zfill --occlusion --classic --wateralpha
                   --fog --no-fog --no-waterwarp --hsr --color --no-lit --dither --lighting
                   --lightstyle --gamma --debug' ;;
