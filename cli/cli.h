@@ -190,7 +190,7 @@ int cmd_fly(int argc, char **argv);
 /* edgewise timedemo (cli/cmd_timedemo.c): argv[1] is "timedemo". */
 int cmd_timedemo(int argc, char **argv);
 /* The demo's light styles (svc_lightstyle) into r, but those the drawing
- * options set (--lightstyle) (cli/cmd_timedemo.c). */
+ * options set (--lightstyle); cheap, called every frame (cli/cmd_timedemo.c). */
 void demo_apply_lightstyles(ew_renderer *r, const ew_demo_state *st, const draw_opts *d);
 /* Opens DEMO, reads it up to its server info and loads its map (from the
  * first model precache) with --game/--data: the demo (rewound), the

@@ -32,10 +32,14 @@ static const char fly_usage[] =
     "usage: edgewise fly MAP [--data DIR] [--path views|straight|FILE] [--seconds S]\n"
     "                    [--fps F] [--size WxH] [--cameras FILE] [--quiet] [what is drawn]\n"
     "                    --out FILE.y4m|FILE.mp4|DIR/%05d.png\n"
+    "       edgewise fly --demo DEMO [--game DIR] [--data DIR] [--from S] [--to S] [--fps F]\n"
+    "                    [--size WxH] [--threads N] [...] --out FILE.y4m|FILE.mp4|DIR/%05d.png\n"
     "\n"
     "Renders a flythrough video.  Frame k shows the path at k/F seconds, with the\n"
     "camera's time also k/F, so skies, liquids, animated textures and light\n"
-    "styles move.\n"
+    "styles move.  With --demo: a recorded game at F frames a second (default\n"
+    "60), frame k at demo time first + --from + k/F, the entities interpolated\n"
+    "between the demo's messages as the game's client does.\n"
     "\n"
     CLI_OPTIONS_HERE
     "\n"
@@ -48,9 +52,10 @@ static const char fly_usage[] =
 enum { OUT_Y4M, OUT_MP4, OUT_PNG };
 
 typedef struct fly_opts {
-    const char *map, *data, *path, *out, *cameras;
+    const char *map, *data, *path, *out, *cameras, *demo;
     double      seconds;   /* 0: the default */
-    int         fps, width, height, quiet, kind;
+    double      from, to;  /* --demo: seconds after its first frame (to < 0: its end) */
+    int         fps, width, height, quiet, kind, threads, path_given, seconds_given;
     draw_opts   draw;
 } fly_opts;
 
@@ -97,9 +102,10 @@ static int parse(int argc, char **argv, fly_opts *o) {
     while (cli_next_arg(&args)) {
         const cli_option *opt = args.opt;
         const char *v = args.value;
-        const char *names[] = {"--data", "--path", "--seconds", "--fps", "--size", "--out", "--cameras"};
+        const char *names[] = {"--data", "--path", "--seconds", "--fps", "--size", "--out", "--cameras",
+                               "--demo", "--from", "--to", "--threads"};
         int which = 0;
-        for (int k = 0; k < 7; k++)
+        for (int k = 0; k < 11; k++)
             if (cli_is(opt, names[k])) which = k;
         if (!*v) {
             error_line("%s: empty value", names[which]);
@@ -109,13 +115,13 @@ static int parse(int argc, char **argv, fly_opts *o) {
         double d;
         switch (which) {
         case 0: o->data = v; break;
-        case 1: o->path = v; break;
+        case 1: o->path = v, o->path_given = 1; break;
         case 2:
             if (parse_number(v, &d) < 0 || !(d > 0) || d > MAX_SECONDS) {
                 error_line("--seconds %s: must be a number more than 0 up to %g", v, MAX_SECONDS);
                 return -1;
             }
-            o->seconds = d;
+            o->seconds = d, o->seconds_given = 1;
             break;
         case 3:
             if (parse_long(v, &l) < 0 || l < 1 || l > MAX_FPS) {
@@ -133,12 +139,36 @@ static int parse(int argc, char **argv, fly_opts *o) {
             break;
         case 5: o->out = v; break;
         case 6: o->cameras = v; break;
+        case 7: o->demo = v; break;
+        case 8: case 9:
+            if (parse_number(v, &d) < 0 || !(d >= 0) || d > MAX_SECONDS) {
+                error_line("%s %s: must be a number of seconds from 0 to %g", names[which], v, MAX_SECONDS);
+                return -1;
+            }
+            if (which == 8) o->from = d;
+            else o->to = d;
+            break;
+        case 10:
+            if (parse_threads(v, &o->threads) < 0) return -1;
+            break;
         }
     }
     if (args.stop)
         return args.stop;
     o->map = args.nmaps ? map[0] : NULL, o->quiet = args.quiet;
-    if (!o->map) {
+    if (o->demo && (o->map || o->path_given || o->seconds_given)) {
+        error_line("fly: --demo plays the demo's own map and camera: no MAP, --path or --seconds with it");
+        return -1;
+    }
+    if (!o->demo && (o->from > 0 || o->to >= 0)) {
+        error_line("fly: --from and --to are for --demo");
+        return -1;
+    }
+    if (o->demo && o->to >= 0 && o->to <= o->from) {
+        error_line("fly: --to %g must come after --from %g", o->to, o->from);
+        return -1;
+    }
+    if (!o->map && !o->demo) {
         error_line("fly: no map given (see edgewise fly --help)");
         return -1;
     }
@@ -506,10 +536,11 @@ static void on_stop(int sig) { stop_signal = sig; }
 int cmd_fly(int argc, char **argv) {
     fly_opts o;
     memset(&o, 0, sizeof o);
-    o.fps = 30, o.width = 640, o.height = 360, o.path = "views";
+    o.fps = 0, o.width = 640, o.height = 360, o.path = "views", o.threads = 1, o.to = -1;
     draw_opts_init(&o.draw);
     int pr = parse(argc, argv, &o);
     if (pr) return pr > 0 ? 0 : 2;
+    if (!o.fps) o.fps = o.demo ? 60 : 30;
     if (o.kind == OUT_MP4 && !on_path("ffmpeg")) {
         error_line("--out %s: writing .mp4 needs ffmpeg, which is not on PATH (write .y4m instead)", o.out);
         return 1;
@@ -530,7 +561,10 @@ int cmd_fly(int argc, char **argv) {
     if (from_file && (nkeys = read_path(o.path, &keys)) < 0) return 1;
 
     int rc = 1;
-    ew_assets *a = load_map(o.map, o.data, o.quiet);
+    ew_assets *a = NULL;
+    ew_demo *demo = NULL;
+    ew_demo_client *dc = NULL;
+    double demo_t0 = 0, demo_t1 = 0;
     ew_scene *scene = NULL;
     ew_renderer *r = NULL;
     FILE *video = NULL, *cams = NULL;
@@ -539,9 +573,45 @@ int cmd_fly(int argc, char **argv) {
     ew_error err = {""};
     char out_part[4200] = "", cams_part[4200] = "";
     long written = 0;  /* PNG frames written */
+    if (o.demo) {
+        if (demo_open_with_map(o.demo, o.data, o.quiet, &demo, &a) < 0) goto done;
+        /* its span: from the view entity's first update to the last message */
+        const ew_demo_state *ds = ew_demo_get_state(demo);
+        int rd, seen = 0;
+        while ((rd = ew_demo_read_block(demo, &err)) == 1) {
+            if (!seen && ds->view_entity > 0 && ds->view_entity < ds->nentities &&
+                ds->entities[ds->view_entity].msgtime >= 0)
+                seen = 1, demo_t0 = ds->time;
+            demo_t1 = ds->time;
+        }
+        if (rd < 0) {
+            error_line("%s", err.msg);
+            goto done;
+        }
+        if (!seen) {
+            error_line("%s: the demo never shows its view entity: nothing to draw", o.demo);
+            goto done;
+        }
+        ew_demo_rewind(demo);
+        if (!(dc = ew_demo_client_create(demo, a->world, cli_search_path(o.data), &err))) {
+            error_line("%s", err.msg);
+            goto done;
+        }
+        if (ew_demo_client_missing(dc) && !o.quiet)
+            error_line("warning: %s: %d model files missing (not drawn)", o.demo, ew_demo_client_missing(dc));
+    } else {
+        a = load_map(o.map, o.data, o.quiet);
+    }
     if (!a) goto done;
     double seconds;
-    if (!from_file) {
+    if (o.demo) {
+        double end = o.to >= 0 && o.to < demo_t1 - demo_t0 ? o.to : demo_t1 - demo_t0;
+        if (!(end > o.from)) {
+            error_line("%s: --from %g is past the demo's end (%.3f s)", o.demo, o.from, demo_t1 - demo_t0);
+            goto done;
+        }
+        seconds = end - o.from + 1.0 / o.fps;  /* the last frame at end */
+    } else if (!from_file) {
         keys = malloc(sizeof *keys * EW_MAX_VIEWS);
         if (!keys) goto done;
         nkeys = view_keys(a->world, keys);
@@ -569,11 +639,12 @@ int cmd_fly(int argc, char **argv) {
     long frames = lround(nframes);
     if (frames < 1) frames = 1;
 
-    if (draw_opts_scene(&o.draw, a, o.map, o.data, 0, o.quiet, &scene) < 0) goto done;
+    if (!dc && draw_opts_scene(&o.draw, a, o.map, o.data, 0, o.quiet, &scene) < 0) goto done;
+    ew_scene *draw_scene = dc ? (o.draw.no_entities ? NULL : ew_demo_client_scene(dc)) : scene;
     r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
-            .colormap = a->colormap, .width = o.width, .height = o.height, .threads = 1,
+            .colormap = a->colormap, .width = o.width, .height = o.height, .threads = o.threads,
             .color = (ew_color_mode)o.draw.color }, &err);
-    if (!r || draw_opts_apply(&o.draw, r, scene) < 0) {
+    if (!r || draw_opts_apply(&o.draw, r, draw_scene) < 0) {
         error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
         goto done;
     }
@@ -624,10 +695,21 @@ int cmd_fly(int argc, char **argv) {
         ew_camera cam;
         memset(&cam, 0, sizeof cam);
         double t = (double)k / o.fps;
-        if (from_file) file_camera(keys, nkeys, t, &cam);
-        else views_camera(keys, nkeys, route, t / seconds, &cam);
-        cam.fov = 90;
-        cam.time = t;
+        if (dc) {
+            t = demo_t0 + o.from + t;
+            if (ew_demo_client_advance(dc, t, &err) < 0) {
+                error_line("%s", err.msg);
+                goto done;
+            }
+            ew_demo_client_frame(dc, t, &cam);  /* the camera, fov 90, time t */
+            demo_apply_lightstyles(r, ew_demo_get_state(demo), &o.draw);
+            if (draw_scene) ew_set_scene(r, draw_scene);
+        } else {
+            if (from_file) file_camera(keys, nkeys, t, &cam);
+            else views_camera(keys, nkeys, route, t / seconds, &cam);
+            cam.fov = 90;
+            cam.time = t;
+        }
         if (cams)
             fprintf(cams, "%ld %.17g %.9g %.9g %.9g %.9g %.9g %.9g\n", k, cam.time, cam.origin[0], cam.origin[1],
                     cam.origin[2], cam.angles[0], cam.angles[1], cam.angles[2]);
@@ -740,6 +822,8 @@ done:
     fly_route_destroy(route);
     ew_renderer_destroy(r);
     ew_scene_destroy(scene);
+    ew_demo_client_destroy(dc);
+    ew_demo_close(demo);
     ew_assets_destroy(a);
     return rc;
 }

@@ -90,11 +90,11 @@ void demo_apply_lightstyles(ew_renderer *r, const ew_demo_state *st, const draw_
     for (int i = 0; i < EW_DEMO_LIGHTSTYLES; i++) {
         int mine = 0;
         for (int k = 0; k < d->nstyles; k++) mine |= d->styles[k].style == i;
-        if (mine || !(st->lightstyle_bits & ((uint64_t)1 << i))) continue;
+        if (mine || !(st->lightstyles_seen & ((uint64_t)1 << i))) continue;
         const char *p = st->lightstyles[i];
         /* "" is the normal light; a pattern the renderer refuses (a letter
          * outside a..z) leaves the style as it was */
-        if (ew_set_lightstyle_pattern(r, i, p[0] ? p : "m") < 0 && !p[0]) ew_reset_lightstyle(r, i);
+        ew_set_lightstyle_pattern(r, i, p[0] ? p : "m");
     }
 }
 
@@ -189,7 +189,7 @@ int cmd_timedemo(int argc, char **argv) {
         double t0 = ew_clock_ms();
         ew_camera cam;
         if (ew_demo_client_frame(c, st->time, &cam) < 0) continue;
-        if (st->lightstyle_bits) demo_apply_lightstyles(r, st, &o.draw);
+        demo_apply_lightstyles(r, st, &o.draw);
         if (!o.draw.no_entities) ew_set_scene(r, scene);
         if (ew_render(r, &cam, NULL) < 0) {
             error_line("%s: block %d: the camera is unusable", o.demo, st->block - 1);

@@ -27,7 +27,8 @@ const cli_command cli_commands[CLI_NCMDS] = {
                   "the hidden-surface lab: every method timed and checked" },
     [CLI_SOAK] = { "soak", "soak", "MAP --frames N [options]", "render N frames and check every frame's counters" },
     [CLI_SHOTS] = { "shots", "shots", "MAP|DIR|PAK... [options]", "pictures of many maps (see edgewise shots --help)" },
-    [CLI_FLY] = { "fly", "fly", "MAP --out FILE [options]", "a flythrough video (see edgewise fly --help)" },
+    [CLI_FLY] = { "fly", "fly", "MAP --out FILE [options]\n--demo DEMO --out FILE [options]",
+                  "a flythrough video, or a demo's (see edgewise fly --help)" },
     [CLI_VIEW] = { "view", "view", "MAP [options]", "walk through MAP in a window (see edgewise view --help)" },
     [CLI_TIMEDEMO] = { "timedemo", "timedemo", "DEMO [options]",
                        "play a recorded game (.dem), every block one frame, as fast as it goes" },
@@ -153,11 +154,20 @@ const cli_option cli_options[] = {
     { "--seconds", "S", CLI_ARG_NUMBER, NULL, B(FLY), 0,
       "the video's length, more than 0 up to 3600 (default: 2 s\nper path segment, 8 s for a turn; --path FILE: "
       "its span)", NULL },
-    { "--fps", "F", CLI_ARG_NUMBER, NULL, B(FLY), 0, "frames a second, 1 to 240 (default 30)", NULL },
+    { "--fps", "F", CLI_ARG_NUMBER, NULL, B(FLY), 0, "frames a second, 1 to 240 (default 30; --demo: 60)", NULL },
     { "--size", "WxH", CLI_ARG_NUMBER, NULL, B(FLY), 0, "frame size, even width and height (default 640x360)", NULL },
     { "--out", "FILE", CLI_ARG_FILE, NULL, B(FLY), 0,
       ".y4m: YUV4MPEG2 4:2:0 (BT.601 full range); .mp4: y4m piped\nto ffmpeg (libx264; ffmpeg must be on PATH); a "
       "name with\none %d conversion (e.g. frames/%05d.png): one PNG a frame,\nnumbered from 0", NULL },
+    { "--demo", "DEMO", CLI_ARG_FILE, NULL, B(FLY), 0,
+      "instead of MAP and a path: a recorded game (.dem), its map and\nmodels from --game/--data, the camera the "
+      "game's client\nwould show, entities interpolated, at --fps frames a second\n(the camera's time is the demo's)",
+      NULL },
+    { "--from", "S", CLI_ARG_NUMBER, NULL, B(FLY), 0,
+      "--demo: start S seconds after the demo's first frame (default 0)", NULL },
+    { "--to", "S", CLI_ARG_NUMBER, NULL, B(FLY), 0,
+      "--demo: end S seconds after the demo's first frame (default: its end)", NULL },
+    { "--threads", "N", CLI_ARG_NUMBER, NULL, B(FLY), 0, "render threads, " THREADS_RULE " (default 1)", NULL },
     { "--cameras", "FILE", CLI_ARG_FILE, NULL, B(FLY), 0,
       "writes each frame's camera, lines 'frame time x y z pitch\nyaw roll' (edgewise render --pos X,Y,Z --angles "
       "P,Y,R\n--time T draws the same frame)", NULL },

@@ -937,6 +937,7 @@ typedef struct ew_demo_state {
     int    paused;
     char   lightstyles[EW_DEMO_LIGHTSTYLES][65];  /* svc_lightstyle patterns ("" unset) */
     uint64_t lightstyle_bits;      /* styles set by the last block */
+    uint64_t lightstyles_seen;     /* styles set since the server info ("" there: normal light) */
     float  fog[4];                 /* FitzQuake fog: density, r, g, b (0..1) */
     int    fog_set;                /* a svc_fog came (fog[] valid) */
     ew_demo_entity *entities;      /* [0 .. nentities-1]; 0 is the world */

@@ -600,6 +600,7 @@ static int message(ew_demo *d, cursor *c, int cmd, int block, size_t at, ew_erro
             return fail_at(d, err, block, at, "svc_lightstyle: style %d (at most %d)", i, EW_DEMO_LIGHTSTYLES - 1);
         snprintf(st->lightstyles[i], sizeof st->lightstyles[i], "%.64s", text);
         st->lightstyle_bits |= (uint64_t)1 << i;
+        st->lightstyles_seen |= (uint64_t)1 << i;
         return 0;
     }
     case SVC_UPDATENAME: rd_byte(c); rd_string(c, NULL, 0); return 0;
