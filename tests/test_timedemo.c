@@ -8,6 +8,7 @@
  *     `edgewise render` of the same camera and time (what does not move
  *     is drawn the same); with them, most of the frame agrees;
  *   - drawing options of render (--classic, --color true) are taken;
+ *   - fly --demo: y4m and PNG frames at a fixed rate between --from and --to;
  *   - damaged demos (cut short, random bytes in a message, an absurd
  *     length, not a demo): the frames before the damage, then one error
  *     line naming the block and the byte, exit status 1, never a crash.
@@ -196,6 +197,45 @@ static void corrupt(void) {
     free(data);
 }
 
+/* fly --demo: a fixed frame rate, --from/--to, y4m and PNG frames. */
+static void fly_demo(void) {
+    ew_t_run r;
+    const char *a[] = {"fly", "--demo", demo3, "--game", demos, "--data", lq, "--size", "320x200", "--from", "1",
+                       "--to", "2", "--fps", "10", "--out", "v.y4m", "--quiet", NULL};
+    run(&r, a);
+    CHECK(r.status == 0, "fly --demo to y4m: %s", r.err);
+    FILE *f = fopen(ew_t_in_dir(tmp, "v.y4m"), "rb");
+    long size = -1;
+    char head[64] = "";
+    if (f) {
+        if (!fgets(head, sizeof head, f)) head[0] = 0;
+        fseek(f, 0, SEEK_END);
+        size = ftell(f);
+        fclose(f);
+    }
+    long frame = 6 + 320 * 200 * 3 / 2;
+    CHECK(strncmp(head, "YUV4MPEG2 W320 H200 F10:1", 25) == 0, "y4m header: %s", head);
+    CHECK(size == (long)strlen(head) + 11 * frame, "11 frames from 1 s to 2 s at 10 fps (%ld bytes)", size);
+    remove(ew_t_in_dir(tmp, "v.y4m"));
+    const char *p[] = {"fly", "--demo", demo3, "--game", demos, "--data", lq, "--size", "320x200", "--from", "10",
+                       "--to", "10.5", "--fps", "4", "--out", "f%02d.png", "--quiet", "--threads", "2", NULL};
+    run(&r, p);
+    int n = 0;
+    for (int k = 0; k < 4; k++) {
+        char name[16];
+        snprintf(name, sizeof name, "f%02d.png", k);
+        FILE *g = fopen(ew_t_in_dir(tmp, name), "rb");
+        if (g) n++, fclose(g), remove(ew_t_in_dir(tmp, name));
+    }
+    CHECK(r.status == 0 && n == 3, "fly --demo to PNG frames: 3 frames (%d): %s", n, r.err);
+    const char *both[] = {"fly", "lqdm3", "--demo", demo3, "--out", "x.y4m", NULL};
+    run(&r, both);
+    CHECK(r.status == 2 && count_lines(r.err) == 1, "MAP and --demo: one usage line: %s", r.err);
+    const char *late[] = {"fly", "--demo", demo3, "--game", demos, "--data", lq, "--from", "500", "--out", "x.y4m", NULL};
+    run(&r, late);
+    CHECK(r.status == 1 && count_lines(r.err) == 1 && strstr(r.err, "past the demo"), "--from past the end: %s", r.err);
+}
+
 int main(void) {
     if (!ew_t_need_shared("data/demos/demo3.dem") || !ew_t_need_shared("data/librequake/progs/player.mdl"))
         return ew_t_finish();
@@ -211,5 +251,6 @@ int main(void) {
     still_frames();
     options();
     corrupt();
+    fly_demo();
     return ew_t_finish();
 }
