@@ -13,6 +13,7 @@
  *     byte offset, every block before it read, never a crash (ASan build).
  */
 #include "util.h"
+#include "asset/scene.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -337,6 +338,85 @@ static void corrupt(void) {
     free(data);
 }
 
+/* ---- the client over the built-in world ---------------------------------------- */
+
+static void client(void) {
+    static wbuf b;
+    memset(&b, 0, sizeof b);
+    put(&b, "-1\n", 3);
+    begin(&b, 10);
+    serverinfo(&b, 15, 0);  /* models: 1 map, 2 "*1", 3 progs/player.mdl */
+    b8(&b, 5), b16(&b, 1);
+    end(&b);
+    for (int blk = 0; blk < 3; blk++) {
+        float x = blk == 2 ? 140 : 100;
+        begin(&b, blk == 2 ? 30 : 20);
+        b8(&b, 7), bf(&b, blk == 0 ? 1.0f : blk == 1 ? 1.0f : 1.1f);
+        /* entity 1 (the view) at (x, 200, 50) yaw 90 */
+        b8(&b, 0x80 | 0x01 | 0x02 | 0x04 | 0x08 | 0x10), b8(&b, 0x01 | 0x02);
+        b8(&b, 1), bcoord(&b, x), bangle(&b, 0), bcoord(&b, 200), bangle(&b, 90), bcoord(&b, 50), bangle(&b, 0);
+        /* entity 2: the door "*1" rising; entity 3: a muzzle flash */
+        b8(&b, 0x80 | 0x01 | 0x08), b8(&b, 0x04), b8(&b, 2), b8(&b, 2), bcoord(&b, blk == 2 ? 16 : 8);
+        b8(&b, 0x80 | 0x01 | 0x02), b8(&b, 0x04 | 0x20), b8(&b, 3), b8(&b, 3), b8(&b, 2), bcoord(&b, 300);
+        b8(&b, 15), b16(&b, 0), b32(&b, 0), b16(&b, 100);
+        for (int k = 0; k < 6; k++) b8(&b, 0);
+        if (blk == 2) {
+            b8(&b, 23), b8(&b, EW_TE_EXPLOSION), bcoord(&b, 300), bcoord(&b, 300), bcoord(&b, 100);
+            b8(&b, 18), bcoord(&b, 310), bcoord(&b, 300), bcoord(&b, 100), b8(&b, 0), b8(&b, 0), b8(&b, 0);
+            b8(&b, 20), b8(&b, 73);
+        }
+        end(&b);
+    }
+    begin(&b, 30);
+    b8(&b, 7), bf(&b, 4.0f);
+    b8(&b, 0x80 | 0x02), b8(&b, 1), bcoord(&b, 140);
+    end(&b);
+
+    ew_error err = {{0}};
+    ew_assets *a = ew_assets_create_builtin(&err);
+    ew_demo *d = open_buf(&b, &err);
+    ew_demo_client *c = a && d ? ew_demo_client_create(d, a->world, NULL, &err) : NULL;
+    CHECK(c != NULL, "client: %s", err.msg);
+    if (!c) {
+        ew_demo_close(d), ew_assets_destroy(a);
+        return;
+    }
+    ew_camera cam;
+    CHECK(ew_demo_client_frame(c, 0, &cam) == -1, "no frame before the server info");
+    for (int i = 0; i < 4; i++) CHECK(ew_demo_client_read(c, &err) == 1, "client block %d: %s", i, err.msg);
+    CHECK(strcmp(ew_demo_client_map(c), "maps/x.bsp") == 0, "the map: %s", ew_demo_client_map(c));
+    CHECK(ew_demo_client_missing(c) == 1, "player.mdl missing without a game directory (%d)", ew_demo_client_missing(c));
+    const ew_scene *s = ew_demo_client_scene(c);
+    CHECK(ew_demo_client_frame(c, 1.05, &cam) == 0, "frame at 1.05");
+    CHECK(fabsf(cam.origin[0] - 120) < 0.2f && fabsf(cam.origin[2] - 72) < 0.2f,
+          "the camera halfway, at the eye (%g %g %g)", cam.origin[0], cam.origin[1], cam.origin[2]);
+    CHECK(fabsf(cam.angles[1] - 25) < 0.01f && cam.time == 1.05, "the view angles halfway between blocks (%g)",
+          cam.angles[1]);
+    CHECK(s->nents == 1 && s->ents[0].model == -2 && fabsf(s->ents[0].origin[2] - 12) < 0.2f,
+          "the door, halfway up (%d entities)", s->nents);
+    CHECK(s->ndlights == 2, "two dynamic lights, the explosion's and the muzzle flash (%d)", s->ndlights);
+    int n1 = s->nparticles;
+    CHECK(n1 > 500, "the explosion's particles (%d)", n1);
+    ew_particle *copy = malloc(sizeof *copy * (size_t)(n1 ? n1 : 1));
+    memcpy(copy, s->particles, sizeof *copy * (size_t)n1);
+    ew_demo_client_frame(c, 1.09, &cam);
+    int moved = s->nparticles != n1 || memcmp(copy, s->particles, sizeof *copy * (size_t)n1) != 0;
+    CHECK(moved, "particles move with time");
+    ew_demo_client_frame(c, 1.05, &cam);
+    CHECK(s->nparticles == n1 && memcmp(copy, s->particles, sizeof *copy * (size_t)n1) == 0,
+          "the same time, the same particles");
+    free(copy);
+    CHECK(ew_demo_client_read(c, &err) == 1, "last block: %s", err.msg);
+    ew_demo_client_frame(c, 4.0, &cam);
+    CHECK(s->nparticles == 0 && s->ndlights == 0 && s->nents == 0,
+          "three seconds on: no particles, lights or entities not in the last message (%d %d %d)", s->nparticles,
+          s->ndlights, s->nents);
+    CHECK(ew_demo_client_read(c, &err) == 0, "the end");
+    ew_demo_client_destroy(c);
+    ew_demo_close(d);
+    ew_assets_destroy(a);
+}
+
 int main(void) {
     demo3();
     made(15, 0);
@@ -344,5 +424,6 @@ int main(void) {
     made(999, EW_DEMO_PRFL_FLOATCOORD);
     made(999, EW_DEMO_PRFL_INT32COORD | EW_DEMO_PRFL_SHORTANGLE);
     corrupt();
+    client();
     return ew_t_finish();
 }
