@@ -491,6 +491,35 @@ static void rgb_to_yuv420(const uint8_t *rgb, int w, int h, uint8_t *yuv) {
         }
 }
 
+/* The same conversion of an 8-bit frame through tables by palette index:
+ * each pixel's Y, and its Cb and Cr terms, are the doubles rgb_to_yuv420
+ * computes from that colour, summed in the same order, so the bytes are
+ * the same; a table lookup instead of the arithmetic per pixel. */
+static void indexed_to_yuv420(const uint8_t *px, const uint8_t pal[768], int w, int h, uint8_t *yuv) {
+    uint8_t ylut[256];
+    double cbt[256], crt[256];
+    for (int i = 0; i < 256; i++) {
+        const uint8_t *p = pal + 3 * i;
+        ylut[i] = clamp8(0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2]);
+        cbt[i] = 128 - 0.168736 * p[0] - 0.331264 * p[1] + 0.5 * p[2];
+        crt[i] = 128 + 0.5 * p[0] - 0.418688 * p[1] - 0.081312 * p[2];
+    }
+    uint8_t *Y = yuv, *U = yuv + (size_t)w * h, *V = U + (size_t)(w / 2) * (h / 2);
+    for (size_t i = 0; i < (size_t)w * h; i++) Y[i] = ylut[px[i]];
+    for (int y = 0; y < h / 2; y++) {
+        const uint8_t *r0 = px + (size_t)(2 * y) * w, *r1 = r0 + w;
+        for (int x = 0; x < w / 2; x++) {
+            double cb = 0, cr = 0;
+            cb += cbt[r0[2 * x]], cr += crt[r0[2 * x]];
+            cb += cbt[r0[2 * x + 1]], cr += crt[r0[2 * x + 1]];
+            cb += cbt[r1[2 * x]], cr += crt[r1[2 * x]];
+            cb += cbt[r1[2 * x + 1]], cr += crt[r1[2 * x + 1]];
+            U[(size_t)y * (w / 2) + x] = clamp8(cb / 4);
+            V[(size_t)y * (w / 2) + x] = clamp8(cr / 4);
+        }
+    }
+}
+
 /* ffmpeg reading y4m on its stdin; the pipe's write end, or NULL. */
 static FILE *start_ffmpeg(const char *out, pid_t *pid) {
     int fds[2];
@@ -733,8 +762,12 @@ int cmd_fly(int argc, char **argv) {
             }
             written = k + 1;
         } else {
-            frame_rgb(r, rgb, npx);
-            rgb_to_yuv420(rgb, o.width, o.height, yuv);
+            if (ew_frame_pixels(r)) {
+                indexed_to_yuv420(ew_frame_pixels(r), ew_frame_palette(r), o.width, o.height, yuv);
+            } else {
+                frame_rgb(r, rgb, npx);
+                rgb_to_yuv420(rgb, o.width, o.height, yuv);
+            }
             if (fputs("FRAME\n", video) < 0 || fwrite(yuv, 1, npx * 3 / 2, video) != npx * 3 / 2) {
                 error_line("--out %s: %s", o.out, o.kind == OUT_MP4 ? "ffmpeg stopped reading" : strerror(errno));
                 goto done;

@@ -56,6 +56,8 @@ _edgewise()
             COMPREPLY=($(compgen -W 'views straight' -- "$cur") $(compgen -f -- "$cur")); return 0 ;;
         fly:--out)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
+        fly:--demo)
+            compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         fly:--cameras)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         view:--present)
@@ -92,22 +94,23 @@ _edgewise()
         bench:--bands|hsr:--size|hsr:--threads|soak:--threads|\
         hsr:--repeat|hsr:--stress|soak:--frames|soak:--size|\
         soak:--seed|shots:--size|shots:--jobs|fly:--seconds|\
-        fly:--fps|fly:--size|view:--size|view:--scale|\
-        view:--threads|view:--fov|view:--view|timedemo:--size|\
-        timedemo:--threads|timedemo:--at|timedemo:--to|render-polyhedra:--time|\
-        render-polyhedra:--size|view-polyhedra:--size|render-polyhedra:--objects|view-polyhedra:--objects|\
-        view-polyhedra:--scale|view-polyhedra:--time|view-polyhedra:--frames|render:--subdiv-threshold|\
-        demo:--subdiv-threshold|bench:--subdiv-threshold|hsr:--subdiv-threshold|soak:--subdiv-threshold|\
-        shots:--subdiv-threshold|fly:--subdiv-threshold|view:--subdiv-threshold|timedemo:--subdiv-threshold|\
-        render:--wateralpha|demo:--wateralpha|bench:--wateralpha|hsr:--wateralpha|\
-        soak:--wateralpha|shots:--wateralpha|fly:--wateralpha|view:--wateralpha|\
-        timedemo:--wateralpha|render:--fog|demo:--fog|bench:--fog|\
-        hsr:--fog|soak:--fog|shots:--fog|fly:--fog|\
-        view:--fog|timedemo:--fog|render:--lightstyle|demo:--lightstyle|\
-        bench:--lightstyle|hsr:--lightstyle|soak:--lightstyle|shots:--lightstyle|\
-        fly:--lightstyle|view:--lightstyle|timedemo:--lightstyle|render:--gamma|\
-        demo:--gamma|bench:--gamma|hsr:--gamma|soak:--gamma|\
-        shots:--gamma|fly:--gamma|view:--gamma|timedemo:--gamma)
+        fly:--fps|fly:--size|fly:--from|fly:--to|\
+        fly:--threads|view:--size|view:--scale|view:--threads|\
+        view:--fov|view:--view|timedemo:--size|timedemo:--threads|\
+        timedemo:--at|timedemo:--to|render-polyhedra:--time|render-polyhedra:--size|\
+        view-polyhedra:--size|render-polyhedra:--objects|view-polyhedra:--objects|view-polyhedra:--scale|\
+        view-polyhedra:--time|view-polyhedra:--frames|render:--subdiv-threshold|demo:--subdiv-threshold|\
+        bench:--subdiv-threshold|hsr:--subdiv-threshold|soak:--subdiv-threshold|shots:--subdiv-threshold|\
+        fly:--subdiv-threshold|view:--subdiv-threshold|timedemo:--subdiv-threshold|render:--wateralpha|\
+        demo:--wateralpha|bench:--wateralpha|hsr:--wateralpha|soak:--wateralpha|\
+        shots:--wateralpha|fly:--wateralpha|view:--wateralpha|timedemo:--wateralpha|\
+        render:--fog|demo:--fog|bench:--fog|hsr:--fog|\
+        soak:--fog|shots:--fog|fly:--fog|view:--fog|\
+        timedemo:--fog|render:--lightstyle|demo:--lightstyle|bench:--lightstyle|\
+        hsr:--lightstyle|soak:--lightstyle|shots:--lightstyle|fly:--lightstyle|\
+        view:--lightstyle|timedemo:--lightstyle|render:--gamma|demo:--gamma|\
+        bench:--gamma|hsr:--gamma|soak:--gamma|shots:--gamma|\
+        fly:--gamma|view:--gamma|timedemo:--gamma)
             return 0 ;;
     esac
 
@@ -139,10 +142,10 @@ _edgewise()
                   --contact-sheet --no-entities --alias-raster --subdiv-threshold --full-zfill
                   --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp --hsr
                   --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
-        fly) opts='--help --game --quiet --data --path --seconds --fps --size --out --cameras
-                  --no-entities --alias-raster --subdiv-threshold --full-zfill --occlusion
-                  --classic --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit
-                  --dither --lighting --lightstyle --gamma --debug' ;;
+        fly) opts='--help --game --quiet --data --path --seconds --fps --size --out --demo
+                  --from --to --threads --cameras --no-entities --alias-raster --subdiv-threshold
+                  --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
+                  --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
         view) opts='--help --game --quiet --data --size --scale --threads --fov --view --fullscreen
                   --present --script --record --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
