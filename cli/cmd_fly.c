@@ -15,6 +15,7 @@
 #include "edgewise_lab.h"  /* ew_clock_ms */
 
 #include <errno.h>
+#include <pthread.h>
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -520,6 +521,90 @@ static void indexed_to_yuv420(const uint8_t *px, const uint8_t pal[768], int w, 
     }
 }
 
+/* The y4m frames are written by a thread of their own while the next frame
+ * is drawn and converted: two buffers, the one being written and the one
+ * being filled.  ok 0 once a write failed (errno_ the error). */
+typedef struct frame_writer {
+    pthread_t       thread;
+    pthread_mutex_t m;
+    pthread_cond_t  cv;
+    FILE           *f;
+    const uint8_t  *buf;   /* the frame to write, NULL when none waits */
+    size_t          n;
+    int             quit, ok, err_no, started;
+} frame_writer;
+
+static void *writer_main(void *arg) {
+    frame_writer *w = arg;
+    pthread_mutex_lock(&w->m);
+    for (;;) {
+        while (!w->buf && !w->quit) pthread_cond_wait(&w->cv, &w->m);
+        if (!w->buf) break;
+        const uint8_t *buf = w->buf;
+        size_t n = w->n;
+        pthread_mutex_unlock(&w->m);
+        errno = 0;
+        int ok = fputs("FRAME\n", w->f) >= 0 && fwrite(buf, 1, n, w->f) == n;
+        int e = errno;
+        pthread_mutex_lock(&w->m);
+        if (!ok && w->ok) w->ok = 0, w->err_no = e;
+        w->buf = NULL;
+        pthread_cond_broadcast(&w->cv);
+    }
+    pthread_mutex_unlock(&w->m);
+    return NULL;
+}
+
+static int writer_start(frame_writer *w, FILE *f) {
+    memset(w, 0, sizeof *w);
+    w->f = f, w->ok = 1;
+    pthread_mutex_init(&w->m, NULL);
+    pthread_cond_init(&w->cv, NULL);
+    if (pthread_create(&w->thread, NULL, writer_main, w) != 0) {
+        pthread_mutex_destroy(&w->m);
+        pthread_cond_destroy(&w->cv);
+        return -1;
+    }
+    w->started = 1;
+    return 0;
+}
+
+/* Waits until the writer is idle: 0, or -1 if a write failed. */
+static int writer_wait(frame_writer *w) {
+    pthread_mutex_lock(&w->m);
+    while (w->buf) pthread_cond_wait(&w->cv, &w->m);
+    int ok = w->ok;
+    pthread_mutex_unlock(&w->m);
+    return ok ? 0 : -1;
+}
+
+/* Hands buf (n bytes, left alone until the next call) to the writer after
+ * the frame before it is written: 0, or -1 if a write failed. */
+static int writer_put(frame_writer *w, const uint8_t *buf, size_t n) {
+    pthread_mutex_lock(&w->m);
+    while (w->buf) pthread_cond_wait(&w->cv, &w->m);
+    int ok = w->ok;
+    if (ok) {
+        w->buf = buf, w->n = n;
+        pthread_cond_broadcast(&w->cv);
+    }
+    pthread_mutex_unlock(&w->m);
+    return ok ? 0 : -1;
+}
+
+static void writer_stop(frame_writer *w) {
+    if (!w->started) return;
+    pthread_mutex_lock(&w->m);
+    while (w->buf) pthread_cond_wait(&w->cv, &w->m);
+    w->quit = 1;
+    pthread_cond_broadcast(&w->cv);
+    pthread_mutex_unlock(&w->m);
+    pthread_join(w->thread, NULL);
+    pthread_mutex_destroy(&w->m);
+    pthread_cond_destroy(&w->cv);
+    w->started = 0;
+}
+
 /* ffmpeg reading y4m on its stdin; the pipe's write end, or NULL. */
 static FILE *start_ffmpeg(const char *out, pid_t *pid) {
     int fds[2];
@@ -598,7 +683,9 @@ int cmd_fly(int argc, char **argv) {
     ew_renderer *r = NULL;
     FILE *video = NULL, *cams = NULL;
     pid_t ff = -1;
-    uint8_t *rgb = NULL, *yuv = NULL;
+    uint8_t *rgb = NULL, *yuv = NULL, *yuv_bufs[2] = {NULL, NULL};
+    frame_writer writer;
+    memset(&writer, 0, sizeof writer);
     ew_error err = {""};
     char out_part[4200] = "", cams_part[4200] = "";
     long written = 0;  /* PNG frames written */
@@ -679,8 +766,10 @@ int cmd_fly(int argc, char **argv) {
     }
     size_t npx = (size_t)o.width * o.height;
     rgb = malloc(npx * 3);
-    yuv = malloc(npx * 3 / 2);
-    if (!rgb || !yuv) {
+    yuv_bufs[0] = malloc(npx * 3 / 2);
+    yuv_bufs[1] = malloc(npx * 3 / 2);
+    yuv = yuv_bufs[0];
+    if (!rgb || !yuv_bufs[0] || !yuv_bufs[1]) {
         error_line("out of memory");
         goto done;
     }
@@ -710,6 +799,10 @@ int cmd_fly(int argc, char **argv) {
         }
     }
     if (video) fprintf(video, "YUV4MPEG2 W%d H%d F%d:1 Ip A1:1 C420jpeg\n", o.width, o.height, o.fps);
+    if (video && writer_start(&writer, video) < 0) {
+        error_line("--out %s: cannot start the writer thread", o.out);
+        goto done;
+    }
 
     int tty = isatty(2);
     double start = ew_clock_ms(), last = 0;
@@ -768,10 +861,11 @@ int cmd_fly(int argc, char **argv) {
                 frame_rgb(r, rgb, npx);
                 rgb_to_yuv420(rgb, o.width, o.height, yuv);
             }
-            if (fputs("FRAME\n", video) < 0 || fwrite(yuv, 1, npx * 3 / 2, video) != npx * 3 / 2) {
-                error_line("--out %s: %s", o.out, o.kind == OUT_MP4 ? "ffmpeg stopped reading" : strerror(errno));
+            if (writer_put(&writer, yuv, npx * 3 / 2) < 0) {
+                error_line("--out %s: %s", o.out, o.kind == OUT_MP4 ? "ffmpeg stopped reading" : strerror(writer.err_no));
                 goto done;
             }
+            yuv = yuv == yuv_bufs[0] ? yuv_bufs[1] : yuv_bufs[0];  /* the next frame goes into the other */
         }
         double now = ew_clock_ms();
         if (tty && (now - last > 100 || k + 1 == frames)) {
@@ -785,6 +879,14 @@ int cmd_fly(int argc, char **argv) {
         }
     }
     if (tty) fputc('\n', stderr);
+    if (writer.started) {
+        int wr = writer_wait(&writer);
+        writer_stop(&writer);
+        if (wr < 0) {
+            error_line("--out %s: %s", o.out, o.kind == OUT_MP4 ? "ffmpeg stopped reading" : strerror(writer.err_no));
+            goto done;
+        }
+    }
     if (dark_frames && !o.quiet)
         error_line("warning: fly: %ld of %ld frames are nearly black (mean brightness under %.1f%% of full scale); "
                    "the first, frame %ld: %s", dark_frames, frames, DARK_LUMA / 2.55, first_dark, dark_why);
@@ -835,6 +937,7 @@ int cmd_fly(int argc, char **argv) {
             frames, o.width, o.height, o.fps, (double)frames / o.fps, o.out, secs,
             secs > 0 ? (double)frames / secs : 0);
 done:
+    writer_stop(&writer);  /* before its file is closed */
     if (video) fclose(video);
     if (ff > 0) waitpid(ff, NULL, 0);
     if (cams) fclose(cams);
@@ -850,7 +953,8 @@ done:
     signal(SIGTERM, SIG_DFL);
     signal(SIGHUP, SIG_DFL);
     free(rgb);
-    free(yuv);
+    free(yuv_bufs[0]);
+    free(yuv_bufs[1]);
     free(keys);
     fly_route_destroy(route);
     ew_renderer_destroy(r);
