@@ -417,6 +417,62 @@ static void client(void) {
     ew_assets_destroy(a);
 }
 
+/* The weapon: the view weapon's model at the eye with the view's angles,
+ * and none in an intermission.  Needs LibreQuake's progs/v_shot.mdl. */
+static void weapon(void) {
+    if (!ew_t_need_shared("data/librequake/progs/v_shot.mdl")) return;
+    static wbuf b;
+    memset(&b, 0, sizeof b);
+    put(&b, "-1\n", 3);
+    begin(&b, 0);
+    b8(&b, 11), b32(&b, 15), b8(&b, 1), b8(&b, 0), bstr(&b, "weapon");
+    bstr(&b, "maps/x.bsp"), bstr(&b, "progs/v_shot.mdl"), bstr(&b, ""), bstr(&b, "");
+    b.proto = 15;
+    b8(&b, 5), b16(&b, 1);
+    end(&b);
+    for (int blk = 0; blk < 2; blk++) {
+        begin(&b, 40);
+        b.d[b.block + 4] = 0, b.d[b.block + 5] = 0, b.d[b.block + 6] = 0x20, b.d[b.block + 7] = 0x41;  /* pitch 10 */
+        b8(&b, 7), bf(&b, 1.0f + 0.1f * (float)blk);
+        b8(&b, 0x80 | 0x02 | 0x04 | 0x08), b8(&b, 1), bcoord(&b, 64), bcoord(&b, 64), bcoord(&b, 24);
+        b8(&b, 15), b16(&b, (1 << 12) | (1 << 14)), b32(&b, 0), b8(&b, 3), b8(&b, 2), b16(&b, 100);
+        for (int k = 0; k < 6; k++) b8(&b, 0);
+        if (blk == 1) b8(&b, 30);  /* an intermission after the second block's frame */
+        end(&b);
+    }
+    ew_error err = {{0}};
+    ew_assets *a = ew_assets_create_builtin(&err);
+    ew_demo *d = open_buf(&b, &err);
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s", ew_t_shared("data/librequake"));
+    ew_demo_client *c = a && d ? ew_demo_client_create(d, a->world, dir, &err) : NULL;
+    CHECK(c != NULL, "weapon client: %s", err.msg);
+    if (c) {
+        CHECK(ew_demo_client_read(c, &err) == 1 && ew_demo_client_read(c, &err) == 1, "weapon blocks: %s", err.msg);
+        CHECK(ew_demo_client_missing(c) == 0, "v_shot.mdl found (%d missing)", ew_demo_client_missing(c));
+        ew_camera cam;
+        ew_demo_client_frame(c, 1.0, &cam);
+        const ew_scene *s = ew_demo_client_scene(c);
+        CHECK(s->nents == 1 && s->ents[0].model >= 0 && s->models[s->ents[0].model].kind == EW_MODEL_ALIAS &&
+              strcmp(s->models[s->ents[0].model].name, "progs/v_shot.mdl") == 0, "the weapon is the one entity (%d)",
+              s->nents);
+        if (s->nents == 1) {
+            CHECK(memcmp(s->ents[0].origin, cam.origin, sizeof cam.origin) == 0 && s->ents[0].frame == 3,
+                  "at the eye, its frame 3 (%d)", s->ents[0].frame);
+            CHECK(s->ents[0].angles[0] == -cam.angles[0] && cam.angles[0] == 10 && s->ents[0].angles[1] == 40,
+                  "the view's angles, pitch negated as the game's alias models want (%g %g)", s->ents[0].angles[0],
+                  s->ents[0].angles[1]);
+        }
+        CHECK(fabsf(cam.origin[2] - 46) < 0.2f, "the eye 22 above the origin (%g)", cam.origin[2]);
+        CHECK(ew_demo_client_read(c, &err) == 1, "intermission block: %s", err.msg);
+        ew_demo_client_frame(c, 1.1, &cam);
+        CHECK(s->nents == 0 && fabsf(cam.origin[2] - 24) < 0.2f, "intermission: no weapon, the entity's own origin");
+    }
+    ew_demo_client_destroy(c);
+    ew_demo_close(d);
+    ew_assets_destroy(a);
+}
+
 int main(void) {
     demo3();
     made(15, 0);
@@ -425,5 +481,6 @@ int main(void) {
     made(999, EW_DEMO_PRFL_INT32COORD | EW_DEMO_PRFL_SHORTANGLE);
     corrupt();
     client();
+    weapon();
     return ew_t_finish();
 }
