@@ -133,6 +133,28 @@ int demo_open_with_map(const char *path, const char *data, int quiet, ew_demo **
     return 0;
 }
 
+int demo_span(ew_demo *d, const char *path, double *t0, double *t1) {
+    ew_error err = {""};
+    const ew_demo_state *ds = ew_demo_get_state(d);
+    int rd, seen = 0;
+    *t0 = *t1 = 0;
+    while ((rd = ew_demo_read_block(d, &err)) == 1) {
+        if (!seen && ds->view_entity > 0 && ds->view_entity < ds->nentities && ds->entities[ds->view_entity].msgtime >= 0)
+            seen = 1, *t0 = ds->time;
+        *t1 = ds->time;
+    }
+    ew_demo_rewind(d);
+    if (rd < 0) {
+        error_line("%s", err.msg);
+        return -1;
+    }
+    if (!seen) {
+        error_line("%s: the demo never shows its view entity: nothing to draw", path);
+        return -1;
+    }
+    return 0;
+}
+
 static int cmp_double(const void *a, const void *b) {
     double x = *(const double *)a, y = *(const double *)b;
     return x < y ? -1 : x > y;

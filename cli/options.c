@@ -29,7 +29,7 @@ const cli_command cli_commands[CLI_NCMDS] = {
     [CLI_SHOTS] = { "shots", "shots", "MAP|DIR|PAK... [options]", "pictures of many maps (see edgewise shots --help)" },
     [CLI_FLY] = { "fly", "fly", "MAP --out FILE [options]\n--demo DEMO --out FILE [options]",
                   "a flythrough video, or a demo's (see edgewise fly --help)" },
-    [CLI_VIEW] = { "view", "view", "MAP [options]", "walk through MAP in a window (see edgewise view --help)" },
+    [CLI_VIEW] = { "view", "view", "MAP [options]\n--demo DEMO [options]", "walk through MAP in a window (see edgewise view --help)" },
     [CLI_TIMEDEMO] = { "timedemo", "timedemo", "DEMO [options]",
                        "play a recorded game (.dem), every block one frame, as fast as it goes" },
     [CLI_RENDER_POLYHEDRA] = { "render", "render builtin:polyhedra", "[options]", "" },
@@ -183,6 +183,9 @@ const cli_option cli_options[] = {
       "how frames reach the window: auto (default), surface, texture, software", NULL },
     { "--script", "FILE", CLI_ARG_FILE, NULL, B(VIEW), 0,
       "play timed commands (deterministic frames: time from the script)", NULL },
+    { "--demo", "DEMO", CLI_ARG_FILE, NULL, B(VIEW), 0,
+      "instead of MAP: play a recorded game (.dem) on its map; P pause,\n[ and ] 5 s back and on, G the free camera and back",
+      NULL },
     { "--record", "FILE", CLI_ARG_FILE, NULL, B(VIEW), 0,
       "write the camera path: one line 'time x y z pitch yaw roll' a frame", NULL },
     /* ---- timedemo ---- */

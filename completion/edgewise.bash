@@ -64,6 +64,8 @@ _edgewise()
             COMPREPLY=($(compgen -W 'auto surface texture software' -- "$cur")); return 0 ;;
         view:--script)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
+        view:--demo)
+            compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         view:--record)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         timedemo:--data)
@@ -147,7 +149,7 @@ _edgewise()
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
         view) opts='--help --game --quiet --data --size --scale --threads --fov --view --fullscreen
-                  --present --script --record --no-entities --alias-raster --subdiv-threshold
+                  --present --script --demo --record --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
         timedemo) opts='--help --game --data --size --threads --out --at --to --quiet --no-entities
