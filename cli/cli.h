@@ -187,6 +187,19 @@ int cmd_view(int argc, char **argv);
 int cmd_shots(int argc, char **argv);
 /* edgewise fly (cli/cmd_fly.c): argv[1] is "fly". */
 int cmd_fly(int argc, char **argv);
+/* edgewise timedemo (cli/cmd_timedemo.c): argv[1] is "timedemo". */
+int cmd_timedemo(int argc, char **argv);
+/* The demo's light styles (svc_lightstyle) into r, but those the drawing
+ * options set (--lightstyle); cheap, called every frame (cli/cmd_timedemo.c). */
+void demo_apply_lightstyles(ew_renderer *r, const ew_demo_state *st, const draw_opts *d);
+/* Opens DEMO, reads it up to its server info and loads its map (from the
+ * first model precache) with --game/--data: the demo (rewound), the
+ * assets; -1 after one error line. */
+int  demo_open_with_map(const char *path, const char *data, int quiet, ew_demo **demo, ew_assets **assets);
+/* The demo's span: the time of the view entity's first update (*t0) and
+ * of the last message (*t1), read through and rewound; 0, or -1 after one
+ * error line (a damaged demo, or one that never shows its view entity). */
+int  demo_span(ew_demo *d, const char *path, double *t0, double *t1);
 /* edgewise hsr (cli/cmd_hsr.c): argv[1] is "hsr". */
 int cmd_hsr(int argc, char **argv);
 

@@ -15,6 +15,7 @@
 #include "edgewise_lab.h"  /* ew_clock_ms */
 
 #include <errno.h>
+#include <pthread.h>
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -32,10 +33,14 @@ static const char fly_usage[] =
     "usage: edgewise fly MAP [--data DIR] [--path views|straight|FILE] [--seconds S]\n"
     "                    [--fps F] [--size WxH] [--cameras FILE] [--quiet] [what is drawn]\n"
     "                    --out FILE.y4m|FILE.mp4|DIR/%05d.png\n"
+    "       edgewise fly --demo DEMO [--game DIR] [--data DIR] [--from S] [--to S] [--fps F]\n"
+    "                    [--size WxH] [--threads N] [...] --out FILE.y4m|FILE.mp4|DIR/%05d.png\n"
     "\n"
     "Renders a flythrough video.  Frame k shows the path at k/F seconds, with the\n"
     "camera's time also k/F, so skies, liquids, animated textures and light\n"
-    "styles move.\n"
+    "styles move.  With --demo: a recorded game at F frames a second (default\n"
+    "60), frame k at demo time first + --from + k/F, the entities interpolated\n"
+    "between the demo's messages as the game's client does.\n"
     "\n"
     CLI_OPTIONS_HERE
     "\n"
@@ -48,9 +53,10 @@ static const char fly_usage[] =
 enum { OUT_Y4M, OUT_MP4, OUT_PNG };
 
 typedef struct fly_opts {
-    const char *map, *data, *path, *out, *cameras;
+    const char *map, *data, *path, *out, *cameras, *demo;
     double      seconds;   /* 0: the default */
-    int         fps, width, height, quiet, kind;
+    double      from, to;  /* --demo: seconds after its first frame (to < 0: its end) */
+    int         fps, width, height, quiet, kind, threads, path_given, seconds_given;
     draw_opts   draw;
 } fly_opts;
 
@@ -97,9 +103,10 @@ static int parse(int argc, char **argv, fly_opts *o) {
     while (cli_next_arg(&args)) {
         const cli_option *opt = args.opt;
         const char *v = args.value;
-        const char *names[] = {"--data", "--path", "--seconds", "--fps", "--size", "--out", "--cameras"};
+        const char *names[] = {"--data", "--path", "--seconds", "--fps", "--size", "--out", "--cameras",
+                               "--demo", "--from", "--to", "--threads"};
         int which = 0;
-        for (int k = 0; k < 7; k++)
+        for (int k = 0; k < 11; k++)
             if (cli_is(opt, names[k])) which = k;
         if (!*v) {
             error_line("%s: empty value", names[which]);
@@ -109,13 +116,13 @@ static int parse(int argc, char **argv, fly_opts *o) {
         double d;
         switch (which) {
         case 0: o->data = v; break;
-        case 1: o->path = v; break;
+        case 1: o->path = v, o->path_given = 1; break;
         case 2:
             if (parse_number(v, &d) < 0 || !(d > 0) || d > MAX_SECONDS) {
                 error_line("--seconds %s: must be a number more than 0 up to %g", v, MAX_SECONDS);
                 return -1;
             }
-            o->seconds = d;
+            o->seconds = d, o->seconds_given = 1;
             break;
         case 3:
             if (parse_long(v, &l) < 0 || l < 1 || l > MAX_FPS) {
@@ -133,12 +140,36 @@ static int parse(int argc, char **argv, fly_opts *o) {
             break;
         case 5: o->out = v; break;
         case 6: o->cameras = v; break;
+        case 7: o->demo = v; break;
+        case 8: case 9:
+            if (parse_number(v, &d) < 0 || !(d >= 0) || d > MAX_SECONDS) {
+                error_line("%s %s: must be a number of seconds from 0 to %g", names[which], v, MAX_SECONDS);
+                return -1;
+            }
+            if (which == 8) o->from = d;
+            else o->to = d;
+            break;
+        case 10:
+            if (parse_threads(v, &o->threads) < 0) return -1;
+            break;
         }
     }
     if (args.stop)
         return args.stop;
     o->map = args.nmaps ? map[0] : NULL, o->quiet = args.quiet;
-    if (!o->map) {
+    if (o->demo && (o->map || o->path_given || o->seconds_given)) {
+        error_line("fly: --demo plays the demo's own map and camera: no MAP, --path or --seconds with it");
+        return -1;
+    }
+    if (!o->demo && (o->from > 0 || o->to >= 0)) {
+        error_line("fly: --from and --to are for --demo");
+        return -1;
+    }
+    if (o->demo && o->to >= 0 && o->to <= o->from) {
+        error_line("fly: --to %g must come after --from %g", o->to, o->from);
+        return -1;
+    }
+    if (!o->map && !o->demo) {
         error_line("fly: no map given (see edgewise fly --help)");
         return -1;
     }
@@ -461,6 +492,119 @@ static void rgb_to_yuv420(const uint8_t *rgb, int w, int h, uint8_t *yuv) {
         }
 }
 
+/* The same conversion of an 8-bit frame through tables by palette index:
+ * each pixel's Y, and its Cb and Cr terms, are the doubles rgb_to_yuv420
+ * computes from that colour, summed in the same order, so the bytes are
+ * the same; a table lookup instead of the arithmetic per pixel. */
+static void indexed_to_yuv420(const uint8_t *px, const uint8_t pal[768], int w, int h, uint8_t *yuv) {
+    uint8_t ylut[256];
+    double cbt[256], crt[256];
+    for (int i = 0; i < 256; i++) {
+        const uint8_t *p = pal + 3 * i;
+        ylut[i] = clamp8(0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2]);
+        cbt[i] = 128 - 0.168736 * p[0] - 0.331264 * p[1] + 0.5 * p[2];
+        crt[i] = 128 + 0.5 * p[0] - 0.418688 * p[1] - 0.081312 * p[2];
+    }
+    uint8_t *Y = yuv, *U = yuv + (size_t)w * h, *V = U + (size_t)(w / 2) * (h / 2);
+    for (size_t i = 0; i < (size_t)w * h; i++) Y[i] = ylut[px[i]];
+    for (int y = 0; y < h / 2; y++) {
+        const uint8_t *r0 = px + (size_t)(2 * y) * w, *r1 = r0 + w;
+        for (int x = 0; x < w / 2; x++) {
+            double cb = 0, cr = 0;
+            cb += cbt[r0[2 * x]], cr += crt[r0[2 * x]];
+            cb += cbt[r0[2 * x + 1]], cr += crt[r0[2 * x + 1]];
+            cb += cbt[r1[2 * x]], cr += crt[r1[2 * x]];
+            cb += cbt[r1[2 * x + 1]], cr += crt[r1[2 * x + 1]];
+            U[(size_t)y * (w / 2) + x] = clamp8(cb / 4);
+            V[(size_t)y * (w / 2) + x] = clamp8(cr / 4);
+        }
+    }
+}
+
+/* The y4m frames are written by a thread of their own while the next frame
+ * is drawn and converted: two buffers, the one being written and the one
+ * being filled.  ok 0 once a write failed (errno_ the error). */
+typedef struct frame_writer {
+    pthread_t       thread;
+    pthread_mutex_t m;
+    pthread_cond_t  cv;
+    FILE           *f;
+    const uint8_t  *buf;   /* the frame to write, NULL when none waits */
+    size_t          n;
+    int             quit, ok, err_no, started;
+} frame_writer;
+
+static void *writer_main(void *arg) {
+    frame_writer *w = arg;
+    pthread_mutex_lock(&w->m);
+    for (;;) {
+        while (!w->buf && !w->quit) pthread_cond_wait(&w->cv, &w->m);
+        if (!w->buf) break;
+        const uint8_t *buf = w->buf;
+        size_t n = w->n;
+        pthread_mutex_unlock(&w->m);
+        errno = 0;
+        int ok = fputs("FRAME\n", w->f) >= 0 && fwrite(buf, 1, n, w->f) == n;
+        int e = errno;
+        pthread_mutex_lock(&w->m);
+        if (!ok && w->ok) w->ok = 0, w->err_no = e;
+        w->buf = NULL;
+        pthread_cond_broadcast(&w->cv);
+    }
+    pthread_mutex_unlock(&w->m);
+    return NULL;
+}
+
+static int writer_start(frame_writer *w, FILE *f) {
+    memset(w, 0, sizeof *w);
+    w->f = f, w->ok = 1;
+    pthread_mutex_init(&w->m, NULL);
+    pthread_cond_init(&w->cv, NULL);
+    if (pthread_create(&w->thread, NULL, writer_main, w) != 0) {
+        pthread_mutex_destroy(&w->m);
+        pthread_cond_destroy(&w->cv);
+        return -1;
+    }
+    w->started = 1;
+    return 0;
+}
+
+/* Waits until the writer is idle: 0, or -1 if a write failed. */
+static int writer_wait(frame_writer *w) {
+    pthread_mutex_lock(&w->m);
+    while (w->buf) pthread_cond_wait(&w->cv, &w->m);
+    int ok = w->ok;
+    pthread_mutex_unlock(&w->m);
+    return ok ? 0 : -1;
+}
+
+/* Hands buf (n bytes, left alone until the next call) to the writer after
+ * the frame before it is written: 0, or -1 if a write failed. */
+static int writer_put(frame_writer *w, const uint8_t *buf, size_t n) {
+    pthread_mutex_lock(&w->m);
+    while (w->buf) pthread_cond_wait(&w->cv, &w->m);
+    int ok = w->ok;
+    if (ok) {
+        w->buf = buf, w->n = n;
+        pthread_cond_broadcast(&w->cv);
+    }
+    pthread_mutex_unlock(&w->m);
+    return ok ? 0 : -1;
+}
+
+static void writer_stop(frame_writer *w) {
+    if (!w->started) return;
+    pthread_mutex_lock(&w->m);
+    while (w->buf) pthread_cond_wait(&w->cv, &w->m);
+    w->quit = 1;
+    pthread_cond_broadcast(&w->cv);
+    pthread_mutex_unlock(&w->m);
+    pthread_join(w->thread, NULL);
+    pthread_mutex_destroy(&w->m);
+    pthread_cond_destroy(&w->cv);
+    w->started = 0;
+}
+
 /* ffmpeg reading y4m on its stdin; the pipe's write end, or NULL. */
 static FILE *start_ffmpeg(const char *out, pid_t *pid) {
     int fds[2];
@@ -506,10 +650,11 @@ static void on_stop(int sig) { stop_signal = sig; }
 int cmd_fly(int argc, char **argv) {
     fly_opts o;
     memset(&o, 0, sizeof o);
-    o.fps = 30, o.width = 640, o.height = 360, o.path = "views";
+    o.fps = 0, o.width = 640, o.height = 360, o.path = "views", o.threads = 1, o.to = -1;
     draw_opts_init(&o.draw);
     int pr = parse(argc, argv, &o);
     if (pr) return pr > 0 ? 0 : 2;
+    if (!o.fps) o.fps = o.demo ? 60 : 30;
     if (o.kind == OUT_MP4 && !on_path("ffmpeg")) {
         error_line("--out %s: writing .mp4 needs ffmpeg, which is not on PATH (write .y4m instead)", o.out);
         return 1;
@@ -530,18 +675,59 @@ int cmd_fly(int argc, char **argv) {
     if (from_file && (nkeys = read_path(o.path, &keys)) < 0) return 1;
 
     int rc = 1;
-    ew_assets *a = load_map(o.map, o.data, o.quiet);
+    ew_assets *a = NULL;
+    ew_demo *demo = NULL;
+    ew_demo_client *dc = NULL;
+    double demo_t0 = 0, demo_t1 = 0;
     ew_scene *scene = NULL;
     ew_renderer *r = NULL;
     FILE *video = NULL, *cams = NULL;
     pid_t ff = -1;
-    uint8_t *rgb = NULL, *yuv = NULL;
+    uint8_t *rgb = NULL, *yuv = NULL, *yuv_bufs[2] = {NULL, NULL};
+    frame_writer writer;
+    memset(&writer, 0, sizeof writer);
     ew_error err = {""};
     char out_part[4200] = "", cams_part[4200] = "";
     long written = 0;  /* PNG frames written */
+    if (o.demo) {
+        if (demo_open_with_map(o.demo, o.data, o.quiet, &demo, &a) < 0) goto done;
+        /* its span: from the view entity's first update to the last message */
+        const ew_demo_state *ds = ew_demo_get_state(demo);
+        int rd, seen = 0;
+        while ((rd = ew_demo_read_block(demo, &err)) == 1) {
+            if (!seen && ds->view_entity > 0 && ds->view_entity < ds->nentities &&
+                ds->entities[ds->view_entity].msgtime >= 0)
+                seen = 1, demo_t0 = ds->time;
+            demo_t1 = ds->time;
+        }
+        if (rd < 0) {
+            error_line("%s", err.msg);
+            goto done;
+        }
+        if (!seen) {
+            error_line("%s: the demo never shows its view entity: nothing to draw", o.demo);
+            goto done;
+        }
+        ew_demo_rewind(demo);
+        if (!(dc = ew_demo_client_create(demo, a->world, cli_search_path(o.data), &err))) {
+            error_line("%s", err.msg);
+            goto done;
+        }
+        if (ew_demo_client_missing(dc) && !o.quiet)
+            error_line("warning: %s: %d model files missing (not drawn)", o.demo, ew_demo_client_missing(dc));
+    } else {
+        a = load_map(o.map, o.data, o.quiet);
+    }
     if (!a) goto done;
     double seconds;
-    if (!from_file) {
+    if (o.demo) {
+        double end = o.to >= 0 && o.to < demo_t1 - demo_t0 ? o.to : demo_t1 - demo_t0;
+        if (!(end > o.from)) {
+            error_line("%s: --from %g is past the demo's end (%.3f s)", o.demo, o.from, demo_t1 - demo_t0);
+            goto done;
+        }
+        seconds = end - o.from + 1.0 / o.fps;  /* the last frame at end */
+    } else if (!from_file) {
         keys = malloc(sizeof *keys * EW_MAX_VIEWS);
         if (!keys) goto done;
         nkeys = view_keys(a->world, keys);
@@ -569,18 +755,21 @@ int cmd_fly(int argc, char **argv) {
     long frames = lround(nframes);
     if (frames < 1) frames = 1;
 
-    if (draw_opts_scene(&o.draw, a, o.map, o.data, 0, o.quiet, &scene) < 0) goto done;
+    if (!dc && draw_opts_scene(&o.draw, a, o.map, o.data, 0, o.quiet, &scene) < 0) goto done;
+    ew_scene *draw_scene = dc ? (o.draw.no_entities ? NULL : ew_demo_client_scene(dc)) : scene;
     r = ew_renderer_create(&(ew_renderer_desc){ .world = a->world, .palette = a->palette,
-            .colormap = a->colormap, .width = o.width, .height = o.height, .threads = 1,
+            .colormap = a->colormap, .width = o.width, .height = o.height, .threads = o.threads,
             .color = (ew_color_mode)o.draw.color }, &err);
-    if (!r || draw_opts_apply(&o.draw, r, scene) < 0) {
+    if (!r || draw_opts_apply(&o.draw, r, draw_scene) < 0) {
         error_line("%s", err.msg[0] ? err.msg : "cannot create the renderer");
         goto done;
     }
     size_t npx = (size_t)o.width * o.height;
     rgb = malloc(npx * 3);
-    yuv = malloc(npx * 3 / 2);
-    if (!rgb || !yuv) {
+    yuv_bufs[0] = malloc(npx * 3 / 2);
+    yuv_bufs[1] = malloc(npx * 3 / 2);
+    yuv = yuv_bufs[0];
+    if (!rgb || !yuv_bufs[0] || !yuv_bufs[1]) {
         error_line("out of memory");
         goto done;
     }
@@ -610,6 +799,10 @@ int cmd_fly(int argc, char **argv) {
         }
     }
     if (video) fprintf(video, "YUV4MPEG2 W%d H%d F%d:1 Ip A1:1 C420jpeg\n", o.width, o.height, o.fps);
+    if (video && writer_start(&writer, video) < 0) {
+        error_line("--out %s: cannot start the writer thread", o.out);
+        goto done;
+    }
 
     int tty = isatty(2);
     double start = ew_clock_ms(), last = 0;
@@ -624,10 +817,21 @@ int cmd_fly(int argc, char **argv) {
         ew_camera cam;
         memset(&cam, 0, sizeof cam);
         double t = (double)k / o.fps;
-        if (from_file) file_camera(keys, nkeys, t, &cam);
-        else views_camera(keys, nkeys, route, t / seconds, &cam);
-        cam.fov = 90;
-        cam.time = t;
+        if (dc) {
+            t = demo_t0 + o.from + t;
+            if (ew_demo_client_advance(dc, t, &err) < 0) {
+                error_line("%s", err.msg);
+                goto done;
+            }
+            ew_demo_client_frame(dc, t, &cam);  /* the camera, fov 90, time t */
+            demo_apply_lightstyles(r, ew_demo_get_state(demo), &o.draw);
+            if (draw_scene) ew_set_scene(r, draw_scene);
+        } else {
+            if (from_file) file_camera(keys, nkeys, t, &cam);
+            else views_camera(keys, nkeys, route, t / seconds, &cam);
+            cam.fov = 90;
+            cam.time = t;
+        }
         if (cams)
             fprintf(cams, "%ld %.17g %.9g %.9g %.9g %.9g %.9g %.9g\n", k, cam.time, cam.origin[0], cam.origin[1],
                     cam.origin[2], cam.angles[0], cam.angles[1], cam.angles[2]);
@@ -651,12 +855,17 @@ int cmd_fly(int argc, char **argv) {
             }
             written = k + 1;
         } else {
-            frame_rgb(r, rgb, npx);
-            rgb_to_yuv420(rgb, o.width, o.height, yuv);
-            if (fputs("FRAME\n", video) < 0 || fwrite(yuv, 1, npx * 3 / 2, video) != npx * 3 / 2) {
-                error_line("--out %s: %s", o.out, o.kind == OUT_MP4 ? "ffmpeg stopped reading" : strerror(errno));
+            if (ew_frame_pixels(r)) {
+                indexed_to_yuv420(ew_frame_pixels(r), ew_frame_palette(r), o.width, o.height, yuv);
+            } else {
+                frame_rgb(r, rgb, npx);
+                rgb_to_yuv420(rgb, o.width, o.height, yuv);
+            }
+            if (writer_put(&writer, yuv, npx * 3 / 2) < 0) {
+                error_line("--out %s: %s", o.out, o.kind == OUT_MP4 ? "ffmpeg stopped reading" : strerror(writer.err_no));
                 goto done;
             }
+            yuv = yuv == yuv_bufs[0] ? yuv_bufs[1] : yuv_bufs[0];  /* the next frame goes into the other */
         }
         double now = ew_clock_ms();
         if (tty && (now - last > 100 || k + 1 == frames)) {
@@ -670,6 +879,14 @@ int cmd_fly(int argc, char **argv) {
         }
     }
     if (tty) fputc('\n', stderr);
+    if (writer.started) {
+        int wr = writer_wait(&writer);
+        writer_stop(&writer);
+        if (wr < 0) {
+            error_line("--out %s: %s", o.out, o.kind == OUT_MP4 ? "ffmpeg stopped reading" : strerror(writer.err_no));
+            goto done;
+        }
+    }
     if (dark_frames && !o.quiet)
         error_line("warning: fly: %ld of %ld frames are nearly black (mean brightness under %.1f%% of full scale); "
                    "the first, frame %ld: %s", dark_frames, frames, DARK_LUMA / 2.55, first_dark, dark_why);
@@ -720,6 +937,7 @@ int cmd_fly(int argc, char **argv) {
             frames, o.width, o.height, o.fps, (double)frames / o.fps, o.out, secs,
             secs > 0 ? (double)frames / secs : 0);
 done:
+    writer_stop(&writer);  /* before its file is closed */
     if (video) fclose(video);
     if (ff > 0) waitpid(ff, NULL, 0);
     if (cams) fclose(cams);
@@ -735,11 +953,14 @@ done:
     signal(SIGTERM, SIG_DFL);
     signal(SIGHUP, SIG_DFL);
     free(rgb);
-    free(yuv);
+    free(yuv_bufs[0]);
+    free(yuv_bufs[1]);
     free(keys);
     fly_route_destroy(route);
     ew_renderer_destroy(r);
     ew_scene_destroy(scene);
+    ew_demo_client_destroy(dc);
+    ew_demo_close(demo);
     ew_assets_destroy(a);
     return rc;
 }

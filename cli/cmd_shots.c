@@ -432,7 +432,7 @@ static ew_assets *load_from_pak(const map_item *m, const char *data, ew_error *e
     } else {
         char dir[1024];
         if (data) {
-            snprintf(dir, sizeof dir, "%s", data);
+            snprintf(dir, sizeof dir, "%s", cli_search_path(data));
         } else {
             snprintf(dir, sizeof dir, "%s", m->source);
             char *slash = strrchr(dir, '/');
@@ -459,9 +459,9 @@ done:
 static ew_assets *load_item(const map_item *m, const char *data, ew_error *err) {
     switch (m->kind) {
     case SRC_BUILTIN: return ew_assets_create_builtin(err);
-    case SRC_GAMEDIR: return ew_assets_create(m->load, m->dir, err);
+    case SRC_GAMEDIR: return ew_assets_create(m->load, cli_search_path(m->dir), err);
     case SRC_PAK: return load_from_pak(m, data, err);
-    default: return ew_assets_create(m->load, data, err);
+    default: return ew_assets_create(m->load, cli_search_path(data), err);
     }
 }
 
@@ -704,7 +704,7 @@ static map_result shoot_map(const shots_opts *o, const map_item *m, int fd) {
         for (int i = 0; i < o->nviews; i++) list[nlist++] = o->views[i];
     }
     /* A scene: the map's own moving things (--data for their models). */
-    const char *game = m->kind == SRC_GAMEDIR ? m->dir : o->data;
+    const char *game = cli_search_path(m->kind == SRC_GAMEDIR ? m->dir : o->data);
     const char *scene_map = m->kind == SRC_BUILTIN ? "builtin" : m->kind == SRC_PAK ? m->source : m->load;
     if (!o->draw.no_entities) {
         scene = m->kind == SRC_BUILTIN ? ew_scene_create_builtin(a->world, &err)

@@ -384,7 +384,7 @@ ew_assets *load_map(const char *map, const char *data, int quiet) {
         return stress_assets(map, detail);
     if (!is_builtin(map) && refuse_map_path(map) < 0)
         return NULL;
-    ew_assets *a = is_builtin(map) ? ew_assets_create_builtin(&err) : ew_assets_create(map, data, &err);
+    ew_assets *a = is_builtin(map) ? ew_assets_create_builtin(&err) : ew_assets_create(map, cli_search_path(data), &err);
     if (!a)
         error_line("%s", err.msg[0] ? err.msg : "cannot load the map");
     else
@@ -401,7 +401,7 @@ int draw_opts_scene(const draw_opts *d, const ew_assets *a, const char *map, con
     /* the stress hall has no moving things: an empty scene */
     ew_scene *s = d->no_entities || stress_detail(map) >= 0 ? ew_scene_create(a->world, &err)
                   : is_builtin(map) ? ew_scene_create_builtin(a->world, &err)
-                                    : ew_scene_create_from_map(a->world, map, data, &err);
+                                    : ew_scene_create_from_map(a->world, map, cli_search_path(data), &err);
     if (!s) {
         error_line("%s", err.msg[0] ? err.msg : "cannot make the scene");
         return -1;

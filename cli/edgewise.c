@@ -778,6 +778,8 @@ int main(int argc, char **argv) {
         return cmd_shots(argc, argv);
     if (strcmp(cmd, "fly") == 0)
         return cmd_fly(argc, argv);
+    if (strcmp(cmd, "timedemo") == 0)
+        return cmd_timedemo(argc, argv);
     cli_unknown_command(cmd);
     return EXIT_USAGE;
 }

@@ -13,7 +13,7 @@
 
 #define B(c) CLI_BIT(CLI_##c)
 /* The commands that take the drawing options (what is drawn). */
-#define DRAWN (B(RENDER) | B(DEMO) | B(BENCH) | B(HSR) | B(SOAK) | B(SHOTS) | B(FLY) | B(VIEW))
+#define DRAWN (B(RENDER) | B(DEMO) | B(BENCH) | B(HSR) | B(SOAK) | B(SHOTS) | B(FLY) | B(VIEW) | B(TIMEDEMO))
 #define ALL ((1u << CLI_NCMDS) - 1)
 
 const cli_command cli_commands[CLI_NCMDS] = {
@@ -27,8 +27,11 @@ const cli_command cli_commands[CLI_NCMDS] = {
                   "the hidden-surface lab: every method timed and checked" },
     [CLI_SOAK] = { "soak", "soak", "MAP --frames N [options]", "render N frames and check every frame's counters" },
     [CLI_SHOTS] = { "shots", "shots", "MAP|DIR|PAK... [options]", "pictures of many maps (see edgewise shots --help)" },
-    [CLI_FLY] = { "fly", "fly", "MAP --out FILE [options]", "a flythrough video (see edgewise fly --help)" },
-    [CLI_VIEW] = { "view", "view", "MAP [options]", "walk through MAP in a window (see edgewise view --help)" },
+    [CLI_FLY] = { "fly", "fly", "MAP --out FILE [options]\n--demo DEMO --out FILE [options]",
+                  "a flythrough video, or a demo's (see edgewise fly --help)" },
+    [CLI_VIEW] = { "view", "view", "MAP [options]\n--demo DEMO [options]", "walk through MAP in a window (see edgewise view --help)" },
+    [CLI_TIMEDEMO] = { "timedemo", "timedemo", "DEMO [options]",
+                       "play a recorded game (.dem), every block one frame, as fast as it goes" },
     [CLI_RENDER_POLYHEDRA] = { "render", "render builtin:polyhedra", "[options]", "" },
     [CLI_VIEW_POLYHEDRA] = { "view", "view builtin:polyhedra", "[options]", "" },
     [CLI_HELP] = { "help", "help", "\n--help\n--version", "this text" },
@@ -38,6 +41,9 @@ const cli_option cli_options[] = {
     /* ---- every command ---- */
     { "--help", NULL, CLI_ARG_NONE, NULL, ALL, 0, "this text", NULL },
     /* ---- render and demo ---- */
+    { "--game", "DIR", CLI_ARG_DIR, NULL, B(RENDER) | B(VIEWS) | B(INFO) | B(BENCH) | B(HSR) | B(SOAK) | B(VIEW) |
+      B(SHOTS) | B(FLY) | B(TIMEDEMO), 0,
+      "a mod's game directory, searched before --data's (maps, models, gfx, paks), as Quake's -game over id1", NULL },
     { "--data", "DIR", CLI_ARG_DIR, NULL, B(RENDER) | B(VIEWS) | B(INFO), 0,
       "game directory (maps/, gfx/palette.lmp, gfx/colormap.lmp)", NULL },
     { "--size", "WxH", CLI_ARG_NUMBER, NULL, B(RENDER) | B(DEMO), 0,
@@ -148,11 +154,20 @@ const cli_option cli_options[] = {
     { "--seconds", "S", CLI_ARG_NUMBER, NULL, B(FLY), 0,
       "the video's length, more than 0 up to 3600 (default: 2 s\nper path segment, 8 s for a turn; --path FILE: "
       "its span)", NULL },
-    { "--fps", "F", CLI_ARG_NUMBER, NULL, B(FLY), 0, "frames a second, 1 to 240 (default 30)", NULL },
+    { "--fps", "F", CLI_ARG_NUMBER, NULL, B(FLY), 0, "frames a second, 1 to 240 (default 30; --demo: 60)", NULL },
     { "--size", "WxH", CLI_ARG_NUMBER, NULL, B(FLY), 0, "frame size, even width and height (default 640x360)", NULL },
     { "--out", "FILE", CLI_ARG_FILE, NULL, B(FLY), 0,
       ".y4m: YUV4MPEG2 4:2:0 (BT.601 full range); .mp4: y4m piped\nto ffmpeg (libx264; ffmpeg must be on PATH); a "
       "name with\none %d conversion (e.g. frames/%05d.png): one PNG a frame,\nnumbered from 0", NULL },
+    { "--demo", "DEMO", CLI_ARG_FILE, NULL, B(FLY), 0,
+      "instead of MAP and a path: a recorded game (.dem), its map and\nmodels from --game/--data, the camera the "
+      "game's client\nwould show, entities interpolated, at --fps frames a second\n(the camera's time is the demo's)",
+      NULL },
+    { "--from", "S", CLI_ARG_NUMBER, NULL, B(FLY), 0,
+      "--demo: start S seconds after the demo's first frame (default 0)", NULL },
+    { "--to", "S", CLI_ARG_NUMBER, NULL, B(FLY), 0,
+      "--demo: end S seconds after the demo's first frame (default: its end)", NULL },
+    { "--threads", "N", CLI_ARG_NUMBER, NULL, B(FLY), 0, "render threads, " THREADS_RULE " (default 1)", NULL },
     { "--cameras", "FILE", CLI_ARG_FILE, NULL, B(FLY), 0,
       "writes each frame's camera, lines 'frame time x y z pitch\nyaw roll' (edgewise render --pos X,Y,Z --angles "
       "P,Y,R\n--time T draws the same frame)", NULL },
@@ -168,8 +183,24 @@ const cli_option cli_options[] = {
       "how frames reach the window: auto (default), surface, texture, software", NULL },
     { "--script", "FILE", CLI_ARG_FILE, NULL, B(VIEW), 0,
       "play timed commands (deterministic frames: time from the script)", NULL },
+    { "--demo", "DEMO", CLI_ARG_FILE, NULL, B(VIEW), 0,
+      "instead of MAP: play a recorded game (.dem) on its map; P pause,\n[ and ] 5 s back and on, G the free camera and back",
+      NULL },
     { "--record", "FILE", CLI_ARG_FILE, NULL, B(VIEW), 0,
       "write the camera path: one line 'time x y z pitch yaw roll' a frame", NULL },
+    /* ---- timedemo ---- */
+    { "--data", "DIR", CLI_ARG_DIR, NULL, B(TIMEDEMO), 0,
+      "game directory: the demo's map (maps/), its models (progs/), gfx/", NULL },
+    { "--size", "WxH", CLI_ARG_NUMBER, NULL, B(TIMEDEMO), 0, "frame size, 320x200 up to 7680x4320 (default 640x480)",
+      NULL },
+    { "--threads", "N", CLI_ARG_NUMBER, NULL, B(TIMEDEMO), 0, "render threads, " THREADS_RULE " (default 0)", NULL },
+    { "--out", "FILE.png", CLI_ARG_FILE, NULL, B(TIMEDEMO), 0,
+      "also write one frame: the first drawn at demo time --at or later\n(default: the last frame)", NULL },
+    { "--at", "T", CLI_ARG_NUMBER, NULL, B(TIMEDEMO), 0, "the demo time (seconds, as the demo's svc_time) of --out",
+      NULL },
+    { "--to", "T", CLI_ARG_NUMBER, NULL, B(TIMEDEMO), 0, "stop at demo time T (default: the whole demo)", NULL },
+    { "--quiet", NULL, CLI_ARG_NONE, NULL, B(TIMEDEMO), 0, "no warning lines (missing models, the map's optional data)",
+      NULL },
     /* ---- render builtin:polyhedra ---- */
     { "--time", "T", CLI_ARG_NUMBER, NULL, B(RENDER_POLYHEDRA), 0, "seconds, 0 to 1000000 (default 0)", NULL },
     { "--size", "WxH", CLI_ARG_NUMBER, NULL, B(RENDER_POLYHEDRA) | B(VIEW_POLYHEDRA), 0,
@@ -337,6 +368,18 @@ static int known_anywhere(const char *name, size_t n) {
     return 0;
 }
 
+/* --game DIR, taken by the parser itself for every command that has it:
+ * the command line's one mod directory (cli_search_path). */
+static const char *cli_game;
+
+const char *cli_search_path(const char *data) {
+    static char path[8192];
+    if (!cli_game) return data;
+    if (!data) return cli_game;
+    snprintf(path, sizeof path, "%s:%s", cli_game, data);
+    return path;
+}
+
 int cli_parse(cli_parser *p, const cli_option **opt, const char **value) {
     const char *form = cli_commands[p->cmd].form;
     *opt = NULL, *value = NULL;
@@ -372,6 +415,18 @@ int cli_parse(cli_parser *p, const cli_option **opt, const char **value) {
         } else {
             error_line("%s: option '%s' needs a value", form, o->name);
             return -1;
+        }
+        if (cli_is(o, "--game")) {
+            if (!**value || strchr(*value, ':')) {
+                error_line("%s: --game '%s': %s", form, *value, **value ? "a directory name without ':'" : "empty directory name");
+                return -1;
+            }
+            if (cli_game && strcmp(cli_game, *value) != 0) {
+                error_line("%s: --game given twice", form);
+                return -1;
+            }
+            cli_game = *value;
+            continue;
         }
         *opt = o;
         return CLI_OPTION;

@@ -23,7 +23,7 @@
 /* The commands, and the two forms with their own options. */
 typedef enum cli_cmd {
     CLI_RENDER, CLI_DEMO, CLI_VIEWS, CLI_INFO, CLI_BENCH, CLI_HSR, CLI_SOAK, CLI_SHOTS, CLI_FLY,
-    CLI_VIEW, CLI_RENDER_POLYHEDRA, CLI_VIEW_POLYHEDRA, CLI_HELP, CLI_NCMDS
+    CLI_VIEW, CLI_TIMEDEMO, CLI_RENDER_POLYHEDRA, CLI_VIEW_POLYHEDRA, CLI_HELP, CLI_NCMDS
 } cli_cmd;
 #define CLI_BIT(c) (1u << (c))
 
@@ -90,6 +90,11 @@ typedef struct cli_parser {
 } cli_parser;
 void cli_parser_init(cli_parser *p, cli_cmd cmd, int argc, char **argv, int first);
 int  cli_parse(cli_parser *p, const cli_option **opt, const char **value);
+/* The game directories to search: data ("DIR" of --data, NULL if none)
+ * behind the --game DIR that cli_parse took (the parser keeps it for
+ * every command that has it), as a search list "GAME:DATA" (ew_fs_create);
+ * data itself without --game. */
+const char *cli_search_path(const char *data);
 /* opt is the option named name. */
 int  cli_is(const cli_option *opt, const char *name);
 

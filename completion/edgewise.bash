@@ -11,7 +11,7 @@ _edgewise()
     [ "$COMP_CWORD" -gt 0 ] && prev=${COMP_WORDS[COMP_CWORD-1]}
     COMPREPLY=()
 
-    local commands='render demo views info bench hsr soak shots fly view help'
+    local commands='render demo views info bench hsr soak shots fly view timedemo help'
     if [ "$COMP_CWORD" -le 1 ]; then
         COMPREPLY=($(compgen -W "$commands --help --version" -- "$cur"))
         return 0
@@ -23,6 +23,8 @@ _edgewise()
 
     # The values of options.
     case $cmd:$prev in
+        render:--game|views:--game|info:--game|bench:--game|hsr:--game|soak:--game|shots:--game|fly:--game|view:--game|timedemo:--game)
+            compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         render:--data|views:--data|info:--data)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         render:--out|demo:--out)
@@ -54,29 +56,37 @@ _edgewise()
             COMPREPLY=($(compgen -W 'views straight' -- "$cur") $(compgen -f -- "$cur")); return 0 ;;
         fly:--out)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
+        fly:--demo)
+            compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         fly:--cameras)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         view:--present)
             COMPREPLY=($(compgen -W 'auto surface texture software' -- "$cur")); return 0 ;;
         view:--script)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
+        view:--demo)
+            compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         view:--record)
+            compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
+        timedemo:--data)
+            compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
+        timedemo:--out)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         render-polyhedra:--out)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
         view-polyhedra:--out)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
-        render:--alias-raster|demo:--alias-raster|bench:--alias-raster|hsr:--alias-raster|soak:--alias-raster|shots:--alias-raster|fly:--alias-raster|view:--alias-raster)
+        render:--alias-raster|demo:--alias-raster|bench:--alias-raster|hsr:--alias-raster|soak:--alias-raster|shots:--alias-raster|fly:--alias-raster|view:--alias-raster|timedemo:--alias-raster)
             COMPREPLY=($(compgen -W 'auto affine subdiv masks sprite-cache' -- "$cur")); return 0 ;;
-        render:--occlusion|demo:--occlusion|bench:--occlusion|hsr:--occlusion|soak:--occlusion|shots:--occlusion|fly:--occlusion|view:--occlusion)
+        render:--occlusion|demo:--occlusion|bench:--occlusion|hsr:--occlusion|soak:--occlusion|shots:--occlusion|fly:--occlusion|view:--occlusion|timedemo:--occlusion)
             COMPREPLY=($(compgen -W 'off auto always' -- "$cur")); return 0 ;;
-        render:--hsr|demo:--hsr|bench:--hsr|hsr:--hsr|soak:--hsr|shots:--hsr|fly:--hsr|view:--hsr)
+        render:--hsr|demo:--hsr|bench:--hsr|hsr:--hsr|soak:--hsr|shots:--hsr|fly:--hsr|view:--hsr|timedemo:--hsr)
             COMPREPLY=($(compgen -W 'edge reference edge-z spans zbuffer painter drawbuffer beamtree raycast' -- "$cur")); return 0 ;;
-        render:--color|demo:--color|bench:--color|hsr:--color|soak:--color|shots:--color|fly:--color|view:--color)
+        render:--color|demo:--color|bench:--color|hsr:--color|soak:--color|shots:--color|fly:--color|view:--color|timedemo:--color)
             COMPREPLY=($(compgen -W '8bit true' -- "$cur")); return 0 ;;
-        render:--lighting|demo:--lighting|bench:--lighting|hsr:--lighting|soak:--lighting|shots:--lighting|fly:--lighting|view:--lighting)
+        render:--lighting|demo:--lighting|bench:--lighting|hsr:--lighting|soak:--lighting|shots:--lighting|fly:--lighting|view:--lighting|timedemo:--lighting)
             COMPREPLY=($(compgen -W 'cache two-pass' -- "$cur")); return 0 ;;
-        render:--debug|demo:--debug|bench:--debug|hsr:--debug|soak:--debug|shots:--debug|fly:--debug|view:--debug)
+        render:--debug|demo:--debug|bench:--debug|hsr:--debug|soak:--debug|shots:--debug|fly:--debug|view:--debug|timedemo:--debug)
             COMPREPLY=($(compgen -W 'spans edges overdraw lighting textures mips builds' -- "$cur")); return 0 ;;
         render:--size|demo:--size|render:--view|demo:--view|\
         render:--pos|render:--angles|render:--fov|demo:--fov|\
@@ -86,59 +96,66 @@ _edgewise()
         bench:--bands|hsr:--size|hsr:--threads|soak:--threads|\
         hsr:--repeat|hsr:--stress|soak:--frames|soak:--size|\
         soak:--seed|shots:--size|shots:--jobs|fly:--seconds|\
-        fly:--fps|fly:--size|view:--size|view:--scale|\
-        view:--threads|view:--fov|view:--view|render-polyhedra:--time|\
-        render-polyhedra:--size|view-polyhedra:--size|render-polyhedra:--objects|view-polyhedra:--objects|\
-        view-polyhedra:--scale|view-polyhedra:--time|view-polyhedra:--frames|render:--subdiv-threshold|\
-        demo:--subdiv-threshold|bench:--subdiv-threshold|hsr:--subdiv-threshold|soak:--subdiv-threshold|\
-        shots:--subdiv-threshold|fly:--subdiv-threshold|view:--subdiv-threshold|render:--wateralpha|\
+        fly:--fps|fly:--size|fly:--from|fly:--to|\
+        fly:--threads|view:--size|view:--scale|view:--threads|\
+        view:--fov|view:--view|timedemo:--size|timedemo:--threads|\
+        timedemo:--at|timedemo:--to|render-polyhedra:--time|render-polyhedra:--size|\
+        view-polyhedra:--size|render-polyhedra:--objects|view-polyhedra:--objects|view-polyhedra:--scale|\
+        view-polyhedra:--time|view-polyhedra:--frames|render:--subdiv-threshold|demo:--subdiv-threshold|\
+        bench:--subdiv-threshold|hsr:--subdiv-threshold|soak:--subdiv-threshold|shots:--subdiv-threshold|\
+        fly:--subdiv-threshold|view:--subdiv-threshold|timedemo:--subdiv-threshold|render:--wateralpha|\
         demo:--wateralpha|bench:--wateralpha|hsr:--wateralpha|soak:--wateralpha|\
-        shots:--wateralpha|fly:--wateralpha|view:--wateralpha|render:--fog|\
-        demo:--fog|bench:--fog|hsr:--fog|soak:--fog|\
-        shots:--fog|fly:--fog|view:--fog|render:--lightstyle|\
-        demo:--lightstyle|bench:--lightstyle|hsr:--lightstyle|soak:--lightstyle|\
-        shots:--lightstyle|fly:--lightstyle|view:--lightstyle|render:--gamma|\
-        demo:--gamma|bench:--gamma|hsr:--gamma|soak:--gamma|\
-        shots:--gamma|fly:--gamma|view:--gamma)
+        shots:--wateralpha|fly:--wateralpha|view:--wateralpha|timedemo:--wateralpha|\
+        render:--fog|demo:--fog|bench:--fog|hsr:--fog|\
+        soak:--fog|shots:--fog|fly:--fog|view:--fog|\
+        timedemo:--fog|render:--lightstyle|demo:--lightstyle|bench:--lightstyle|\
+        hsr:--lightstyle|soak:--lightstyle|shots:--lightstyle|fly:--lightstyle|\
+        view:--lightstyle|timedemo:--lightstyle|render:--gamma|demo:--gamma|\
+        bench:--gamma|hsr:--gamma|soak:--gamma|shots:--gamma|\
+        fly:--gamma|view:--gamma|timedemo:--gamma)
             return 0 ;;
     esac
 
     local opts
     case $cmd in
-        render) opts='--help --data --size --view --pos --angles --fov --time --out --stats --dlight
-                  --particles --threads --quiet --no-entities --alias-raster --subdiv-threshold
+        render) opts='--help --game --data --size --view --pos --angles --fov --time --out --stats
+                  --dlight --particles --threads --quiet --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
         demo) opts='--help --size --view --fov --time --out --stats --dlight --particles --threads
                   --quiet --no-entities --alias-raster --subdiv-threshold --full-zfill --occlusion
                   --classic --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit
                   --dither --lighting --lightstyle --gamma --debug' ;;
-        views) opts='--help --data --quiet' ;;
-        info) opts='--help --data --quiet' ;;
-        bench) opts='--help --data --size --threads --passes --gap --bands --table --out --floor
-                  --per-view --cold --quiet --no-entities --alias-raster --subdiv-threshold
+        views) opts='--help --game --data --quiet' ;;
+        info) opts='--help --game --data --quiet' ;;
+        bench) opts='--help --game --data --size --threads --passes --gap --bands --table --out
+                  --floor --per-view --cold --quiet --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
-        hsr) opts='--help --data --quiet --methods --size --threads --repeat --json --heatmap
-                  --svg --stress --no-entities --alias-raster --subdiv-threshold --full-zfill
-                  --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp --hsr
-                  --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
-        soak) opts='--help --quiet --data --threads --frames --size --seed --no-entities --alias-raster
-                  --subdiv-threshold --full-zfill --occlusion --classic --wateralpha --fog
-                  --no-fog --no-waterwarp --hsr --color --no-lit --dither --lighting --lightstyle
-                  --gamma --debug' ;;
-        shots) opts='--help --quiet --data --out --size --views --jobs --force --manifest --contact-sheet
-                  --no-entities --alias-raster --subdiv-threshold --full-zfill --occlusion
-                  --classic --wateralpha --fog --no-fog --no-waterwarp --hsr --color --no-lit
-                  --dither --lighting --lightstyle --gamma --debug' ;;
-        fly) opts='--help --quiet --data --path --seconds --fps --size --out --cameras --no-entities
+        hsr) opts='--help --game --data --quiet --methods --size --threads --repeat --json
+                  --heatmap --svg --stress --no-entities --alias-raster --subdiv-threshold
+                  --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
+                  --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
+        soak) opts='--help --game --quiet --data --threads --frames --size --seed --no-entities
                   --alias-raster --subdiv-threshold --full-zfill --occlusion --classic --wateralpha
                   --fog --no-fog --no-waterwarp --hsr --color --no-lit --dither --lighting
                   --lightstyle --gamma --debug' ;;
-        view) opts='--help --quiet --data --size --scale --threads --fov --view --fullscreen
-                  --present --script --record --no-entities --alias-raster --subdiv-threshold
+        shots) opts='--help --game --quiet --data --out --size --views --jobs --force --manifest
+                  --contact-sheet --no-entities --alias-raster --subdiv-threshold --full-zfill
+                  --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp --hsr
+                  --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
+        fly) opts='--help --game --quiet --data --path --seconds --fps --size --out --demo
+                  --from --to --threads --cameras --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
+        view) opts='--help --game --quiet --data --size --scale --threads --fov --view --fullscreen
+                  --present --script --demo --record --no-entities --alias-raster --subdiv-threshold
+                  --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
+                  --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
+        timedemo) opts='--help --game --data --size --threads --out --at --to --quiet --no-entities
+                  --alias-raster --subdiv-threshold --full-zfill --occlusion --classic --wateralpha
+                  --fog --no-fog --no-waterwarp --hsr --color --no-lit --dither --lighting
+                  --lightstyle --gamma --debug' ;;
         render-polyhedra) opts='--help --time --size --objects --out --stats --independent --zbuffer' ;;
         view-polyhedra) opts='--help --size --objects --scale --time --frames --out' ;;
         *) return 0 ;;

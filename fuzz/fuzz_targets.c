@@ -195,6 +195,33 @@ int ew_fuzz_lmp(const uint8_t *data, size_t size) {
     return bad;
 }
 
+int ew_fuzz_demo(const uint8_t *data, size_t size) {
+    ew_error err = {""};
+    ew_demo *d = ew_demo_open_memory(data, size, "fuzz.dem", &err);
+    if (!d) return rejected(&err);
+    int rc, blocks = 0;
+    while ((rc = ew_demo_read_block(d, &err)) == 1) {
+        const ew_demo_state *st = ew_demo_get_state(d);
+        blocks++;
+        if (st->nentities < 0 || st->nentities > EW_DEMO_MAX_ENTITIES) broken("demo entities", st->nentities);
+        if (st->nevents < 0 || st->nevents > EW_DEMO_MAX_EVENTS) broken("demo events", st->nevents);
+        if (st->nstatics < 0 || st->nstatics > EW_DEMO_MAX_STATICS) broken("demo statics", st->nstatics);
+        if (st->nmodels < 0 || st->nmodels >= EW_DEMO_MAX_MODELS) broken("demo models", st->nmodels);
+        for (int i = 0; i < st->nentities; i++) {
+            const ew_demo_entity *e = &st->entities[i];
+            if (e->model < 0 || e->model >= EW_DEMO_MAX_MODELS) broken("demo entity model", i);
+            for (int k = 0; k < 3; k++)
+                if (!isfinite(e->origin[k]) || !isfinite(e->prev_origin[k]) || !isfinite(e->angles[k])) broken("demo entity place", i);
+        }
+        for (int i = 0; i < EW_DEMO_LIGHTSTYLES; i++)
+            if (strlen(st->lightstyles[i]) > 64) broken("demo light style", i);
+        ew_fuzz_sink += (unsigned)st->nentities + (unsigned)st->nevents;
+    }
+    if (blocks > ew_demo_block_count(d)) broken("demo blocks", blocks);
+    ew_demo_close(d);
+    return rc < 0 ? rejected(&err) : 0;
+}
+
 /* A palette and colormap of our own: rendering needs them, their values
  * do not matter. */
 static void make_tables(uint8_t palette[768], uint8_t colormap[EW_COLORMAP_SIZE]) {
@@ -456,6 +483,7 @@ ew_fuzz_fn ew_fuzz_target(const char *name) {
         {"pak", ew_fuzz_pak},     {"bsp29", ew_fuzz_bsp29}, {"bsp2", ew_fuzz_bsp2},
         {"lmp", ew_fuzz_lmp},     {"render", ew_fuzz_render}, {"mdl", ew_fuzz_mdl},
         {"spr", ew_fuzz_spr},     {"lit", ew_fuzz_lit},     {"bspx", ew_fuzz_bspx},
+        {"demo", ew_fuzz_demo},
     };
     for (size_t i = 0; i < sizeof targets / sizeof targets[0]; i++)
         if (strcmp(targets[i].name, name) == 0) return targets[i].fn;

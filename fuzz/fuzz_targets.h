@@ -21,6 +21,9 @@ int ew_fuzz_lmp(const uint8_t *data, size_t size);
 int ew_fuzz_render(const uint8_t *data, size_t size);
 int ew_fuzz_mdl(const uint8_t *data, size_t size);
 int ew_fuzz_spr(const uint8_t *data, size_t size);
+/* A demo (.dem): ew_demo_open_memory, then every block read into the
+ * state, whose promises (indices, counts, strings) are checked. */
+int ew_fuzz_demo(const uint8_t *data, size_t size);
 /* A .lit image attached to the built-in map (plain, white light). */
 int ew_fuzz_lit(const uint8_t *data, size_t size);
 /* Byte 0 picks a base map written by the generator (0 RGBLIGHTING, 1

@@ -2,7 +2,7 @@
 # written separately, and until their sources exist those two targets reject
 # every input.  Sets EW_FUZZ_DEFS (compile definitions) and EW_FUZZ_TARGETS.
 set(EW_FUZZ_DEFS "")
-set(EW_FUZZ_TARGETS pak bsp29 bsp2 lmp render lit bspx)
+set(EW_FUZZ_TARGETS pak bsp29 bsp2 lmp render lit bspx demo)
 if(EXISTS ${CMAKE_SOURCE_DIR}/src/asset/mdl.c AND EXISTS ${CMAKE_SOURCE_DIR}/src/asset/mdl.h)
   list(APPEND EW_FUZZ_DEFS EW_FUZZ_HAVE_MDL=1)
   list(APPEND EW_FUZZ_TARGETS mdl)

@@ -8,6 +8,7 @@
  *   OUTDIR/lmp     the built-in palette and colormap
  *   OUTDIR/mdl     a tiny alias model (a skin group and a frame group)
  *   OUTDIR/spr     a tiny sprite (a single frame and a frame group)
+ *   OUTDIR/demo    small demos in protocols 15, 666 and 999 (three flag sets)
  * make_seeds OUTDIR MAP.bsp...: also converts those BSP29 maps (the real
  * ones in ../shared, read at run time) to BSP2 in OUTDIR/bsp2-extra, extra
  * seeds for the BSP2 target.
@@ -185,6 +186,18 @@ int main(int argc, char **argv) {
     b.len = 0;
     ew_seed_spr(&b);
     write_file(dir, "spr", "tiny.spr", b.d, b.len);
+    static const struct { int proto; unsigned flags; const char *name; } demos[] = {
+        {15, 0, "nq.dem"}, {666, 0, "fitz.dem"}, {999, 0x82, "rmq_0x82.dem"}, {999, 0x10, "rmq_float.dem"},
+        {999, 0x0c, "rmq_24bit.dem"}};
+    for (size_t i = 0; i < sizeof demos / sizeof demos[0]; i++) {
+        b.len = 0;
+        ew_seed_demo(&b, demos[i].proto, demos[i].flags);
+        if (ew_fuzz_demo(b.d, b.len) != 0) {
+            fprintf(stderr, "make_seeds: demo seed %s rejected\n", demos[i].name);
+            return 1;
+        }
+        write_file(dir, "demo", demos[i].name, b.d, b.len);
+    }
 
     /* .lit: the built-in map's white and tinted light */
     {

@@ -82,6 +82,7 @@ extras_for() {
     lmp) extra_dir "$1" "$DATA"/gfx/*.lmp ;;
     mdl) extra_dir "$1" "$DATA"/progs/*.mdl ;;
     spr) extra_dir "$1" "$DATA"/progs/*.spr ;;
+    demo) extra_dir "$1" "$DATA"/../demos/*.dem ;;
     esac
     return 0
 }
@@ -90,7 +91,7 @@ if [ $# -gt 0 ]; then
     targets=("$@")
 else
     targets=()
-    for t in pak bsp29 bsp2 lmp render mdl spr lit bspx; do
+    for t in pak bsp29 bsp2 lmp render mdl spr lit bspx demo; do
         [ -x "$BUILD/fuzz/fuzz_$t" ] && targets+=("$t")
     done
 fi

@@ -434,3 +434,77 @@ void ew_seed_spr(ew_seed_buf *b) {
     spr_frame(b, 8, 4, 3);
 }
 
+
+/* ---- a demo ----------------------------------------------------------------- */
+
+typedef struct demo_w {
+    ew_seed_buf *b;
+    int proto;
+    unsigned flags;
+    size_t block;
+} demo_w;
+
+static void dm_coord(demo_w *w, float v) {
+    if (w->proto == 999 && (w->flags & 0x10)) put_f32(w->b, v);
+    else if (w->proto == 999 && (w->flags & 0x80)) put_i32(w->b, (int32_t)(v * 16));
+    else if (w->proto == 999 && (w->flags & 0x08)) put_u16(w->b, (int)v), put_u8(w->b, 0);
+    else put_u16(w->b, (int)(v * 8) & 0xffff);
+}
+static void dm_angle(demo_w *w, float v) {
+    if (w->proto == 999 && (w->flags & 0x04)) put_f32(w->b, v);
+    else if (w->proto == 999 && (w->flags & 0x02)) put_u16(w->b, (int)(v * 65536 / 360) & 0xffff);
+    else put_u8(w->b, (int)(v * 256 / 360) & 255);
+}
+static void dm_begin(demo_w *w, float yaw) {
+    w->block = w->b->len;
+    put_i32(w->b, 0), put_f32(w->b, 0), put_f32(w->b, yaw), put_f32(w->b, 0);
+}
+static void dm_end(demo_w *w) {
+    uint32_t len = (uint32_t)(w->b->len - w->block - 16);
+    for (int k = 0; k < 4; k++) w->b->d[w->block + (size_t)k] = (uint8_t)(len >> (8 * k));
+}
+static void dm_str(ew_seed_buf *b, const char *s) { put(b, s, strlen(s) + 1); }
+
+void ew_seed_demo(ew_seed_buf *b, int proto, unsigned flags) {
+    demo_w w = {b, proto, flags, 0};
+    put(b, "-1\n", 3);
+    dm_begin(&w, 0);
+    put_u8(b, 11), put_i32(b, proto);
+    if (proto == 999) put_i32(b, (int32_t)flags);
+    put_u8(b, 1), put_u8(b, 0), dm_str(b, "seed");
+    dm_str(b, "maps/room.bsp"), dm_str(b, "*1"), dm_str(b, "progs/player.mdl"), dm_str(b, "");
+    dm_str(b, "misc/null.wav"), dm_str(b, "");
+    put_u8(b, 5), put_u16(b, 1);
+    put_u8(b, 12), put_u8(b, 1), dm_str(b, "mmnmmommommnonmmonqnmmo");
+    put_u8(b, 22), put_u16(b, 2), put_u8(b, 2), put_u8(b, 0), put_u8(b, 0), put_u8(b, 0);
+    for (int k = 0; k < 3; k++) dm_coord(&w, 0), dm_angle(&w, 0);
+    put_u8(b, 20), put_u8(b, 3), put_u8(b, 0), put_u8(b, 0), put_u8(b, 0);
+    for (int k = 0; k < 3; k++) dm_coord(&w, 32), dm_angle(&w, 45);
+    put_u8(b, 25), put_u8(b, 2);
+    dm_end(&w);
+    for (int i = 0; i < 4; i++) {
+        dm_begin(&w, (float)i * 10);
+        put_u8(b, 7), put_f32(b, 1.0f + 0.1f * (float)i);
+        /* the player: origin, angles, frame */
+        put_u8(b, 0x80 | 0x01 | 0x02 | 0x04 | 0x08 | 0x10 | 0x40);
+        put_u8(b, 0x01 | 0x02 | 0x04 | (proto != 15 ? 0x80 : 0));  /* angle1, angle3, model; extend1 */
+        if (proto != 15) put_u8(b, 0x01 | 0x08);  /* alpha, lerpfinish */
+        put_u8(b, 1), put_u8(b, 3), put_u8(b, i);
+        dm_coord(&w, 16.0f * (float)i), dm_angle(&w, 0), dm_coord(&w, 8), dm_angle(&w, 90), dm_coord(&w, 24),
+            dm_angle(&w, 0);
+        if (proto != 15) put_u8(b, 200), put_u8(b, 25);
+        put_u8(b, 0x80 | 0x02), put_u8(b, 2), dm_coord(&w, 64);  /* the door */
+        put_u8(b, 15), put_u16(b, 1 | (1 << 12) | (1 << 14)), put_u8(b, 22), put_i32(b, 1), put_u8(b, 0),
+            put_u8(b, 3), put_u16(b, 100);
+        for (int k = 0; k < 6; k++) put_u8(b, 1);
+        put_u8(b, 23), put_u8(b, i == 3 ? 5 : 3);
+        if (i == 3) put_u16(b, 1), dm_coord(&w, 0), dm_coord(&w, 0), dm_coord(&w, 0);
+        dm_coord(&w, 8), dm_coord(&w, 8), dm_coord(&w, 8);
+        put_u8(b, 18), dm_coord(&w, 4), dm_coord(&w, 4), dm_coord(&w, 4);
+        put_u8(b, 0), put_u8(b, 0), put_u8(b, 16), put_u8(b, 20), put_u8(b, 73);
+        dm_end(&w);
+    }
+    dm_begin(&w, 0);
+    put_u8(b, 30), put_u8(b, 2);
+    dm_end(&w);
+}

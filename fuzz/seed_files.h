@@ -28,5 +28,10 @@ void ew_seed_pak(ew_seed_buf *out, const uint8_t *room, size_t room_len, const u
 void ew_seed_mdl(ew_seed_buf *out);
 /* An 8x8 sprite: one single frame and a group of two. */
 void ew_seed_spr(ew_seed_buf *out);
+/* A demo (.dem) of protocol proto (15, 666 or 999 with flags): server
+ * info, a baseline, a static entity, a light style, then a few blocks of
+ * time, entity updates (FitzQuake's extended bits where the protocol has
+ * them), client data, temp entities and a particle burst. */
+void ew_seed_demo(ew_seed_buf *out, int proto, unsigned flags);
 
 #endif

@@ -70,7 +70,12 @@ typedef struct ew_error {
 EW_API int ew_read_file(const char *path, uint8_t **data, size_t *size, ew_error *err);
 
 /* A Quake game directory: loose files win over paks, later paks
- * (pak1.pak over pak0.pak) win over earlier ones, as Quake searches. */
+ * (pak1.pak over pak0.pak) win over earlier ones, as Quake searches.
+ * dir may also be a search list "GAME:BASE" (any number of directories
+ * joined by ':', used when dir is not itself a directory): each is a game
+ * directory of its own, searched in that order, as Quake's -game over id1
+ * (`edgewise --game DIR --data DIR`).  Every data_dir below takes the
+ * same lists. */
 typedef struct ew_fs ew_fs;
 
 EW_API ew_fs *ew_fs_create(const char *dir, ew_error *err);
@@ -665,12 +670,20 @@ EW_API int  ew_scene_add_particles(ew_scene *s, int n, const float center[3], fl
 EW_API int  ew_scene_add_dlight(ew_scene *s, const float origin[3], float radius);
 EW_API int  ew_scene_add_dlight_rgb(ew_scene *s, const float origin[3], float radius, const float color[3]);
 EW_API void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing);
+/* Removes every entity, dynamic light and particle, keeping the loaded
+ * models (a scene rebuilt each frame: a demo's client).  Give the scene to
+ * the renderer again (ew_set_scene) after refilling it. */
+EW_API void ew_scene_clear(ew_scene *s);
+/* One particle of palette colour 0..255 at org; its index, or -1 (bad
+ * colour or place, no memory, a million particles). */
+EW_API int  ew_scene_add_particle(ew_scene *s, const float org[3], int color);
 /* Warnings met while making the scene from a map's entities (a brush
  * entity's "alpha" that is not a number from 0 to 1, ...), one line each;
  * i from 0, NULL past the last. */
 EW_API const char *ew_scene_warning(const ew_scene *s, int i);
 /* The scene ew_render draws with the world (NULL: world only).  It must
- * outlive its use by the renderer. */
+ * outlive its use by the renderer.  Call it again after adding entities
+ * to the scene it draws (the renderer sizes its per-entity room here). */
 EW_API void ew_set_scene(ew_renderer *r, const ew_scene *s);
 
 /* ---- text and the statistics overlay ------------------------------------ */
@@ -817,6 +830,191 @@ EW_API const ew_polyhedra_span *ew_polyhedra_spans(const ew_polyhedra *p, int *c
 EW_API void ew_polyhedra_set_crossings(ew_polyhedra *p, int on);
 /* The 768-byte palette the frames index (the one given, or the built-in). */
 EW_API const uint8_t *ew_polyhedra_palette(const ew_polyhedra *p);
+
+/* ---- demos: recorded games (.dem) ---------------------------------------
+ * A demo is what a Quake client recorded of a game: the CD track as a line
+ * of text ("-1\n"), then blocks, each an int32 length, the view angles
+ * (three floats: pitch, yaw, roll) and that many bytes of the server's
+ * messages to the client.  The reader knows NetQuake's protocol 15,
+ * FitzQuake's 666 (larger model and frame numbers, alpha, the extended
+ * entity and client-data bits, the *2 spawn messages, fog, skybox) and
+ * RMQ's 999 with its flags choosing the size of coordinates and angles
+ * (EW_DEMO_PRFL_*), as today's ports record them.  It applies every
+ * message a client needs to draw to a state (ew_demo_state) and skips
+ * the rest (sounds, text, scores) by their known length.
+ *
+ *   ew_demo *d = ew_demo_open("demo3.dem", &err);
+ *   while ((rc = ew_demo_read_block(d, &err)) == 1) {
+ *       const ew_demo_state *st = ew_demo_get_state(d);  ...the client state
+ *   }
+ *   rc < 0: err names the block and the byte offset of the bad message;
+ *   the state holds everything before it.
+ *
+ * A message the reader does not know, one that runs past its block, or a
+ * block whose length runs past the file (or beyond EW_DEMO_MAX_BLOCK) is one
+ * error naming the block and the byte offset; every block before it stays
+ * readable.  Nothing read from the file is trusted: every count, index and
+ * length is checked. */
+typedef struct ew_demo ew_demo;
+
+#define EW_DEMO_MAX_BLOCK   65536  /* bytes of messages in one block */
+#define EW_DEMO_MAX_MODELS  4096   /* model precache slots (1.. ; 0 is none) */
+#define EW_DEMO_MAX_ENTITIES 32768 /* entity numbers 0..32767 */
+#define EW_DEMO_MAX_STATICS 4096
+#define EW_DEMO_MAX_EVENTS  512    /* temp entities and particle bursts of one block */
+#define EW_DEMO_LIGHTSTYLES 64
+#define EW_DEMO_SVC_KINDS   64     /* message kinds counted (svc numbers 0..63) */
+
+/* RMQ's protocol flags (protocol 999). */
+#define EW_DEMO_PRFL_SHORTANGLE 0x02  /* angles as int16 (360/65536 degrees) */
+#define EW_DEMO_PRFL_FLOATANGLE 0x04  /* angles as float32 */
+#define EW_DEMO_PRFL_24BITCOORD 0x08  /* coordinates as int16 + a byte of 1/255 */
+#define EW_DEMO_PRFL_FLOATCOORD 0x10  /* coordinates as float32 */
+#define EW_DEMO_PRFL_EDICTSCALE 0x20  /* entity scale (a byte, read and ignored) */
+#define EW_DEMO_PRFL_INT32COORD 0x80  /* coordinates as int32 (1/16 unit) */
+
+/* One entity as the client knows it.  origin/angles are the latest
+ * update's, prev_origin/prev_angles the one before (equal to the latest
+ * when the client would not interpolate: a new or reappearing entity, a
+ * model change, a jump of more than 100 units, U_NOLERP). */
+typedef struct ew_demo_entity {
+    int    model;             /* model precache index (0: none) */
+    int    frame, skin, colormap, effects;  /* effects: EF_* bits (1 brightfield,
+                                             * 2 muzzleflash, 4 brightlight, 8 dimlight) */
+    float  alpha;             /* 0..1 (1 opaque) */
+    float  origin[3], angles[3];
+    float  prev_origin[3], prev_angles[3];
+    double msgtime;           /* server time of its last update; < 0: never updated */
+} ew_demo_entity;
+
+/* A baseline or static entity: model, frame, colormap, skin, origin, angles, alpha. */
+typedef struct ew_demo_baseline {
+    int   model, frame, colormap, skin;
+    float origin[3], angles[3];
+    float alpha;
+} ew_demo_baseline;
+
+/* What a block brought besides the entities: temp entities and particle
+ * bursts (svc_particle), for the client's effects. */
+enum {
+    /* temp entities: their protocol numbers */
+    EW_TE_SPIKE = 0, EW_TE_SUPERSPIKE, EW_TE_GUNSHOT, EW_TE_EXPLOSION, EW_TE_TAREXPLOSION,
+    EW_TE_LIGHTNING1, EW_TE_LIGHTNING2, EW_TE_WIZSPIKE, EW_TE_KNIGHTSPIKE, EW_TE_LIGHTNING3,
+    EW_TE_LAVASPLASH, EW_TE_TELEPORT, EW_TE_EXPLOSION2, EW_TE_BEAM,
+    /* svc_particle: count particles of colour from start along dir (count
+     * 255: an explosion's 1024) */
+    EW_DEMO_EV_PARTICLES = 100
+};
+typedef struct ew_demo_event {
+    int   type;          /* EW_TE_* or EW_DEMO_EV_PARTICLES */
+    int   entity;        /* beams: the entity they start from */
+    float start[3], end[3];  /* end: beams only */
+    float dir[3];        /* particles: direction (units per second / 16) */
+    int   count, color;  /* particles; EW_TE_EXPLOSION2: color start and length */
+    double time;         /* the server time it came at */
+} ew_demo_event;
+
+/* The client state after the blocks read so far. */
+typedef struct ew_demo_state {
+    int    protocol;               /* 15, 666 or 999 (0 before svc_serverinfo) */
+    unsigned protocol_flags;       /* 999 only: EW_DEMO_PRFL_* */
+    int    maxclients, gametype;
+    char   level[128];             /* the level's title */
+    char   models[EW_DEMO_MAX_MODELS][64]; /* precache names, [1].. ([1] is the map "maps/x.bsp") */
+    int    nmodels;                /* names in models[1..nmodels] */
+    int    nsounds;
+    int    view_entity;            /* svc_setview (the player, 1.. ) */
+    double time, prev_time;        /* svc_time: the latest two server times */
+    float  view_angles[3];         /* the block's recorded view angles */
+    float  prev_view_angles[3];    /* the block before's */
+    float  set_angles[3];          /* the last svc_setangle */
+    int    view_height;            /* client data: eye above the origin (default 22) */
+    int    items, weapon_frame, weapon_model, health, armor, ammo, active_weapon;
+    float  weapon_alpha;           /* 0..1 */
+    int    stats[32];              /* svc_updatestat and client data (index 2: weapon model) */
+    int    on_ground, in_water;
+    int    intermission;           /* 1 intermission, 2 finale, 3 cutscene (0: playing) */
+    int    paused;
+    char   lightstyles[EW_DEMO_LIGHTSTYLES][65];  /* svc_lightstyle patterns ("" unset) */
+    uint64_t lightstyle_bits;      /* styles set by the last block */
+    uint64_t lightstyles_seen;     /* styles set since the server info ("" there: normal light) */
+    float  fog[4];                 /* FitzQuake fog: density, r, g, b (0..1) */
+    int    fog_set;                /* a svc_fog came (fog[] valid) */
+    ew_demo_entity *entities;      /* [0 .. nentities-1]; 0 is the world */
+    int    nentities;
+    ew_demo_baseline *baselines;   /* [0 .. nentities-1] */
+    ew_demo_baseline statics[EW_DEMO_MAX_STATICS];
+    int    nstatics;
+    ew_demo_event events[EW_DEMO_MAX_EVENTS];  /* the last block's */
+    int    nevents;
+    int    signon;                 /* svc_signonnum */
+    long   messages[EW_DEMO_SVC_KINDS];  /* messages read, by svc number */
+    long   entity_updates;         /* fast updates (entity messages), counted apart */
+    int    updates_last_block;     /* entity updates in the last block */
+    int    block;                  /* blocks read (the next block's index) */
+    size_t offset;                 /* byte offset of the next block in the file */
+} ew_demo_state;
+
+/* Opens a demo file (read into memory) or a copy of size bytes at data
+ * (name names it in errors).  NULL with err set when it is no demo at all
+ * (no CD-track line, no whole block); a damaged block later on is kept for
+ * ew_demo_read_block to report. */
+EW_API ew_demo *ew_demo_open(const char *path, ew_error *err);
+EW_API ew_demo *ew_demo_open_memory(const uint8_t *data, size_t size, const char *name, ew_error *err);
+EW_API void     ew_demo_close(ew_demo *d);
+/* Whole blocks in the file (before any damaged one). */
+EW_API int      ew_demo_block_count(const ew_demo *d);
+/* Reads the next block and applies its messages to the state: 1, 0 at
+ * the end (after the last block), or -1 with err naming the block and
+ * byte offset (then every later call fails the same way; the state keeps
+ * what came before the bad message). */
+EW_API int      ew_demo_read_block(ew_demo *d, ew_error *err);
+/* Back to the first block, the state as just opened. */
+EW_API void     ew_demo_rewind(ew_demo *d);
+EW_API const ew_demo_state *ew_demo_get_state(const ew_demo *d);
+/* The protocol's name of a message kind ("svc_time"), or NULL. */
+EW_API const char *ew_demo_svc_name(int svc);
+
+/* ---- a demo's client: what the game's client would draw ----------------
+ * Reads a demo block by block and makes, for any time between the two
+ * latest messages, the scene and camera the game's client draws: entities
+ * interpolated between their two latest updates (angles the short way
+ * round), items that spin (model flag EF_ROTATE) turned by time, brush
+ * entities (doors, lifts) moved, static entities, the view at the view
+ * entity's origin plus the view height with the recorded angles (in an
+ * intermission or cutscene: the view entity's own origin and angles), the
+ * weapon model in front of the view, dynamic lights for muzzle flashes,
+ * bright and dim lights, rockets and explosions, particles for
+ * explosions, blood, spikes and gunshots (svc_particle), rocket, grenade
+ * and gib trails, teleport and lava splashes, and beams (lightning) from
+ * their models.  Sounds, text and the status bar are left out.  The scene
+ * belongs to the client; give it to the renderer (ew_set_scene) after each
+ * ew_demo_client_frame.  Deterministic: the same time gives the same frame. */
+typedef struct ew_demo_client ew_demo_client;
+
+/* A client reading d (which it does not own; d must outlive it) over world
+ * w, the demo's map, loading the models the demo precaches from data_dir
+ * (a game directory or search list, as ew_fs_create; NULL: none, every
+ * model missing).  Missing model files are counted, not errors. */
+EW_API ew_demo_client *ew_demo_client_create(ew_demo *d, const ew_world *w, const char *data_dir,
+                                             ew_error *err);
+EW_API void ew_demo_client_destroy(ew_demo_client *c);
+/* Reads the next block (ew_demo_read_block) and takes in what it brought
+ * (models newly precached, temp entities as effects): 1, 0 at the end,
+ * -1 with err set. */
+EW_API int  ew_demo_client_read(ew_demo_client *c, ew_error *err);
+/* Reads blocks until the latest message's time reaches t (or the demo
+ * ends): 1, 0 once the demo has ended, -1 with err set. */
+EW_API int  ew_demo_client_advance(ew_demo_client *c, double t, ew_error *err);
+/* Makes the scene and the camera (fov 90) at client time t, clamped to the
+ * two latest messages' times.  0, or -1 before any server info. */
+EW_API int  ew_demo_client_frame(ew_demo_client *c, double t, ew_camera *cam);
+EW_API ew_scene *ew_demo_client_scene(ew_demo_client *c);
+/* The map the demo plays on: the first model precache ("maps/x.bsp"), or
+ * "" before the server info. */
+EW_API const char *ew_demo_client_map(const ew_demo_client *c);
+/* Model precaches that no file was found for (or that did not load). */
+EW_API int  ew_demo_client_missing(const ew_demo_client *c);
 
 /* ---- output --------------------------------------------------------------*/
 

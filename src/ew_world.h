@@ -81,8 +81,18 @@ typedef struct ew_face {
     uint8_t styles[4];            /* 255 = unused */
     int     lightofs;             /* byte offset into lighting, -1 none */
     int     texturemins[2];       /* multiples of 16 */
-    int     extents[2];           /* texels, multiples of 16, 16..2048 */
+    int     extents[2];           /* texels, multiples of 16, 0..2048 (0: the face is
+                                   * flat in texture space along that axis, as a
+                                   * compiler may write; one row of light samples) */
 } ew_face;
+
+/* A face's lit surface at a mip level along axis a (0 s, 1 t): extents >>
+ * mip texels, at least 1 (a face of extent 0 along an axis is one texel
+ * wide there: every pixel of it samples that row). */
+static inline int ew_face_surf_size(const ew_face *f, int a, int mip) {
+    int n = f->extents[a] >> mip;
+    return n > 0 ? n : 1;
+}
 
 /* children[i] >= 0: node index; < 0: leaf index -1 - children[i]. */
 typedef struct ew_node {

@@ -421,8 +421,10 @@ int ew_draw_stats_overlay(ew_renderer *r, const ew_stats *st, const ew_overlay_i
 }
 
 void ew_set_scene(ew_renderer *r, const ew_scene *s) {
-    ew_box_surfs_free(r->ents.box_surfs, r->ents.nbox_surfs);  /* they belong to the old scene's models */
-    r->ents.box_surfs = NULL, r->ents.nbox_surfs = 0;
+    if (s != r->ents.scene) {  /* the same scene again (its entities changed): its models stay */
+        ew_box_surfs_free(r->ents.box_surfs, r->ents.nbox_surfs);  /* they belong to the old scene's models */
+        r->ents.box_surfs = NULL, r->ents.nbox_surfs = 0;
+    }
     r->ents.scene = r->lit.scene = s;
     int need = s ? s->nents : 0;
     if (need > r->ents.max_ent_views) {

@@ -18,6 +18,8 @@
  *     with DISPLAY naming no X server (issue 33: SDL fell back to its
  *     offscreen driver and the viewer rendered to nothing until killed);
  *     a bad --present value is refused;
+ *   - view --demo: the demo's camera at the script's time (a screenshot
+ *     equal to render of its camera), [ and ] seek, G frees the camera;
  *   - T cycles the threads 1, 2, all cores (issue 33: stuck at 1 after
  *     --threads 1); keys 0-9 go to views 0-9, counted from 0 as --view.
  * In a build without SDL2, only that `view` says it was built without it.
@@ -165,6 +167,62 @@ static const char *tpath(const char *name) {
     k = (k + 1) % 4;
     snprintf(buf[k], sizeof buf[k], "%s/%s", tmpdir, name);
     return buf[k];
+}
+
+/* view --demo: a screenshot 10 s into demo3 without its moving things is
+ * `edgewise render` of the camera it printed; ] moves the demo 5 s on, [
+ * back (read again from the start), G frees the camera. */
+static void test_demo(void) {
+    if (!ew_t_need_shared("data/demos/demo3.dem") || !ew_t_need_shared("data/librequake/progs/player.mdl")) return;
+    char demos[512], lq[512], dem[600];
+    snprintf(demos, sizeof demos, "%s", ew_t_shared_abs("data/demos"));
+    snprintf(lq, sizeof lq, "%s", ew_t_shared_abs("data/librequake"));
+    snprintf(dem, sizeof dem, "%s/demo3.dem", demos);
+    char script[1024];
+    snprintf(script, sizeof script,
+             "at 10 screenshot %s\nat 10.1 key ]\nat 10.2 screenshot %s\nat 10.3 key [\nat 10.3 key [\n"
+             "at 10.4 screenshot %s\nat 10.5 key G\nat 10.6 quit\n", tpath("d0.png"), tpath("d1.png"), tpath("d2.png"));
+    write_text(tpath("d.script"), script);
+    ew_t_run r;
+    const char *args[] = { "view", "--demo", dem, "--game", demos, "--data", lq, "--size", "320x240", "--no-entities",
+                           "--threads", "1", "--script", tpath("d.script"), NULL };
+    ew_t_run_cli(&r, tmpdir, args);
+    CHECK(r.status == 0 && ew_t_count_lines(r.out) == 3, "view --demo: status %d: %s %s", r.status, r.out, r.err);
+    CHECK(strstr(r.err, "demo: 15.1 s") && strstr(r.err, "demo: 10.3 s") && strstr(r.err, "demo: 5.3 s") &&
+          strstr(r.err, "camera: free"),
+          "] and [ move the demo, G frees the camera: %s", r.err);
+    const char *line = r.out;
+    double times[3] = {0, 0, 0};
+    for (int idx = 0; idx < 3 && *line; idx++) {
+        char path[512], pos[128], ang[128], tm[64], size[32];
+        if (sscanf(line, "%511s --pos %127s --angles %127s --time %63s --size %31s", path, pos, ang, tm, size) != 5) {
+            CHECK(0, "screenshot line: %s", line);
+            break;
+        }
+        times[idx] = atof(tm);
+        char out[600];
+        snprintf(out, sizeof out, "%s/drender%d.png", tmpdir, idx);
+        ew_t_run rr;
+        const char *rargs[] = { "render", "lqdm3", "--game", demos, "--data", lq, "--pos", pos, "--angles", ang,
+                                "--time", tm, "--size", size, "--no-entities", "--threads", "1", "--out", out, NULL };
+        ew_t_run_cli(&rr, tmpdir, rargs);
+        CHECK(rr.status == 0, "render: %s", rr.err);
+        int w1, h1, w2, h2;
+        uint8_t *p1 = read_png(path, &w1, &h1), *p2 = read_png(out, &w2, &h2);
+        if (p1 && p2 && w1 == w2 && h1 == h2) {
+            long diff = 0;
+            for (long i = 0; i < (long)w1 * h1 * 3; i++) diff += p1[i] != p2[i];
+            CHECK(diff == 0, "demo screenshot %d differs from render of its camera in %ld bytes", idx, diff);
+        } else {
+            CHECK(0, "demo screenshot %d: %s and %s", idx, path, out);
+        }
+        free(p1);
+        free(p2);
+        const char *nl = strchr(line, '\n');
+        line = nl ? nl + 1 : line + strlen(line);
+    }
+    CHECK(fabs(times[0] - 426.466) < 0.01 && fabs(times[1] - 431.666) < 0.01 && fabs(times[2] - 421.866) < 0.01,
+          "the demo's times: 10 s in, 5 s on, 10 s back (%.3f %.3f %.3f)", times[0], times[1], times[2]);
 }
 
 static void test_script_matches_render(const char *data) {
@@ -742,6 +800,7 @@ int main(void) {
             char databuf[512];
             snprintf(databuf, sizeof databuf, "%s", data);
             test_script_matches_render(databuf);
+            test_demo();
             test_overlay_and_debug(databuf);
             test_walk(databuf);
             if (have_tool("xdotool")) test_xdotool(databuf);

@@ -33,6 +33,8 @@ static const char view_usage[] =
     "list them), PgUp/PgDn the next/previous view, P pause, Tab overlay, F1-F7\n"
     "debug modes, F12 screenshot, H hidden-surface method, L PVS lock, X exact\n"
     "perspective, T threads (1, 2, all cores), E entities, R alias rasterizer.\n"
+    "With --demo DEMO instead of MAP: the recorded game plays (P pause, [ and ]\n"
+    "5 s back and on, G the free camera and back).\n"
     "\n"
     "options:\n"
     CLI_OPTIONS_HERE
@@ -49,7 +51,7 @@ typedef enum present_mode { PRESENT_AUTO, PRESENT_SURFACE, PRESENT_TEXTURE, PRES
 static const char *const present_names[] = { "auto", "surface", "texture", "software" };
 
 typedef struct view_opts {
-    const char *map, *data, *script, *record;
+    const char *map, *data, *script, *record, *demo;
     present_mode present;
     int         width, height, size_given, scale, threads, view, fullscreen, quiet;
     double      fov;
@@ -74,7 +76,7 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
         if (cli_is(opt, "--fullscreen")) { o->fullscreen = 1; continue; }
         {
             static const char *const with_value[] = { "--data", "--size", "--scale", "--threads", "--fov",
-                                                      "--view", "--script", "--record", "--present" };
+                                                      "--view", "--script", "--record", "--present", "--demo" };
             int k = 0;
             for (int j = 0; j < (int)(sizeof with_value / sizeof *with_value); j++)
                 if (cli_is(opt, with_value[j])) k = j;
@@ -126,13 +128,18 @@ static int parse_view_args(int argc, char **argv, view_opts *o) {
                 o->present = (present_mode)m;
                 break;
             }
+            case 9: o->demo = v; break;
             }
         }
     }
     if (args.stop)
         return args.stop;
     o->map = args.nmaps ? map[0] : NULL, o->quiet = args.quiet;
-    if (!o->map) {
+    if (o->map && o->demo) {
+        error_line("view: --demo plays the demo's own map: no MAP with it");
+        return -1;
+    }
+    if (!o->map && !o->demo) {
         error_line("view: missing MAP (a map name, a .bsp path or 'builtin')");
         return -1;
     }
@@ -169,6 +176,12 @@ typedef struct viewer {
     int           alias_raster;
     ew_debug_mode debug;
     int           shot_count;
+    ew_demo      *demo;       /* --demo: the demo, its client (whose scene is v->scene) */
+    ew_demo_client *dc;
+    double        demo_t0, demo_t1;  /* its span: the first frame's time, the last message's */
+    double        demo_seek;  /* seconds [ and ] moved it from the viewer's clock */
+    int           follow;     /* the demo's camera (1) or the free camera (0, G) */
+    int           demo_failed;
     uint8_t       held[SDL_NUM_SCANCODES];  /* keys held by the script */
 } viewer;
 
@@ -247,6 +260,22 @@ static void press(viewer *v, SDL_Keycode k) {
     case SDLK_PAGEUP: set_view(v, v->nviews ? (v->cur_view + 1) % v->nviews : 0); break;
     case SDLK_PAGEDOWN: set_view(v, v->nviews ? (v->cur_view + v->nviews - 1) % v->nviews : 0); break;
     case SDLK_p: v->paused = !v->paused; break;
+    case SDLK_LEFTBRACKET:  /* the demo 5 s back / on */
+    case SDLK_RIGHTBRACKET:
+        if (v->dc) {
+            double at = v->time + v->demo_seek + (k == SDLK_LEFTBRACKET ? -5 : 5);
+            if (at < 0) at = 0;
+            if (at > v->demo_t1 - v->demo_t0) at = v->demo_t1 - v->demo_t0;
+            v->demo_seek = at - v->time;
+            fprintf(stderr, "demo: %.1f s\n", at);
+        }
+        break;
+    case SDLK_g:
+        if (v->dc) {
+            v->follow = !v->follow;
+            fprintf(stderr, "camera: %s\n", v->follow ? "the demo's" : "free");
+        }
+        break;
     case SDLK_TAB: v->overlay = !v->overlay; break;
     case SDLK_f:
         v->player.mode = v->player.mode == EW_MOVE_FLY ? EW_MOVE_WALK : EW_MOVE_FLY;
@@ -551,6 +580,41 @@ static int gl_probe(char *name, size_t n) {
 
 /* ---- the main loop ------------------------------------------------------------------ */
 
+/* --demo: the demo at v->time seconds after its first frame (back to the
+ * start and read again to go back); the demo's camera unless the free
+ * camera is on.  The frame's time, or -1 after an error line. */
+static double demo_frame(viewer *v) {
+    double t = v->demo_t0 + v->time + v->demo_seek;
+    if (t > v->demo_t1) t = v->demo_t1;
+    if (t < v->demo_t0) t = v->demo_t0;
+    const ew_demo_state *st = ew_demo_get_state(v->demo);
+    ew_error err = { "" };
+    if (t < st->prev_time - 1e-6 && st->block > 0) {  /* before what the client holds: read it again */
+        ew_demo_client *c = NULL;
+        ew_demo_rewind(v->demo);
+        if (!(c = ew_demo_client_create(v->demo, v->a->world, cli_search_path(v->o->data), &err))) {
+            error_line("%s", err.msg);
+            return -1;
+        }
+        ew_demo_client_destroy(v->dc);
+        v->dc = c;
+        v->scene = ew_demo_client_scene(c);
+    }
+    if (!v->demo_failed && ew_demo_client_advance(v->dc, t, &err) < 0) {
+        error_line("%s", err.msg);  /* the demo ends there: what came before stays */
+        v->demo_failed = 1;
+    }
+    ew_camera dcam;
+    if (ew_demo_client_frame(v->dc, t, &dcam) == 0 && v->follow) {
+        memcpy(v->eye, dcam.origin, sizeof v->eye);
+        memcpy(v->angles, dcam.angles, sizeof v->angles);
+        ew_player_set_eye(&v->player, v->eye, v->player.mode);
+    }
+    demo_apply_lightstyles(v->r, st, &v->o->draw);
+    ew_set_scene(v->r, v->entities ? v->scene : v->empty);
+    return t;
+}
+
 static int run(viewer *v) {
     view_opts *o = v->o;
     script_cmd *cmds = NULL;
@@ -667,8 +731,16 @@ static int run(viewer *v) {
         if (memcmp(before, v->player.origin, sizeof before) != 0)
             ew_player_eye(&v->player, v->eye);
 
+        double cam_time = v->time;
+        if (v->dc) {
+            cam_time = demo_frame(v);
+            if (cam_time < 0) {
+                rc = 1;
+                break;
+            }
+        }
         ew_camera cam = { { v->eye[0], v->eye[1], v->eye[2] }, { v->angles[0], v->angles[1], v->angles[2] },
-                          (float)o->fov, v->time };
+                          (float)o->fov, cam_time };
         double r0 = now_s();
         if (ew_render(v->r, &cam, &st) < 0) {
             error_line("cannot render this camera (origin %g,%g,%g)", cam.origin[0], cam.origin[1], cam.origin[2]);
@@ -685,8 +757,13 @@ static int run(viewer *v) {
             int scale = v->fh / 480 < 1 ? 1 : v->fh / 480 > 4 ? 4 : v->fh / 480, tw, th;
             ew_format_stats_overlay(text, sizeof text, &st, &info);
             if (ew_text_size(text, scale, &tw, &th) == 0) {
-                snprintf(line, sizeof line, "hsr %s\npresent %s", ew_hsr_name((ew_hsr_method)o->draw.hsr),
-                         present_names[v->mode]);
+                if (v->dc)
+                    snprintf(line, sizeof line, "hsr %s\npresent %s\ndemo %.1f of %.1f s%s", ew_hsr_name((ew_hsr_method)o->draw.hsr),
+                             present_names[v->mode], cam_time - v->demo_t0, v->demo_t1 - v->demo_t0,
+                             v->follow ? "" : " (free camera)");
+                else
+                    snprintf(line, sizeof line, "hsr %s\npresent %s", ew_hsr_name((ew_hsr_method)o->draw.hsr),
+                             present_names[v->mode]);
                 ew_draw_text(v->r, 4 * scale, 4 * scale + th + 2 * scale, scale, line, NULL);
             }
         }
@@ -767,11 +844,25 @@ int cmd_view(int argc, char **argv) {
     v.alias_raster = o.draw.alias_raster;
     v.debug = (ew_debug_mode)o.draw.debug;
     int rc = 1;
-    if (!(v.a = load_map(o.map, o.data, o.quiet)))
-        return 1;
     ew_error err = { "" };
-    if (draw_opts_scene(&o.draw, v.a, o.map, o.data, 1, o.quiet, &v.scene) < 0)
-        goto done;
+    if (o.demo) {
+        if (demo_open_with_map(o.demo, o.data, o.quiet, &v.demo, &v.a) < 0)
+            return 1;
+        if (demo_span(v.demo, o.demo, &v.demo_t0, &v.demo_t1) < 0)
+            goto done;
+        if (!(v.dc = ew_demo_client_create(v.demo, v.a->world, cli_search_path(o.data), &err))) {
+            error_line("%s", err.msg);
+            goto done;
+        }
+        v.scene = ew_demo_client_scene(v.dc);
+        v.follow = 1;
+        o.map = o.demo;  /* the window's title */
+    } else {
+        if (!(v.a = load_map(o.map, o.data, o.quiet)))
+            return 1;
+        if (draw_opts_scene(&o.draw, v.a, o.map, o.data, 1, o.quiet, &v.scene) < 0)
+            goto done;
+    }
     if (!(v.empty = ew_scene_create(v.a->world, &err))) {
         error_line("%s", err.msg);
         goto done;
@@ -861,6 +952,9 @@ sdl_done:
     SDL_Quit();
 done:
     ew_renderer_destroy(v.r);
+    if (v.dc) v.scene = NULL;  /* the client's */
+    ew_demo_client_destroy(v.dc);
+    ew_demo_close(v.demo);
     ew_scene_destroy(v.scene);
     ew_scene_destroy(v.empty);
     ew_assets_destroy(v.a);

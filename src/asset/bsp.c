@@ -586,11 +586,11 @@ static int load_faces(ctx *c, ew_world *w) {
             int bmin = (int)floorf(mins[j] / 16), bmax = (int)ceilf(maxs[j] / 16);
             f->texturemins[j] = bmin * 16;
             f->extents[j] = (bmax - bmin) * 16;
-            /* Zero means the texture axes are degenerate on this face (no
-             * compiler writes that): its surface would have no texels. */
-            if (f->extents[j] == 0)
-                return lump_fail(c, EW_LUMP_FACES, "face %d: texture extent 0 along %c (degenerate texture axes)",
-                                 i, j ? 't' : 's');
+            /* Zero: every vertex has the same texture coordinate along
+             * this axis, on a multiple of 16 (ericw-tools writes such
+             * faces).  The light map then has one row (column) of
+             * samples and the surface is one texel along it
+             * (ew_face_surf_size). */
             if (f->extents[j] > MAX_EXTENT)
                 return lump_fail(c, EW_LUMP_FACES, "face %d: texture extent %d texels (limit %d)",
                                  i, f->extents[j], MAX_EXTENT);

@@ -25,6 +25,7 @@ struct ew_fs {
     char   *dir;
     fs_pak *paks;
     int     npaks;
+    struct ew_fs *next;  /* a search list's next directory ("GAME:BASE"), NULL at its end */
 };
 
 static char *dup_str(const char *s) {
@@ -47,6 +48,7 @@ static char *join(const char *dir, const char *name) {
 
 void ew_fs_destroy(ew_fs *fs) {
     if (!fs) return;
+    ew_fs_destroy(fs->next);
     for (int i = 0; i < fs->npaks; i++) {
         free(fs->paks[i].path);
         free(fs->paks[i].data);
@@ -57,7 +59,37 @@ void ew_fs_destroy(ew_fs *fs) {
     free(fs);
 }
 
+static ew_fs *fs_create_one(const char *dir, ew_error *err);
+
+/* A search list: "GAME:BASE" (any number of directories) when dir is not
+ * itself a directory; each one is opened as a game directory of its own
+ * and searched in the list's order, as Quake's -game over id1. */
 ew_fs *ew_fs_create(const char *dir, ew_error *err) {
+    struct stat st;
+    const char *colon = strchr(dir, ':');
+    if (!colon || (stat(dir, &st) == 0 && S_ISDIR(st.st_mode))) return fs_create_one(dir, err);
+    if (colon == dir || !colon[1]) {
+        ew_fail(err, "%s: an empty directory in the search list", dir);
+        return NULL;
+    }
+    char *first = malloc((size_t)(colon - dir) + 1);
+    if (!first) {
+        ew_fail(err, "%s: out of memory", dir);
+        return NULL;
+    }
+    memcpy(first, dir, (size_t)(colon - dir));
+    first[colon - dir] = 0;
+    ew_fs *fs = fs_create_one(first, err);
+    free(first);
+    if (!fs) return NULL;
+    if (!(fs->next = ew_fs_create(colon + 1, err))) {
+        ew_fs_destroy(fs);
+        return NULL;
+    }
+    return fs;
+}
+
+static ew_fs *fs_create_one(const char *dir, ew_error *err) {
     struct stat st;
     if (stat(dir, &st) != 0) {
         ew_fail(err, "%s: cannot open: %s", dir, strerror(errno));
@@ -105,8 +137,8 @@ fail:
     return NULL;
 }
 
-int ew_fs_load(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
-               ew_error *err) {
+static int fs_load_one(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
+                       ew_error *err) {
     *data = NULL;
     *size = 0;
     char *path = join(fs->dir, name);
@@ -132,12 +164,36 @@ int ew_fs_load(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
             return 0;
         }
     }
-    return ew_fail(err, "%s: %s not found (searched %s and %d pak%s)", fs->dir, name, fs->dir,
-                   fs->npaks, fs->npaks == 1 ? "" : "s");
+    return 1;  /* not here */
 }
+
+int ew_fs_load(const ew_fs *fs, const char *name, uint8_t **data, size_t *size,
+               ew_error *err) {
+    for (const ew_fs *d = fs; d; d = d->next) {
+        int rc = fs_load_one(d, name, data, size, err);
+        if (rc <= 0) return rc;
+    }
+    if (!fs->next)
+        return ew_fail(err, "%s: %s not found (searched %s and %d pak%s)", fs->dir, name, fs->dir,
+                       fs->npaks, fs->npaks == 1 ? "" : "s");
+    char dirs[400] = "";
+    for (const ew_fs *d = fs; d; d = d->next) {
+        size_t n = strlen(dirs);
+        snprintf(dirs + n, sizeof dirs - n, "%s%s (%d pak%s)", d == fs ? "" : ", ", d->dir, d->npaks,
+                 d->npaks == 1 ? "" : "s");
+    }
+    return ew_fail(err, "%s: %s not found (searched %s)", fs->dir, name, dirs);
+}
+
+static int fs_exists_one(const ew_fs *fs, const char *name);
 
 /* asset/lightdata.h: where ew_fs_load finds name, for messages. */
 void ew_fs_where(const ew_fs *fs, const char *name, char *out, size_t size) {
+    for (const ew_fs *d = fs->next; d; d = d->next)  /* found further down the list */
+        if (!fs_exists_one(fs, name) && fs_exists_one(d, name)) {
+            ew_fs_where(d, name, out, size);
+            return;
+        }
     snprintf(out, size, "%s/%s", fs->dir, name);
     struct stat st;
     if (stat(out, &st) == 0) return;  /* the loose file */
@@ -151,6 +207,12 @@ void ew_fs_where(const ew_fs *fs, const char *name, char *out, size_t size) {
 
 /* asset/lightdata.h: optional files (a map's .lit) are looked for quietly. */
 int ew_fs_exists(const ew_fs *fs, const char *name) {
+    for (; fs; fs = fs->next)
+        if (fs_exists_one(fs, name)) return 1;
+    return 0;
+}
+
+static int fs_exists_one(const ew_fs *fs, const char *name) {
     if (!fs || !name) return 0;
     char *path = join(fs->dir, name);
     if (!path) return 0;

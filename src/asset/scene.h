@@ -47,7 +47,7 @@ struct ew_scene {
     ew_scene_entity *ents;      int nents, cap_ents;
     ew_dlight        dlights[EW_MAX_DLIGHTS];
     int              ndlights;
-    struct ew_particle *particles; int nparticles;
+    struct ew_particle *particles; int nparticles, cap_particles;
     int              unknown;   /* entities whose classname has no known model */
     int              missing;   /* entities whose model file was not found */
     char           **warnings;  /* ew_scene_warning */

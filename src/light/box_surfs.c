@@ -52,7 +52,7 @@ int ew_box_surfs_prepare(ew_box_surfs ***surfs, int *n, const ew_lit *lit, const
         int *scratch = malloc(sizeof(int) * 3 * (size_t)ew_face_samples(bw, f));
         int ok = scratch != NULL;
         for (int mip = 0; mip < 4 && ok; mip++) {
-            int w = f->extents[0] >> mip, h = f->extents[1] >> mip;
+            int w = ew_face_surf_size(f, 0, mip), h = ew_face_surf_size(f, 1, mip);
             if (!bs->pixels[mip]) bs->pixels[mip] = malloc((size_t)w * h * (size_t)fr->target.bpp);
             ok = bs->pixels[mip] != NULL;
             if (ok) ew_build_surface(lit, fr, bw, f, tex, mip, light, 0, bs->pixels[mip], scratch);

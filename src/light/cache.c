@@ -227,7 +227,7 @@ ew_cached_surf *ew_lit_lookup(ew_lit *lit, ew_frame *fr, int face, int mip, int 
     int light[4], texture = current_look(fr, f, light);
     unsigned dl = ew_face_dlights(lit->marks, face);
     e = c->slot[face * 4 + mip];
-    int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
+    int width = ew_face_surf_size(f, 0, mip), height = ew_face_surf_size(f, 1, mip);
     unsigned old_dl = 0;
     if (e) {
         /* Stale: rebuilt in place (a face's size at a mip never changes,

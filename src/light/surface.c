@@ -481,7 +481,7 @@ void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, 
                       const ew_texture *tex, int mip, const int light[4], unsigned dlights,
                       uint8_t *out, int *scratch) {
     if (lit->dbg->mode == EW_DEBUG_MIPS) {  /* one colour per mip level */
-        mip_surface(lit->dbg, fr->target.bpp, mip, out, f->extents[0] >> mip, f->extents[1] >> mip);
+        mip_surface(lit->dbg, fr->target.bpp, mip, out, ew_face_surf_size(f, 0, mip), ew_face_surf_size(f, 1, mip));
         return;
     }
     lm_layout L = face_layout(w, f);
@@ -510,13 +510,20 @@ void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, 
     int tw = tex->width >> mip, th = tex->height >> mip;
     const uint8_t *tp = tex->mip[mip];
     if (lit->dbg->mode == EW_DEBUG_LIGHTING) tp = &lit->dbg->grey, tw = th = 1;  /* light maps only: a flat grey texture */
-    int width = f->extents[0] >> mip, height = f->extents[1] >> mip;
+    int width = ew_face_surf_size(f, 0, mip), height = ew_face_surf_size(f, 1, mip);
     int s0 = wrap(f->texturemins[0] >> mip, tw), t0 = wrap(f->texturemins[1] >> mip, th);
     uint32_t *out32 = (uint32_t *)(void *)out;
 
-    if (!L.standard) {
+    if (!L.standard || !f->extents[0] || !f->extents[1]) {
         /* A BSPX layout: each texel's sample position through the face's
-         * own mapping, light interpolated bilinearly there. */
+         * own mapping, light interpolated bilinearly there.  Also Quake's
+         * grid on a face of extent 0 along an axis (one row or column of
+         * samples, a surface one texel thick), which the blocks below,
+         * 16 texels between two samples, would leave unwritten. */
+        static const float grid[2][3] = {{1.0f / 16, 0, 0}, {0, 1.0f / 16, 0}};
+        const float (*m)[3] = L.st_to_lm ? L.st_to_lm : grid;
+        float off[2] = {L.st_to_lm ? 0 : -(float)f->texturemins[0] / 16,
+                        L.st_to_lm ? 0 : -(float)f->texturemins[1] / 16};
         float step = (float)(1 << mip);
         for (int y = 0; y < height; y++) {
             const uint8_t *row = tp + ((t0 + y) % th) * tw;
@@ -525,8 +532,8 @@ void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, 
             float tt = (float)f->texturemins[1] + (float)y * step;
             for (int x = 0; x < width; x++) {
                 float ss = (float)f->texturemins[0] + (float)x * step;
-                float u = L.st_to_lm[0][0] * ss + L.st_to_lm[0][1] * tt + L.st_to_lm[0][2];
-                float v = L.st_to_lm[1][0] * ss + L.st_to_lm[1][1] * tt + L.st_to_lm[1][2];
+                float u = m[0][0] * ss + m[0][1] * tt + m[0][2] + off[0];
+                float v = m[1][0] * ss + m[1][1] * tt + m[1][2] + off[1];
                 /* clamped into the samples (smax, tmax >= 1: face_layout); NaN to 0 */
                 u = u > 0 ? (u < (float)(L.smax - 1) ? u : (float)(L.smax - 1)) : 0;
                 v = v > 0 ? (v < (float)(L.tmax - 1) ? v : (float)(L.tmax - 1)) : 0;

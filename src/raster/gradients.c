@@ -48,6 +48,6 @@ void ew_face_gradients(const ew_world *w, const ew_view *v, const ew_face *f, in
         int64_t sum = (int64_t)(int32_t)c - (((int64_t)mins[a] * 65536) >> mip) + (int32_t)ofs;
         *adj[a] = (int32_t)(sum < INT32_MIN ? INT32_MIN : sum > INT32_MAX ? INT32_MAX : sum);
     }
-    g->s_max = (int32_t)(((int64_t)(f->extents[0] >> mip) << 16) - 1);
-    g->t_max = (int32_t)(((int64_t)(f->extents[1] >> mip) << 16) - 1);
+    g->s_max = (int32_t)(((int64_t)ew_face_surf_size(f, 0, mip) << 16) - 1);
+    g->t_max = (int32_t)(((int64_t)ew_face_surf_size(f, 1, mip) << 16) - 1);
 }

@@ -137,9 +137,34 @@ int ew_scene_add_particles(ew_scene *s, int n, const float center[3], float radi
     ew_particle *p = realloc(s->particles, sizeof *p * (size_t)(s->nparticles + n + 1));
     if (!p) return -1;
     s->particles = p;
+    s->cap_particles = s->nparticles + n;
     ew_particle_field(p + s->nparticles, n, center, radius, seed);
     s->nparticles += n;
     return n;
+}
+
+void ew_scene_clear(ew_scene *s) {
+    if (!s) return;
+    s->nents = 0;
+    s->ndlights = 0;
+    s->nparticles = 0;
+}
+
+int ew_scene_add_particle(ew_scene *s, const float org[3], int color) {
+    if (!s || !org || color < 0 || color > 255) return -1;
+    for (int k = 0; k < 3; k++)
+        if (!(fabsf(org[k]) <= EW_MAX_ENTITY_COORD)) return -1;
+    if (s->nparticles >= s->cap_particles) {
+        if (s->nparticles >= 1000000) return -1;
+        int cap = s->cap_particles ? s->cap_particles * 2 : 1024;
+        ew_particle *p = realloc(s->particles, sizeof *p * (size_t)(cap + 1));
+        if (!p) return -1;
+        s->particles = p, s->cap_particles = cap;
+    }
+    ew_particle *p = &s->particles[s->nparticles];
+    for (int k = 0; k < 3; k++) p->org[k] = org[k];
+    p->color = (uint8_t)color;
+    return s->nparticles++;
 }
 
 void ew_scene_counts(const ew_scene *s, int *entities, int *unknown, int *missing) {
