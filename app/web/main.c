@@ -229,6 +229,10 @@ EMSCRIPTEN_KEEPALIVE int web_load(const char *name, int view, int w, int h, int 
         ew_assets_destroy(a);
         return -1;
     }
+    if (classic && color) {
+        add_say("classic: the 1996 look is 8-bit, so true colour is off");
+        color = 0;
+    }
     char keep[sizeof W.msg];
     memcpy(keep, W.msg, sizeof keep);
     unload();

@@ -166,6 +166,7 @@
     }
     current = { name, view };
     pub.error = null;
+    colorEl.checked = JSON.parse(api.state()).color === 'true';
     show(text, false);
     applyCamera();
     api.setOverlay(embed ? (params.get('overlay') === '1' ? 1 : 0) : (params.get('overlay') === '0' ? 0 : 1));

@@ -39,7 +39,7 @@ foreach(variant st mt)
     # The workers are made while the page loads (PTHREAD_POOL_SIZE), one
     # per logical processor the browser reports, so the renderer's
     # pthread_create never waits for a worker to start on the main thread.
-    target_link_options(edgewise_web_app_${variant} PRIVATE -pthread
+    target_link_options(edgewise_web_app_${variant} PRIVATE -pthread -Wno-pthreads-mem-growth
       "-sPTHREAD_POOL_SIZE=Math.min(64,Math.max(1,(typeof navigator!=='undefined'&&navigator.hardwareConcurrency)||1))")
   endif()
 endforeach()
