@@ -22,6 +22,7 @@
 #include "edgewise_lab.h"
 #include "util.h"
 
+#include <glob.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -139,7 +140,7 @@ int main(void) {
         return ew_t_finish();
     }
 
-    /* A map archive's folder: maps/lqdm7.bsp, its .lit, gfx/ beside maps/ (no models). */
+    /* A map archive's folder: maps/lqdm7.bsp, its .lit, gfx/ beside maps/. */
     char site[300], buf[1300];
     snprintf(site, sizeof site, "%s/site", tmp);
     static const char *const links[][2] = { { "maps/lqdm7.bsp", "maps/lqdm7.bsp" },
@@ -151,6 +152,23 @@ int main(void) {
     mkdir(buf, 0755);
     snprintf(buf, sizeof buf, "%s/gfx", site);
     mkdir(buf, 0755);
+    /* its models too: progs/ and the item boxes maps/b_*.bsp, which the page fetches as it needs them */
+    {
+        char from[1200], to[700];
+        snprintf(from, sizeof from, "%s/progs", ew_t_shared_abs("data/librequake"));
+        snprintf(to, sizeof to, "%s/progs", site);
+        CHECK(symlink(from, to) == 0, "symlink %s", to);
+        snprintf(from, sizeof from, "%s/maps/b_*.bsp", ew_t_shared_abs("data/librequake"));
+        glob_t g;
+        if (glob(from, 0, NULL, &g) == 0) {
+            for (size_t i = 0; i < g.gl_pathc; i++) {
+                const char *base = strrchr(g.gl_pathv[i], '/');
+                snprintf(to, sizeof to, "%s/maps%s", site, base);
+                CHECK(symlink(g.gl_pathv[i], to) == 0, "symlink %s", to);
+            }
+            globfree(&g);
+        }
+    }
     for (size_t i = 0; i < sizeof links / sizeof *links; i++) {
         char from[2400], to[700];
         snprintf(from, sizeof from, "%s", ew_t_shared_abs("data/librequake"));

@@ -413,6 +413,11 @@ EMSCRIPTEN_KEEPALIVE uint32_t *web_frame(double dt, double fps, double ms_presen
 
 EMSCRIPTEN_KEEPALIVE const char *web_message(void) { return W.msg; }
 
+/* The model files the map's entities asked for that /game lacks
+ * (ew_scene_missing_file): the page fetches them beside the map and loads
+ * it again.  NULL past the last. */
+EMSCRIPTEN_KEEPALIVE const char *web_missing_file(int i) { return ew_scene_missing_file(W.scene, i); }
+
 /* The state as JSON: map, frame size, threads, camera, move mode, the
  * last frame's stage times. */
 EMSCRIPTEN_KEEPALIVE const char *web_state(void) {

@@ -259,7 +259,21 @@
       if (!maps.length) { show(spec + ': no map in it', true); return false; }
       setMaps(maps, maps[0]);
       const view = params.has('view') ? parseInt(params.get('view'), 10) || 0 : 0;
-      return loadMap(maps[0], view);
+      if (!loadMap(maps[0], view)) return false;
+      /* the models its entities use, from the game directory around maps/
+       * (progs/*.mdl, maps/b_*.bsp), as the command finds them */
+      const want = [];
+      for (let i = 0; api.missing(i) !== null && i < 256; i++) want.push(api.missing(i));
+      if (!want.length || !/\.bsp$/i.test(base)) return true;
+      const got = await Promise.all(want.map((f) => get(new URL('../' + f, url), false).catch(() => null)));
+      let n = 0;
+      want.forEach((f, i) => {
+        if (!got[i]) return;
+        mkdirs('/game/' + f.replace(/\/[^/]*$/, ''));
+        M.FS.writeFile('/game/' + f, got[i]);
+        n++;
+      });
+      return n ? loadMap(maps[0], view) : true;
     } catch (e) {
       show('map=' + spec + ': ' + e.message, true);
       return false;
@@ -298,8 +312,9 @@
     frames++;
     pub.frames = frames;
     if (pub.firstFrameMs === null) {
-      pub.firstFrameMs = performance.now() - t0;
-      console.log('edgewise: first frame ' + pub.firstFrameMs.toFixed(1) + ' ms after the page started');
+      pub.firstFrameMs = performance.now();
+      pub.firstFrameAfterScriptMs = performance.now() - t0;
+      console.log('edgewise: first frame ' + pub.firstFrameMs.toFixed(1) + ' ms after the page was asked for');
     }
     fpsN++;
     if (now - fpsT >= 500) {
@@ -438,6 +453,7 @@
       key: c('web_key', 'number', ['string']),
       frame: c('web_frame', 'number', ['number', 'number', 'number']),
       message: c('web_message', 'string', []),
+      missing: c('web_missing_file', 'string', ['number']),
       state: c('web_state', 'string', []),
       bench: c('web_bench', 'string', ['number', 'number', 'number', 'number']),
     };

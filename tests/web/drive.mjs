@@ -142,6 +142,12 @@ try {
     ok(Math.abs(a1[1] - a0[1]) > 5 && Math.abs(a1[0] - a0[0]) > 1,
        `the mouse turns the view (angles ${a0} -> ${a1})`);
 
+    /* resizing the window resizes the frame */
+    await page.setViewport({ width: 800, height: 500 });
+    await frames(page, 2);
+    const sz = await state(page);
+    ok(sz.width === 800 && sz.height === 500, `a window of 800x500 gives a ${sz.width}x${sz.height} frame`);
+
     /* a corrupt file: one message on the page, the page keeps drawing */
     const bad = path.join(spec.out, 'broken.bsp');
     fs.writeFileSync(bad, Buffer.from('IBSP this is not a map at all, just some bytes'.repeat(20)));
@@ -160,10 +166,19 @@ try {
        `a corrupt .pak: "${await message(page)}"`);
     await page.close();
 
+    /* not cross-origin isolated: one thread, and the page says so */
+    const st1 = await open(false, '', 640, 480);
+    await frames(st1, 1);
+    const m1 = await message(st1);
+    ok(/not cross-origin isolated/.test(m1) && (await state(st1)).threads === 1,
+       `no COOP/COEP headers: one thread, and the page says so ("${m1}")`);
+    await st1.close();
+
     /* ?bench=1 prints bench's JSON for the view set */
     const bp = await open(true, 'bench=1&map=site/maps/lqdm7.bsp&sizes=640x480&passes=1', 640, 480);
     const rows = await bp.evaluate(() => window.edgewise.bench);
-    ok(Array.isArray(rows) && rows.length === 2 && rows.every((r) => r.median_ms > 0 && r.views > 0 && r.map === 'lqdm7'),
+    ok(Array.isArray(rows) && rows.length === 2 && rows.every((r) => r.median_ms > 0 && r.views > 0 && r.map === 'lqdm7') &&
+       rows[0].threads === 1,
        'bench=1: ' + JSON.stringify(rows));
     await bp.close();
   }
