@@ -10,7 +10,8 @@
  * (as `edgewise render --pos X,Y,Z --angles P,Y,R`), time (fixed, as
  * render --time), color=true, classic=1, threads=N (0: all cores),
  * overlay=0/1, embed=1, bench=1 (with sizes=WxH,..., passes=N).
- * A page with view or pos is an embed: one camera, no controls but the mouse.
+ * A page with view or pos is an embed (unless embed=0): one camera, no
+ * controls but the mouse.
  */
 'use strict';
 (function () {
@@ -22,7 +23,7 @@
   const mapsEl = document.getElementById('maps');
   const colorEl = document.getElementById('color');
   const classicEl = document.getElementById('classic');
-  const embed = params.get('embed') === '1' || params.has('view') || params.has('pos');
+  const embed = params.get('embed') === '1' || ((params.has('view') || params.has('pos')) && params.get('embed') !== '0');
   const t0 = performance.now();
   if (embed) document.body.classList.add('embed');
 
