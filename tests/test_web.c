@@ -54,11 +54,41 @@ static int find_exe(const char *name, char *out, size_t n) {
     return 0;
 }
 
+/* A pak file at path holding the files srcs (absolute) under the names
+ * names: "PACK", the directory's offset and length, the data, then one
+ * 64-byte entry (56-byte name, offset, size) a file.  0 or -1. */
+static int write_pak(const char *path, const char *const *names, const char *const *srcs, int n) {
+    FILE *f = fopen(path, "wb");
+    if (!f) return -1;
+    uint8_t *dir = calloc((size_t)n, 64), head[12] = "PACK";
+    uint32_t at = 12;
+    int rc = dir ? 0 : -1;
+    if (fwrite(head, 1, 12, f) != 12) rc = -1;
+    for (int i = 0; i < n && rc == 0; i++) {
+        uint8_t *d = NULL;
+        size_t size = 0;
+        ew_error err;
+        if (ew_read_file(srcs[i], &d, &size, &err) != 0 || fwrite(d, 1, size, f) != size) rc = -1;
+        snprintf((char *)dir + 64 * i, 56, "%s", names[i]);
+        ew_t_put_le32(dir + 64 * i + 56, at);
+        ew_t_put_le32(dir + 64 * i + 60, (uint32_t)size);
+        at += (uint32_t)size;
+        free(d);
+    }
+    if (rc == 0 && fwrite(dir, 64, (size_t)n, f) != (size_t)n) rc = -1;
+    ew_t_put_le32(head + 4, at);
+    ew_t_put_le32(head + 8, (uint32_t)(64 * n));
+    if (rc == 0 && (fseek(f, 0, SEEK_SET) != 0 || fwrite(head, 1, 12, f) != 12)) rc = -1;
+    if (fclose(f) != 0) rc = -1;
+    free(dir);
+    return rc;
+}
+
 typedef struct web_case {
     const char *name;
     int         isolated;
     const char *query;
-    int         files;     /* 1: lqdm7's files given to the page's file input */
+    int         files;     /* 1: lqdm7's files given to the page's file input; 2: the pak and a loose e1m1.bsp */
     int         w, h;
     const char *native[16];  /* the edgewise render arguments after "render" (out and size added) */
     int         compare;
@@ -99,6 +129,14 @@ static int compare_case(const web_case *c) {
               first >= 0 ? web[4 * first + 2] : 0, first >= 0 ? rgb[3 * first] : 0,
               first >= 0 ? rgb[3 * first + 1] : 0, first >= 0 ? rgb[3 * first + 2] : 0);
         CHECK(alpha == 0, "%s: %ld canvas pixels not opaque", c->name, alpha);
+        /* a picture, not a blank frame that any two renderers agree on */
+        long lit = 0, changes = 0;
+        for (long i = 0; i < (long)w * h; i++) {
+            lit += rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2] > 60;
+            changes += i > 0 && memcmp(rgb + 3 * i, rgb + 3 * (i - 1), 3) != 0;
+        }
+        CHECK(lit > (long)w * h / 10 && changes > (long)w * h / 16, "%s: the frame is nearly blank (%ld of %d "
+              "pixels lit, %ld changes)", c->name, lit, w * h, changes);
         if (diff == 0) printf("%s: %dx%d, byte-identical to edgewise render\n", c->name, w, h);
     }
     free(rgb);
@@ -181,20 +219,61 @@ int main(void) {
     snprintf(sitemap, sizeof sitemap, "%s/maps/lqdm7.bsp", site);
     snprintf(lq, sizeof lq, "%s", ew_t_shared_abs("data/librequake"));
 
-    /* near lqdm7's view 4, a camera of its own (render --pos/--angles) */
+    /* A game directory with a pak (lqdm7, its .lit, gfx, every model) and a
+     * loose map beside it (maps/e1m1.bsp); the pak also on the site. */
+    char pakgame[300], pak[400], sitepak[400], e1m1[400];
+    snprintf(pakgame, sizeof pakgame, "%s/pakgame", tmp);
+    snprintf(pak, sizeof pak, "%s/pak0.pak", pakgame);
+    snprintf(sitepak, sizeof sitepak, "%s/pak0.pak", site);
+    snprintf(e1m1, sizeof e1m1, "%s/maps/e1m1.bsp", pakgame);
+    {
+        static char names[256][64], srcs[256][1200];
+        const char *np[256], *sp[256];
+        int n = 0;
+        const char *fixed[] = { "maps/lqdm7.bsp", "maps/lqdm7.lit", "gfx/palette.lmp", "gfx/colormap.lmp" };
+        for (int i = 0; i < 4; i++, n++) {
+            snprintf(names[n], 64, "%s", fixed[i]);
+            snprintf(srcs[n], sizeof srcs[n], "%s/%s", lq, fixed[i]);
+        }
+        char pattern[1200];
+        for (int k = 0; k < 2; k++) {
+            snprintf(pattern, sizeof pattern, k ? "%s/maps/b_*.bsp" : "%s/progs/*.mdl", lq);
+            glob_t g;
+            if (glob(pattern, 0, NULL, &g) != 0) continue;
+            for (size_t i = 0; i < g.gl_pathc && n < 256; i++, n++) {
+                snprintf(srcs[n], sizeof srcs[n], "%s", g.gl_pathv[i]);
+                snprintf(names[n], 64, "%s/%s", k ? "maps" : "progs", strrchr(g.gl_pathv[i], '/') + 1);
+            }
+            globfree(&g);
+        }
+        for (int i = 0; i < n; i++) np[i] = names[i], sp[i] = srcs[i];
+        mkdir(pakgame, 0755);
+        snprintf(buf, sizeof buf, "%s/maps", pakgame);
+        mkdir(buf, 0755);
+        char from[1200];
+        snprintf(from, sizeof from, "%s/maps/e1m1.bsp", lq);
+        CHECK(write_pak(pak, np, sp, n) == 0, "cannot write %s", pak);
+        CHECK(symlink(from, e1m1) == 0 && symlink(pak, sitepak) == 0, "symlinks for the pak");
+    }
+
+    /* in lqdm7's first room, a camera of its own (render --pos/--angles), a health box in view */
     const web_case cases[] = {
         { "builtin_8bit_1thread", 0, "view=0&time=0", 0, 640, 480,
           { "builtin", "--view", "0", "--time", "0", "--threads", "1", NULL }, 1 },
         { "lqdm7_true_threads", 1, "map=site/maps/lqdm7.bsp&view=0&time=0&color=true", 0, 640, 480,
           { sitemap, "--view", "0", "--time", "0", "--color", "true", "--threads", "0", NULL }, 1 },
-        { "lqdm7_8bit_1thread_pos", 0, "map=site/maps/lqdm7.bsp&pos=-250,-1100,170&angles=12,65,0&time=0", 0, 800, 600,
-          { sitemap, "--pos", "-250,-1100,170", "--angles", "12,65,0", "--time", "0", "--threads", "1", NULL }, 1 },
+        { "lqdm7_8bit_1thread_pos", 0, "map=site/maps/lqdm7.bsp&pos=60,0,-10&angles=8,40,0&time=0", 0, 800, 600,
+          { sitemap, "--pos", "60,0,-10", "--angles", "8,40,0", "--time", "0", "--threads", "1", NULL }, 1 },
         { "lqdm7_files_8bit_threads", 1, "overlay=0&time=0&threads=2", 1, 640, 480,
           { "lqdm7", "--data", lq, "--view", "0", "--time", "0", "--threads", "2", NULL }, 1 },
         { "lqdm7_files_true_1thread", 0, "overlay=0&time=0&color=true", 1, 1024, 640,
           { "lqdm7", "--data", lq, "--view", "3", "--time", "0", "--color", "true", "--threads", "1", NULL }, 0 },
-        { "lqdm7_classic_threads", 1, "map=site/maps/lqdm7.bsp&view=2&time=0&classic=1", 0, 640, 480,
-          { sitemap, "--view", "2", "--time", "0", "--classic", "--threads", "0", NULL }, 1 },
+        { "pak_lqdm7_true_threads", 1, "map=site/pak0.pak&view=1&time=0&color=true", 0, 640, 480,
+          { "lqdm7", "--data", pakgame, "--view", "1", "--time", "0", "--color", "true", "--threads", "0", NULL }, 1 },
+        { "pak_and_loose_e1m1_1thread", 0, "overlay=0&time=0", 2, 640, 480,
+          { "e1m1", "--data", pakgame, "--view", "0", "--time", "0", "--threads", "1", NULL }, 1 },
+        { "lqdm7_classic_threads", 1, "map=site/maps/lqdm7.bsp&view=0&time=0&classic=1", 0, 640, 480,
+          { sitemap, "--view", "0", "--time", "0", "--classic", "--threads", "0", NULL }, 1 },
     };
     const int ncases = (int)(sizeof cases / sizeof *cases);
 
@@ -224,13 +303,14 @@ int main(void) {
         CHECK(0, "cannot write %s", spec);
         return ew_t_finish();
     }
-    fprintf(f, "{\"web\":\"%s\",\"site\":\"%s\",\"chromium\":\"%s\",\"out\":\"%s\",\"checks\":true,\"cases\":[",
-            webdir, site, chromium, tmp);
+    fprintf(f, "{\"web\":\"%s\",\"site\":\"%s\",\"chromium\":\"%s\",\"out\":\"%s\",\"checks\":true,"
+            "\"lonemap\":\"%s\",\"cases\":[", webdir, site, chromium, tmp, e1m1);
     for (int i = 0; i < ncases; i++) {
         const web_case *c = &cases[i];
         fprintf(f, "%s{\"name\":\"%s\",\"isolated\":%s,\"query\":\"%s\",\"width\":%d,\"height\":%d", i ? "," : "",
                 c->name, c->isolated ? "true" : "false", c->query, c->w, c->h);
-        if (c->files) {
+        if (c->files == 2) fprintf(f, ",\"files\":[\"%s\",\"%s\"]", pak, e1m1);
+        if (c->files == 1) {
             fprintf(f, ",\"files\":[\"%s/maps/lqdm7.bsp\",\"%s/maps/lqdm7.lit\",\"%s/gfx/palette.lmp\","
                     "\"%s/gfx/colormap.lmp\"", lq, lq, lq, lq);
             /* the models its entities use: every .mdl of progs/ and the item boxes maps/b_NAME.bsp */

@@ -7,7 +7,8 @@
  * SPEC: { web: the built page (build-web/web), site: a folder served under
  * /site (maps/, gfx/ as a map archive has them), chromium: the browser,
  * out: where to write, cases: [{ name, isolated, query, files, width,
- * height }], checks: true to run the input, bad-file and bench checks }.
+ * height }], checks: true to run the input, bad-file and bench checks,
+ * lonemap: a .bsp to give the page without game data }.
  * For each case the page is opened at WIDTHxHEIGHT with ?QUERY (and FILES
  * given to its file input), and once it has drawn its frame the canvas's
  * RGBA bytes are written to OUT/NAME.rgba and its state to OUT/NAME.json.
@@ -147,6 +148,12 @@ try {
     await frames(page, 2);
     const sz = await state(page);
     ok(sz.width === 800 && sz.height === 500, `a window of 800x500 gives a ${sz.width}x${sz.height} frame`);
+
+    /* a map alone, without palette or colormap: the built-in scene's, and a message */
+    await upload(page, [spec.lonemap]);
+    await frames(page, 2);
+    const lone = await state(page), lm = await message(page);
+    ok(lone.map === 'e1m1' && /built-in scene's palette/.test(lm), `e1m1.bsp alone: ${lone.map}, "${lm}"`);
 
     /* a corrupt file: one message on the page, the page keeps drawing */
     const bad = path.join(spec.out, 'broken.bsp');
