@@ -143,6 +143,21 @@ try {
     ok(Math.abs(a1[1] - a0[1]) > 5 && Math.abs(a1[0] - a0[0]) > 1,
        `the mouse turns the view (angles ${a0} -> ${a1})`);
 
+    /* the screenshot button: a PNG of the frame, encoded by the browser, downloaded */
+    const dl = path.join(spec.out, 'downloads');
+    fs.mkdirSync(dl, { recursive: true });
+    const cdp = await browser.target().createCDPSession();
+    await cdp.send('Browser.setDownloadBehavior', { behavior: 'allow', downloadPath: dl });
+    await page.evaluate(() => document.exitPointerLock());  /* the drag above may have locked the pointer */
+    await page.click('#shot');
+    const shot = path.join(dl, 'builtin_web.png');
+    for (let i = 0; i < 100 && !fs.existsSync(shot); i++) await new Promise((r) => setTimeout(r, 100));
+    const png = fs.existsSync(shot) ? fs.readFileSync(shot) : Buffer.alloc(0);
+    const cw = await page.evaluate(() => [document.getElementById('frame').width, document.getElementById('frame').height]);
+    ok(png.length > 24 && png.subarray(1, 4).toString() === 'PNG' && png.readUInt32BE(16) === cw[0] &&
+       png.readUInt32BE(20) === cw[1], `the screenshot button saves ${shot} (${png.length} bytes, a PNG of ` +
+       `${png.length > 24 ? png.readUInt32BE(16) + 'x' + png.readUInt32BE(20) : '?'}, the frame is ${cw.join('x')})`);
+
     /* resizing the window resizes the frame */
     await page.setViewport({ width: 800, height: 500 });
     await frames(page, 2);
