@@ -7,9 +7,11 @@
  * (exported, EMSCRIPTEN_KEEPALIVE); every text comes back through
  * web_message / web_state as a NUL-terminated string.
  *
- * Files the page was given are written under /game (a Quake game
- * directory: pak files, maps/, gfx/, progs/), so loading is the library's
- * own ew_assets_create(NAME, "/game"), as `edgewise render NAME --data DIR`.
+ * Files the page was given are written to a folder of their own (/game1,
+ * /game2, ...: a Quake game directory, pak files, maps/, gfx/, progs/), so
+ * loading is the library's own ew_assets_create(NAME, DIR), as `edgewise
+ * render NAME --data DIR`; the page removes the folder of a map that
+ * failed, and keeps the one of the map shown.
  */
 #include "app_controls.h"
 #include "edgewise.h"
@@ -21,8 +23,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#define GAME_DIR "/game"
 
 typedef struct web {
     ew_assets   *a;
@@ -138,11 +138,11 @@ static void unload(void) {
     W.r = NULL, W.scene = W.empty = NULL, W.a = NULL;
 }
 
-/* The map NAME from /game (maps/NAME.bsp, loose or in a pak; its .lit;
+/* The map NAME from the game directory dir (maps/NAME.bsp, loose or in a pak; its .lit;
  * gfx/palette.lmp and colormap.lmp, else the built-in scene's palette and
  * colormap), or the built-in scene for "" or "builtin".  Loaded into new
  * objects first: a map that fails leaves the one shown before. */
-static int load_assets(const char *name, ew_assets **out, ew_scene **scene) {
+static int load_assets(const char *name, const char *dir, ew_assets **out, ew_scene **scene) {
     ew_error err = { "" };
     *out = NULL, *scene = NULL;
     if (!*name || !strcmp(name, "builtin")) {
@@ -154,7 +154,7 @@ static int load_assets(const char *name, ew_assets **out, ew_scene **scene) {
         }
         return 0;
     }
-    ew_fs *fs = ew_fs_create(GAME_DIR, &err);
+    ew_fs *fs = ew_fs_create(dir, &err);
     if (!fs) {
         say("%s", err.msg);
         return -1;
@@ -171,7 +171,7 @@ static int load_assets(const char *name, ew_assets **out, ew_scene **scene) {
     ew_assets *a = NULL;
     if (have_gfx) {
         /* the command's own loader: palette, colormap, .lit as `render NAME --data DIR` */
-        a = ew_assets_create(name, GAME_DIR, &err);
+        a = ew_assets_create(name, dir, &err);
     } else {
         /* no game data: the map itself, drawn with the built-in scene's colours */
         char path[300];
@@ -198,7 +198,7 @@ static int load_assets(const char *name, ew_assets **out, ew_scene **scene) {
         say("%s", err.msg[0] ? err.msg : "cannot load the map");
         return -1;
     }
-    if (!(*scene = ew_scene_create_from_map(a->world, name, GAME_DIR, &err))) {
+    if (!(*scene = ew_scene_create_from_map(a->world, name, dir, &err))) {
         ew_assets_destroy(a);
         say("%s", err.msg);
         return -1;
@@ -213,14 +213,15 @@ static int load_assets(const char *name, ew_assets **out, ew_scene **scene) {
     return 0;
 }
 
-/* Loads a map (see load_assets) at view `view` and makes a w x h renderer
+/* Loads a map from the game directory dir (see load_assets) at view `view` and makes a w x h renderer
  * with color (0 8-bit, 1 true), classic and threads (0 all cores).
  * Returns 0, or -1 with the message set; on failure the map shown before
  * stays. */
-EMSCRIPTEN_KEEPALIVE int web_load(const char *name, int view, int w, int h, int color, int classic, int threads) {
+EMSCRIPTEN_KEEPALIVE int web_load(const char *name, const char *dir, int view, int w, int h, int color, int classic,
+                                   int threads) {
     ew_assets *a;
     ew_scene *scene;
-    if (load_assets(name ? name : "", &a, &scene) < 0) return -1;
+    if (load_assets(name ? name : "", dir ? dir : "/", &a, &scene) < 0) return -1;
     ew_error err = { "" };
     ew_scene *empty = ew_scene_create(a->world, &err);
     if (!empty) {
@@ -413,7 +414,7 @@ EMSCRIPTEN_KEEPALIVE uint32_t *web_frame(double dt, double fps, double ms_presen
 
 EMSCRIPTEN_KEEPALIVE const char *web_message(void) { return W.msg; }
 
-/* The model files the map's entities asked for that /game lacks
+/* The model files the map's entities asked for that its game directory lacks
  * (ew_scene_missing_file): the page fetches them beside the map and loads
  * it again.  NULL past the last. */
 EMSCRIPTEN_KEEPALIVE const char *web_missing_file(int i) { return ew_scene_missing_file(W.scene, i); }

@@ -2,7 +2,8 @@
  * page.js - the web page of edgewise (docs/web.md): loads the WebAssembly
  * build (edgewise.js with threads when the page is cross-origin isolated,
  * else edgewise-st.js on one thread), puts the files it is given into the
- * module's file system as a Quake game directory (/game), and runs the
+ * module's file system as a Quake game directory (/game1, /game2, ...: one
+ * per set of files; the shown map's is kept), and runs the
  * frame loop: input to the C side (app/web/main.c), ew_render there, the
  * RGBA frame into the canvas with putImageData.
  *
@@ -39,6 +40,7 @@
   colorEl.checked = settings.color;
   classicEl.checked = settings.classic;
   let current = { name: 'builtin', view: 0 };
+  let gameDir = '/game0', gameGen = 0;  /* the game directory of the map shown; each new set of files gets its own */
   const threadNote = isolated
     ? 'threads: Web Workers (cross-origin isolated)'
     : 'one thread: the page is not cross-origin isolated (no COOP/COEP headers)';
@@ -52,7 +54,7 @@
   };
 
   function show(text, isError) {
-    msgEl.textContent = text || '';
+    msgEl.textContent = (text || '').replace(/\/game\d+\//g, '');  /* the page's own folders mean nothing to the reader */
     msgEl.className = isError ? 'error' : '';
   }
 
@@ -75,7 +77,7 @@
     });
   }
 
-  /* ---- files into /game ---------------------------------------------------- */
+  /* ---- files into a game directory ------------------------------------------ */
 
   function rmTree(path) {
     const FS = M.FS;
@@ -115,19 +117,21 @@
     return out;
   }
 
-  /* Files (name, bytes) into a fresh /game: paks as pak0.pak, pak1.pak...
-   * (pakN names keep their order), .bsp and .lit in maps/, .lmp in gfx/,
-   * .mdl and .spr in progs/.  Returns the maps it can show. */
+  /* Files (name, bytes) into a new game directory (/game1, /game2, ...):
+   * paks as pak0.pak, pak1.pak... (pakN names keep their order), .bsp and
+   * .lit in maps/, .lmp in gfx/, .mdl and .spr in progs/.  Returns the
+   * directory and the maps it can show. */
   function placeFiles(list) {
-    rmTree('/game');
-    mkdirs('/game/maps'); mkdirs('/game/gfx'); mkdirs('/game/progs');
+    const game = '/game' + (++gameGen);
+    rmTree(game);
+    mkdirs(game + '/maps'); mkdirs(game + '/gfx'); mkdirs(game + '/progs');
     const maps = [];
     const paks = list.filter(f => /\.pak$/i.test(f.name)).sort((a, b) => {
       const na = /pak(\d+)\.pak$/i.exec(a.name), nb = /pak(\d+)\.pak$/i.exec(b.name);
       return (na ? +na[1] : 1e9) - (nb ? +nb[1] : 1e9) || a.name.localeCompare(b.name);
     });
     paks.forEach((f, i) => {
-      M.FS.writeFile('/game/pak' + i + '.pak', f.bytes);
+      M.FS.writeFile(game + '/pak' + i + '.pak', f.bytes);
       for (const m of pakMaps(f.bytes)) if (!maps.includes(m)) maps.push(m);
     });
     for (const f of list) {
@@ -135,13 +139,13 @@
       const ext = (/\.([^.]+)$/.exec(base) || [, ''])[1].toLowerCase();
       const dir = { bsp: 'maps', lit: 'maps', lmp: 'gfx', mdl: 'progs', spr: 'progs' }[ext];
       if (!dir) continue;
-      M.FS.writeFile('/game/' + dir + '/' + base.toLowerCase(), f.bytes);
+      M.FS.writeFile(game + '/' + dir + '/' + base.toLowerCase(), f.bytes);
       if (ext === 'bsp') {
         const name = base.replace(/\.bsp$/i, '').toLowerCase();
         if (!/^b_/.test(name) && !maps.includes(name)) maps.unshift(name);
       }
     }
-    return maps;
+    return { dir: game, maps };
   }
 
   function setMaps(maps, chosen) {
@@ -154,17 +158,22 @@
     mapsEl.value = chosen;
   }
 
-  /* Loads map `name` from /game ('builtin': the built-in scene).  On failure
-   * the message says why and the map shown before stays. */
-  function loadMap(name, view) {
+  /* Loads map `name` from the game directory dir (default: the shown map's;
+   * 'builtin': the built-in scene).  On failure the message says why, the
+   * map shown before stays, and so do its files. */
+  function loadMap(name, view, dir) {
+    dir = dir || gameDir;
     const [w, h] = frameSize();
-    const rc = api.load(name, view, w, h, settings.color ? 1 : 0, settings.classic ? 1 : 0, settings.threads);
+    const rc = api.load(name, dir, view, w, h, settings.color ? 1 : 0, settings.classic ? 1 : 0, settings.threads);
     const text = api.message();
     if (rc !== 0) {
       show(text || 'cannot load ' + name, true);
       pub.error = text;
+      if (dir !== gameDir) rmTree(dir);
       return false;
     }
+    if (dir !== gameDir) rmTree(gameDir);
+    gameDir = dir;
     current = { name, view };
     pub.error = null;
     colorEl.checked = JSON.parse(api.state()).color === 'true';
@@ -214,14 +223,15 @@
       show(files.map(f => f.name).join(', ') + ': not a map (.bsp), a .pak or game data (.lit, .lmp, .mdl, .spr)', true);
       return false;
     }
-    const maps = placeFiles(known);
+    const placed = placeFiles(known), maps = placed.maps;
     if (!maps.length) {
+      rmTree(placed.dir);
       show('no map among ' + known.map(f => f.name).join(', ') + ' (a .bsp, or a .pak with maps/*.bsp)', true);
       return false;
     }
-    setMaps(maps, maps[0]);
-    const ok = loadMap(maps[0], 0);
-    if (!ok) setMaps(maps, current.name);
+    const before = Array.from(mapsEl.options).map((o) => o.value).filter((m) => m !== 'builtin');
+    const ok = loadMap(maps[0], 0, placed.dir);
+    setMaps(ok ? maps : before, current.name);
     return ok;
   }
 
@@ -256,11 +266,11 @@
         show('map=' + spec + ': must name a .bsp or a .pak', true);
         return false;
       }
-      const maps = placeFiles(list);
-      if (!maps.length) { show(spec + ': no map in it', true); return false; }
-      setMaps(maps, maps[0]);
+      const placed = placeFiles(list), maps = placed.maps;
+      if (!maps.length) { rmTree(placed.dir); show(spec + ': no map in it', true); return false; }
       const view = params.has('view') ? parseInt(params.get('view'), 10) || 0 : 0;
-      if (!loadMap(maps[0], view)) return false;
+      if (!loadMap(maps[0], view, placed.dir)) return false;
+      setMaps(maps, maps[0]);
       /* the models its entities use, from the game directory around maps/
        * (progs/*.mdl, maps/b_*.bsp), as the command finds them */
       const want = [];
@@ -270,8 +280,8 @@
       let n = 0;
       want.forEach((f, i) => {
         if (!got[i]) return;
-        mkdirs('/game/' + f.replace(/\/[^/]*$/, ''));
-        M.FS.writeFile('/game/' + f, got[i]);
+        mkdirs(gameDir + '/' + f.replace(/\/[^/]*$/, ''));
+        M.FS.writeFile(gameDir + '/' + f, got[i]);
         n++;
       });
       return n ? loadMap(maps[0], view) : true;
@@ -443,7 +453,7 @@
     M = await self.EdgewiseModule({ print: (t) => console.log(t), printErr: (t) => console.warn(t) });
     const c = M.cwrap;
     api = {
-      load: c('web_load', 'number', ['string', 'number', 'number', 'number', 'number', 'number', 'number']),
+      load: c('web_load', 'number', ['string', 'string', 'number', 'number', 'number', 'number', 'number', 'number']),
       resize: c('web_resize', 'number', ['number', 'number']),
       setCamera: c('web_set_camera', null, ['number', 'number', 'number', 'number', 'number', 'number']),
       setTime: c('web_set_time', null, ['number', 'number']),
@@ -459,7 +469,7 @@
       bench: c('web_bench', 'string', ['number', 'number', 'number', 'number']),
     };
     api.overlayExtra(threadNote);
-    mkdirs('/game');
+    mkdirs(gameDir);
     let ok = false;
     if (params.has('map')) ok = await openUrl(params.get('map'));
     if (!ok) {

@@ -186,6 +186,11 @@ try {
     await frames(page, 2);
     ok((await message(page)).length > 0 && (await state(page)).map === before.map,
        `a corrupt .pak: "${await message(page)}"`);
+    /* the map shown before still has its files: true colour loads it again */
+    await page.click('#color');
+    await frames(page, 2);
+    const again = await state(page);
+    ok(again.map === before.map && again.color === 'true', `after the corrupt files, true colour reloads ${again.map} (${again.color})`);
     await page.close();
 
     /* not cross-origin isolated: one thread, and the page says so */
