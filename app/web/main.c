@@ -437,7 +437,11 @@ EMSCRIPTEN_KEEPALIVE const char *web_state(void) {
 
 /* ---- ?bench=1: the benchmark protocol of `edgewise bench` ------------------
  * The view set rendered once untimed, then `passes` times, each frame timed;
- * one JSON object per size and thread count with bench's leading fields. */
+ * one JSON object per size and thread count with bench's fields of the
+ * same names and meaning (map, width, height, threads, threads_requested,
+ * threads_applied, views, passes, gap_ms, median_ms, mean_ms, p99_ms,
+ * max_ms, cold, max_view, ns_per_pixel, stages), and the colour mode;
+ * bench's serial-part probes and per-view rows are left out. */
 
 static int cmp_double(const void *a, const void *b) {
     double x = *(const double *)a, y = *(const double *)b;
@@ -498,9 +502,10 @@ EMSCRIPTEN_KEEPALIVE const char *web_bench(int w, int h, int threads, int passes
     bench_json = malloc(cap);
     if (bench_json)
         snprintf(bench_json, cap,
-                 "{\"map\":\"%s\",\"width\":%d,\"height\":%d,\"threads\":%d,\"threads_requested\":%d,\"views\":%d,"
-                 "\"passes\":%d,\"color\":\"%s\",\"classic\":%s,\"median_ms\":%.10g,\"mean_ms\":%.10g,"
-                 "\"p99_ms\":%.10g,\"max_ms\":%.10g,\"max_view\":%d,\"ns_per_pixel\":%.10g,"
+                 "{\"map\":\"%s\",\"width\":%d,\"height\":%d,\"threads\":%d,\"threads_requested\":%d,"
+                 "\"threads_applied\":true,\"views\":%d,\"passes\":%d,\"gap_ms\":0,\"color\":\"%s\",\"classic\":%s,"
+                 "\"median_ms\":%.10g,\"mean_ms\":%.10g,\"p99_ms\":%.10g,\"max_ms\":%.10g,\"cold\":false,"
+                 "\"max_view\":%d,\"ns_per_pixel\":%.10g,"
                  "\"stages\":{\"front\":%.10g,\"scan\":%.10g,\"draw\":%.10g,\"models\":%.10g,\"total\":%.10g}}",
                  W.map, w, h, ew_get_threads(r), threads, nv, passes, W.color ? "true" : "8bit",
                  W.classic ? "true" : "false", median, mean, p99, max, max_view, median * 1e6 / ((double)w * h),
