@@ -174,8 +174,15 @@ try {
     const bad = path.join(spec.out, 'broken.bsp');
     fs.writeFileSync(bad, Buffer.from('IBSP this is not a map at all, just some bytes'.repeat(20)));
     const before = await state(page);
-    await upload(page, [bad]);
-    await frames(page, 3);
+    /* dropped on the page, as a person drops it: a drop event with the file */
+    const f0 = await page.evaluate(() => window.edgewise.frames);
+    await page.evaluate((text) => {
+      const dt = new DataTransfer();
+      dt.items.add(new File([text], 'broken.bsp'));
+      document.getElementById('frame').dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+    }, 'IBSP this is not a map at all, just some bytes'.repeat(20));
+    await page.waitForFunction(() => /broken/.test(window.edgewise.message()), { timeout: 30000 }).catch(() => {});
+    await page.waitForFunction((f) => window.edgewise.frames > f + 2, { timeout: 30000 }, f0);
     const m = await message(page), after = await state(page);
     ok(/broken\.bsp/.test(m) && (await page.evaluate(() => document.getElementById('msg').className)) === 'error',
        `a corrupt .bsp gives a message on the page: "${m}"`);
