@@ -240,6 +240,7 @@ EMSCRIPTEN_KEEPALIVE int web_load(const char *name, const char *dir, int view, i
     W.a = a, W.scene = scene, W.empty = empty;
     snprintf(W.map, sizeof W.map, "%s", name && *name ? name : "builtin");
     W.color = color, W.classic = classic, W.threads = threads < 0 ? 0 : threads;
+    W.time = 0, W.paused = 0;
     W.entities = 1, W.debug = EW_DEBUG_NONE, W.exact = 0, W.pvs_lock = 0, W.hsr = EW_HSR_EDGE, W.alias_raster = 0;
     memset(&W.player, 0, sizeof W.player);
     memset(&W.held, 0, sizeof W.held);

@@ -414,8 +414,14 @@
       });
       document.getElementById('files').addEventListener('change', (e) => openFiles(e.target.files));
       mapsEl.addEventListener('change', () => loadMap(mapsEl.value, 0));
-      colorEl.addEventListener('change', () => { settings.color = colorEl.checked; loadMap(current.name, current.view); });
-      classicEl.addEventListener('change', () => { settings.classic = classicEl.checked; loadMap(current.name, current.view); });
+      /* the same map again in the other look, from where the camera is */
+      const reload = () => {
+        const s = pub.state();
+        if (loadMap(current.name, current.view) && s && !params.has('pos'))
+          api.setCamera(s.pos[0], s.pos[1], s.pos[2], s.angles[0], s.angles[1], s.angles[2]);
+      };
+      colorEl.addEventListener('change', () => { settings.color = colorEl.checked; reload(); });
+      classicEl.addEventListener('change', () => { settings.classic = classicEl.checked; reload(); });
       document.getElementById('shot').addEventListener('click', screenshot);
       document.getElementById('helpbtn').addEventListener('click', () => {
         const h = document.getElementById('help');
