@@ -95,13 +95,20 @@ static int apply_settings(ew_renderer *r) {
     return ew_set_debug(r, W.debug);
 }
 
-/* A renderer of w x h with the current settings; 0 or -1 (message set). */
+/* A renderer of w x h with the current settings, in place of the one
+ * there was; 0 or -1 (message set, no renderer).  The old one goes first:
+ * its threads' Web Workers go back to the pool the page made at start
+ * (one per logical processor), which a new one takes them from; a worker
+ * made later would only start once the page's thread returns to the
+ * browser, and the new renderer would wait for it. */
 static int make_renderer(int w, int h) {
     if (!W.a) return -1;
     if (w < 320) w = 320;
     if (h < 200) h = 200;
     if (w > 7680) w = 7680;
     if (h > 4320) h = 4320;
+    ew_renderer_destroy(W.r);
+    W.r = NULL;
     ew_error err = { "" };
     ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = W.a->world, .palette = W.a->palette,
             .colormap = W.a->colormap, .width = w, .height = h, .threads = W.threads,
@@ -110,8 +117,10 @@ static int make_renderer(int w, int h) {
         say("%s", err.msg[0] ? err.msg : "cannot create the renderer");
         return -1;
     }
+    W.r = r;
     if (apply_settings(r) < 0) {
         ew_renderer_destroy(r);
+        W.r = NULL;
         say("out of memory for the debug mode");
         return -1;
     }
@@ -120,13 +129,12 @@ static int make_renderer(int w, int h) {
         uint32_t *p = realloc(W.rgba, n * sizeof *p);
         if (!p) {
             ew_renderer_destroy(r);
+            W.r = NULL;
             say("out of memory for a %dx%d frame", w, h);
             return -1;
         }
         W.rgba = p, W.rgba_n = n;
     }
-    ew_renderer_destroy(W.r);
-    W.r = r;
     return 0;
 }
 
@@ -262,8 +270,7 @@ EMSCRIPTEN_KEEPALIVE int web_load(const char *name, const char *dir, int view, i
 
 /* The frame's size changed (the window was resized). */
 EMSCRIPTEN_KEEPALIVE int web_resize(int w, int h) {
-    if (!W.r) return -1;
-    if (w == ew_frame_width(W.r) && h == ew_frame_height(W.r)) return 0;
+    if (W.r && w == ew_frame_width(W.r) && h == ew_frame_height(W.r)) return 0;
     return make_renderer(w, h);
 }
 
@@ -456,12 +463,17 @@ EMSCRIPTEN_KEEPALIVE const char *web_bench(int w, int h, int threads, int passes
     bench_json = NULL;
     if (!W.a) return "{\"error\":\"no map\"}";
     if (passes < 1) passes = 5;
+    /* the page's renderer makes way (its workers), and is made again after */
+    int fw = W.r ? ew_frame_width(W.r) : 640, fh = W.r ? ew_frame_height(W.r) : 480;
+    ew_renderer_destroy(W.r);
+    W.r = NULL;
     ew_error err = { "" };
     ew_renderer *r = ew_renderer_create(&(ew_renderer_desc){ .world = W.a->world, .palette = W.a->palette,
             .colormap = W.a->colormap, .width = w, .height = h, .threads = 1,
             .color = W.color ? EW_COLOR_TRUE : EW_COLOR_8BIT }, &err);
     if (!r) {
         say("%s", err.msg);
+        make_renderer(fw, fh);
         return "{\"error\":\"renderer\"}";
     }
     int saved_debug = W.debug, saved_exact = W.exact, saved_lock = W.pvs_lock;
@@ -512,6 +524,7 @@ EMSCRIPTEN_KEEPALIVE const char *web_bench(int w, int h, int threads, int passes
                  W.classic ? "true" : "false", median, mean, p99, max, max_view, median * 1e6 / ((double)w * h),
                  med[0], med[1], med[2], med[3], med[4]);
     ew_renderer_destroy(r);
+    make_renderer(fw, fh);
     return bench_json ? bench_json : "{\"error\":\"out of memory\"}";
 }
 

@@ -35,7 +35,9 @@
   let settings = {
     color: params.get('color') === 'true' || params.get('color') === '1',
     classic: params.get('classic') === '1' || params.get('classic') === 'true',
-    threads: params.has('threads') ? Math.max(0, parseInt(params.get('threads'), 10) || 0) : 0,
+    /* at most one per logical processor: the Web Workers the page makes at start */
+    threads: params.has('threads')
+      ? Math.min(Math.max(0, parseInt(params.get('threads'), 10) || 0), navigator.hardwareConcurrency || 1) : 0,
   };
   colorEl.checked = settings.color;
   classicEl.checked = settings.classic;

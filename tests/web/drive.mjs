@@ -49,8 +49,12 @@ const browser = await puppeteer.launch({
   args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
 });
 
-async function open(isolated, query, width, height) {
+async function open(isolated, query, width, height, cores) {
   const page = await browser.newPage();
+  if (cores) {  /* a machine of that many logical processors, as the page sees it */
+    const cdp = await page.createCDPSession();
+    await cdp.send('Emulation.setHardwareConcurrencyOverride', { hardwareConcurrency: cores });
+  }
   await page.setViewport({ width, height });
   page.on('pageerror', (e) => console.log('page error: ' + e.message));
   page.on('console', (m) => { if (/^edgewise|error/i.test(m.text())) console.log('console: ' + m.text()); });
@@ -215,6 +219,18 @@ try {
        rows[0].threads === 1,
        'bench=1: ' + JSON.stringify(rows));
     await bp.close();
+
+    /* six processors: six threads from the Web Workers made at start, through
+     * a resize and a benchmark (renderers made again, never more workers
+     * asked for than the page made) */
+    const six = await open(true, 'bench=1&sizes=320x240&passes=1&time=0', 640, 480, 6);
+    const rows6 = await six.evaluate(() => window.edgewise.bench);
+    await six.setViewport({ width: 700, height: 450 });
+    await six.waitForFunction(() => window.edgewise.state().width === 700, { timeout: 30000 }).catch(() => {});
+    const s6 = await state(six);
+    ok(rows6 && rows6.length === 2 && rows6[1].threads === 6 && s6.threads === 6 && s6.width === 700,
+       `six processors: bench threads ${rows6 && rows6.map((r) => r.threads)}, then a ${s6.width}x${s6.height} frame on ${s6.threads} threads`);
+    await six.close();
   }
 } catch (e) {
   ok(false, 'driving the page: ' + (e.stack || e));
