@@ -50,6 +50,7 @@
   /* What the test and other pages may read. */
   const pub = window.edgewise = {
     isolated, frames: 0, firstFrameMs: null, ready: null, bench: null, error: null,
+    loads: 0,  /* sets of files handled (loaded or refused) */
     state: () => (api ? JSON.parse(api.state()) : null),
     message: () => msgEl.textContent,
     loadFiles: (files) => openFiles(files),
@@ -211,6 +212,14 @@
   }
 
   async function openFiles(fileList) {
+    try {
+      return await openFileSet(fileList);
+    } finally {
+      pub.loads++;
+    }
+  }
+
+  async function openFileSet(fileList) {
     const files = Array.from(fileList || []);
     if (!files.length) return false;
     let list;

@@ -72,10 +72,12 @@ async function frames(page, n) {
 
 async function upload(page, files) {
   const input = await page.$('#files');
-  const before = await page.evaluate(() => window.edgewise.frames);
+  const before = await page.evaluate(() => window.edgewise.loads);
   await input.uploadFile(...files);
-  /* openFiles runs on the change event; wait for its load and a frame after it */
-  await page.waitForFunction((b) => window.edgewise.frames > b + 1, { timeout: 60000 }, before);
+  /* openFiles runs on the change event: wait until it has loaded (or
+   * refused) them, then for frames after it */
+  await page.waitForFunction((b) => window.edgewise.loads > b, { timeout: 60000 }, before);
+  await frames(page, 2);
 }
 
 async function canvasRGBA(page) {
@@ -164,6 +166,7 @@ try {
 
     /* resizing the window resizes the frame */
     await page.setViewport({ width: 800, height: 500 });
+    await page.waitForFunction(() => window.edgewise.state().width === 800, { timeout: 20000 }).catch(() => {});
     await frames(page, 2);
     const sz = await state(page);
     ok(sz.width === 800 && sz.height === 500, `a window of 800x500 gives a ${sz.width}x${sz.height} frame`);
@@ -179,13 +182,13 @@ try {
     fs.writeFileSync(bad, Buffer.from('IBSP this is not a map at all, just some bytes'.repeat(20)));
     const before = await state(page);
     /* dropped on the page, as a person drops it: a drop event with the file */
-    const f0 = await page.evaluate(() => window.edgewise.frames);
+    const f0 = await page.evaluate(() => window.edgewise.frames), l0 = await page.evaluate(() => window.edgewise.loads);
     await page.evaluate((text) => {
       const dt = new DataTransfer();
       dt.items.add(new File([text], 'broken.bsp'));
       document.getElementById('frame').dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
     }, 'IBSP this is not a map at all, just some bytes'.repeat(20));
-    await page.waitForFunction(() => /broken/.test(window.edgewise.message()), { timeout: 30000 }).catch(() => {});
+    await page.waitForFunction((l) => window.edgewise.loads > l, { timeout: 30000 }, l0);
     await page.waitForFunction((f) => window.edgewise.frames > f + 2, { timeout: 30000 }, f0);
     const m = await message(page), after = await state(page);
     ok(/broken\.bsp/.test(m) && (await page.evaluate(() => document.getElementById('msg').className)) === 'error',
