@@ -7,6 +7,7 @@
  * time from asking for the page to its first frame.
  *
  *   node bench/web_bench.mjs [--maps lqdm7,e1m1] [--sizes 640x480,1920x1080] [--passes 5]
+ *   node bench/web_bench.mjs --shot FILE.png [--shotq QUERY]   (docs/web-lqdm7.png: the default query)
  *
  * Needs make web (build-web/web), make build (build/edgewise), chromium and
  * tests/web/node_modules (npm ci there).  Prints one JSON line per row
@@ -46,7 +47,7 @@ if (opt.shot) {  /* --shot FILE [--shotq QUERY]: a picture of the page (docs/web
                                      args: ['--no-sandbox', '--disable-gpu', '--hide-scrollbars'] });
   const page = await b.newPage();
   await page.setViewport({ width: 800, height: 500 });
-  await page.goto(servers.iso.url + 'index.html?' + (opt.shotq || 'map=data/maps/lqdm7.bsp&color=true&view=4&embed=0'));
+  await page.goto(servers.iso.url + 'index.html?' + (opt.shotq || 'map=data/maps/lqdm7.bsp&color=true&pos=48,-16,-18&angles=0,15,0&embed=0'));
   await page.evaluate(() => window.edgewise.ready);
   await page.waitForFunction(() => window.edgewise.frames > 30, { timeout: 60000 });
   await page.screenshot({ path: opt.shot });
