@@ -509,5 +509,4 @@
     pub.error = String(e);
     return false;
   });
-  window.addEventListener('resize', () => { /* the next frame picks the new size */ });
 })();
