@@ -8,7 +8,7 @@ JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 all: build
 
 build:
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DEW_WEB_DIR=$(abspath $(WEB_BUILD))/web >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # Installs the command, the headers, libedgewise.a and libedgewise.so,
@@ -85,7 +85,7 @@ test-release: build web-for-tests
 	$(if $(filter true,$(CI)),.ci/no-skips $(BUILD)/ctest.log)
 
 test-asan: web-for-tests
-	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DEW_SANITIZE=ON >/dev/null
+	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DEW_SANITIZE=ON -DEW_WEB_DIR=$(abspath $(WEB_BUILD))/web >/dev/null
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 \
 		UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS) -O ctest.log
