@@ -3,12 +3,12 @@ BUILD      ?= build
 ASAN_BUILD ?= build-asan
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all build demo install test test-release test-asan bench fuzz clean
+.PHONY: all build demo install test test-release test-asan bench fuzz clean web web-serve web-for-tests
 
 all: build
 
 build:
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DEW_WEB_DIR=$(abspath $(WEB_BUILD))/web >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # Installs the command, the headers, libedgewise.a and libedgewise.so,
@@ -47,6 +47,32 @@ FUZZ_SECONDS ?= 60
 fuzz:
 	FUZZ_SECONDS=$(FUZZ_SECONDS) ./fuzz/run.sh
 
+# The web page (docs/web.md): the library and app/web/ compiled to
+# WebAssembly by Debian's emscripten into $(WEB_BUILD)/web (edgewise.wasm and
+# its JavaScript, with threads and without, index.html, page.js, serve.mjs).
+# emcc runs its JavaScript optimizer under node with Debian's acorn module,
+# found through NODE_PATH.  web-serve serves it on localhost with the
+# cross-origin isolation headers (threads), EW_DATA under /data/: open
+# http://127.0.0.1:$(WEB_PORT)/ or ...?map=data/maps/lqdm7.bsp&color=true.
+WEB_BUILD ?= build-web
+WEB_PORT  ?= 8080
+WEB_ENV    = NODE_PATH=$${NODE_PATH:+$$NODE_PATH:}/usr/share/nodejs
+web:
+	@command -v emcc >/dev/null 2>&1 || { echo "make web: emcc not found (apt-get install emscripten)" >&2; exit 1; }
+	@$(WEB_ENV) emcmake cmake -S . -B $(WEB_BUILD) -DCMAKE_BUILD_TYPE=Release >/dev/null
+	@$(WEB_ENV) cmake --build $(WEB_BUILD) -j $(JOBS)
+	@echo "make web: the page is in $(WEB_BUILD)/web (make web-serve serves it)"
+
+web-serve: web
+	node $(WEB_BUILD)/web/serve.mjs --root $(WEB_BUILD)/web --port $(WEB_PORT) --mount /data=$(EW_DATA)
+
+# make test builds the page first where emscripten is installed (test_web
+# opens it in chromium; without emcc that test is skipped, which CI=true
+# does not allow: .ci/run installs it).
+web-for-tests:
+	@if command -v emcc >/dev/null 2>&1; then $(MAKE) --no-print-directory web; \
+	else echo "make test: emcc not found, the web page is not built (test_web will be skipped)"; fi
+
 # Every test, in the release build and again under ASan + UBSan + LeakSanitizer
 # (a leak, an invalid access or any undefined behaviour fails the test).
 test: test-release test-asan
@@ -54,16 +80,16 @@ test: test-release test-asan
 # Each run's output is kept in BUILD/ctest.log; with CI=true (.ci/run) a
 # skipped test (exit 77: a missing tool or ../shared) fails the run too
 # (.ci/no-skips), since CI has everything installed.
-test-release: build
+test-release: build web-for-tests
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -O ctest.log
 	$(if $(filter true,$(CI)),.ci/no-skips $(BUILD)/ctest.log)
 
-test-asan:
-	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DEW_SANITIZE=ON >/dev/null
+test-asan: web-for-tests
+	@cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DEW_SANITIZE=ON -DEW_WEB_DIR=$(abspath $(WEB_BUILD))/web >/dev/null
 	@cmake --build $(ASAN_BUILD) -j $(JOBS)
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 \
 		UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS) -O ctest.log
 	$(if $(filter true,$(CI)),.ci/no-skips $(ASAN_BUILD)/ctest.log)
 
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) build-fuzz demo.png
+	rm -rf $(BUILD) $(ASAN_BUILD) $(WEB_BUILD) build-fuzz demo.png

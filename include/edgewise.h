@@ -681,6 +681,13 @@ EW_API int  ew_scene_add_particle(ew_scene *s, const float org[3], int color);
  * entity's "alpha" that is not a number from 0 to 1, ...), one line each;
  * i from 0, NULL past the last. */
 EW_API const char *ew_scene_warning(const ew_scene *s, int i);
+/* The model files the map's entities asked for that ew_scene_create_from_map
+ * could not load, each once, as game-directory paths ("progs/soldier.mdl",
+ * "maps/b_batt1.bsp"), in the order the entities first asked: i from 0, NULL
+ * past the last (a scene made otherwise has none).  What a caller that
+ * fetches files on demand (the web page, app/web/) fetches before making
+ * the scene again. */
+EW_API const char *ew_scene_missing_file(const ew_scene *s, int i);
 /* The scene ew_render draws with the world (NULL: world only).  It must
  * outlive its use by the renderer.  Call it again after adding entities
  * to the scene it draws (the renderer sizes its per-entity room here). */

@@ -266,10 +266,57 @@ static void test_lifetimes(void) {
     ew_assets_destroy(a);
 }
 
+/* ew_scene_missing_file: the model files a map's entities asked for and the
+ * game directory lacked, each once (what the web page fetches); none when
+ * the directory has them, none for a scene made otherwise. */
+static void test_missing_files(void) {
+    if (!ew_t_need_shared("data/librequake/maps/lqdm7.bsp")) return;
+    ew_assets *a = ew_t_load_map("lqdm7");
+    if (!a) return;
+    char empty[] = "/tmp/ew_api_XXXXXX";
+    ew_error err = { "" };
+    if (!mkdtemp(empty)) {
+        CHECK(0, "mkdtemp");
+        ew_assets_destroy(a);
+        return;
+    }
+    ew_scene *bare = ew_scene_create_from_map(a->world, "lqdm7", empty, &err);
+    ew_scene *full = ew_scene_create_from_map(a->world, "lqdm7", ew_t_shared("data/librequake"), &err);
+    CHECK(bare && full, "scenes: %s", err.msg);
+    int n = 0, bad = 0, dup = 0, miss_ents = 0;
+    while (bare && ew_scene_missing_file(bare, n)) {
+        const char *f = ew_scene_missing_file(bare, n);
+        if (strncmp(f, "progs/", 6) != 0 && strncmp(f, "maps/b_", 7) != 0) bad++;
+        for (int k = 0; k < n; k++) dup += strcmp(f, ew_scene_missing_file(bare, k)) == 0;
+        n++;
+    }
+    if (bare) ew_scene_counts(bare, NULL, NULL, &miss_ents);
+    CHECK(n > 0 && bad == 0 && dup == 0 && miss_ents >= n, "lqdm7 without models: %d files missing (%d not "
+          "progs/ or maps/b_, %d twice), %d entities", n, bad, dup, miss_ents);
+    /* every one of them is in the game directory: there, none is missing */
+    for (int i = 0; i < n; i++) {
+        char path[1200];
+        snprintf(path, sizeof path, "data/librequake/%s", ew_scene_missing_file(bare, i));
+        CHECK(ew_t_have_shared(path), "%s: not in the game directory", path);
+    }
+    CHECK(full && ew_scene_missing_file(full, 0) == NULL, "lqdm7 with its models: %s missing",
+          full && ew_scene_missing_file(full, 0) ? ew_scene_missing_file(full, 0) : "-");
+    CHECK(ew_scene_missing_file(bare, -1) == NULL && ew_scene_missing_file(bare, n) == NULL &&
+          ew_scene_missing_file(NULL, 0) == NULL, "out of range: NULL");
+    ew_scene *plain = ew_scene_create(a->world, &err);
+    CHECK(plain && ew_scene_missing_file(plain, 0) == NULL, "a scene made by ew_scene_create misses nothing");
+    ew_scene_destroy(plain);
+    ew_scene_destroy(bare);
+    ew_scene_destroy(full);
+    rmdir(empty);
+    ew_assets_destroy(a);
+}
+
 int main(void) {
     test_version();
     test_rgba();
     test_desc();
     test_lifetimes();
+    test_missing_files();
     return ew_t_finish();
 }

@@ -9,6 +9,7 @@
  * Built only when CMake finds SDL2 (EW_HAVE_SDL2); the library never links it.
  */
 #define _POSIX_C_SOURCE 200809L
+#include "app_controls.h"
 #include "cli.h"
 #include "edgewise.h"
 #include "viewer.h"
@@ -234,67 +235,63 @@ static void set_grab(viewer *v, int on) {
     SDL_SetRelativeMouseMode(on ? SDL_TRUE : SDL_FALSE);
 }
 
-static const char *const debug_names[] = { "normal", "spans", "edges", "overdraw", "lighting", "textures",
-                                           "mips", "builds" };
-static const char *const raster_names[] = { "auto", "affine", "subdiv", "masks", "sprite-cache" };
-
-/* A key press (from the keyboard or a script's "key NAME"). */
+/* A key press (from the keyboard or a script's "key NAME"), bound by
+ * app_key (app/common/, shared with the web page). */
 static void press(viewer *v, SDL_Keycode k) {
-    if (k >= SDLK_F1 && k <= SDLK_F7) {
-        ew_debug_mode m = (ew_debug_mode)(EW_DEBUG_SPANS + (k - SDLK_F1));
+    int arg;
+    const app_action act = app_key(SDL_GetKeyName(k), &arg);
+    switch (act) {
+    case APP_DEBUG: {
+        ew_debug_mode m = (ew_debug_mode)arg;
         v->debug = v->debug == m ? EW_DEBUG_NONE : m;
         ew_set_debug(v->r, v->debug);
         v->debug = ew_get_debug(v->r);
-        fprintf(stderr, "debug: %s\n", debug_names[v->debug]);
-        return;
+        fprintf(stderr, "debug: %s\n", app_debug_names[v->debug]);
+        break;
     }
-    if (k >= SDLK_0 && k <= SDLK_9) {  /* views counted from 0, as --view and `edgewise views` */
-        set_view(v, k - SDLK_0);
-        return;
-    }
-    switch (k) {
-    case SDLK_ESCAPE:
+    case APP_VIEW: set_view(v, arg); break;
+    case APP_RELEASE:
         if (v->grabbed) set_grab(v, 0);
         else v->quit = 1;
         break;
-    case SDLK_PAGEUP: set_view(v, v->nviews ? (v->cur_view + 1) % v->nviews : 0); break;
-    case SDLK_PAGEDOWN: set_view(v, v->nviews ? (v->cur_view + v->nviews - 1) % v->nviews : 0); break;
-    case SDLK_p: v->paused = !v->paused; break;
-    case SDLK_LEFTBRACKET:  /* the demo 5 s back / on */
-    case SDLK_RIGHTBRACKET:
+    case APP_VIEW_NEXT: set_view(v, v->nviews ? (v->cur_view + 1) % v->nviews : 0); break;
+    case APP_VIEW_PREV: set_view(v, v->nviews ? (v->cur_view + v->nviews - 1) % v->nviews : 0); break;
+    case APP_PAUSE: v->paused = !v->paused; break;
+    case APP_DEMO_BACK:  /* the demo 5 s back / on */
+    case APP_DEMO_ON:
         if (v->dc) {
-            double at = v->time + v->demo_seek + (k == SDLK_LEFTBRACKET ? -5 : 5);
+            double at = v->time + v->demo_seek + (act == APP_DEMO_BACK ? -5 : 5);
             if (at < 0) at = 0;
             if (at > v->demo_t1 - v->demo_t0) at = v->demo_t1 - v->demo_t0;
             v->demo_seek = at - v->time;
             fprintf(stderr, "demo: %.1f s\n", at);
         }
         break;
-    case SDLK_g:
+    case APP_FREE_CAMERA:
         if (v->dc) {
             v->follow = !v->follow;
             fprintf(stderr, "camera: %s\n", v->follow ? "the demo's" : "free");
         }
         break;
-    case SDLK_TAB: v->overlay = !v->overlay; break;
-    case SDLK_f:
+    case APP_OVERLAY: v->overlay = !v->overlay; break;
+    case APP_MOVE_MODE:
         v->player.mode = v->player.mode == EW_MOVE_FLY ? EW_MOVE_WALK : EW_MOVE_FLY;
         memset(v->player.velocity, 0, sizeof v->player.velocity);
         fprintf(stderr, "move: %s\n", v->player.mode == EW_MOVE_FLY ? "fly" : "walk");
         break;
-    case SDLK_l:
+    case APP_PVS_LOCK:
         v->pvs_lock = !v->pvs_lock;
         ew_set_pvs_lock(v->r, v->pvs_lock);
         fprintf(stderr, "pvs lock: %s\n", v->pvs_lock ? "on" : "off");
         break;
-    case SDLK_x:
+    case APP_EXACT:
         v->exact = !v->exact;
         ew_set_subdivision(v->r, v->exact ? 1 : 16);
         fprintf(stderr, "perspective: %s\n", v->exact ? "exact" : "16-pixel subdivision");
         break;
-    case SDLK_t: {  /* 1, 2, all cores, 1, ... (from --threads N: the next one up) */
+    case APP_THREADS: {  /* 1, 2, all cores, 1, ... (from --threads N: the next one up) */
         int cur = ew_get_threads(v->r), cores = ew_set_threads(v->r, 0);
-        int next = cur < 2 && cores > 2 ? 2 : cur < cores ? 0 : 1;
+        int next = app_next_threads(cur, cores);
         if (cores < 0 || ew_set_threads(v->r, next) < 0) {
             fprintf(stderr, "threads: out of memory\n");
             break;
@@ -304,28 +301,21 @@ static void press(viewer *v, SDL_Keycode k) {
         fprintf(stderr, "threads: %d%s\n", n, n == cores ? " (all cores)" : "");
         break;
     }
-    case SDLK_e:
+    case APP_ENTITIES:
         v->entities = !v->entities;
         ew_set_scene(v->r, v->entities ? v->scene : v->empty);
         fprintf(stderr, "entities: %s\n", v->entities ? "on" : "off");
         break;
-    case SDLK_h: {  /* the next hidden-surface method this build has */
-        int m = v->o->draw.hsr;
-        for (int i = 1; i <= EW_HSR_COUNT; i++) {
-            int c = (v->o->draw.hsr + i) % EW_HSR_COUNT;
-            if (ew_hsr_available((ew_hsr_method)c)) {
-                m = c;
-                break;
-            }
-        }
+    case APP_HSR: {  /* the next hidden-surface method this build has */
+        int m = app_next_hsr(v->o->draw.hsr);
         if (ew_set_hsr(v->r, (ew_hsr_method)m) == 0) v->o->draw.hsr = m;
         fprintf(stderr, "hsr: %s\n", ew_hsr_name((ew_hsr_method)v->o->draw.hsr));
         break;
     }
-    case SDLK_r:
-        v->alias_raster = (v->alias_raster + 1) % (int)(sizeof raster_names / sizeof raster_names[0]);
+    case APP_RASTER:
+        v->alias_raster = (v->alias_raster + 1) % APP_RASTER_COUNT;
         ew_set_alias_raster(v->r, (ew_alias_raster)v->alias_raster, 0);
-        fprintf(stderr, "alias raster: %s\n", raster_names[v->alias_raster]);
+        fprintf(stderr, "alias raster: %s\n", app_raster_names[v->alias_raster]);
         break;
     default: break;
     }
@@ -659,13 +649,7 @@ static int run(viewer *v) {
                 if (!v->grabbed) set_grab(v, 1);
                 break;
             case SDL_MOUSEMOTION:
-                if (v->grabbed) {
-                    v->angles[1] -= e.motion.xrel * 0.2f;
-                    v->angles[0] += e.motion.yrel * 0.2f;
-                    if (v->angles[0] > 89) v->angles[0] = 89;
-                    if (v->angles[0] < -89) v->angles[0] = -89;
-                    v->angles[1] = fmodf(v->angles[1], 360.0f);
-                }
+                if (v->grabbed) app_mouse_look(v->angles, (float)e.motion.xrel, (float)e.motion.yrel);
                 break;
             case SDL_WINDOWEVENT:
                 if (e.window.event == SDL_WINDOWEVENT_SIZE_CHANGED && !o->size_given) {
@@ -714,17 +698,13 @@ static int run(viewer *v) {
         /* Movement. */
         const Uint8 *ks = SDL_GetKeyboardState(NULL);
 #define HELD(sc) (ks[sc] || v->held[sc])
-        ew_move_input in;
-        memset(&in, 0, sizeof in);
-        memcpy(in.angles, v->angles, sizeof in.angles);
-        in.forward = (float)((HELD(SDL_SCANCODE_W) || HELD(SDL_SCANCODE_UP)) -
-                             (HELD(SDL_SCANCODE_S) || HELD(SDL_SCANCODE_DOWN)));
-        in.right = (float)((HELD(SDL_SCANCODE_D) || HELD(SDL_SCANCODE_RIGHT)) -
-                           (HELD(SDL_SCANCODE_A) || HELD(SDL_SCANCODE_LEFT)));
-        in.up = (float)(HELD(SDL_SCANCODE_SPACE) - HELD(SDL_SCANCODE_C));
-        in.jump = HELD(SDL_SCANCODE_SPACE);
-        in.run = HELD(SDL_SCANCODE_LSHIFT) || HELD(SDL_SCANCODE_RSHIFT);
+        app_held held = { HELD(SDL_SCANCODE_W) || HELD(SDL_SCANCODE_UP), HELD(SDL_SCANCODE_S) || HELD(SDL_SCANCODE_DOWN),
+                          HELD(SDL_SCANCODE_A) || HELD(SDL_SCANCODE_LEFT), HELD(SDL_SCANCODE_D) || HELD(SDL_SCANCODE_RIGHT),
+                          HELD(SDL_SCANCODE_SPACE), HELD(SDL_SCANCODE_C),
+                          HELD(SDL_SCANCODE_LSHIFT) || HELD(SDL_SCANCODE_RSHIFT) };
 #undef HELD
+        ew_move_input in;
+        app_move_input(&held, v->angles, &in);
         float before[3];
         memcpy(before, v->player.origin, sizeof before);
         ew_player_move(v->a->world, &v->player, &in, dt > 0.25 ? 0.25 : dt);
@@ -751,21 +731,16 @@ static int run(viewer *v) {
         if (v->overlay) {
             /* present: the last half second's mean (the last frame's before one has passed) */
             ew_overlay_info info = { fps, fps > 0 ? shown_present : ms_present, &cam, 0, 0 };
-            ew_draw_stats_overlay(v->r, &st, &info);
             /* below it: the hidden-surface method (H) and how frames are shown */
-            char text[1024], line[128];
-            int scale = v->fh / 480 < 1 ? 1 : v->fh / 480 > 4 ? 4 : v->fh / 480, tw, th;
-            ew_format_stats_overlay(text, sizeof text, &st, &info);
-            if (ew_text_size(text, scale, &tw, &th) == 0) {
-                if (v->dc)
-                    snprintf(line, sizeof line, "hsr %s\npresent %s\ndemo %.1f of %.1f s%s", ew_hsr_name((ew_hsr_method)o->draw.hsr),
-                             present_names[v->mode], cam_time - v->demo_t0, v->demo_t1 - v->demo_t0,
-                             v->follow ? "" : " (free camera)");
-                else
-                    snprintf(line, sizeof line, "hsr %s\npresent %s", ew_hsr_name((ew_hsr_method)o->draw.hsr),
-                             present_names[v->mode]);
-                ew_draw_text(v->r, 4 * scale, 4 * scale + th + 2 * scale, scale, line, NULL);
-            }
+            char line[128];
+            if (v->dc)
+                snprintf(line, sizeof line, "hsr %s\npresent %s\ndemo %.1f of %.1f s%s", ew_hsr_name((ew_hsr_method)o->draw.hsr),
+                         present_names[v->mode], cam_time - v->demo_t0, v->demo_t1 - v->demo_t0,
+                         v->follow ? "" : " (free camera)");
+            else
+                snprintf(line, sizeof line, "hsr %s\npresent %s", ew_hsr_name((ew_hsr_method)o->draw.hsr),
+                         present_names[v->mode]);
+            app_draw_overlay(v->r, &st, &info, line);
         }
         for (int i = 0; i < nshots; i++)
             screenshot(v, cmds[shots[i]].path, &cam);

@@ -52,6 +52,8 @@ struct ew_scene {
     int              missing;   /* entities whose model file was not found */
     char           **warnings;  /* ew_scene_warning */
     int              nwarnings;
+    char           (*missing_files)[64];  /* ew_scene_missing_file: distinct model files not found */
+    int              nmissing_files;
 };
 
 #endif

@@ -32,8 +32,13 @@ void ew_scene_destroy(ew_scene *s) {
     free(s->ents);
     free(s->models);
     free(s->particles);
+    free(s->missing_files);
     ew_warn_free(s->warnings, s->nwarnings);
     free(s);
+}
+
+const char *ew_scene_missing_file(const ew_scene *s, int i) {
+    return s && i >= 0 && i < s->nmissing_files ? s->missing_files[i] : NULL;
 }
 
 const char *ew_scene_warning(const ew_scene *s, int i) {
@@ -383,6 +388,10 @@ ew_scene *ew_scene_create_from_map(const ew_world *w, const char *map, const cha
     }
     /* A world made in memory (no map, no directory) has no model files to miss. */
     if (miss && (map || data_dir)) warn_missing(s, miss, fs != NULL);
+    if (miss && miss->nseen && (s->missing_files = malloc(sizeof *s->missing_files * (size_t)miss->nseen))) {
+        memcpy(s->missing_files, miss->seen, sizeof *s->missing_files * (size_t)miss->nseen);
+        s->nmissing_files = miss->nseen;
+    }
     free(miss);
     ew_fs_destroy(fs);
     ew_entities_free(&ents);
