@@ -14,11 +14,6 @@ file(GLOB EW_WEB_LIB_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/*.c ${CMA
 list(FILTER EW_WEB_LIB_SOURCES EXCLUDE REGEX "/src/output/png\\.c$")
 file(GLOB EW_WEB_APP_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/app/web/*.c ${CMAKE_SOURCE_DIR}/app/common/*.c)
 
-# src/raster/span.c defines lit_narrow, used only on its SSE2 path, outside
-# that #if: clang (emcc, which defines no __SSE2__ here) warns that it is
-# unused; gcc does not for a static inline.  Silenced for that file alone
-# until span.c moves it under its #if.
-set_source_files_properties(${CMAKE_SOURCE_DIR}/src/raster/span.c PROPERTIES COMPILE_OPTIONS -Wno-unused-function)
 
 set(EW_WEB_EXPORTS "['_main','_malloc','_free']")
 set(EW_WEB_RUNTIME "['FS','ccall','cwrap','UTF8ToString','stringToUTF8','lengthBytesUTF8']")

@@ -316,11 +316,13 @@ static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_su
     }
 }
 
+#if defined(__SSE2__)
 /* A lit surface of at most 65536 texels (t_max holds its height less one,
  * in 16.16): its texel indices fit in 16 bits. */
 static inline int lit_narrow(const ew_surf_draw *d) {
     return (int64_t)d->pitch * ((d->g.t_max >> 16) + 1) <= 65536;
 }
+#endif
 
 /* The band's spans in the order the scan made them, row by row: the frame
  * is written straight through and so is the span list, where a surface's
