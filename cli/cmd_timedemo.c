@@ -41,6 +41,16 @@ typedef struct td_opts {
     draw_opts   draw;
 } td_opts;
 
+/* A demo time in seconds (within 1e9 either way), or one error line. */
+static int parse_seconds(const char *name, const char *v, double *t) {
+    const char *end;
+    if (parse_decimal(v, &end, t) < 0 || *end || fabs(*t) > 1e9) {
+        error_line("%s %s: expected a time in seconds", name, v);
+        return -1;
+    }
+    return 0;
+}
+
 static int parse(int argc, char **argv, td_opts *o) {
     const char *pos[1];
     cli_args args;
@@ -57,18 +67,10 @@ static int parse(int argc, char **argv, td_opts *o) {
         } else if (cli_is(opt, "--out")) {
             if (cli_set_once("timedemo", "--out", v, &o->out) < 0 || check_png_name("--out", v) < 0) return -1;
         } else if (cli_is(opt, "--at")) {
-            const char *end;
-            if (parse_decimal(v, &end, &o->at) < 0 || *end || fabs(o->at) > 1e9) {
-                error_line("--at %s: expected a time in seconds", v);
-                return -1;
-            }
+            if (parse_seconds("--at", v, &o->at) < 0) return -1;
             o->at_given = 1;
         } else if (cli_is(opt, "--to")) {
-            const char *end;
-            if (parse_decimal(v, &end, &o->to) < 0 || *end || fabs(o->to) > 1e9) {
-                error_line("--to %s: expected a time in seconds", v);
-                return -1;
-            }
+            if (parse_seconds("--to", v, &o->to) < 0) return -1;
             o->to_given = 1;
         }
     }
