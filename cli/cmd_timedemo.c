@@ -207,6 +207,12 @@ int cmd_timedemo(int argc, char **argv) {
             st->entities[st->view_entity].msgtime < 0)
             continue;
         if (o.to_given && st->time > o.to) {
+            if (!frames) {  /* an absolute demo time, easily given as seconds from the start */
+                error_line("%s: --to %g is before the demo's first frame (demo time %.3f)", o.demo, o.to, st->time);
+                rc = 2;
+                free(times);
+                goto done;
+            }
             stopped = 1;
             break;
         }

@@ -128,6 +128,10 @@ static void options(void) {
     run(&r, t);
     json = strchr(r.out, '{');
     CHECK(r.status == 0 && json && strstr(json, "\"color\":\"true\""), "--color true: %s %s", r.err, json ? json : "");
+    const char *early[] = {"timedemo", demo3, "--game", demos, "--data", lq, "--size", "320x200", "--to", "5", NULL};
+    run(&r, early);
+    CHECK(r.status == 2 && count_lines(r.err) == 1 && strstr(r.err, "before the demo's first frame"),
+          "--to before the first frame: %s", r.err);
     const char *nodata[] = {"timedemo", demo3, NULL};
     run(&r, nodata);
     CHECK(r.status == 1 && count_lines(r.err) == 1 && strstr(r.err, "--data"), "without --data: %s", r.err);
