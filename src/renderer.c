@@ -959,8 +959,7 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     /* Woken first, so a worker's kernel wake-up overlaps the frame's begin;
      * where the calling thread walks the front end alone (front_end), only
      * once the walk is done, so the worker does not poll all through it. */
-    const int walk_alone = r->sched.nthreads <= EW_FRONT_LOOP_THREADS && !r->f.cfg.front_phases;
-    if (!walk_alone) ew_pool_wake(r->sched.pool);
+    if (!ew_front_walks_alone(r->sched.nthreads, r->f.cfg.front_phases)) ew_pool_wake(r->sched.pool);
     if (ew_frame_begin(r, cam) < 0) {
         ew_pool_rest(r->sched.pool);
         return -1;

@@ -176,11 +176,18 @@ void ew_walk_see_add(ew_front *fr, int fi, int key, int kind, float alpha);
  * then, on the calling thread, tail(arg), and then then(then_ctx, thread)
  * on every thread of the pool (one pool run for all).  -1 (nothing done)
  * if the method does not take the edge list's faces (out.edge_list), the
- * pool has one thread and phases is 0, the tree is irregular (an edge on
+ * pool has at most EW_FRONT_LOOP_THREADS threads and phases is 0
+ * (ew_front_walks_alone), the tree is irregular (an edge on
  * more than two faces, a face on two nodes...) or memory runs out: then
  * the serial walk and brush models as before.  serial_ms: the time the
  * calling thread spent in the run's serial steps (not the tail): [0] the
  * walk's, [1] the brush entities' culling. */
+/* Whether a frame of nthreads threads walks the front end in one loop on
+ * the calling thread (the rule ew_walk_world_parallel and the pool's wake
+ * both follow). */
+static inline int ew_front_walks_alone(int nthreads, int phases) {
+    return nthreads <= EW_FRONT_LOOP_THREADS && !phases;
+}
 int  ew_walk_world_parallel(ew_front *fr, int phases, void (*tail)(void *arg), void *arg,
                             void (*then)(void *ctx, int thread), void *then_ctx, double serial_ms[2]);
 struct ew_front_par;

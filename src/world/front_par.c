@@ -1064,7 +1064,7 @@ int ew_walk_world_parallel(ew_front *fr, int phases, void (*tail)(void *arg), vo
                            void (*then)(void *ctx, int thread), void *then_ctx, double serial_ms[2]) {
     /* One or two threads walk the tree in one loop unless the phases are
      * asked for (ew_set_front_mode). */
-    if ((fr->nthreads <= EW_FRONT_LOOP_THREADS && !phases) || !fr->out.edge_list || fr->par_bad) return -1;
+    if (ew_front_walks_alone(fr->nthreads, phases) || !fr->out.edge_list || fr->par_bad) return -1;
     if (!fr->par && !(fr->par = front_par_new(fr->f->world))) {
         fr->par_bad = 1;  /* an irregular tree (or no memory): the serial front end from now on */
         return -1;
