@@ -27,7 +27,7 @@ static const struct {
     int layer;
     const char *name;
 } layer_map[] = {
-    {"ew_util", 0, "base"},   {"util", 0, "base"},        {"version", 0, "base"},
+    {"ew_util", 0, "base"},   {"ew_simd", 0, "base"},     {"util", 0, "base"},     {"version", 0, "base"},
     {"frame", 0, "base"},     {"pool", 0, "base"},        {"output/", 0, "base"},
     {"ew_world", 0, "base"}, {"asset/", 1, "asset"},     {"mapgen/", 2, "mapgen"},
     {"world/", 3, "world"},   {"light/", 4, "light"},     {"raster/", 5, "raster"},

@@ -21,6 +21,10 @@ foreach(variant st mt)
   add_library(edgewise_web_${variant} STATIC ${EW_WEB_LIB_SOURCES})
   target_include_directories(edgewise_web_${variant} PUBLIC ${CMAKE_SOURCE_DIR}/include
                              PRIVATE ${CMAKE_SOURCE_DIR}/src ${CMAKE_SOURCE_DIR}/src/mapgen)
+  # WebAssembly SIMD: the span drawers' four-lane loops (src/ew_simd.h),
+  # which the native build runs as SSE2.  Every browser the page asks for
+  # (SharedArrayBuffer, Workers) has it.
+  target_compile_options(edgewise_web_${variant} PUBLIC -msimd128)
   if(variant STREQUAL "st")
     set(out edgewise-st)
   else()

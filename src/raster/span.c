@@ -16,7 +16,7 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
                                int32_t ds, int32_t dt, int n) {
     const uint32_t *src = (const uint32_t *)(const void *)pixels;
     int i = 0;
-#if defined(__SSE2__)
+#if EW_SIMD4
     if (n >= 4) {
         texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
         for (; i + 4 <= n; i += 4) {
@@ -44,7 +44,7 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
     }
 }
 
-#if defined(__SSE2__)
+#if EW_SIMD4
 /* The lit span walk is inlined into each caller: gcc otherwise keeps one
  * shared copy and calls it for every span. */
 #if defined(__GNUC__)
@@ -53,23 +53,13 @@ static inline void texel_run32(uint8_t *dst, const uint8_t *pixels, uint32_t pit
 #define EW_SPAN_INLINE inline
 #endif
 
-/* Greatest and least of signed 32-bit lanes (SSE2 has them for 16 bits). */
-static inline __m128i max32(__m128i a, __m128i b) {
-    __m128i m = _mm_cmpgt_epi32(b, a);
-    return _mm_or_si128(_mm_and_si128(m, b), _mm_andnot_si128(m, a));
-}
-static inline __m128i min32(__m128i a, __m128i b) {
-    __m128i m = _mm_cmpgt_epi32(a, b);
-    return _mm_or_si128(_mm_and_si128(m, b), _mm_andnot_si128(m, a));
-}
-
 /* A lit span's row, everything in the lanes (1/z, s/z, t/z, -) of one
  * vector: the planes' column term and the rest, and for s and t (lanes 1
  * and 2) the eye's coordinate and the clamp limits less it. */
 typedef struct lit_row {
-    __m128 u, c;
-    __m128i adj, lo0, lo16, hi;
-    __m128i mul;  /* texel_lanes' (1, pitch) pairs */
+    ew_v4f u, c;
+    ew_v4i adj, lo0, lo16, hi;
+    ew_v4i mul;  /* texel_lanes' (1, pitch) pairs */
 } lit_row;
 
 /* Whether ew_tex_clamp's int64 sum and clamps can be done in 32-bit lanes
@@ -92,37 +82,37 @@ _Static_assert(offsetof(ew_gradients, pad_u) == offsetof(ew_gradients, zi_u) + 1
                "ew_gradients' terms and limits must lie four to a vector");
 static inline lit_row lit_row_at(const ew_gradients *g, int v, uint32_t pitch) {
     lit_row r;
-    r.u = _mm_loadu_ps(&g->zi_u);
-    r.c = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(&g->zi_v), _mm_set1_ps((float)v)), _mm_loadu_ps(&g->zi_0));
-    __m128i lim = _mm_loadu_si128((const __m128i *)(const void *)&g->s_adjust);  /* s_adjust t_adjust s_max t_max */
-    r.adj = _mm_shuffle_epi32(lim, _MM_SHUFFLE(1, 1, 0, 0));
-    r.hi = _mm_sub_epi32(_mm_shuffle_epi32(lim, _MM_SHUFFLE(3, 3, 2, 2)), r.adj);
-    r.lo0 = _mm_sub_epi32(_mm_setzero_si128(), r.adj);
-    r.lo16 = _mm_sub_epi32(_mm_set1_epi32(16), r.adj);
-    r.mul = _mm_set1_epi32((int)((pitch << 16) | 1u));
+    r.u = ew_v4f_loadu(&g->zi_u);
+    r.c = ew_v4f_add(ew_v4f_mul(ew_v4f_loadu(&g->zi_v), ew_v4f_set1((float)v)), ew_v4f_loadu(&g->zi_0));
+    ew_v4i lim = ew_v4i_loadu(&g->s_adjust);  /* s_adjust t_adjust s_max t_max */
+    r.adj = EW_V4I_SHUF(lim, 0, 0, 1, 1);
+    r.hi = ew_v4i_sub(EW_V4I_SHUF(lim, 2, 2, 3, 3), r.adj);
+    r.lo0 = ew_v4i_sub(ew_v4i_zero(), r.adj);
+    r.lo16 = ew_v4i_sub(ew_v4i_set1(16), r.adj);
+    r.mul = ew_v4i_set1((int32_t)((pitch << 16) | 1u));
     return r;
 }
 
 /* The true s and t (lanes 1 and 2) at column fu, as ew_step_begin and
  * ew_step_next compute them (lo: lo0 or lo16 of the row, their low clamp):
  * lane by lane the same single-precision multiplies and adds, the float
- * clamps of ew_tex_fix as maxps/minps, its integer ones as above. */
-static inline __m128i lit_point(const lit_row *r, float fu, __m128i lo) {
-    __m128 p = _mm_add_ps(_mm_mul_ps(r->u, _mm_set1_ps(fu)), r->c);
-    __m128 z = _mm_div_ss(_mm_set_ss(65536.0f), p);
-    p = _mm_mul_ps(p, _mm_shuffle_ps(z, z, 0));
-    __m128i x = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(p, _mm_set1_ps(-1e9f)), _mm_set1_ps(1e9f)));
-    return _mm_add_epi32(min32(max32(x, lo), r->hi), r->adj);
+ * clamps of ew_tex_fix as SSE's max and min, its integer ones as above. */
+static inline ew_v4i lit_point(const lit_row *r, float fu, ew_v4i lo) {
+    ew_v4f p = ew_v4f_add(ew_v4f_mul(r->u, ew_v4f_set1(fu)), r->c);
+    ew_v4f z = ew_v4f_div0(65536.0f, p);
+    p = ew_v4f_mul(p, EW_V4F_SPLAT(z, 0));
+    ew_v4i x = ew_v4f_trunc(ew_v4f_min(ew_v4f_max(p, ew_v4f_set1(-1e9f)), ew_v4f_set1(1e9f)));
+    return ew_v4i_add(ew_v4i_min(ew_v4i_max(x, lo), r->hi), r->adj);
 }
 
 /* 16 texels from st (s, t, s, t) with steps d (ds, dt, ds, dt). */
-static inline void texel_run16(uint8_t *dst, const uint8_t *pixels, __m128i st, __m128i d, __m128i mul,
+static inline void texel_run16(uint8_t *dst, const uint8_t *pixels, ew_v4i st, ew_v4i d, ew_v4i mul,
                                int bytes, int narrow) {
     texel_lanes l;
-    l.a = _mm_add_epi32(st, _mm_and_si128(d, _mm_setr_epi32(0, 0, -1, -1)));
-    d = _mm_add_epi32(d, d);
-    l.b = _mm_add_epi32(l.a, d);
-    l.step = _mm_add_epi32(d, d);
+    l.a = ew_v4i_add(st, ew_v4i_and(d, ew_v4i_setr(0, 0, -1, -1)));
+    d = ew_v4i_add(d, d);
+    l.b = ew_v4i_add(l.a, d);
+    l.step = ew_v4i_add(d, d);
     l.mul = mul;
     for (int i = 0; i < 16; i += 4) {
         uint32_t k[4];
@@ -147,47 +137,46 @@ static inline void texel_run16(uint8_t *dst, const uint8_t *pixels, __m128i st, 
 
 /* The end points of four segments at fu + off (off: each lane's distance
  * in columns), s in *S and t in *T: lit_point's arithmetic lane by lane
- * with the low clamp lo16 (each lane of divps is divss's result), so four
- * points cost one divide. */
-static inline void lit_points4(const lit_row *r, float fu, __m128 off, __m128i *S, __m128i *T) {
-    const __m128 f = _mm_add_ps(_mm_set1_ps(fu), off);
-    const __m128 zi = _mm_add_ps(_mm_mul_ps(_mm_shuffle_ps(r->u, r->u, 0x00), f), _mm_shuffle_ps(r->c, r->c, 0x00));
-    const __m128 z = _mm_div_ps(_mm_set1_ps(65536.0f), zi);
-    __m128 ps = _mm_mul_ps(_mm_add_ps(_mm_mul_ps(_mm_shuffle_ps(r->u, r->u, 0x55), f), _mm_shuffle_ps(r->c, r->c, 0x55)), z);
-    __m128 pt = _mm_mul_ps(_mm_add_ps(_mm_mul_ps(_mm_shuffle_ps(r->u, r->u, 0xAA), f), _mm_shuffle_ps(r->c, r->c, 0xAA)), z);
-    const __m128 lo = _mm_set1_ps(-1e9f), hi = _mm_set1_ps(1e9f);
-    __m128i xs = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(ps, lo), hi));
-    __m128i xt = _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(pt, lo), hi));
-    *S = _mm_add_epi32(min32(max32(xs, _mm_shuffle_epi32(r->lo16, 0x55)), _mm_shuffle_epi32(r->hi, 0x55)),
-                       _mm_shuffle_epi32(r->adj, 0x55));
-    *T = _mm_add_epi32(min32(max32(xt, _mm_shuffle_epi32(r->lo16, 0xAA)), _mm_shuffle_epi32(r->hi, 0xAA)),
-                       _mm_shuffle_epi32(r->adj, 0xAA));
+ * with the low clamp lo16 (each lane of a four-lane divide is the one-lane
+ * divide's result), so four points cost one divide. */
+static inline void lit_points4(const lit_row *r, float fu, ew_v4f off, ew_v4i *S, ew_v4i *T) {
+    const ew_v4f f = ew_v4f_add(ew_v4f_set1(fu), off);
+    const ew_v4f zi = ew_v4f_add(ew_v4f_mul(EW_V4F_SPLAT(r->u, 0), f), EW_V4F_SPLAT(r->c, 0));
+    const ew_v4f z = ew_v4f_div(ew_v4f_set1(65536.0f), zi);
+    ew_v4f ps = ew_v4f_mul(ew_v4f_add(ew_v4f_mul(EW_V4F_SPLAT(r->u, 1), f), EW_V4F_SPLAT(r->c, 1)), z);
+    ew_v4f pt = ew_v4f_mul(ew_v4f_add(ew_v4f_mul(EW_V4F_SPLAT(r->u, 2), f), EW_V4F_SPLAT(r->c, 2)), z);
+    const ew_v4f lo = ew_v4f_set1(-1e9f), hi = ew_v4f_set1(1e9f);
+    ew_v4i xs = ew_v4f_trunc(ew_v4f_min(ew_v4f_max(ps, lo), hi));
+    ew_v4i xt = ew_v4f_trunc(ew_v4f_min(ew_v4f_max(pt, lo), hi));
+    *S = ew_v4i_add(ew_v4i_min(ew_v4i_max(xs, EW_V4I_SHUF(r->lo16, 1, 1, 1, 1)), EW_V4I_SHUF(r->hi, 1, 1, 1, 1)),
+                    EW_V4I_SHUF(r->adj, 1, 1, 1, 1));
+    *T = ew_v4i_add(ew_v4i_min(ew_v4i_max(xt, EW_V4I_SHUF(r->lo16, 2, 2, 2, 2)), EW_V4I_SHUF(r->hi, 2, 2, 2, 2)),
+                    EW_V4I_SHUF(r->adj, 2, 2, 2, 2));
 }
 
 /* Four 16-pixel segments in a row, from the first one's start st (s, t in
  * lanes 1 and 2) and each one's end (lane k of S and T): start and step
  * of segments 0 and 1 in a and da, of 2 and 3 in b and db, as (s, t, s, t)
  * pairs. */
-typedef struct seg4 { __m128i a, b, da, db; } seg4;
-static inline seg4 segments4(__m128i st, __m128i S, __m128i T) {
-    const __m128i lane0 = _mm_setr_epi32(-1, 0, 0, 0);
+typedef struct seg4 { ew_v4i a, b, da, db; } seg4;
+static inline seg4 segments4(ew_v4i st, ew_v4i S, ew_v4i T) {
+    const ew_v4i lane0 = ew_v4i_setr(-1, 0, 0, 0);
     /* The starts: the carried point, then the first three ends. */
-    const __m128i PS = _mm_or_si128(_mm_slli_si128(S, 4), _mm_and_si128(_mm_shuffle_epi32(st, 0x55), lane0));
-    const __m128i PT = _mm_or_si128(_mm_slli_si128(T, 4), _mm_and_si128(_mm_shuffle_epi32(st, 0xAA), lane0));
-    const __m128i DS = _mm_srai_epi32(_mm_sub_epi32(S, PS), 4), DT = _mm_srai_epi32(_mm_sub_epi32(T, PT), 4);
-    return (seg4){_mm_unpacklo_epi32(PS, PT), _mm_unpackhi_epi32(PS, PT), _mm_unpacklo_epi32(DS, DT),
-                  _mm_unpackhi_epi32(DS, DT)};
+    const ew_v4i PS = ew_v4i_or(ew_v4i_up1(S), ew_v4i_and(EW_V4I_SHUF(st, 1, 1, 1, 1), lane0));
+    const ew_v4i PT = ew_v4i_or(ew_v4i_up1(T), ew_v4i_and(EW_V4I_SHUF(st, 2, 2, 2, 2), lane0));
+    const ew_v4i DS = EW_V4I_SRA(ew_v4i_sub(S, PS), 4), DT = EW_V4I_SRA(ew_v4i_sub(T, PT), 4);
+    return (seg4){ew_v4i_zip_lo(PS, PT), ew_v4i_zip_hi(PS, PT), ew_v4i_zip_lo(DS, DT), ew_v4i_zip_hi(DS, DT)};
 }
 
 /* Segment k (0 to 3, a constant after inlining) of q: 16 texels. */
-static inline void seg4_run(uint8_t *dst, const uint8_t *pixels, const seg4 *q, int k, __m128i mul, int bytes,
+static inline void seg4_run(uint8_t *dst, const uint8_t *pixels, const seg4 *q, int k, ew_v4i mul, int bytes,
                             int narrow) {
-    const __m128i p = k < 2 ? q->a : q->b, d = k < 2 ? q->da : q->db;
+    const ew_v4i p = k < 2 ? q->a : q->b, d = k < 2 ? q->da : q->db;
     if (k % 2 == 0)
-        texel_run16(dst + 16 * k * bytes, pixels, _mm_shuffle_epi32(p, 0x44), _mm_shuffle_epi32(d, 0x44), mul, bytes,
+        texel_run16(dst + 16 * k * bytes, pixels, EW_V4I_SHUF(p, 0, 1, 0, 1), EW_V4I_SHUF(d, 0, 1, 0, 1), mul, bytes,
                     narrow);
     else
-        texel_run16(dst + 16 * k * bytes, pixels, _mm_shuffle_epi32(p, 0xEE), _mm_shuffle_epi32(d, 0xEE), mul, bytes,
+        texel_run16(dst + 16 * k * bytes, pixels, EW_V4I_SHUF(p, 2, 3, 2, 3), EW_V4I_SHUF(d, 2, 3, 2, 3), mul, bytes,
                     narrow);
 }
 
@@ -207,33 +196,33 @@ static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u
     const uint32_t pitch = (uint32_t)d->pitch;
     const lit_row r = lit_row_at(&d->g, v, pitch);
     float fu = (float)u;
-    __m128i st = lit_point(&r, fu, r.lo0);
+    ew_v4i st = lit_point(&r, fu, r.lo0);
     /* The points of the next four segments, or of the rest (up to three
      * whole segments and the last one's end, on the span's last pixel), are
      * computed before the four before them are drawn: their divide's
      * latency then hides behind 64 pixels of drawing. */
-    const __m128 ends = _mm_setr_ps(16.0f, 32.0f, 48.0f, 64.0f);
-    __m128i S, T;
-    lit_points4(&r, fu, count > 64 ? ends : _mm_min_ps(ends, _mm_set1_ps((float)(count - 1))), &S, &T);
+    const ew_v4f ends = ew_v4f_setr(16.0f, 32.0f, 48.0f, 64.0f);
+    ew_v4i S, T;
+    lit_points4(&r, fu, count > 64 ? ends : ew_v4f_min(ends, ew_v4f_set1((float)(count - 1))), &S, &T);
     for (; count > 64; count -= 64) {  /* four whole segments a divide */
         const seg4 q = segments4(st, S, T);
-        st = _mm_slli_si128(_mm_unpackhi_epi32(_mm_shuffle_epi32(S, 0xFF), _mm_shuffle_epi32(T, 0xFF)), 4);
+        st = ew_v4i_up1(ew_v4i_zip_hi(EW_V4I_SHUF(S, 3, 3, 3, 3), EW_V4I_SHUF(T, 3, 3, 3, 3)));
         fu += 64.0f;
         const int left = count - 64;
-        lit_points4(&r, fu, left > 64 ? ends : _mm_min_ps(ends, _mm_set1_ps((float)(left - 1))), &S, &T);
+        lit_points4(&r, fu, left > 64 ? ends : ew_v4f_min(ends, ew_v4f_set1((float)(left - 1))), &S, &T);
         seg4_run(dst, pixels, &q, 0, r.mul, bytes, narrow);  /* not a loop: gcc would not unroll it */
         seg4_run(dst, pixels, &q, 1, r.mul, bytes, narrow);
         seg4_run(dst, pixels, &q, 2, r.mul, bytes, narrow);
         seg4_run(dst, pixels, &q, 3, r.mul, bytes, narrow);
         dst += 64 * bytes;
     }
-    int32_t s = _mm_cvtsi128_si32(_mm_srli_si128(st, 4)), t = _mm_cvtsi128_si32(_mm_srli_si128(st, 8));
+    int32_t s = EW_V4I_LANE(st, 1), t = EW_V4I_LANE(st, 2);
     int32_t ds = 0, dt = 0;
     if (count > 1) {
         const int last = count - 1, nfull = last >> 4;
         int32_t sa[4], ta[4];
-        _mm_storeu_si128((__m128i *)(void *)sa, S);
-        _mm_storeu_si128((__m128i *)(void *)ta, T);
+        ew_v4i_storeu(sa, S);
+        ew_v4i_storeu(ta, T);
         if (nfull > 0) {
             const seg4 q = segments4(st, S, T);
             seg4_run(dst, pixels, &q, 0, r.mul, bytes, narrow);
@@ -257,7 +246,7 @@ static EW_SPAN_INLINE void lit_span16(uint8_t *dst, const ew_surf_draw *d, int u
 
 void ew_draw_lit_span(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
-#if defined(__SSE2__)
+#if EW_SIMD4
     if (c->subdiv_shift == 4 && lit_tame(&d->g)) {
         lit_span16(dst, d, sp->u, sp->v, sp->count, 1, 0);
         return;
@@ -293,7 +282,7 @@ void ew_draw_flat_span(const ew_span_ctx *c, const ew_span *sp) {
 
 static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_surf_draw *d) {
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
-#if defined(__SSE2__)
+#if EW_SIMD4
     if (c->subdiv_shift == 4 && lit_tame(&d->g)) {
         lit_span16(dst, d, sp->u, sp->v, sp->count, 4, 0);
         return;
@@ -316,7 +305,7 @@ static void draw_lit_span32(const ew_span_ctx *c, const ew_span *sp, const ew_su
     }
 }
 
-#if defined(__SSE2__)
+#if EW_SIMD4
 /* A lit surface of at most 65536 texels (t_max holds its height less one,
  * in 16.16): its texel indices fit in 16 bits. */
 static inline int lit_narrow(const ew_surf_draw *d) {
@@ -329,7 +318,7 @@ static inline int lit_narrow(const ew_surf_draw *d) {
  * own spans lie scattered.  Lit surfaces were looked up and built, and
  * every surface's gradients computed once, before the bands started. */
 void ew_span_prepare(ew_surf_draw *d) {
-#if defined(__SSE2__)
+#if EW_SIMD4
     d->lit16 = lit_tame(&d->g) ? (lit_narrow(d) ? 2 : 1) : 0;
 #else
     d->lit16 = 0;
@@ -337,7 +326,7 @@ void ew_span_prepare(ew_surf_draw *d) {
 }
 
 void ew_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z) {
-#if defined(__SSE2__)
+#if EW_SIMD4
     const int lit8 = c->target->bpp == 1 && c->subdiv_shift == 4;
 #endif
     for (int i = 0; i < n; i++) {
@@ -345,7 +334,7 @@ void ew_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_s
         const ew_surf_draw *d = &draw[sp->surf];
         switch (d->kind) {
         case EW_DRAW_LIT:
-#if defined(__SSE2__)
+#if EW_SIMD4
             if (lit8 && d->lit16) {  /* the common cases inline: no call a span */
                 uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
                 if (d->lit16 == 2)

@@ -11,9 +11,7 @@
 
 #include "raster/raster.h"
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "ew_simd.h"
 
 typedef struct ew_stepper {
     const ew_gradients *g;
@@ -114,24 +112,24 @@ static inline int ew_step_next(ew_stepper *st, int32_t *s, int32_t *t, int32_t *
     return n;
 }
 
-#if defined(__SSE2__)
+#if EW_SIMD4
 /* Four texels' s and t a step apart, walked four steps at a time by both
  * texel runs (8-bit and true colour): a holds (s, t) of the first two
  * pixels, b of the next two, so one s, t pair is set up and stepped in
  * one register instead of s and t each spread over four lanes. */
-typedef struct texel_lanes { __m128i a, b, step, mul; } texel_lanes;
+typedef struct texel_lanes { ew_v4i a, b, step, mul; } texel_lanes;
 
 static inline texel_lanes texel_lanes_at(int32_t s, int32_t t, int32_t ds, int32_t dt, uint32_t pitch) {
     texel_lanes l;
-    __m128i st = _mm_unpacklo_epi32(_mm_cvtsi32_si128(s), _mm_cvtsi32_si128(t));
-    st = _mm_unpacklo_epi64(st, st);                        /* s, t, s, t */
-    __m128i d = _mm_unpacklo_epi32(_mm_cvtsi32_si128(ds), _mm_cvtsi32_si128(dt));
-    l.a = _mm_add_epi32(st, _mm_slli_si128(d, 8));          /* s, t, s + ds, t + dt */
-    __m128i d2 = _mm_add_epi32(d, d);
-    d2 = _mm_unpacklo_epi64(d2, d2);                        /* 2 ds, 2 dt, 2 ds, 2 dt */
-    l.b = _mm_add_epi32(l.a, d2);
-    l.step = _mm_add_epi32(d2, d2);
-    l.mul = _mm_set1_epi32((int)((pitch << 16) | 1u));  /* (1, pitch) pairs */
+    ew_v4i st = ew_v4i_zip_lo(ew_v4i_first(s), ew_v4i_first(t));
+    st = ew_v4i_lo_lo(st, st);                              /* s, t, s, t */
+    ew_v4i d = ew_v4i_zip_lo(ew_v4i_first(ds), ew_v4i_first(dt));
+    l.a = ew_v4i_add(st, ew_v4i_up2(d));                    /* s, t, s + ds, t + dt */
+    ew_v4i d2 = ew_v4i_add(d, d);
+    d2 = ew_v4i_lo_lo(d2, d2);                              /* 2 ds, 2 dt, 2 ds, 2 dt */
+    l.b = ew_v4i_add(l.a, d2);
+    l.step = ew_v4i_add(d2, d2);
+    l.mul = ew_v4i_set1((int32_t)((pitch << 16) | 1u));  /* (1, pitch) pairs */
     return l;
 }
 
@@ -140,27 +138,27 @@ static inline texel_lanes texel_lanes_at(int32_t s, int32_t t, int32_t ds, int32
  * saturation: both are under 32768), one multiply-add with mul's
  * (1, pitch) pairs. */
 static inline void texel_lanes_next(texel_lanes *l, uint32_t k[4], int narrow) {
-    __m128i idx = _mm_madd_epi16(_mm_packs_epi32(_mm_srli_epi32(l->a, 16), _mm_srli_epi32(l->b, 16)), l->mul);
+    ew_v4i idx = ew_v4i_madd16(ew_v4i_pack16(EW_V4I_SRL(l->a, 16), EW_V4I_SRL(l->b, 16)), l->mul);
     if (narrow) {  /* every index under 65536: one pextrw each instead of a shuffle and a move */
-        k[0] = (uint32_t)_mm_extract_epi16(idx, 0);
-        k[1] = (uint32_t)_mm_extract_epi16(idx, 2);
-        k[2] = (uint32_t)_mm_extract_epi16(idx, 4);
-        k[3] = (uint32_t)_mm_extract_epi16(idx, 6);
+        k[0] = EW_V4I_U16(idx, 0);
+        k[1] = EW_V4I_U16(idx, 2);
+        k[2] = EW_V4I_U16(idx, 4);
+        k[3] = EW_V4I_U16(idx, 6);
     } else {
-        k[0] = (uint32_t)_mm_cvtsi128_si32(idx);
-        k[1] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0x55));
-        k[2] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xAA));
-        k[3] = (uint32_t)_mm_cvtsi128_si32(_mm_shuffle_epi32(idx, 0xFF));
+        k[0] = (uint32_t)EW_V4I_LANE(idx, 0);
+        k[1] = (uint32_t)EW_V4I_LANE(idx, 1);
+        k[2] = (uint32_t)EW_V4I_LANE(idx, 2);
+        k[3] = (uint32_t)EW_V4I_LANE(idx, 3);
     }
-    l->a = _mm_add_epi32(l->a, l->step);
-    l->b = _mm_add_epi32(l->b, l->step);
+    l->a = ew_v4i_add(l->a, l->step);
+    l->b = ew_v4i_add(l->b, l->step);
 }
 #endif
 
 /* n texels along a straight line through the surface: the affine stretch
  * between two perspective-correct points.  s and t stay within the
  * surface all along (the stepper guarantees it), so unsigned maths is exact.
- * With SSE2, four at a time: the integer parts of s and t are paired as
+ * With four-lane vectors (ew_simd.h), four at a time: the integer parts of s and t are paired as
  * 16-bit halves and one multiply-add gives s + t * pitch for four pixels;
  * surfaces are far smaller than 32768 texels a side, as that needs (the
  * static assertion below ties it to the largest face extent the loader
@@ -170,10 +168,9 @@ _Static_assert(EW_MAX_EXTENT < 32768, "ew_texel_run's 16-bit pairs need surfaces
 static inline void ew_texel_run(uint8_t *dst, const uint8_t *pixels, uint32_t pitch, int32_t s, int32_t t,
                                 int32_t ds, int32_t dt, int n, int narrow) {
     int i = 0;
-#if !defined(__SSE2__)
+#if !EW_SIMD4
     (void)narrow;
-#endif
-#if defined(__SSE2__)
+#else
     if (n >= 4) {
         texel_lanes l = texel_lanes_at(s, t, ds, dt, pitch);
         uint32_t k[4];
