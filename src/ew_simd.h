@@ -5,9 +5,9 @@
  * their plain C loops.
  *
  * Every operation gives the same bits on both: min and max are SSE's
- * (a NaN operand gives the second one), ew_v4f_trunc is only called on
- * values clamped within +-1e9, and lane-0 operations (ew_v4f_div0) say
- * nothing about the other lanes.  Emscripten's own SSE2 headers were not
+ * (a NaN operand gives the second one), ew_v4f_trunc is cvttps2dq's
+ * (INT32_MIN for NaN and out of range), and lane-0 operations
+ * (ew_v4f_div0) say nothing about the other lanes.  Emscripten's own SSE2 headers were not
  * used: they turn cvttps into four scalar conversions with range checks,
  * which cost the browser build what SIMD gained. */
 #ifndef EW_SIMD_H
@@ -34,8 +34,34 @@ EW_V4_INLINE ew_v4f ew_v4f_min(ew_v4f a, ew_v4f b) { return _mm_min_ps(a, b); }
 EW_V4_INLINE ew_v4f ew_v4f_max(ew_v4f a, ew_v4f b) { return _mm_max_ps(a, b); }
 /* Lane k of a in all four (k a constant). */
 #define EW_V4F_SPLAT(a, k) _mm_shuffle_ps((a), (a), (k) * 0x55)
-/* Truncated towards zero; |a| < 2^31 in every lane. */
+/* Truncated towards zero; INT32_MIN in a lane that is NaN or out of
+ * range, as cvttps2dq gives it. */
 EW_V4_INLINE ew_v4i ew_v4f_trunc(ew_v4f a) { return _mm_cvttps_epi32(a); }
+EW_V4_INLINE ew_v4f ew_v4f_sub(ew_v4f a, ew_v4f b) { return _mm_sub_ps(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_sqrt(ew_v4f a) { return _mm_sqrt_ps(a); }
+EW_V4_INLINE void ew_v4f_storeu(float *p, ew_v4f a) { _mm_storeu_ps(p, a); }
+/* Comparisons give all-ones lanes where true; a NaN lane compares false
+ * except in ew_v4f_ne and ew_v4f_not_le. */
+EW_V4_INLINE ew_v4f ew_v4f_gt(ew_v4f a, ew_v4f b) { return _mm_cmpgt_ps(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_ne(ew_v4f a, ew_v4f b) { return _mm_cmpneq_ps(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_not_le(ew_v4f a, ew_v4f b) { return _mm_cmpnle_ps(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_and(ew_v4f a, ew_v4f b) { return _mm_and_ps(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_or(ew_v4f a, ew_v4f b) { return _mm_or_ps(a, b); }
+/* m ? a : b lane by lane, m a comparison's mask. */
+EW_V4_INLINE ew_v4f ew_v4f_select(ew_v4f m, ew_v4f a, ew_v4f b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }
+/* One bit a lane: the lanes' sign bits, lane 0 lowest. */
+EW_V4_INLINE int ew_v4f_mask(ew_v4f a) { return _mm_movemask_ps(a); }
+/* (prev3, a0, a1, a2): the last lane of prev carried in front of a. */
+EW_V4_INLINE ew_v4f ew_v4f_carry(ew_v4f prev, ew_v4f a) {
+    return _mm_shuffle_ps(_mm_shuffle_ps(prev, a, _MM_SHUFFLE(0, 0, 3, 3)), a, _MM_SHUFFLE(2, 1, 2, 0));
+}
+EW_V4_INLINE ew_v4f ew_v4i_to_f(ew_v4i a) { return _mm_cvtepi32_ps(a); }
+EW_V4_INLINE ew_v4i ew_v4f_bits(ew_v4f a) { return _mm_castps_si128(a); }
+EW_V4_INLINE ew_v4i ew_v4i_eq(ew_v4i a, ew_v4i b) { return _mm_cmpeq_epi32(a, b); }
+/* Bytes: all ones where equal. */
+EW_V4_INLINE ew_v4i ew_v4i_eq8(ew_v4i a, ew_v4i b) { return _mm_cmpeq_epi8(a, b); }
+/* ~m & a. */
+EW_V4_INLINE ew_v4i ew_v4i_andnot(ew_v4i m, ew_v4i a) { return _mm_andnot_si128(m, a); }
 
 EW_V4_INLINE ew_v4i ew_v4i_loadu(const void *p) { return _mm_loadu_si128((const __m128i *)p); }
 EW_V4_INLINE void ew_v4i_storeu(void *p, ew_v4i a) { _mm_storeu_si128((__m128i *)p, a); }
@@ -98,7 +124,27 @@ EW_V4_INLINE ew_v4f ew_v4f_div0(float x, ew_v4f b) { return wasm_f32x4_div(wasm_
 EW_V4_INLINE ew_v4f ew_v4f_min(ew_v4f a, ew_v4f b) { return wasm_f32x4_pmin(b, a); }
 EW_V4_INLINE ew_v4f ew_v4f_max(ew_v4f a, ew_v4f b) { return wasm_f32x4_pmax(b, a); }
 #define EW_V4F_SPLAT(a, k) wasm_i32x4_shuffle((a), (a), (k), (k), (k), (k))
-EW_V4_INLINE ew_v4i ew_v4f_trunc(ew_v4f a) { return wasm_i32x4_trunc_sat_f32x4(a); }
+/* trunc_sat gives 0 for NaN and saturates; x86 gives INT32_MIN for both. */
+EW_V4_INLINE ew_v4i ew_v4f_trunc(ew_v4f a) {
+    const v128_t ok = wasm_f32x4_lt(wasm_f32x4_abs(a), wasm_f32x4_splat(2147483648.0f));
+    return wasm_v128_bitselect(wasm_i32x4_trunc_sat_f32x4(a), wasm_i32x4_splat(INT32_MIN), ok);
+}
+EW_V4_INLINE ew_v4f ew_v4f_sub(ew_v4f a, ew_v4f b) { return wasm_f32x4_sub(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_sqrt(ew_v4f a) { return wasm_f32x4_sqrt(a); }
+EW_V4_INLINE void ew_v4f_storeu(float *p, ew_v4f a) { wasm_v128_store(p, a); }
+EW_V4_INLINE ew_v4f ew_v4f_gt(ew_v4f a, ew_v4f b) { return wasm_f32x4_gt(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_ne(ew_v4f a, ew_v4f b) { return wasm_f32x4_ne(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_not_le(ew_v4f a, ew_v4f b) { return wasm_v128_not(wasm_f32x4_le(a, b)); }
+EW_V4_INLINE ew_v4f ew_v4f_and(ew_v4f a, ew_v4f b) { return wasm_v128_and(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_or(ew_v4f a, ew_v4f b) { return wasm_v128_or(a, b); }
+EW_V4_INLINE ew_v4f ew_v4f_select(ew_v4f m, ew_v4f a, ew_v4f b) { return wasm_v128_bitselect(a, b, m); }
+EW_V4_INLINE int ew_v4f_mask(ew_v4f a) { return (int)wasm_i32x4_bitmask(a); }
+EW_V4_INLINE ew_v4f ew_v4f_carry(ew_v4f prev, ew_v4f a) { return wasm_i32x4_shuffle(prev, a, 3, 4, 5, 6); }
+EW_V4_INLINE ew_v4f ew_v4i_to_f(ew_v4i a) { return wasm_f32x4_convert_i32x4(a); }
+EW_V4_INLINE ew_v4i ew_v4f_bits(ew_v4f a) { return a; }
+EW_V4_INLINE ew_v4i ew_v4i_eq(ew_v4i a, ew_v4i b) { return wasm_i32x4_eq(a, b); }
+EW_V4_INLINE ew_v4i ew_v4i_eq8(ew_v4i a, ew_v4i b) { return wasm_i8x16_eq(a, b); }
+EW_V4_INLINE ew_v4i ew_v4i_andnot(ew_v4i m, ew_v4i a) { return wasm_v128_andnot(a, m); }
 
 EW_V4_INLINE ew_v4i ew_v4i_loadu(const void *p) { return wasm_v128_load(p); }
 EW_V4_INLINE void ew_v4i_storeu(void *p, ew_v4i a) { wasm_v128_store(p, a); }

@@ -9,7 +9,9 @@
  *     isolated) and threaded (isolated: Web Workers), the map from the
  *     page's URL (?map=, gfx/ beside maps/) and from files given to the page
  *     (a map with its .lit, palette, colormap and models), a view of the
- *     view set and a --pos/--angles camera;
+ *     view set and a --pos/--angles camera; start's view with its sky
+ *     (the sky drawers), and ericw-tools' BSP2 start with BSPX coloured
+ *     light;
  *   - keyboard and mouse events move the camera; a corrupt file gives a
  *     message on the page and the page keeps working; ?bench=1 prints
  *     bench's JSON (drive.mjs checks these).
@@ -148,6 +150,7 @@ int main(void) {
     const char *webdir = getenv("EW_WEB_DIR"), *src = getenv("EW_SOURCE");
     char node[1024], chromium[1024], nm[1200], wasm[1200], drive[1200];
     if (!ew_t_need_shared("data/librequake/maps/lqdm7.bsp")) return ew_t_finish();
+    if (!ew_t_need_shared("data/ericw/maps/start_bsp2_bspxlit.bsp")) return ew_t_finish();
     if (!src) {
         ew_t_skip("EW_SOURCE not set (run through ctest)");
         return ew_t_finish();
@@ -184,7 +187,9 @@ int main(void) {
     static const char *const links[][2] = { { "maps/lqdm7.bsp", "maps/lqdm7.bsp" },
                                             { "maps/lqdm7.lit", "maps/lqdm7.lit" },
                                             { "gfx/palette.lmp", "gfx/palette.lmp" },
-                                            { "gfx/colormap.lmp", "gfx/colormap.lmp" } };
+                                            { "gfx/colormap.lmp", "gfx/colormap.lmp" },
+                                            { "maps/start.bsp", "maps/start.bsp" },
+                                            { "maps/start.lit", "maps/start.lit" } };
     mkdir(site, 0755);
     snprintf(buf, sizeof buf, "%s/maps", site);
     mkdir(buf, 0755);
@@ -215,7 +220,20 @@ int main(void) {
         snprintf(to, sizeof to, "%s/%s", site, links[i][1]);
         CHECK(symlink(from, to) == 0, "symlink %s", to);
     }
-    char sitemap[400], lq[1100];
+    /* A map from ericw-tools (BSP2, BSPX RGBLIGHTING) on the same site: its
+     * gfx/ is LibreQuake's, the site's. */
+    {
+        static const char *const ericw[] = { "start_bsp2_bspxlit.bsp", "start_bsp2_bspxlit.lit" };
+        for (size_t i = 0; i < sizeof ericw / sizeof *ericw; i++) {
+            char from[1200], to[700];
+            snprintf(from, sizeof from, "%s/maps/%s", ew_t_shared_abs("data/ericw"), ericw[i]);
+            snprintf(to, sizeof to, "%s/maps/%s", site, ericw[i]);
+            CHECK(symlink(from, to) == 0, "symlink %s", to);
+        }
+    }
+    char sitemap[400], lq[1100], startmap[400], ericwmap[400];
+    snprintf(startmap, sizeof startmap, "%s/maps/start.bsp", site);
+    snprintf(ericwmap, sizeof ericwmap, "%s/maps/start_bsp2_bspxlit.bsp", site);
     snprintf(sitemap, sizeof sitemap, "%s/maps/lqdm7.bsp", site);
     snprintf(lq, sizeof lq, "%s", ew_t_shared_abs("data/librequake"));
 
@@ -274,6 +292,16 @@ int main(void) {
           { "e1m1", "--data", pakgame, "--view", "0", "--time", "0", "--threads", "1", NULL }, 1 },
         { "lqdm7_classic_threads", 1, "map=site/maps/lqdm7.bsp&view=0&time=0&classic=1", 0, 640, 480,
           { sitemap, "--view", "0", "--time", "0", "--classic", "--threads", "0", NULL }, 1 },
+        /* start's view 11: its floor is sky (the sky drawers), monsters over it */
+        { "start_sky_true_threads", 1, "map=site/maps/start.bsp&view=11&time=1.5&color=true", 0, 640, 480,
+          { startmap, "--view", "11", "--time", "1.5", "--color", "true", "--threads", "0", NULL }, 1 },
+        { "start_sky_8bit_1thread", 0, "map=site/maps/start.bsp&view=11&time=1.5", 0, 800, 600,
+          { startmap, "--view", "11", "--time", "1.5", "--threads", "1", NULL }, 1 },
+        /* ericw-tools' BSP2 with BSPX coloured light: the blue cube (ericw/README.md) */
+        { "ericw_bsp2_bspxlit_true", 1, "map=site/maps/start_bsp2_bspxlit.bsp&pos=-48,-600,80&angles=30,270,0&time=0&color=true",
+          0, 640, 480,
+          { ericwmap, "--pos", "-48,-600,80", "--angles", "30,270,0", "--time", "0", "--color", "true", "--threads", "0",
+            NULL }, 1 },
     };
     const int ncases = (int)(sizeof cases / sizeof *cases);
 

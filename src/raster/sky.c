@@ -10,9 +10,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "ew_simd.h"
 
 #define SKY_STEP 32
 
@@ -52,20 +50,20 @@ uint8_t ew_sky_pixel(const ew_view *v, const ew_texture *t, float u, float y) {
     return sky_texel(v, t, s, tt);
 }
 
-#if defined(__SSE2__)
+#if EW_SIMD4
 /* (x, y, x + dx, y + dy) */
-static inline __m128i pair_lanes(int32_t x, int32_t y, __m128i d) {
-    __m128i xy = _mm_unpacklo_epi32(_mm_cvtsi32_si128(x), _mm_cvtsi32_si128(y));
-    return _mm_add_epi32(_mm_unpacklo_epi64(xy, xy), _mm_slli_si128(d, 8));
+static inline ew_v4i pair_lanes(int32_t x, int32_t y, ew_v4i d) {
+    ew_v4i xy = ew_v4i_zip_lo(ew_v4i_first(x), ew_v4i_first(y));
+    return ew_v4i_add(ew_v4i_lo_lo(xy, xy), ew_v4i_up2(d));
 }
 
 /* The texel indices of four pixels from (s, t) pairs a and b (two pixels
  * each): the wrapped integer parts packed as 16-bit pairs, then one
  * multiply-add with (1, width). */
-static inline __m128i sky_index4(__m128i a, __m128i b, __m128i mask, __m128i mul) {
-    a = _mm_and_si128(_mm_srli_epi32(a, 16), mask);
-    b = _mm_and_si128(_mm_srli_epi32(b, 16), mask);
-    return _mm_madd_epi16(_mm_packs_epi32(a, b), mul);
+static inline ew_v4i sky_index4(ew_v4i a, ew_v4i b, ew_v4i mask, ew_v4i mul) {
+    a = ew_v4i_and(EW_V4I_SRL(a, 16), mask);
+    b = ew_v4i_and(EW_V4I_SRL(b, 16), mask);
+    return ew_v4i_madd16(ew_v4i_pack16(a, b), mul);
 }
 
 /* The power-of-two sky's inner loop for an 8-bit frame, both layers' texel
@@ -79,31 +77,30 @@ static void sky_run8(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, in
                      int32_t ds, int32_t dt, unsigned hm, unsigned rm, unsigned width, unsigned half, int n) {
     int k = 0;
     if (n >= 4) {
-        const __m128i mask = _mm_setr_epi32((int)hm, (int)rm, (int)hm, (int)rm);
-        const __m128i mul = _mm_set1_epi32((int)((width << 16) | 1u)), off = _mm_set1_epi32((int)half);
-        __m128i d = _mm_unpacklo_epi32(_mm_cvtsi32_si128(ds), _mm_cvtsi32_si128(dt));
-        __m128i fa = pair_lanes(fs, ft, d), ba = pair_lanes(bs, bt, d);
-        d = _mm_add_epi32(d, d);
-        d = _mm_unpacklo_epi64(d, d);
-        __m128i fb = _mm_add_epi32(fa, d), bb = _mm_add_epi32(ba, d);
-        const __m128i step = _mm_add_epi32(d, d);
+        const ew_v4i mask = ew_v4i_setr((int32_t)hm, (int32_t)rm, (int32_t)hm, (int32_t)rm);
+        const ew_v4i mul = ew_v4i_set1((int32_t)((width << 16) | 1u)), off = ew_v4i_set1((int32_t)half);
+        ew_v4i d = ew_v4i_zip_lo(ew_v4i_first(ds), ew_v4i_first(dt));
+        ew_v4i fa = pair_lanes(fs, ft, d), ba = pair_lanes(bs, bt, d);
+        d = ew_v4i_add(d, d);
+        d = ew_v4i_lo_lo(d, d);
+        ew_v4i fb = ew_v4i_add(fa, d), bb = ew_v4i_add(ba, d);
+        const ew_v4i step = ew_v4i_add(d, d);
         for (; k + 4 <= n; k += 4) {
-            __m128i fi = sky_index4(fa, fb, mask, mul);
-            __m128i bi = _mm_add_epi32(sky_index4(ba, bb, mask, mul), off);
-            uint32_t f = (uint32_t)px[_mm_extract_epi16(fi, 0)] | (uint32_t)px[_mm_extract_epi16(fi, 2)] << 8 |
-                         (uint32_t)px[_mm_extract_epi16(fi, 4)] << 16 | (uint32_t)px[_mm_extract_epi16(fi, 6)] << 24;
-            uint32_t b = (uint32_t)px[_mm_extract_epi16(bi, 0)] | (uint32_t)px[_mm_extract_epi16(bi, 2)] << 8 |
-                         (uint32_t)px[_mm_extract_epi16(bi, 4)] << 16 | (uint32_t)px[_mm_extract_epi16(bi, 6)] << 24;
-            const __m128i fv = _mm_cvtsi32_si128((int)f), clear = _mm_cmpeq_epi8(fv, _mm_setzero_si128());
-            const uint32_t four =
-                (uint32_t)_mm_cvtsi128_si32(_mm_or_si128(fv, _mm_and_si128(clear, _mm_cvtsi32_si128((int)b))));
+            ew_v4i fi = sky_index4(fa, fb, mask, mul);
+            ew_v4i bi = ew_v4i_add(sky_index4(ba, bb, mask, mul), off);
+            uint32_t f = (uint32_t)px[EW_V4I_U16(fi, 0)] | (uint32_t)px[EW_V4I_U16(fi, 2)] << 8 |
+                         (uint32_t)px[EW_V4I_U16(fi, 4)] << 16 | (uint32_t)px[EW_V4I_U16(fi, 6)] << 24;
+            uint32_t b = (uint32_t)px[EW_V4I_U16(bi, 0)] | (uint32_t)px[EW_V4I_U16(bi, 2)] << 8 |
+                         (uint32_t)px[EW_V4I_U16(bi, 4)] << 16 | (uint32_t)px[EW_V4I_U16(bi, 6)] << 24;
+            const ew_v4i fv = ew_v4i_first((int32_t)f), clear = ew_v4i_eq8(fv, ew_v4i_zero());
+            const uint32_t four = (uint32_t)EW_V4I_LANE(ew_v4i_or(fv, ew_v4i_and(clear, ew_v4i_first((int32_t)b))), 0);
             memcpy(dst + k, &four, 4);
-            fa = _mm_add_epi32(fa, step), fb = _mm_add_epi32(fb, step);
-            ba = _mm_add_epi32(ba, step), bb = _mm_add_epi32(bb, step);
+            fa = ew_v4i_add(fa, step), fb = ew_v4i_add(fb, step);
+            ba = ew_v4i_add(ba, step), bb = ew_v4i_add(bb, step);
         }
         /* Where the lanes are now, in the scalar loop's wrapping 32-bit sums. */
-        fs = _mm_cvtsi128_si32(fa), ft = _mm_cvtsi128_si32(_mm_srli_si128(fa, 4));
-        bs = _mm_cvtsi128_si32(ba), bt = _mm_cvtsi128_si32(_mm_srli_si128(ba, 4));
+        fs = EW_V4I_LANE(fa, 0), ft = EW_V4I_LANE(fa, 1);
+        bs = EW_V4I_LANE(ba, 0), bt = EW_V4I_LANE(ba, 1);
     }
     for (; k < n; k++) {
         uint8_t f = px[(((unsigned)ft >> 16) & rm) * width + (((unsigned)fs >> 16) & hm)];
@@ -115,31 +112,32 @@ static void sky_run8(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, in
 /* sky_st for four columns u of row y: the same single-precision operations
  * in the same order, lane by lane (sqrtps and divps round as sqrtss and
  * divss do), so the points are the scalar ones. */
-static inline void sky_st4(const ew_view *v, const ew_texture *t, __m128 u, float y, __m128 *s, __m128 *tt) {
-    const __m128 a = _mm_div_ps(_mm_sub_ps(u, _mm_set1_ps(v->width * 0.5f)), _mm_set1_ps(v->xscale));
+static inline void sky_st4(const ew_view *v, const ew_texture *t, ew_v4f u, float y, ew_v4f *s, ew_v4f *tt) {
+    const ew_v4f a = ew_v4f_div(ew_v4f_sub(u, ew_v4f_set1(v->width * 0.5f)), ew_v4f_set1(v->xscale));
     const float b = (v->height * 0.5f - y) / v->yscale;
-    __m128 d[3];
+    ew_v4f d[3];
     for (int k = 0; k < 3; k++)
-        d[k] = _mm_add_ps(_mm_add_ps(_mm_set1_ps(v->forward[k]), _mm_mul_ps(a, _mm_set1_ps(v->right[k]))),
-                          _mm_set1_ps(b * v->up[k]));
-    d[2] = _mm_mul_ps(d[2], _mm_set1_ps(3.0f));
-    const __m128 len = _mm_sqrt_ps(
-        _mm_add_ps(_mm_add_ps(_mm_mul_ps(d[0], d[0]), _mm_mul_ps(d[1], d[1])), _mm_mul_ps(d[2], d[2])));
-    const __m128 pos = _mm_cmpgt_ps(len, _mm_setzero_ps());  /* len > 0 ? len : 1, NaN too */
-    const __m128 div = _mm_or_ps(_mm_and_ps(pos, len), _mm_andnot_ps(pos, _mm_set1_ps(1.0f)));
-    const __m128 reach = _mm_div_ps(_mm_set1_ps(6.0f * (t->height / 2 - 1)), div);
-    *s = _mm_mul_ps(reach, d[0]);
-    *tt = _mm_mul_ps(reach, d[1]);
+        d[k] = ew_v4f_add(ew_v4f_add(ew_v4f_set1(v->forward[k]), ew_v4f_mul(a, ew_v4f_set1(v->right[k]))),
+                          ew_v4f_set1(b * v->up[k]));
+    d[2] = ew_v4f_mul(d[2], ew_v4f_set1(3.0f));
+    const ew_v4f len = ew_v4f_sqrt(
+        ew_v4f_add(ew_v4f_add(ew_v4f_mul(d[0], d[0]), ew_v4f_mul(d[1], d[1])), ew_v4f_mul(d[2], d[2])));
+    const ew_v4f pos = ew_v4f_gt(len, ew_v4f_set1(0.0f));  /* len > 0 ? len : 1, NaN too */
+    const ew_v4f div = ew_v4f_select(pos, len, ew_v4f_set1(1.0f));
+    const ew_v4f reach = ew_v4f_div(ew_v4f_set1(6.0f * (t->height / 2 - 1)), div);
+    *s = ew_v4f_mul(reach, d[0]);
+    *tt = ew_v4f_mul(reach, d[1]);
 }
 
-/* (int32_t)floorf(x) lane by lane without SSE4.1: the truncation, one less
- * where it lies above x; where the conversion fails (INT32_MIN: NaN or out
- * of range) it stays INT32_MIN, as cvttss2si leaves it. */
-static inline __m128i floor4(__m128 x) {
-    const __m128i i = _mm_cvttps_epi32(x);
-    const __m128i above = _mm_castps_si128(_mm_cmpgt_ps(_mm_cvtepi32_ps(i), x));
-    const __m128i bad = _mm_cmpeq_epi32(i, _mm_set1_epi32(INT32_MIN));
-    return _mm_add_epi32(i, _mm_andnot_si128(bad, above));
+/* (int32_t)floorf(x) lane by lane without a floor instruction (SSE2 has
+ * none): the truncation, one less where it lies above x; where the
+ * conversion fails (INT32_MIN: NaN or out of range) it stays INT32_MIN, as
+ * cvttss2si leaves it. */
+static inline ew_v4i floor4(ew_v4f x) {
+    const ew_v4i i = ew_v4f_trunc(x);
+    const ew_v4i above = ew_v4f_bits(ew_v4f_gt(ew_v4i_to_f(i), x));
+    const ew_v4i bad = ew_v4i_eq(i, ew_v4i_set1(INT32_MIN));
+    return ew_v4i_add(i, ew_v4i_andnot(bad, above));
 }
 
 /* The same for a true-colour frame: each pixel the palette's rgba[] of
@@ -151,29 +149,29 @@ static void sky_run32(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, i
                       int32_t dt, unsigned hm, unsigned rm, unsigned width, unsigned half, int n, const uint32_t *rgba) {
     int k = 0;
     if (n >= 4) {
-        const __m128i mask = _mm_setr_epi32((int)hm, (int)rm, (int)hm, (int)rm);
-        const __m128i mul = _mm_set1_epi32((int)((width << 16) | 1u)), off = _mm_set1_epi32((int)half);
-        __m128i d = _mm_unpacklo_epi32(_mm_cvtsi32_si128(ds), _mm_cvtsi32_si128(dt));
-        __m128i fa = pair_lanes(fs, ft, d), ba = pair_lanes(bs, bt, d);
-        d = _mm_add_epi32(d, d);
-        d = _mm_unpacklo_epi64(d, d);
-        __m128i fb = _mm_add_epi32(fa, d), bb = _mm_add_epi32(ba, d);
-        const __m128i step = _mm_add_epi32(d, d);
+        const ew_v4i mask = ew_v4i_setr((int32_t)hm, (int32_t)rm, (int32_t)hm, (int32_t)rm);
+        const ew_v4i mul = ew_v4i_set1((int32_t)((width << 16) | 1u)), off = ew_v4i_set1((int32_t)half);
+        ew_v4i d = ew_v4i_zip_lo(ew_v4i_first(ds), ew_v4i_first(dt));
+        ew_v4i fa = pair_lanes(fs, ft, d), ba = pair_lanes(bs, bt, d);
+        d = ew_v4i_add(d, d);
+        d = ew_v4i_lo_lo(d, d);
+        ew_v4i fb = ew_v4i_add(fa, d), bb = ew_v4i_add(ba, d);
+        const ew_v4i step = ew_v4i_add(d, d);
         for (; k + 4 <= n; k += 4) {
-            __m128i fi = sky_index4(fa, fb, mask, mul);
-            __m128i bi = _mm_add_epi32(sky_index4(ba, bb, mask, mul), off);
-            uint8_t f0 = px[_mm_extract_epi16(fi, 0)], f1 = px[_mm_extract_epi16(fi, 2)];
-            uint8_t f2 = px[_mm_extract_epi16(fi, 4)], f3 = px[_mm_extract_epi16(fi, 6)];
+            ew_v4i fi = sky_index4(fa, fb, mask, mul);
+            ew_v4i bi = ew_v4i_add(sky_index4(ba, bb, mask, mul), off);
+            uint8_t f0 = px[EW_V4I_U16(fi, 0)], f1 = px[EW_V4I_U16(fi, 2)];
+            uint8_t f2 = px[EW_V4I_U16(fi, 4)], f3 = px[EW_V4I_U16(fi, 6)];
             uint8_t *o = dst + (size_t)k * 4;
-            memcpy(o, &rgba[f0 ? f0 : px[_mm_extract_epi16(bi, 0)]], 4);
-            memcpy(o + 4, &rgba[f1 ? f1 : px[_mm_extract_epi16(bi, 2)]], 4);
-            memcpy(o + 8, &rgba[f2 ? f2 : px[_mm_extract_epi16(bi, 4)]], 4);
-            memcpy(o + 12, &rgba[f3 ? f3 : px[_mm_extract_epi16(bi, 6)]], 4);
-            fa = _mm_add_epi32(fa, step), fb = _mm_add_epi32(fb, step);
-            ba = _mm_add_epi32(ba, step), bb = _mm_add_epi32(bb, step);
+            memcpy(o, &rgba[f0 ? f0 : px[EW_V4I_U16(bi, 0)]], 4);
+            memcpy(o + 4, &rgba[f1 ? f1 : px[EW_V4I_U16(bi, 2)]], 4);
+            memcpy(o + 8, &rgba[f2 ? f2 : px[EW_V4I_U16(bi, 4)]], 4);
+            memcpy(o + 12, &rgba[f3 ? f3 : px[EW_V4I_U16(bi, 6)]], 4);
+            fa = ew_v4i_add(fa, step), fb = ew_v4i_add(fb, step);
+            ba = ew_v4i_add(ba, step), bb = ew_v4i_add(bb, step);
         }
-        fs = _mm_cvtsi128_si32(fa), ft = _mm_cvtsi128_si32(_mm_srli_si128(fa, 4));
-        bs = _mm_cvtsi128_si32(ba), bt = _mm_cvtsi128_si32(_mm_srli_si128(ba, 4));
+        fs = EW_V4I_LANE(fa, 0), ft = EW_V4I_LANE(fa, 1);
+        bs = EW_V4I_LANE(ba, 0), bt = EW_V4I_LANE(ba, 1);
     }
     for (; k < n; k++) {
         uint8_t f = px[(((unsigned)ft >> 16) & rm) * width + (((unsigned)fs >> 16) & hm)];
@@ -195,22 +193,21 @@ static void sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *
     const float y = (float)sp->v;
     float s0, t0;
     sky_st(v, t, (float)sp->u, y, &s0, &t0);
-    __m128 ps = _mm_set1_ps(s0), pt = _mm_set1_ps(t0);  /* lane 3: the last end point */
-    const __m128i ends = _mm_setr_epi32(SKY_STEP, 2 * SKY_STEP, 3 * SKY_STEP, 4 * SKY_STEP);
+    ew_v4f ps = ew_v4f_set1(s0), pt = ew_v4f_set1(t0);  /* lane 3: the last end point */
+    const ew_v4i ends = ew_v4i_setr(SKY_STEP, 2 * SKY_STEP, 3 * SKY_STEP, 4 * SKY_STEP);
     for (int i = 0; i < sp->count; i += 4 * SKY_STEP) {
-        __m128 S, T;
-        sky_st4(v, t, _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(sp->u + i), ends)), y, &S, &T);
+        ew_v4f S, T;
+        sky_st4(v, t, ew_v4i_to_f(ew_v4i_add(ew_v4i_set1(sp->u + i), ends)), y, &S, &T);
         /* Each segment's start: the carried point, then the first three ends. */
-        const __m128 S0 = _mm_shuffle_ps(_mm_shuffle_ps(ps, S, _MM_SHUFFLE(0, 0, 3, 3)), S, _MM_SHUFFLE(2, 1, 2, 0));
-        const __m128 T0 = _mm_shuffle_ps(_mm_shuffle_ps(pt, T, _MM_SHUFFLE(0, 0, 3, 3)), T, _MM_SHUFFLE(2, 1, 2, 0));
-        const __m128 k16 = _mm_set1_ps(65536.0f), fstep = _mm_set1_ps((float)SKY_STEP);
+        const ew_v4f S0 = ew_v4f_carry(ps, S), T0 = ew_v4f_carry(pt, T);
+        const ew_v4f k16 = ew_v4f_set1(65536.0f), fstep = ew_v4f_set1((float)SKY_STEP);
         int32_t fs[4], ft[4], bs[4], bt[4], ds[4], dt[4];
-        _mm_storeu_si128((__m128i *)(void *)fs, floor4(_mm_mul_ps(_mm_add_ps(S0, _mm_set1_ps(scroll2)), k16)));
-        _mm_storeu_si128((__m128i *)(void *)ft, floor4(_mm_mul_ps(_mm_add_ps(T0, _mm_set1_ps(scroll2)), k16)));
-        _mm_storeu_si128((__m128i *)(void *)bs, floor4(_mm_mul_ps(_mm_add_ps(S0, _mm_set1_ps(scroll)), k16)));
-        _mm_storeu_si128((__m128i *)(void *)bt, floor4(_mm_mul_ps(_mm_add_ps(T0, _mm_set1_ps(scroll)), k16)));
-        _mm_storeu_si128((__m128i *)(void *)ds, _mm_cvttps_epi32(_mm_div_ps(_mm_mul_ps(_mm_sub_ps(S, S0), k16), fstep)));
-        _mm_storeu_si128((__m128i *)(void *)dt, _mm_cvttps_epi32(_mm_div_ps(_mm_mul_ps(_mm_sub_ps(T, T0), k16), fstep)));
+        ew_v4i_storeu(fs, floor4(ew_v4f_mul(ew_v4f_add(S0, ew_v4f_set1(scroll2)), k16)));
+        ew_v4i_storeu(ft, floor4(ew_v4f_mul(ew_v4f_add(T0, ew_v4f_set1(scroll2)), k16)));
+        ew_v4i_storeu(bs, floor4(ew_v4f_mul(ew_v4f_add(S0, ew_v4f_set1(scroll)), k16)));
+        ew_v4i_storeu(bt, floor4(ew_v4f_mul(ew_v4f_add(T0, ew_v4f_set1(scroll)), k16)));
+        ew_v4i_storeu(ds, ew_v4f_trunc(ew_v4f_div(ew_v4f_mul(ew_v4f_sub(S, S0), k16), fstep)));
+        ew_v4i_storeu(dt, ew_v4f_trunc(ew_v4f_div(ew_v4f_mul(ew_v4f_sub(T, T0), k16), fstep)));
         for (int j = 0; j < 4 && i + j * SKY_STEP < sp->count; j++) {
             const int at = i + j * SKY_STEP, n = sp->count - at < SKY_STEP ? sp->count - at : SKY_STEP;
             if (bpp == 1)
@@ -238,7 +235,7 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
     const uint32_t *rgba = c->target->rgba;
     float s0, t0, s1, t1;
     int step = c->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
-#if defined(__SSE2__)
+#if EW_SIMD4
     if (pow2 && step == SKY_STEP && t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
         sky_span(c, sp, t, dst, bpp, rgba);
         return;
@@ -257,7 +254,7 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
             int32_t bs = (int32_t)floorf((s0 + scroll) * 65536.0f), bt = (int32_t)floorf((t0 + scroll) * 65536.0f);
             int32_t ds = (int32_t)((s1 - s0) * 65536.0f / step), dt = (int32_t)((t1 - t0) * 65536.0f / step);
             unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
-#if defined(__SSE2__)
+#if EW_SIMD4
             if (t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
                 if (bpp == 1)
                     sky_run8(dst + i, px, fs, ft, bs, bt, ds, dt, hm, rm, (unsigned)t->width, (unsigned)half, n);

@@ -100,17 +100,17 @@ static long stepped_row(const ew_span_ctx *c, const ew_gradients *g, const ew_zp
              * of a box's rows), its texels go as a world span's do. */
             uint32_t wins = 0;
             int k = 0;
-#if defined(__SSE2__)
+#if EW_SIMD4
             /* Four at a time, the scalar test's exact values: (float)x,
              * one multiply, one add; !(zi <= z) as the scalar continue. */
-            const __m128 vdz = _mm_set1_ps(dz), vrow = _mm_set1_ps(zrow);
+            const ew_v4f vdz = ew_v4f_set1(dz), vrow = ew_v4f_set1(zrow);
             for (; k + 4 <= n; k += 4) {
-                __m128i xi = _mm_add_epi32(_mm_set1_epi32(x + k), _mm_setr_epi32(0, 1, 2, 3));
-                __m128 zi = _mm_add_ps(_mm_mul_ps(vdz, _mm_cvtepi32_ps(xi)), vrow);
-                __m128 old = _mm_loadu_ps(zr + x + k);
-                __m128 win = _mm_cmpnle_ps(zi, old);
-                _mm_storeu_ps(zr + x + k, _mm_or_ps(_mm_and_ps(win, zi), _mm_andnot_ps(win, old)));
-                wins |= (uint32_t)_mm_movemask_ps(win) << k;
+                ew_v4i xi = ew_v4i_add(ew_v4i_set1(x + k), ew_v4i_setr(0, 1, 2, 3));
+                ew_v4f zi = ew_v4f_add(ew_v4f_mul(vdz, ew_v4i_to_f(xi)), vrow);
+                ew_v4f old = ew_v4f_loadu(zr + x + k);
+                ew_v4f win = ew_v4f_not_le(zi, old);
+                ew_v4f_storeu(zr + x + k, ew_v4f_select(win, zi, old));
+                wins |= (uint32_t)ew_v4f_mask(win) << k;
             }
 #endif
             for (; k < n; k++) {
