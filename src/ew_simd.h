@@ -1,5 +1,6 @@
-/* Four-lane vectors for the hand-written inner loops (internal): the few
- * operations the span drawers use, as SSE2 on x86-64 and as WebAssembly
+/* Four-lane vectors for the hand-written inner loops (internal): the
+ * operations the span, sky, fog and surface loops use (32-bit lanes, and
+ * 16-bit lanes in the same register), as SSE2 on x86-64 and as WebAssembly
  * SIMD in the browser build (emcc -msimd128), so one loop serves both.
  * EW_SIMD4 is 1 where one of them is there; otherwise the callers keep
  * their plain C loops.
@@ -7,9 +8,9 @@
  * Every operation gives the same bits on both: min and max are SSE's
  * (a NaN operand gives the second one), ew_v4f_trunc is cvttps2dq's
  * (INT32_MIN for NaN and out of range), and lane-0 operations
- * (ew_v4f_div0) say nothing about the other lanes.  Emscripten's own SSE2 headers were not
- * used: they turn cvttps into four scalar conversions with range checks,
- * which cost the browser build what SIMD gained. */
+ * (ew_v4f_div0) say nothing about the other lanes.  Emscripten's own SSE2
+ * headers were not used: they turn cvttps into four scalar conversions
+ * with range checks, which cost the browser build what SIMD gained. */
 #ifndef EW_SIMD_H
 #define EW_SIMD_H
 
@@ -105,6 +106,35 @@ EW_V4_INLINE ew_v4i ew_v4i_madd16(ew_v4i a, ew_v4i b) { return _mm_madd_epi16(a,
 /* 16-bit lane k (a constant), zero-extended. */
 #define EW_V4I_U16(a, k) ((uint32_t)_mm_extract_epi16((a), (k)))
 
+/* Eight 16-bit lanes in the same register, for the blends and the surface
+ * builder: set, add, the low and (signed) high halves of products, shifts,
+ * comparison, interleaving, and the bytes widened and narrowed. */
+/* x's low 16 bits in all eight lanes (spelt out: gcc's _mm_set1_epi16 of a
+ * variable took more registers in the surface builder's rows). */
+EW_V4_INLINE ew_v4i ew_v4i_set1_16(int x) { return _mm_shuffle_epi32(_mm_shufflelo_epi16(_mm_cvtsi32_si128(x), 0), 0); }
+EW_V4_INLINE ew_v4i ew_v4i_setr16(int a, int b, int c, int d, int e, int f, int g, int h) {
+    return _mm_setr_epi16((short)a, (short)b, (short)c, (short)d, (short)e, (short)f, (short)g, (short)h);
+}
+EW_V4_INLINE ew_v4i ew_v4i_add16(ew_v4i a, ew_v4i b) { return _mm_add_epi16(a, b); }
+EW_V4_INLINE ew_v4i ew_v4i_mullo16(ew_v4i a, ew_v4i b) { return _mm_mullo_epi16(a, b); }
+EW_V4_INLINE ew_v4i ew_v4i_mulhi16(ew_v4i a, ew_v4i b) { return _mm_mulhi_epi16(a, b); }
+#define EW_V4I_SLL16(a, n) _mm_slli_epi16((a), (n))
+#define EW_V4I_SRL16(a, n) _mm_srli_epi16((a), (n))
+EW_V4_INLINE ew_v4i ew_v4i_eq16(ew_v4i a, ew_v4i b) { return _mm_cmpeq_epi16(a, b); }
+/* (a0, b0, a1, b1, a2, b2, a3, b3) and the same of lanes 4-7. */
+EW_V4_INLINE ew_v4i ew_v4i_zip16_lo(ew_v4i a, ew_v4i b) { return _mm_unpacklo_epi16(a, b); }
+EW_V4_INLINE ew_v4i ew_v4i_zip16_hi(ew_v4i a, ew_v4i b) { return _mm_unpackhi_epi16(a, b); }
+/* Bytes 0-7 (8-15) of a zero-extended to 16-bit lanes. */
+EW_V4_INLINE ew_v4i ew_v4i_bytes_lo(ew_v4i a) { return _mm_unpacklo_epi8(a, _mm_setzero_si128()); }
+EW_V4_INLINE ew_v4i ew_v4i_bytes_hi(ew_v4i a) { return _mm_unpackhi_epi8(a, _mm_setzero_si128()); }
+/* Sixteen signed 16-bit lanes (a's, then b's) to unsigned bytes, saturated. */
+EW_V4_INLINE ew_v4i ew_v4i_packus8(ew_v4i a, ew_v4i b) { return _mm_packus_epi16(a, b); }
+/* Eight bytes from p in the low half, zeros above; and an aligned load. */
+EW_V4_INLINE ew_v4i ew_v4i_load8(const void *p) { return _mm_loadl_epi64((const __m128i *)p); }
+EW_V4_INLINE ew_v4i ew_v4i_load(const void *p) { return _mm_load_si128((const __m128i *)p); }
+/* (a2, a3, b2, b3). */
+EW_V4_INLINE ew_v4i ew_v4i_hi_hi(ew_v4i a, ew_v4i b) { return _mm_unpackhi_epi64(a, b); }
+
 #elif defined(__wasm_simd128__)
 #include <wasm_simd128.h>
 #define EW_SIMD4 1
@@ -170,6 +200,29 @@ EW_V4_INLINE ew_v4i ew_v4i_lo_lo(ew_v4i a, ew_v4i b) { return wasm_i32x4_shuffle
 EW_V4_INLINE ew_v4i ew_v4i_pack16(ew_v4i a, ew_v4i b) { return wasm_i16x8_narrow_i32x4(a, b); }
 EW_V4_INLINE ew_v4i ew_v4i_madd16(ew_v4i a, ew_v4i b) { return wasm_i32x4_dot_i16x8(a, b); }
 #define EW_V4I_U16(a, k) ((uint32_t)wasm_u16x8_extract_lane((a), (k)))
+
+EW_V4_INLINE ew_v4i ew_v4i_set1_16(int x) { return wasm_i16x8_splat((int16_t)x); }
+EW_V4_INLINE ew_v4i ew_v4i_setr16(int a, int b, int c, int d, int e, int f, int g, int h) {
+    return wasm_i16x8_make((int16_t)a, (int16_t)b, (int16_t)c, (int16_t)d, (int16_t)e, (int16_t)f, (int16_t)g, (int16_t)h);
+}
+EW_V4_INLINE ew_v4i ew_v4i_add16(ew_v4i a, ew_v4i b) { return wasm_i16x8_add(a, b); }
+EW_V4_INLINE ew_v4i ew_v4i_mullo16(ew_v4i a, ew_v4i b) { return wasm_i16x8_mul(a, b); }
+/* The high halves of the 32-bit products (pmulhw has no instruction here). */
+EW_V4_INLINE ew_v4i ew_v4i_mulhi16(ew_v4i a, ew_v4i b) {
+    return wasm_i16x8_shuffle(wasm_i32x4_extmul_low_i16x8(a, b), wasm_i32x4_extmul_high_i16x8(a, b), 1, 3, 5, 7, 9,
+                              11, 13, 15);
+}
+#define EW_V4I_SLL16(a, n) wasm_i16x8_shl((a), (n))
+#define EW_V4I_SRL16(a, n) wasm_u16x8_shr((a), (n))
+EW_V4_INLINE ew_v4i ew_v4i_eq16(ew_v4i a, ew_v4i b) { return wasm_i16x8_eq(a, b); }
+EW_V4_INLINE ew_v4i ew_v4i_zip16_lo(ew_v4i a, ew_v4i b) { return wasm_i16x8_shuffle(a, b, 0, 8, 1, 9, 2, 10, 3, 11); }
+EW_V4_INLINE ew_v4i ew_v4i_zip16_hi(ew_v4i a, ew_v4i b) { return wasm_i16x8_shuffle(a, b, 4, 12, 5, 13, 6, 14, 7, 15); }
+EW_V4_INLINE ew_v4i ew_v4i_bytes_lo(ew_v4i a) { return wasm_u16x8_extend_low_u8x16(a); }
+EW_V4_INLINE ew_v4i ew_v4i_bytes_hi(ew_v4i a) { return wasm_u16x8_extend_high_u8x16(a); }
+EW_V4_INLINE ew_v4i ew_v4i_packus8(ew_v4i a, ew_v4i b) { return wasm_u8x16_narrow_i16x8(a, b); }
+EW_V4_INLINE ew_v4i ew_v4i_load8(const void *p) { return wasm_v128_load64_zero(p); }
+EW_V4_INLINE ew_v4i ew_v4i_load(const void *p) { return wasm_v128_load(p); }
+EW_V4_INLINE ew_v4i ew_v4i_hi_hi(ew_v4i a, ew_v4i b) { return wasm_i64x2_shuffle(a, b, 1, 3); }
 
 #else
 #define EW_SIMD4 0

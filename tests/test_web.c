@@ -10,8 +10,8 @@
  *     page's URL (?map=, gfx/ beside maps/) and from files given to the page
  *     (a map with its .lit, palette, colormap and models), a view of the
  *     view set and a --pos/--angles camera; start's view with its sky
- *     (the sky drawers), and ericw-tools' BSP2 start with BSPX coloured
- *     light;
+ *     (the sky drawers), fog given in the URL (fog=, as --fog), and
+ *     ericw-tools' BSP2 start with BSPX coloured light;
  *   - keyboard and mouse events move the camera; a corrupt file gives a
  *     message on the page and the page keeps working; ?bench=1 prints
  *     bench's JSON (drive.mjs checks these).
@@ -297,6 +297,13 @@ int main(void) {
           { startmap, "--view", "11", "--time", "1.5", "--color", "true", "--threads", "0", NULL }, 1 },
         { "start_sky_8bit_1thread", 0, "map=site/maps/start.bsp&view=11&time=1.5", 0, 800, 600,
           { startmap, "--view", "11", "--time", "1.5", "--threads", "1", NULL }, 1 },
+        /* fog from the URL, as render's --fog (the fog drawers) */
+        { "lqdm7_fog_true_threads", 1, "map=site/maps/lqdm7.bsp&view=0&time=0&color=true&fog=0.08,0.45,0.42,0.38", 0,
+          640, 480,
+          { sitemap, "--view", "0", "--time", "0", "--color", "true", "--fog", "0.08,0.45,0.42,0.38", "--threads", "0",
+            NULL }, 1 },
+        { "lqdm7_fog_8bit_1thread", 0, "map=site/maps/lqdm7.bsp&view=0&time=0&fog=0.08,0.45,0.42,0.38", 0, 640, 480,
+          { sitemap, "--view", "0", "--time", "0", "--fog", "0.08,0.45,0.42,0.38", "--threads", "1", NULL }, 1 },
         /* ericw-tools' BSP2 with BSPX coloured light: the blue cube (ericw/README.md) */
         { "ericw_bsp2_bspxlit_true", 1, "map=site/maps/start_bsp2_bspxlit.bsp&pos=-48,-600,80&angles=30,270,0&time=0&color=true",
           0, 640, 480,

@@ -37,6 +37,8 @@ typedef struct web {
     double       time;
     int          paused, overlay, entities, exact, pvs_lock, alias_raster, hsr, threads, color, classic;
     ew_debug_mode debug;
+    int          fog_set;       /* 0: the map's own fog; 1: fog[] (the page's fog=D,R,G,B) */
+    float        fog[4];
     double       fov;
     app_held     held;
     ew_stats     st;
@@ -81,7 +83,8 @@ static int apply_settings(ew_renderer *r) {
     ew_set_alias_raster(r, (ew_alias_raster)W.alias_raster, 0);
     ew_set_classic(r, W.classic);
     ew_set_liquid_alpha(r, -1);
-    ew_set_fog(r, -1, 0, 0, 0);
+    if (W.fog_set) ew_set_fog(r, W.fog[0], W.fog[1], W.fog[2], W.fog[3]);
+    else ew_set_fog(r, -1, 0, 0, 0);
     ew_set_waterwarp(r, 1);
     ew_set_hsr(r, (ew_hsr_method)W.hsr);
     ew_set_lit(r, 1);
@@ -266,6 +269,20 @@ EMSCRIPTEN_KEEPALIVE int web_load(const char *name, const char *dir, int view, i
     if (view >= W.nviews) add_say("view %d: out of range, %s has %d view%s (0 to %d); showing view 0", view, W.map,
                                   W.nviews, W.nviews == 1 ? "" : "s", W.nviews - 1);
     return 0;
+}
+
+/* Fog of density d (0 to 100: 0 none) and colour r, g, b (0 to 1), as
+ * render's --fog D,R,G,B, in place of the map's own, for every map the
+ * page loads from now on and the one shown.  Returns 0, or -1 with the
+ * message set (nothing changed). */
+EMSCRIPTEN_KEEPALIVE int web_set_fog(double d, double r, double g, double b) {
+    if (!(d >= 0 && d <= 100) || !(r >= 0 && r <= 1) || !(g >= 0 && g <= 1) || !(b >= 0 && b <= 1)) {
+        say("fog must be DENSITY,R,G,B: a density from 0 to 100, then three colour values from 0 to 1");
+        return -1;
+    }
+    W.fog_set = 1;
+    W.fog[0] = (float)d, W.fog[1] = (float)r, W.fog[2] = (float)g, W.fog[3] = (float)b;
+    return W.r ? apply_settings(W.r) : 0;
 }
 
 /* The frame's size changed (the window was resized). */

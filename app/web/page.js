@@ -484,8 +484,15 @@
       missing: c('web_missing_file', 'string', ['number']),
       state: c('web_state', 'string', []),
       bench: c('web_bench', 'string', ['number', 'number', 'number', 'number']),
+      setFog: c('web_set_fog', 'number', ['number', 'number', 'number', 'number']),
     };
     api.overlayExtra(threadNote);
+    let fogErr = '';
+    if (params.has('fog')) {  /* fog=D,R,G,B as render's --fog, in place of the map's */
+      const f = params.get('fog').split(',').map((x) => (x.trim() === '' ? NaN : Number(x)));
+      if (f.length !== 4 || !f.every(Number.isFinite) || api.setFog(f[0], f[1], f[2], f[3]) < 0)
+        fogErr = 'fog must be DENSITY,R,G,B: a density from 0 to 100, then three colour values from 0 to 1 (the map\'s own fog is drawn)';
+    }
     mkdirs(gameDir);
     let ok = false;
     if (params.has('map')) ok = await openUrl(params.get('map'));
@@ -498,6 +505,7 @@
     if (!params.has('map') && !embed)
       show('the built-in scene: drop a .bsp (with its .lit), a .pak or several files on the page, or open them ' +
            'above (' + (isolated ? 'threads on every core' : threadNote) + ')', false);
+    if (fogErr) show(fogErr, true);
     setupInput();
     if (params.get('bench') === '1') runBench();
     running = true;

@@ -15,9 +15,7 @@
 
 #include <string.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "ew_simd.h"
 
 int ew_face_mip(const ew_view *v, const ew_world *w, const ew_face *f, float nearzi) {
     float scale = nearzi * (v->xscale > v->yscale ? v->xscale : v->yscale) * w->texinfo[f->texinfo].mipadjust;
@@ -238,34 +236,29 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
     out8[x] = EW_HUE_DIST(da, sa) <= EW_HUE_DIST(dn, sn) ? ramp : near;
 }
 
-#if defined(__SSE2__)
-/* The low 16 bits of x in all eight 16-bit lanes. */
-static inline __m128i splat16(int x) {
-    return _mm_shuffle_epi32(_mm_shufflelo_epi16(_mm_cvtsi32_si128(x), 0), 0);
-}
-
+#if EW_SIMD4
 /* One row of a block of bs (8 or 16) texels whose texture columns are
  * consecutive: dst[x] = cmap[(l & 0xFF00) + src[x]] with l = right +
  * (bs - 1 - x) * step, the light the scalar loop reaches at x stepping
  * leftwards from right.  The light in 16-bit lanes: bits 8 to 15 of l are
  * those of l taken modulo 2^16, so the indices are the same. */
 static inline void cmap_row(uint8_t *dst, const uint8_t *src, const uint8_t *cmap, int right, int step, int bs) {
-    const __m128i zero = _mm_setzero_si128(), hi8 = _mm_set1_epi16((short)0xFF00);
-    const __m128i vr = splat16(right), vs = splat16(step);
+    const ew_v4i hi8 = ew_v4i_set1_16(0xFF00);
+    const ew_v4i vr = ew_v4i_set1_16(right), vs = ew_v4i_set1_16(step);
     for (int x0 = 0; x0 < bs; x0 += 8) {
-        __m128i k = _mm_add_epi16(_mm_setr_epi16(7, 6, 5, 4, 3, 2, 1, 0), _mm_set1_epi16((short)(bs - 8 - x0)));
-        __m128i l = _mm_add_epi16(vr, _mm_mullo_epi16(vs, k));
-        __m128i tex = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)(src + x0)), zero);
-        __m128i idx = _mm_add_epi16(_mm_and_si128(l, hi8), tex);
+        ew_v4i k = ew_v4i_add16(ew_v4i_setr16(7, 6, 5, 4, 3, 2, 1, 0), ew_v4i_set1_16(bs - 8 - x0));
+        ew_v4i l = ew_v4i_add16(vr, ew_v4i_mullo16(vs, k));
+        ew_v4i tex = ew_v4i_bytes_lo(ew_v4i_load8(src + x0));
+        ew_v4i idx = ew_v4i_add16(ew_v4i_and(l, hi8), tex);
         uint8_t *d = dst + x0;
-        d[0] = cmap[_mm_extract_epi16(idx, 0)];
-        d[1] = cmap[_mm_extract_epi16(idx, 1)];
-        d[2] = cmap[_mm_extract_epi16(idx, 2)];
-        d[3] = cmap[_mm_extract_epi16(idx, 3)];
-        d[4] = cmap[_mm_extract_epi16(idx, 4)];
-        d[5] = cmap[_mm_extract_epi16(idx, 5)];
-        d[6] = cmap[_mm_extract_epi16(idx, 6)];
-        d[7] = cmap[_mm_extract_epi16(idx, 7)];
+        d[0] = cmap[EW_V4I_U16(idx, 0)];
+        d[1] = cmap[EW_V4I_U16(idx, 1)];
+        d[2] = cmap[EW_V4I_U16(idx, 2)];
+        d[3] = cmap[EW_V4I_U16(idx, 3)];
+        d[4] = cmap[EW_V4I_U16(idx, 4)];
+        d[5] = cmap[EW_V4I_U16(idx, 5)];
+        d[6] = cmap[EW_V4I_U16(idx, 6)];
+        d[7] = cmap[EW_V4I_U16(idx, 7)];
     }
 }
 #endif
@@ -296,7 +289,7 @@ static inline void cmap_blocks(uint8_t *out, int width, const int *bl, int smax,
                 int step = (left - right) >> shift, l = right;
                 if (sx0 >= bs - 1) {
                     const uint8_t *src = row + sx0 - (bs - 1);
-#if defined(__SSE2__)
+#if EW_SIMD4
                     if (bs >= 8) {
                         cmap_row(dst, src, cmap, right, step, bs);
                         continue;
@@ -339,7 +332,7 @@ static inline void block_edges(const int *bl, int nc, int smax, int i, int j, in
     }
 }
 
-#if defined(__SSE2__)
+#if EW_SIMD4
 /* True colour, two texels at once: p0 and p1 each one's light curve pair
  * (lightcurve.pair: a, the colour at its light row, and 2 (b - a), b the
  * colour at the next row), f128 each one's fraction of the way from a to
@@ -347,8 +340,8 @@ static inline void block_edges(const int *bl, int nc, int smax, int i, int j, in
  * high half of 2 (b - a) * 128 f is (b - a) * f >> 8, rounded down as the
  * shift does, both factors fit a signed 16-bit lane: exactly
  * ew_lightcurve_at. */
-static inline __m128i curve2(__m128i p0, __m128i p1, __m128i f128) {
-    return _mm_add_epi16(_mm_unpacklo_epi64(p0, p1), _mm_mulhi_epi16(_mm_unpackhi_epi64(p0, p1), f128));
+static inline ew_v4i curve2(ew_v4i p0, ew_v4i p1, ew_v4i f128) {
+    return ew_v4i_add16(ew_v4i_lo_lo(p0, p1), ew_v4i_mulhi16(ew_v4i_hi_hi(p0, p1), f128));
 }
 
 /* One row of a true-colour block of bs (8 or 16) texels, src its bs texel
@@ -360,58 +353,58 @@ static inline __m128i curve2(__m128i p0, __m128i p1, __m128i f128) {
  * or 0 for colour 255 of a fence texture (a hole). */
 static inline void rgba_row(uint32_t *dst, const uint8_t *src, const int16_t *pairs, const int *right,
                             const int *step, int nc, int fence, int bs) {
-    const __m128i zero = _mm_setzero_si128(), hi8 = _mm_set1_epi16((short)0xFF00), lo8 = _mm_set1_epi16(0xFF);
-    const __m128i alpha = _mm_set1_epi32((int)0xFF000000u);
+    const ew_v4i zero = ew_v4i_zero(), hi8 = ew_v4i_set1_16(0xFF00), lo8 = ew_v4i_set1_16(0xFF);
+    const ew_v4i alpha = ew_v4i_set1((int32_t)0xFF000000u);
     for (int x0 = 0; x0 < bs; x0 += 8) {
-        const __m128i k = _mm_add_epi16(_mm_setr_epi16(7, 6, 5, 4, 3, 2, 1, 0), _mm_set1_epi16((short)(bs - 8 - x0)));
-        const __m128i tex = _mm_unpacklo_epi8(_mm_loadl_epi64((const __m128i *)(const void *)(src + x0)), zero);
+        const ew_v4i k = ew_v4i_add16(ew_v4i_setr16(7, 6, 5, 4, 3, 2, 1, 0), ew_v4i_set1_16(bs - 8 - x0));
+        const ew_v4i tex = ew_v4i_bytes_lo(ew_v4i_load8(src + x0));
         uint16_t idx[3][8];
-        __m128i f[3];
+        ew_v4i f[3];
         for (int ch = 0; ch < nc; ch++) {
-            const __m128i l = _mm_add_epi16(splat16(right[ch]), _mm_mullo_epi16(splat16(step[ch]), k));
-            _mm_storeu_si128((__m128i *)(void *)idx[ch], _mm_add_epi16(_mm_and_si128(l, hi8), tex));
-            f[ch] = _mm_slli_epi16(_mm_and_si128(l, lo8), 7);
+            const ew_v4i l = ew_v4i_add16(ew_v4i_set1_16(right[ch]), ew_v4i_mullo16(ew_v4i_set1_16(step[ch]), k));
+            ew_v4i_storeu(idx[ch], ew_v4i_add16(ew_v4i_and(l, hi8), tex));
+            f[ch] = EW_V4I_SLL16(ew_v4i_and(l, lo8), 7);
         }
-        __m128i t[4];  /* the fractions of texels (0, 1), (2, 3), (4, 5), (6, 7), per channel */
+        ew_v4i t[4];  /* the fractions of texels (0, 1), (2, 3), (4, 5), (6, 7), per channel */
         if (nc == 1) {
-            const __m128i lo = _mm_unpacklo_epi16(f[0], f[0]), hi = _mm_unpackhi_epi16(f[0], f[0]);
-            t[0] = _mm_unpacklo_epi32(lo, lo), t[1] = _mm_unpackhi_epi32(lo, lo);
-            t[2] = _mm_unpacklo_epi32(hi, hi), t[3] = _mm_unpackhi_epi32(hi, hi);
+            const ew_v4i lo = ew_v4i_zip16_lo(f[0], f[0]), hi = ew_v4i_zip16_hi(f[0], f[0]);
+            t[0] = ew_v4i_zip_lo(lo, lo), t[1] = ew_v4i_zip_hi(lo, lo);
+            t[2] = ew_v4i_zip_lo(hi, hi), t[3] = ew_v4i_zip_hi(hi, hi);
         } else {
-            const __m128i rg_lo = _mm_unpacklo_epi16(f[0], f[1]), rg_hi = _mm_unpackhi_epi16(f[0], f[1]);
-            const __m128i b_lo = _mm_unpacklo_epi16(f[2], zero), b_hi = _mm_unpackhi_epi16(f[2], zero);
-            t[0] = _mm_unpacklo_epi32(rg_lo, b_lo), t[1] = _mm_unpackhi_epi32(rg_lo, b_lo);
-            t[2] = _mm_unpacklo_epi32(rg_hi, b_hi), t[3] = _mm_unpackhi_epi32(rg_hi, b_hi);
+            const ew_v4i rg_lo = ew_v4i_zip16_lo(f[0], f[1]), rg_hi = ew_v4i_zip16_hi(f[0], f[1]);
+            const ew_v4i b_lo = ew_v4i_zip16_lo(f[2], zero), b_hi = ew_v4i_zip16_hi(f[2], zero);
+            t[0] = ew_v4i_zip_lo(rg_lo, b_lo), t[1] = ew_v4i_zip_hi(rg_lo, b_lo);
+            t[2] = ew_v4i_zip_lo(rg_hi, b_hi), t[3] = ew_v4i_zip_hi(rg_hi, b_hi);
         }
-        __m128i hole = zero;
-        if (fence) hole = _mm_cmpeq_epi16(tex, lo8);
-        const __m128i *pp = (const __m128i *)(const void *)pairs;
+        ew_v4i hole = zero;
+        if (fence) hole = ew_v4i_eq16(tex, lo8);
+        const ew_v4i *pp = (const ew_v4i *)(const void *)pairs;  /* a pair a vector, 16-byte aligned */
         for (int h = 0; h < 2; h++) {  /* texels 0-3, then 4-7 */
-            __m128i c[2];
+            ew_v4i c[2];
             for (int q = 0; q < 2; q++) {
                 const int i = h * 4 + q * 2;
-                __m128i p0, p1;
+                ew_v4i p0, p1;
                 if (nc == 1) {
-                    p0 = _mm_load_si128(pp + idx[0][i]), p1 = _mm_load_si128(pp + idx[0][i + 1]);
+                    p0 = ew_v4i_load(pp + idx[0][i]), p1 = ew_v4i_load(pp + idx[0][i + 1]);
                 } else {  /* each channel from the pair of its own light */
-                    const __m128i mr = _mm_setr_epi16(-1, 0, 0, 0, -1, 0, 0, 0),
-                                  mg = _mm_setr_epi16(0, -1, 0, 0, 0, -1, 0, 0),
-                                  mb = _mm_setr_epi16(0, 0, -1, 0, 0, 0, -1, 0);
-                    p0 = _mm_or_si128(_mm_or_si128(_mm_and_si128(_mm_load_si128(pp + idx[0][i]), mr),
-                                                   _mm_and_si128(_mm_load_si128(pp + idx[1][i]), mg)),
-                                      _mm_and_si128(_mm_load_si128(pp + idx[2][i]), mb));
-                    p1 = _mm_or_si128(_mm_or_si128(_mm_and_si128(_mm_load_si128(pp + idx[0][i + 1]), mr),
-                                                   _mm_and_si128(_mm_load_si128(pp + idx[1][i + 1]), mg)),
-                                      _mm_and_si128(_mm_load_si128(pp + idx[2][i + 1]), mb));
+                    const ew_v4i mr = ew_v4i_setr16(-1, 0, 0, 0, -1, 0, 0, 0),
+                                 mg = ew_v4i_setr16(0, -1, 0, 0, 0, -1, 0, 0),
+                                 mb = ew_v4i_setr16(0, 0, -1, 0, 0, 0, -1, 0);
+                    p0 = ew_v4i_or(ew_v4i_or(ew_v4i_and(ew_v4i_load(pp + idx[0][i]), mr),
+                                             ew_v4i_and(ew_v4i_load(pp + idx[1][i]), mg)),
+                                   ew_v4i_and(ew_v4i_load(pp + idx[2][i]), mb));
+                    p1 = ew_v4i_or(ew_v4i_or(ew_v4i_and(ew_v4i_load(pp + idx[0][i + 1]), mr),
+                                             ew_v4i_and(ew_v4i_load(pp + idx[1][i + 1]), mg)),
+                                   ew_v4i_and(ew_v4i_load(pp + idx[2][i + 1]), mb));
                 }
                 c[q] = curve2(p0, p1, t[h * 2 + q]);
             }
-            __m128i px = _mm_or_si128(_mm_packus_epi16(c[0], c[1]), alpha);
+            ew_v4i px = ew_v4i_or(ew_v4i_packus8(c[0], c[1]), alpha);
             if (fence) {
-                const __m128i m = h ? _mm_unpackhi_epi16(hole, hole) : _mm_unpacklo_epi16(hole, hole);
-                px = _mm_andnot_si128(m, px);
+                const ew_v4i m = h ? ew_v4i_zip16_hi(hole, hole) : ew_v4i_zip16_lo(hole, hole);
+                px = ew_v4i_andnot(m, px);
             }
-            _mm_storeu_si128((__m128i *)(void *)(dst + x0 + h * 4), px);
+            ew_v4i_storeu(dst + x0 + h * 4, px);
         }
     }
 }
@@ -559,7 +552,7 @@ void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, 
         fn(out, width, bl, smax, tmax, tp, tw, th, s0, t0, fr->colormap);
         return;
     }
-#if defined(__SSE2__)
+#if EW_SIMD4
     if (e.mode == OUT_RGBA && bs >= 8) {
         rgba_block_fn *fn = bs == 16 ? (nc == 3 ? rgba_blocks16_3 : rgba_blocks16_1)
                                      : (nc == 3 ? rgba_blocks8_3 : rgba_blocks8_1);

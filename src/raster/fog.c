@@ -26,9 +26,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "ew_simd.h"
 /* Where the processor has AVX-512 (asked at run time, the build assumes
  * only SSE2): a run's table row in four registers, 64 pixels a lookup
  * (VBMI's two-table byte permute), and true colour 16 pixels a blend. */
@@ -212,21 +210,21 @@ static void fog_run32(const ew_fog *f, uint8_t *p, int n, int k) {
         return;
     }
 #endif
-#if defined(__SSE2__)
+#if EW_SIMD4
     /* c + ((fog - c) a >> 8) is (c (256 - a) + fog a) >> 8: both terms
      * fit 16 unsigned bits; alpha 255, as ew_rgba. */
     const int a = k * 256 / (EW_FOG_LEVELS - 1);
-    const __m128i m = _mm_set1_epi16((short)(256 - a)), zero = _mm_setzero_si128();
-    const __m128i fa = _mm_setr_epi16((short)(f->rgb[0] * a), (short)(f->rgb[1] * a), (short)(f->rgb[2] * a), 0,
-                                      (short)(f->rgb[0] * a), (short)(f->rgb[1] * a), (short)(f->rgb[2] * a), 0);
-    const __m128i alpha = _mm_set1_epi32((int)ew_rgba(0, 0, 0));
+    const ew_v4i m = ew_v4i_set1_16(256 - a);
+    const ew_v4i fa = ew_v4i_setr16(f->rgb[0] * a, f->rgb[1] * a, f->rgb[2] * a, 0, f->rgb[0] * a, f->rgb[1] * a,
+                                    f->rgb[2] * a, 0);
+    const ew_v4i alpha = ew_v4i_set1((int32_t)ew_rgba(0, 0, 0));
     for (; x + 4 <= n; x += 4) {
-        __m128i v = _mm_loadu_si128((const __m128i *)(const void *)(p + (size_t)x * 4));
-        __m128i lo = _mm_unpacklo_epi8(v, zero), hi = _mm_unpackhi_epi8(v, zero);
-        lo = _mm_srli_epi16(_mm_add_epi16(_mm_mullo_epi16(lo, m), fa), 8);
-        hi = _mm_srli_epi16(_mm_add_epi16(_mm_mullo_epi16(hi, m), fa), 8);
-        v = _mm_or_si128(_mm_packus_epi16(lo, hi), alpha);
-        _mm_storeu_si128((__m128i *)(void *)(p + (size_t)x * 4), v);
+        ew_v4i v = ew_v4i_loadu(p + (size_t)x * 4);
+        ew_v4i lo = ew_v4i_bytes_lo(v), hi = ew_v4i_bytes_hi(v);
+        lo = EW_V4I_SRL16(ew_v4i_add16(ew_v4i_mullo16(lo, m), fa), 8);
+        hi = EW_V4I_SRL16(ew_v4i_add16(ew_v4i_mullo16(hi, m), fa), 8);
+        v = ew_v4i_or(ew_v4i_packus8(lo, hi), alpha);
+        ew_v4i_storeu(p + (size_t)x * 4, v);
     }
 #endif
     for (; x < n; x++) ew_set32(p, x, ew_fog_rgba(f, k, ew_get32(p, x)));
@@ -397,15 +395,15 @@ static long fog_over(const ew_fog *f, const ew_target *t, const ew_span *sp, con
     long n = span_fogged(&l, sp->count);
     int a = lo > sp->u ? lo : sp->u, e = hi < sp->u + sp->count ? hi : sp->u + sp->count;
     int x = a;
-#if defined(__SSE2__)
+#if EW_SIMD4
     /* Mostly the world's own 1/z: four compared at a time (each lane the
      * scalar's multiply and add), the rest looked at one by one. */
-    const __m128 zi0 = _mm_set1_ps(l.zi0), dz = _mm_set1_ps(l.dz), zero = _mm_setzero_ps();
+    const ew_v4f zi0 = ew_v4f_set1(l.zi0), dz = ew_v4f_set1(l.dz), zero = ew_v4f_set1(0.0f);
     for (; x + 4 <= e; x += 4) {
-        const __m128 i = _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(x - l.u), _mm_setr_epi32(0, 1, 2, 3)));
-        const __m128 z = _mm_loadu_ps(l.zr + x);
-        const __m128 over = _mm_and_ps(_mm_cmpneq_ps(z, _mm_add_ps(zi0, _mm_mul_ps(i, dz))), _mm_cmpgt_ps(z, zero));
-        if (!_mm_movemask_ps(over)) continue;
+        const ew_v4f i = ew_v4i_to_f(ew_v4i_add(ew_v4i_set1(x - l.u), ew_v4i_setr(0, 1, 2, 3)));
+        const ew_v4f z = ew_v4f_loadu(l.zr + x);
+        const ew_v4f over = ew_v4f_and(ew_v4f_ne(z, ew_v4f_add(zi0, ew_v4f_mul(i, dz))), ew_v4f_gt(z, zero));
+        if (!ew_v4f_mask(over)) continue;
         for (int k = x; k < x + 4; k++) {
             float zk = l.zr[k];
             if (zk == line_zi(l.zi0, l.dz, k - l.u) || !(zk > 0)) continue;

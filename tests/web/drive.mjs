@@ -215,6 +215,13 @@ try {
        `no COOP/COEP headers: one thread, and the page says so ("${m1}")`);
     await st1.close();
 
+    /* a bad fog= gives a message, and the map is drawn with its own fog */
+    const bf = await open(false, 'map=site/maps/lqdm7.bsp&view=0&time=0&fog=0.1,2,0,0', 640, 480);
+    await frames(bf, 1);
+    const mf = await message(bf);
+    ok(/fog must be DENSITY,R,G,B/.test(mf) && (await state(bf)).map === 'lqdm7', `fog=0.1,2,0,0: "${mf}"`);
+    await bf.close();
+
     /* ?bench=1 prints bench's JSON for the view set */
     const bp = await open(true, 'bench=1&map=site/maps/lqdm7.bsp&sizes=640x480&passes=1', 640, 480);
     const rows = await bp.evaluate(() => window.edgewise.bench);
