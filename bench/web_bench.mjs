@@ -6,7 +6,8 @@
  * the same machine, the same maps, views and sizes; the .wasm sizes; the
  * time from asking for the page to its first frame.
  *
- *   node bench/web_bench.mjs [--maps lqdm7,e1m1] [--sizes 640x480,1920x1080] [--passes 5] [--color true]
+ *   node bench/web_bench.mjs [--maps lqdm7,e1m1] [--sizes 640x480,1920x1080] [--passes 5] [--color true] [--page st]
+ *   (--page st: the page that is not cross-origin isolated, the one-thread build: one thread only)
  *   node bench/web_bench.mjs --shot FILE.png [--shotq QUERY]   (docs/web-lqdm7.png: the default query)
  *
  * Needs make web (build-web/web), make build (build/edgewise), chromium and
@@ -22,7 +23,7 @@ import { fileURLToPath } from 'node:url';
 const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const { default: puppeteer } = await import(path.join(root, 'tests/web/node_modules/puppeteer-core/lib/esm/puppeteer/puppeteer-core.js'));
 const opt = { maps: 'lqdm7,e1m1', sizes: '640x480,1920x1080', passes: '5', data: path.join(root, '../shared/data/librequake'),
-              color: '8bit', web: path.join(root, 'build-web/web'), cli: path.join(root, 'build/edgewise'), chromium: '/usr/bin/chromium' };
+              color: '8bit', page: 'iso', web: path.join(root, 'build-web/web'), cli: path.join(root, 'build/edgewise'), chromium: '/usr/bin/chromium' };
 for (let i = 2; i < process.argv.length; i += 2) opt[process.argv[i].replace(/^--/, '')] = process.argv[i + 1];
 
 function serve(isolated) {
@@ -82,7 +83,7 @@ try {
     const page = await browser.newPage();
     page.on('console', (m) => { if (/^\{/.test(m.text())) { const r = JSON.parse(m.text()); r.kind = 'web'; rows.push(r); console.log(JSON.stringify(r)); } });
     await page.setViewport({ width: 640, height: 480 });
-    await page.goto(servers.iso.url + `index.html?bench=1&map=data/maps/${map}.bsp&sizes=${opt.sizes}&passes=${opt.passes}` +
+    await page.goto(servers[opt.page === 'st' ? 'st' : 'iso'].url + `index.html?bench=1&map=data/maps/${map}.bsp&sizes=${opt.sizes}&passes=${opt.passes}` +
                     (opt.color === 'true' ? '&color=true' : ''));
     await page.evaluate(() => window.edgewise.ready);
     await page.close();
