@@ -66,6 +66,34 @@ static inline ew_v4i sky_index4(ew_v4i a, ew_v4i b, ew_v4i mask, ew_v4i mul) {
     return ew_v4i_madd16(ew_v4i_pack16(a, b), mul);
 }
 
+/* Both layers four pixels at a time: the front layer's (s, t) pairs in fa
+ * and fb, the back one's in ba and bb (two pixels each), all stepped by
+ * step; mask wraps them, mul and off make the texel indices. */
+typedef struct sky_lanes { ew_v4i mask, mul, off, fa, fb, ba, bb, step; } sky_lanes;
+
+static inline sky_lanes sky_lanes_at(int32_t fs, int32_t ft, int32_t bs, int32_t bt, int32_t ds, int32_t dt,
+                                     unsigned hm, unsigned rm, unsigned width, unsigned half) {
+    sky_lanes l;
+    l.mask = ew_v4i_setr((int32_t)hm, (int32_t)rm, (int32_t)hm, (int32_t)rm);
+    l.mul = ew_v4i_set1((int32_t)((width << 16) | 1u)), l.off = ew_v4i_set1((int32_t)half);
+    ew_v4i d = ew_v4i_zip_lo(ew_v4i_first(ds), ew_v4i_first(dt));
+    l.fa = pair_lanes(fs, ft, d), l.ba = pair_lanes(bs, bt, d);
+    d = ew_v4i_add(d, d);
+    d = ew_v4i_lo_lo(d, d);
+    l.fb = ew_v4i_add(l.fa, d), l.bb = ew_v4i_add(l.ba, d);
+    l.step = ew_v4i_add(d, d);
+    return l;
+}
+
+/* The four pixels' texel indices in the front layer (fi) and the back one
+ * (bi, in 16-bit lanes 0, 2, 4, 6), then the lanes step on. */
+static inline void sky_lanes_next(sky_lanes *l, ew_v4i *fi, ew_v4i *bi) {
+    *fi = sky_index4(l->fa, l->fb, l->mask, l->mul);
+    *bi = ew_v4i_add(sky_index4(l->ba, l->bb, l->mask, l->mul), l->off);
+    l->fa = ew_v4i_add(l->fa, l->step), l->fb = ew_v4i_add(l->fb, l->step);
+    l->ba = ew_v4i_add(l->ba, l->step), l->bb = ew_v4i_add(l->bb, l->step);
+}
+
 /* The power-of-two sky's inner loop for an 8-bit frame, both layers' texel
  * indices made four pixels at a time as the lit spans make theirs (the
  * layer of at most 65536 texels, so the wrapped integer parts are under
@@ -77,17 +105,10 @@ static void sky_run8(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, in
                      int32_t ds, int32_t dt, unsigned hm, unsigned rm, unsigned width, unsigned half, int n) {
     int k = 0;
     if (n >= 4) {
-        const ew_v4i mask = ew_v4i_setr((int32_t)hm, (int32_t)rm, (int32_t)hm, (int32_t)rm);
-        const ew_v4i mul = ew_v4i_set1((int32_t)((width << 16) | 1u)), off = ew_v4i_set1((int32_t)half);
-        ew_v4i d = ew_v4i_zip_lo(ew_v4i_first(ds), ew_v4i_first(dt));
-        ew_v4i fa = pair_lanes(fs, ft, d), ba = pair_lanes(bs, bt, d);
-        d = ew_v4i_add(d, d);
-        d = ew_v4i_lo_lo(d, d);
-        ew_v4i fb = ew_v4i_add(fa, d), bb = ew_v4i_add(ba, d);
-        const ew_v4i step = ew_v4i_add(d, d);
+        sky_lanes l = sky_lanes_at(fs, ft, bs, bt, ds, dt, hm, rm, width, half);
         for (; k + 4 <= n; k += 4) {
-            ew_v4i fi = sky_index4(fa, fb, mask, mul);
-            ew_v4i bi = ew_v4i_add(sky_index4(ba, bb, mask, mul), off);
+            ew_v4i fi, bi;
+            sky_lanes_next(&l, &fi, &bi);
             uint32_t f = (uint32_t)px[EW_V4I_U16(fi, 0)] | (uint32_t)px[EW_V4I_U16(fi, 2)] << 8 |
                          (uint32_t)px[EW_V4I_U16(fi, 4)] << 16 | (uint32_t)px[EW_V4I_U16(fi, 6)] << 24;
             uint32_t b = (uint32_t)px[EW_V4I_U16(bi, 0)] | (uint32_t)px[EW_V4I_U16(bi, 2)] << 8 |
@@ -95,12 +116,10 @@ static void sky_run8(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, in
             const ew_v4i fv = ew_v4i_first((int32_t)f), clear = ew_v4i_eq8(fv, ew_v4i_zero());
             const uint32_t four = (uint32_t)EW_V4I_LANE(ew_v4i_or(fv, ew_v4i_and(clear, ew_v4i_first((int32_t)b))), 0);
             memcpy(dst + k, &four, 4);
-            fa = ew_v4i_add(fa, step), fb = ew_v4i_add(fb, step);
-            ba = ew_v4i_add(ba, step), bb = ew_v4i_add(bb, step);
         }
         /* Where the lanes are now, in the scalar loop's wrapping 32-bit sums. */
-        fs = EW_V4I_LANE(fa, 0), ft = EW_V4I_LANE(fa, 1);
-        bs = EW_V4I_LANE(ba, 0), bt = EW_V4I_LANE(ba, 1);
+        fs = EW_V4I_LANE(l.fa, 0), ft = EW_V4I_LANE(l.fa, 1);
+        bs = EW_V4I_LANE(l.ba, 0), bt = EW_V4I_LANE(l.ba, 1);
     }
     for (; k < n; k++) {
         uint8_t f = px[(((unsigned)ft >> 16) & rm) * width + (((unsigned)fs >> 16) & hm)];
@@ -149,17 +168,10 @@ static void sky_run32(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, i
                       int32_t dt, unsigned hm, unsigned rm, unsigned width, unsigned half, int n, const uint32_t *rgba) {
     int k = 0;
     if (n >= 4) {
-        const ew_v4i mask = ew_v4i_setr((int32_t)hm, (int32_t)rm, (int32_t)hm, (int32_t)rm);
-        const ew_v4i mul = ew_v4i_set1((int32_t)((width << 16) | 1u)), off = ew_v4i_set1((int32_t)half);
-        ew_v4i d = ew_v4i_zip_lo(ew_v4i_first(ds), ew_v4i_first(dt));
-        ew_v4i fa = pair_lanes(fs, ft, d), ba = pair_lanes(bs, bt, d);
-        d = ew_v4i_add(d, d);
-        d = ew_v4i_lo_lo(d, d);
-        ew_v4i fb = ew_v4i_add(fa, d), bb = ew_v4i_add(ba, d);
-        const ew_v4i step = ew_v4i_add(d, d);
+        sky_lanes l = sky_lanes_at(fs, ft, bs, bt, ds, dt, hm, rm, width, half);
         for (; k + 4 <= n; k += 4) {
-            ew_v4i fi = sky_index4(fa, fb, mask, mul);
-            ew_v4i bi = ew_v4i_add(sky_index4(ba, bb, mask, mul), off);
+            ew_v4i fi, bi;
+            sky_lanes_next(&l, &fi, &bi);
             uint8_t f0 = px[EW_V4I_U16(fi, 0)], f1 = px[EW_V4I_U16(fi, 2)];
             uint8_t f2 = px[EW_V4I_U16(fi, 4)], f3 = px[EW_V4I_U16(fi, 6)];
             uint8_t *o = dst + (size_t)k * 4;
@@ -167,11 +179,9 @@ static void sky_run32(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, i
             memcpy(o + 4, &rgba[f1 ? f1 : px[EW_V4I_U16(bi, 2)]], 4);
             memcpy(o + 8, &rgba[f2 ? f2 : px[EW_V4I_U16(bi, 4)]], 4);
             memcpy(o + 12, &rgba[f3 ? f3 : px[EW_V4I_U16(bi, 6)]], 4);
-            fa = ew_v4i_add(fa, step), fb = ew_v4i_add(fb, step);
-            ba = ew_v4i_add(ba, step), bb = ew_v4i_add(bb, step);
         }
-        fs = EW_V4I_LANE(fa, 0), ft = EW_V4I_LANE(fa, 1);
-        bs = EW_V4I_LANE(ba, 0), bt = EW_V4I_LANE(ba, 1);
+        fs = EW_V4I_LANE(l.fa, 0), ft = EW_V4I_LANE(l.fa, 1);
+        bs = EW_V4I_LANE(l.ba, 0), bt = EW_V4I_LANE(l.ba, 1);
     }
     for (; k < n; k++) {
         uint8_t f = px[(((unsigned)ft >> 16) & rm) * width + (((unsigned)fs >> 16) & hm)];
