@@ -39,23 +39,6 @@ static int exists(const char *p) {
     return stat(p, &st) == 0;
 }
 
-/* An executable on PATH (or an absolute path): its path in out. */
-static int find_exe(const char *name, char *out, size_t n) {
-    if (strchr(name, '/')) {
-        snprintf(out, n, "%s", name);
-        return access(out, X_OK) == 0;
-    }
-    const char *path = getenv("PATH");
-    if (!path) return 0;
-    char buf[4096];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *save = NULL, *d = strtok_r(buf, ":", &save); d; d = strtok_r(NULL, ":", &save)) {
-        snprintf(out, n, "%s/%s", d, name);
-        if (access(out, X_OK) == 0) return 1;
-    }
-    return 0;
-}
-
 /* A pak file at path holding the files srcs (absolute) under the names
  * names: "PACK", the directory's offset and length, the data, then one
  * 64-byte entry (56-byte name, offset, size) a file.  0 or -1. */
@@ -163,11 +146,11 @@ int main(void) {
         ew_t_skip("the web page is not built (%s missing: make web, which needs emscripten)", wasm);
         return ew_t_finish();
     }
-    if (!find_exe("node", node, sizeof node)) {
+    if (!ew_t_find_exe("node", node, sizeof node)) {
         ew_t_skip("node not found (apt-get install nodejs)");
         return ew_t_finish();
     }
-    if (!find_exe(chrome_env && *chrome_env ? chrome_env : "chromium", chromium, sizeof chromium)) {
+    if (!ew_t_find_exe(chrome_env && *chrome_env ? chrome_env : "chromium", chromium, sizeof chromium)) {
         ew_t_skip("chromium not found (apt-get install chromium)");
         return ew_t_finish();
     }

@@ -77,6 +77,10 @@ void ew_t_slurp(const char *path, char *buf, size_t size);
 /* The number after "key": in a JSON text (true/false read as 1/0); NAN if absent. */
 double ew_t_json_num(const char *json, const char *key);
 
+/* The program name (or a path, if it has a '/') found on PATH, in out: 1,
+ * or 0 if there is none. */
+int ew_t_find_exe(const char *name, char *out, size_t n);
+
 /* ---- files the tests write ------------------------------------------------ */
 
 /* Writes n bytes to path: 0, or -1 if it could not. */
