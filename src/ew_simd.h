@@ -47,7 +47,6 @@ EW_V4_INLINE ew_v4f ew_v4f_gt(ew_v4f a, ew_v4f b) { return _mm_cmpgt_ps(a, b); }
 EW_V4_INLINE ew_v4f ew_v4f_ne(ew_v4f a, ew_v4f b) { return _mm_cmpneq_ps(a, b); }
 EW_V4_INLINE ew_v4f ew_v4f_not_le(ew_v4f a, ew_v4f b) { return _mm_cmpnle_ps(a, b); }
 EW_V4_INLINE ew_v4f ew_v4f_and(ew_v4f a, ew_v4f b) { return _mm_and_ps(a, b); }
-EW_V4_INLINE ew_v4f ew_v4f_or(ew_v4f a, ew_v4f b) { return _mm_or_ps(a, b); }
 /* m ? a : b lane by lane, m a comparison's mask. */
 EW_V4_INLINE ew_v4f ew_v4f_select(ew_v4f m, ew_v4f a, ew_v4f b) { return _mm_or_ps(_mm_and_ps(m, a), _mm_andnot_ps(m, b)); }
 /* One bit a lane: the lanes' sign bits, lane 0 lowest. */
@@ -166,7 +165,6 @@ EW_V4_INLINE ew_v4f ew_v4f_gt(ew_v4f a, ew_v4f b) { return wasm_f32x4_gt(a, b); 
 EW_V4_INLINE ew_v4f ew_v4f_ne(ew_v4f a, ew_v4f b) { return wasm_f32x4_ne(a, b); }
 EW_V4_INLINE ew_v4f ew_v4f_not_le(ew_v4f a, ew_v4f b) { return wasm_v128_not(wasm_f32x4_le(a, b)); }
 EW_V4_INLINE ew_v4f ew_v4f_and(ew_v4f a, ew_v4f b) { return wasm_v128_and(a, b); }
-EW_V4_INLINE ew_v4f ew_v4f_or(ew_v4f a, ew_v4f b) { return wasm_v128_or(a, b); }
 EW_V4_INLINE ew_v4f ew_v4f_select(ew_v4f m, ew_v4f a, ew_v4f b) { return wasm_v128_bitselect(a, b, m); }
 EW_V4_INLINE int ew_v4f_mask(ew_v4f a) { return (int)wasm_i32x4_bitmask(a); }
 EW_V4_INLINE ew_v4f ew_v4f_carry(ew_v4f prev, ew_v4f a) { return wasm_i32x4_shuffle(prev, a, 3, 4, 5, 6); }
