@@ -2,7 +2,7 @@
  * edgewise bench: the benchmark protocol of ../shared/BENCHMARK.md.
  *
  *   edgewise bench MAP... [--data DIR] [--size WxH]... [--threads N]...
- *                  [--passes P] [--gap MS] [--bands N]... [--cold] [drawing options] [--table]
+ *                  [--passes P] [--gap MS] [--bands N]... [--cold] [--simd LEVEL] [drawing options] [--table]
  *                  [--out FILE.jsonl]
  *   edgewise bench --floor [--size WxH]... [--table] [--out FILE.jsonl]
  *
@@ -80,6 +80,7 @@ typedef struct bench_opts {
     int         gap_ms;         /* --gap: pause before each frame */
     int         table, floor_only, quiet, per_view;
     int         cold;           /* --cold: the surface cache emptied before each frame */
+    int         simd;           /* --simd: an ew_simd_level */
     draw_opts   draw;           /* what is drawn (cli/draw_options.c) */
 } bench_opts;
 
@@ -87,7 +88,7 @@ typedef struct bench_opts {
 
 /* Returns 0, 1 for --help (usage printed), -1 (error printed). */
 static int bench_parse(int argc, char **argv, bench_opts *o) {
-    int passes_given = 0, gap_given = 0;
+    int passes_given = 0, gap_given = 0, simd_given = 0;
     cli_args args;
     cli_args_init(&args, CLI_BENCH, argc, argv, o->maps, MAX_MAPS, &o->draw, bench_usage, bench_usage_tail);
     while (cli_next_arg(&args)) {
@@ -130,6 +131,16 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
                 return -1;
             }
             o->bands[o->nbands++] = (int)l;
+        } else if (strcmp(name, "--simd") == 0) {
+            static const char *const levels[] = { "best", "sse2", "avx2", "avx512" };
+            int k = 0;
+            while (k < 4 && strcmp(v, levels[k]) != 0) k++;
+            if (k == 4) {
+                error_line("bench: --simd %s: expected best, sse2, avx2 or avx512", v);
+                return -1;
+            }
+            o->simd = k;
+            simd_given = 1;
         } else if (strcmp(name, "--gap") == 0) {
             if (cli_int_once("bench", name, v, 0, 1000, &gap_given, &o->gap_ms) < 0)
                 return -1;
@@ -149,7 +160,7 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
         return -1;
     }
     if (o->floor_only && (o->data || o->nthreads || passes_given || o->draw.given || o->quiet || o->nbands || gap_given ||
-                          o->cold)) {
+                          o->cold || simd_given)) {
         error_line("bench: --floor takes only --size, --table and --out");
         return -1;
     }
@@ -374,6 +385,7 @@ typedef struct row {
     int    w, h, threads, threads_requested, threads_applied, views, passes, entities, max_view;
     int    gap_ms;        /* --gap: the pause before each frame */
     int    cold;          /* --cold: each frame after the surface cache was emptied */
+    int    simd;          /* the ew_simd_level in use (--simd, capped by the processor) */
     int    slow_view;     /* the view with the highest median over the passes */
     draw_opts draw;       /* what was drawn */
     double median, mean, p99, max, level, ns_per_pixel, floor_ms, floor_ratio;
@@ -548,7 +560,9 @@ static void print_row_json(FILE *f, const row *r) {
         fprintf(f, ",\"%s\":", names[i]);
         json_number(f, vals[i]);
     }
-    fprintf(f, ",\"cold\":%s,\"max_view\":%d,\"level\":", r->cold ? "true" : "false", r->max_view);
+    static const char *const simd_names[] = { "best", "sse2", "avx2", "avx512" };
+    fprintf(f, ",\"cold\":%s,\"simd\":\"%s\",\"max_view\":%d,\"level\":", r->cold ? "true" : "false",
+            simd_names[r->simd], r->max_view);
     json_number(f, r->level);
     fprintf(f, ",\"slow_view\":%d", r->slow_view);
     const char *more[] = { "view_level", "ns_per_pixel", "floor_ms", "floor_ratio", "serial_ms", "serial_share",
@@ -1013,6 +1027,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     r->draw.map_rgb = ew_world_has_rgb_light(a->world);  /* "lit": coloured light actually drawn */
     r->draw.no_entities = scene == NULL;
     draw_opts_apply(&o->draw, rd, scene);
+    r->simd = (int)ew_set_simd(rd, (ew_simd_level)o->simd);
     size_t n = (size_t)nviews * (size_t)o->passes;
     double *frames = malloc(n * sizeof *frames), *scratch = malloc(n * sizeof *scratch);
     ew_stats *stats = calloc(n, sizeof *stats);

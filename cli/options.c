@@ -95,6 +95,9 @@ const cli_option cli_options[] = {
     { "--cold", NULL, CLI_ARG_NONE, NULL, B(BENCH), 0,
       "empty the surface cache before each frame (untimed), so\nevery frame builds the surfaces it shows, as the "
       "first\nframe of a new view does", NULL },
+    { "--simd", "LEVEL", CLI_ARG_WORD, "best sse2 avx2 avx512", B(BENCH), 0,
+      "the widest loops chosen at run time may use: best (the\nprocessor's widest, the default), sse2, avx2 or "
+      "avx512;\ntimes here what a processor without AVX-512 runs", NULL },
     { "--quiet", NULL, CLI_ARG_NONE, NULL, B(BENCH) | B(HSR) | B(SHOTS), 0,
       "no warning lines about the maps' optional data", NULL },
     /* ---- hsr ---- */

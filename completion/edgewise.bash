@@ -33,6 +33,8 @@ _edgewise()
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -d -- "$cur")); return 0 ;;
         bench:--out)
             compopt -o filenames 2>/dev/null; COMPREPLY=($(compgen -f -- "$cur")); return 0 ;;
+        bench:--simd)
+            COMPREPLY=($(compgen -W 'best sse2 avx2 avx512' -- "$cur")); return 0 ;;
         hsr:--methods)
             COMPREPLY=($(compgen -W 'edge edge-z spans zbuffer painter drawbuffer beamtree raycast reference' -- "$cur")); return 0 ;;
         hsr:--json)
@@ -129,7 +131,7 @@ _edgewise()
         views) opts='--help --game --data --quiet' ;;
         info) opts='--help --game --data --quiet' ;;
         bench) opts='--help --game --data --size --threads --passes --gap --bands --table --out
-                  --floor --per-view --cold --quiet --no-entities --alias-raster --subdiv-threshold
+                  --floor --per-view --cold --simd --quiet --no-entities --alias-raster --subdiv-threshold
                   --full-zfill --occlusion --classic --wateralpha --fog --no-fog --no-waterwarp
                   --hsr --color --no-lit --dither --lighting --lightstyle --gamma --debug' ;;
         hsr) opts='--help --game --data --quiet --methods --size --threads --repeat --json

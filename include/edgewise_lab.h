@@ -80,6 +80,16 @@ EW_API void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode);
 typedef enum ew_front_mode { EW_FRONT_AUTO, EW_FRONT_PHASES } ew_front_mode;
 EW_API void ew_set_front_mode(ew_renderer *r, ew_front_mode mode);
 
+/* The widest instructions the loops chosen at run time may use (today the
+ * fog runs: a table row per run of one level in 8-bit, a blend in true
+ * colour).  BEST, the default, takes the widest the processor has; BASE
+ * keeps to the build's SSE2 (or none), AVX2 stops short of AVX-512, as
+ * most desktop processors do, so a machine with AVX-512 can test and time
+ * what they run.  A level the processor lacks falls back to the widest it
+ * has.  Returns the level in use.  The frame is the same at every level. */
+typedef enum ew_simd_level { EW_SIMD_BEST, EW_SIMD_BASE, EW_SIMD_AVX2, EW_SIMD_AVX512 } ew_simd_level;
+EW_API ew_simd_level ew_set_simd(ew_renderer *r, ew_simd_level level);
+
 /* A deliberately wrong surface cache, for the light oracle's controls
  * (tests/test_light_oracle.c): the light map read one sample to the right
  * (EW_LIGHT_FAULT_SHIFT) or with s and t swapped (EW_LIGHT_FAULT_SWAP).

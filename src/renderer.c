@@ -325,6 +325,15 @@ void ew_flush_surfaces(ew_renderer *r) { ew_cache_flush(&r->lit.cache); }
 /* Two-pass lighting wants it for every lit surface of the frame. */
 static int two_pass(const ew_renderer *r) { return r->f.cfg.lighting == EW_LIGHTING_TWO_PASS && !r->dbg.mode; }
 void ew_set_full_zfill(ew_renderer *r, int on) { r->zf.all = on != 0; }
+ew_simd_level ew_set_simd(ew_renderer *r, ew_simd_level level) {
+    static const int cap[] = {[EW_SIMD_BEST] = EW_FOG_SIMD_VBMI, [EW_SIMD_BASE] = EW_FOG_SIMD_BASE,
+                              [EW_SIMD_AVX2] = EW_FOG_SIMD_AVX2, [EW_SIMD_AVX512] = EW_FOG_SIMD_VBMI};
+    int has = ew_fog_cpu_simd(), want = (unsigned)level <= EW_SIMD_AVX512 ? cap[level] : has;
+    r->draw.fog.simd = want < has ? want : has;
+    return r->draw.fog.simd >= EW_FOG_SIMD_AVX512 ? EW_SIMD_AVX512
+         : r->draw.fog.simd == EW_FOG_SIMD_AVX2   ? EW_SIMD_AVX2
+                                                  : EW_SIMD_BASE;
+}
 void ew_set_hide_occluded(ew_renderer *r, int on) { r->f.cfg.hide_occluded = on != 0; }
 void ew_set_front_mode(ew_renderer *r, ew_front_mode mode) { r->f.cfg.front_phases = mode == EW_FRONT_PHASES; }
 void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode) {

@@ -279,6 +279,23 @@ static void test_cold(void) {
     free(r);
 }
 
+/* --simd: the row names the loops in use (sse2 on any x86-64 processor),
+ * and a fogged frame at sse2 counts the same fogged pixels as at the
+ * processor's widest (tests/test_fog_simd.c compares the frames). */
+static void test_simd(void) {
+    run_result *r = malloc(sizeof *r);
+    expect_ok(r, "builtin --simd sse2",
+              ARGS("bench", "builtin", "--size", "320x200", "--passes", "1", "--simd", "sse2", "--fog", "0.5,0.5,0.5,0.5"));
+    CHECK(strstr(r->out, "\"simd\":\"sse2\"") != NULL, "--simd sse2 row: %s", r->out);
+    double narrow = field(r->out, "fog_pixels");
+    expect_ok(r, "builtin (best)", ARGS("bench", "builtin", "--size", "320x200", "--passes", "1", "--fog", "0.5,0.5,0.5,0.5"));
+    CHECK(strstr(r->out, "\"simd\":\"") != NULL && strstr(r->out, "\"simd\":\"best\"") == NULL,
+          "the default row names the loops it ran: %s", r->out);
+    CHECK(narrow > 0 && field(r->out, "fog_pixels") == narrow, "fog_pixels %g at sse2, %g at best", narrow,
+          field(r->out, "fog_pixels"));
+    free(r);
+}
+
 /* A normal non-zero exit and exactly one "edgewise: ..." line on stderr. */
 static void expect_fail(const char *const *args, const char *needle) {
     run_result *r = malloc(sizeof *r);
@@ -294,6 +311,8 @@ static void expect_fail(const char *const *args, const char *needle) {
 
 static void test_bad_args(void) {
     char path[512];
+    expect_fail(ARGS("bench", "builtin", "--simd", "avx3"), "--simd avx3: expected best, sse2, avx2 or avx512");
+    expect_fail(ARGS("bench", "--floor", "--simd", "sse2"), "--floor takes only");
     expect_fail(ARGS("bench"), "missing MAP");
     expect_fail(ARGS("bench", "builtin", "--passes", "0"), "--passes");
     expect_fail(ARGS("bench", "builtin", "--passes", "x"), "--passes");
@@ -340,6 +359,7 @@ int main(void) {
     test_start();
     test_builtin();
     test_cold();
+    test_simd();
     test_bad_args();
     char path[512];
     remove(tmp_path(path, "stdout.txt"));

@@ -27,13 +27,26 @@
 #include <string.h>
 
 #include "ew_simd.h"
-/* Where the processor has AVX-512 (asked at run time, the build assumes
- * only SSE2): a run's table row in four registers, 64 pixels a lookup
- * (VBMI's two-table byte permute), and true colour 16 pixels a blend. */
+/* Where the processor has more than SSE2 (asked at run time, the build
+ * assumes only SSE2; ew_set_simd caps it): with AVX-512 VBMI a run's table
+ * row in four registers, 64 pixels a lookup (the two-table byte permute);
+ * true colour 16 pixels a blend with AVX-512, 8 with AVX2.  (An AVX2 table
+ * row as sixteen byte shuffles of 16 entries was no faster than the
+ * scalar lookups, 2026-12-06.) */
 #if defined(__x86_64__) && defined(__GNUC__)
 #define EW_FOG_AVX512 1
 #include <immintrin.h>
 #endif
+
+int ew_fog_cpu_simd(void) {
+#ifdef EW_FOG_AVX512
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw"))
+        return __builtin_cpu_supports("avx512vbmi") ? EW_FOG_SIMD_VBMI : EW_FOG_SIMD_AVX512;
+    if (__builtin_cpu_supports("avx2")) return EW_FOG_SIMD_AVX2;
+#endif
+    return EW_FOG_SIMD_BASE;
+}
 
 void ew_fog_levels(ew_fog *f) {
     int n = EW_FOG_QSTEPS;
@@ -42,12 +55,7 @@ void ew_fog_levels(ew_fog *f) {
         f->level[i] = (uint8_t)lrint(amount * (EW_FOG_LEVELS - 1));
     }
     f->sky_level = (EW_FOG_LEVELS - 1) / 2;
-    f->simd = 0;
-#ifdef EW_FOG_AVX512
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw"))
-        f->simd = __builtin_cpu_supports("avx512vbmi") ? 2 : 1;
-#endif
+    f->simd = ew_fog_cpu_simd();
     /* The levels rise by at most one an entry, so each is reached. */
     for (int k = 0, i = 0; k <= EW_FOG_LEVELS; k++) {
         while (i <= n && f->level[i] < k) i++;
@@ -153,6 +161,29 @@ __attribute__((target("avx512f,avx512bw,avx512vbmi"))) static void lut_vbmi(cons
     }
 }
 
+/* Eight pixels c + ((fog - c) a >> 8), as fog_run32's four-lane loop. */
+__attribute__((target("avx2"))) static inline __m256i mix8(__m256i v, __m256i m, __m256i fa, __m256i alpha) {
+    const __m256i zero = _mm256_setzero_si256();
+    __m256i lo = _mm256_unpacklo_epi8(v, zero), hi = _mm256_unpackhi_epi8(v, zero);
+    lo = _mm256_srli_epi16(_mm256_add_epi16(_mm256_mullo_epi16(lo, m), fa), 8);
+    hi = _mm256_srli_epi16(_mm256_add_epi16(_mm256_mullo_epi16(hi, m), fa), 8);
+    return _mm256_or_si256(_mm256_packus_epi16(lo, hi), alpha);
+}
+
+/* fog_run32's blend, 8 pixels at a time (n >= 8).  The last eight (which
+ * may overlap the eight before) are read before anything is written, so
+ * each pixel is blended once, from its own value. */
+__attribute__((target("avx2"))) static void mix_avx2(uint8_t *p, int n, int a, const int rgb[3]) {
+    const __m256i m = _mm256_set1_epi16((short)(256 - a));
+    const __m256i fa = _mm256_set1_epi64x((long long)((uint64_t)(rgb[0] * a) | (uint64_t)(rgb[1] * a) << 16 |
+                                                      (uint64_t)(rgb[2] * a) << 32));
+    const __m256i alpha = _mm256_set1_epi32((int)ew_rgba(0, 0, 0));
+    uint8_t *end = p + (size_t)(n - 8) * 4;
+    const __m256i last = mix8(_mm256_loadu_si256((const __m256i *)end), m, fa, alpha);
+    for (; p < end; p += 32) _mm256_storeu_si256((__m256i *)p, mix8(_mm256_loadu_si256((const __m256i *)p), m, fa, alpha));
+    _mm256_storeu_si256((__m256i *)end, last);
+}
+
 /* fog_run32's blend, 16 pixels at a time. */
 __attribute__((target("avx512f,avx512bw"))) static void mix_avx512(uint8_t *p, int n, int a, const int rgb[3]) {
     const __m512i m = _mm512_set1_epi16((short)(256 - a)), zero = _mm512_setzero_si512();
@@ -180,7 +211,7 @@ static void fog_run8(const ew_fog *f, uint8_t *p, int n, int k) {
     }
     const uint8_t *tab = f->table + k * 256;
 #ifdef EW_FOG_AVX512
-    if (f->simd == 2 && n >= 8) {
+    if (f->simd == EW_FOG_SIMD_VBMI && n >= 8) {
         lut_vbmi(tab, p, n);
         return;
     }
@@ -205,8 +236,12 @@ static void fog_run32(const ew_fog *f, uint8_t *p, int n, int k) {
     }
     int x = 0;
 #ifdef EW_FOG_AVX512
-    if (f->simd && n >= 4) {
+    if (f->simd >= EW_FOG_SIMD_AVX512 && n >= 4) {
         mix_avx512(p, n, k * 256 / (EW_FOG_LEVELS - 1), f->rgb);
+        return;
+    }
+    if (f->simd == EW_FOG_SIMD_AVX2 && n >= 8) {
+        mix_avx2(p, n, k * 256 / (EW_FOG_LEVELS - 1), f->rgb);
         return;
     }
 #endif

@@ -58,13 +58,21 @@ typedef struct ew_fog {
      * surely where 1/z <= zt_lo[k], surely not where 1/z > zt_hi[k]. */
     int      full, fill;
     int      seg;             /* the drawers' segment: 1 << subdiv_shift */
-    int      simd;            /* 1: the processor has AVX-512 (BW), 2: and VBMI (ew_fog_levels) */
+    int      simd;            /* the widest fog loops in use: EW_FOG_SIMD_* (ew_fog_levels, ew_fog_simd) */
     uint32_t full_px;
     float    zt[EW_FOG_LEVELS + 1], zt_lo[EW_FOG_LEVELS + 1], zt_hi[EW_FOG_LEVELS + 1];
     uint16_t first[EW_FOG_LEVELS + 1];  /* the first entry of level[] at each level or above */
     uint8_t level[EW_FOG_QSTEPS + 1];  /* q -> level of 1 - exp(-q) */
 } ew_fog;
-/* Fills the level table (once, at the renderer's creation). */
+/* The fog runs' loops by the instructions they use, chosen at run time
+ * (the build assumes SSE2 alone): the build's four lanes (ew_simd.h),
+ * AVX2, AVX-512 BW, and AVX-512 VBMI (a 256-entry byte table in four
+ * registers).  Every level draws the same pixels. */
+enum { EW_FOG_SIMD_BASE, EW_FOG_SIMD_AVX2, EW_FOG_SIMD_AVX512, EW_FOG_SIMD_VBMI };
+/* The widest this processor has. */
+int ew_fog_cpu_simd(void);
+/* Fills the level table (once, at the renderer's creation); simd: the
+ * processor's widest. */
 void ew_fog_levels(ew_fog *f);
 static inline int ew_fog_level(const ew_fog *f, float zi) {
     float q = f->w / (zi * zi);
