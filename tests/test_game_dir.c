@@ -91,6 +91,10 @@ static void command(void) {
     for (int i = 0; cmds[i]; i++) {
         const char *help[] = {cmds[i], "--help", NULL};
         ew_t_run_cli(&run, dir, help);
+        if (!strcmp(cmds[i], "view") && strstr(run.err, "without SDL2")) {
+            ew_t_skip("edgewise view was built without SDL2: its --help is not checked");
+            continue;
+        }
         CHECK(strstr(run.out, "--game") != NULL, "%s --help lists --game", cmds[i]);
     }
     remove(ew_t_in_dir(dir, "f.png"));

@@ -136,7 +136,12 @@ static void do_nothing_options(void) {
             char what[200];
             snprintf(what, sizeof what, "%s %s %s %s", cmds[c][0], pairs[p][0], pairs[p][1],
                      pairs[p][2] ? pairs[p][2] : "");
-            refused(what, run(args), "--dither");
+            ew_t_run *r = run(args);
+            if (!strcmp(cmds[c][0], "view") && strstr(r->err, "without SDL2")) {
+                ew_t_skip("edgewise view was built without SDL2: %s not checked", what);
+                continue;
+            }
+            refused(what, r, "--dither");
         }
     /* Each alone is taken. */
     ew_t_run *r = run(ARGS("render", "g/maps/withlit.bsp", "--size", "320x200", "--out", "o.png", "--dither"));
