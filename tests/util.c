@@ -76,6 +76,28 @@ ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene, ew_camera *vi
     return a;
 }
 
+ew_assets *ew_t_load_map_cloud(const char *name, ew_scene **scene, ew_camera *views, int *nviews) {
+    ew_assets *a = ew_t_load_map_scene(name, scene, views, nviews);
+    if (!a || !*scene) {
+        ew_scene_destroy(*scene);
+        ew_assets_destroy(a);
+        *scene = NULL;
+        return NULL;
+    }
+    const float center[3] = {views[0].origin[0], views[0].origin[1], views[0].origin[2]};
+    CHECK(ew_scene_add_particles(*scene, 2000, center, 300, 11) == 2000, "%s: particles", name);
+    return a;
+}
+
+long ew_t_frames_differ(const ew_renderer *x, const ew_renderer *y, int w, int h, int true_colour) {
+    const size_t bytes = (size_t)w * (size_t)h * (true_colour ? 4 : 1);
+    const uint8_t *a = true_colour ? (const uint8_t *)ew_frame_rgba(x) : ew_frame_pixels(x);
+    const uint8_t *b = true_colour ? (const uint8_t *)ew_frame_rgba(y) : ew_frame_pixels(y);
+    long off = 0;
+    for (size_t i = 0; i < bytes; i++) off += a[i] != b[i];
+    return off;
+}
+
 int ew_t_finish(void) {
     printf("%d passed, %d failed, %d skipped\n", ew_t_passed, ew_t_failed, ew_t_skipped);
     return ew_t_failed ? 1 : ew_t_skipped ? 77 : 0;

@@ -54,6 +54,13 @@ ew_assets *ew_t_load_map(const char *name);
  * (EW_MAX_VIEWS) its view set, *nviews of them (checked to be some); NULL
  * after a failed CHECK.  *scene may be NULL after a failed CHECK too. */
 ew_assets *ew_t_load_map_scene(const char *name, ew_scene **scene, ew_camera *views, int *nviews);
+/* ew_t_load_map_scene with a cloud of 2000 particles (radius 300, seed 11)
+ * around the first view added to the scene, for the fog tests: NULL, with
+ * nothing to free, after a failed CHECK. */
+ew_assets *ew_t_load_map_cloud(const char *name, ew_scene **scene, ew_camera *views, int *nviews);
+/* The bytes by which two renderers' last frames differ: w x h pixels, in
+ * true colour (4 bytes a pixel, ew_frame_rgba) or 8-bit (ew_frame_pixels). */
+long ew_t_frames_differ(const ew_renderer *x, const ew_renderer *y, int w, int h, int true_colour);
 /* Prints "N passed, N failed, N skipped" and returns the process exit
  * code: 1 if a check failed, else 77 if anything was skipped, else 0. */
 int ew_t_finish(void);
