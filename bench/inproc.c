@@ -21,7 +21,9 @@
  * What is drawn: --fog D,R,G,B, --no-fog, --color 8bit|true, --hsr METHOD, --no-lit
  * and --classic go to both sides, and so does --simd best|sse2|avx2|avx512
  * (ew_set_simd: how wide the fog's loops may be, to time on this machine
- * what a processor without AVX-512 or AVX2 runs); --a-args "OPTS" and --b-args "OPTS" (those options,
+ * what a processor without AVX-512 or AVX2 runs) and --occlusion
+ * off|auto|always (ew_set_occlusion_cull); --a-args "OPTS" and --b-args
+ * "OPTS" (those options,
  * split at spaces) to one side after them.  With the same revision on
  * both sides (bench/compare.sh WORKTREE WORKTREE) that times one library
  * against itself under two option sets: e.g. --b-args "--fog 1,0.3,0.3,0.35"
@@ -67,7 +69,7 @@
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
  *          [--classic] [--no-entities] [--stage S] [--per-view]
  *          [--color 8bit|true] [--vs-color] [--no-lit] [--cold]
- *          [--fog D,R,G,B | --no-fog] [--hsr METHOD] [--simd LEVEL] [--a-args OPTS] [--b-args OPTS]
+ *          [--fog D,R,G,B | --no-fog] [--hsr METHOD] [--simd LEVEL] [--occlusion MODE] [--a-args OPTS] [--b-args OPTS]
  *   inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] */
 #define _POSIX_C_SOURCE 200809L  /* clock_gettime */
 #include "edgewise_lab.h"  /* ew_flush_surfaces */
@@ -80,6 +82,7 @@
 #pragma weak ew_set_fog
 #pragma weak ew_set_hsr
 #pragma weak ew_set_simd
+#pragma weak ew_set_occlusion_cull
 #ifdef EW_INPROC_OLD
 #include "inproc_old.h"
 #endif
@@ -118,8 +121,10 @@ B_SIDE(ew_frame_palette)
 B_SIDE(ew_set_fog)
 B_SIDE(ew_set_hsr)
 B_SIDE(ew_set_simd)
+B_SIDE(ew_set_occlusion_cull)
 #ifndef EW_INPROC_SELF
 #pragma weak b_ew_set_simd
+#pragma weak b_ew_set_occlusion_cull
 #endif
 
 typedef struct side {
@@ -141,6 +146,7 @@ typedef struct side {
     __typeof__(ew_set_fog) *set_fog;
     __typeof__(ew_set_hsr) *set_hsr;
     __typeof__(ew_set_simd) *set_simd;
+    __typeof__(ew_set_occlusion_cull) *set_occlusion;
     /* per map and size */
     ew_assets   *assets;
     ew_scene    *scene;
@@ -153,17 +159,17 @@ static side sides[2] = {
 #else
     {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
      ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
-     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, ew_frame_palette, ew_set_fog, ew_set_hsr, ew_set_simd, NULL, NULL, NULL},
+     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, ew_frame_palette, ew_set_fog, ew_set_hsr, ew_set_simd, ew_set_occlusion_cull, NULL, NULL, NULL},
 #endif
 #ifdef EW_INPROC_SELF
     {ew_assets_create, ew_assets_destroy, ew_scene_create_from_map, ew_scene_destroy, ew_benchmark_views,
      ew_renderer_create, ew_renderer_destroy, ew_set_classic, ew_set_scene, ew_render, ew_frame_pixels,
-     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, ew_frame_palette, ew_set_fog, ew_set_hsr, ew_set_simd, NULL, NULL, NULL},
+     ew_frame_rgba, ew_set_lit, ew_flush_surfaces, ew_frame_palette, ew_set_fog, ew_set_hsr, ew_set_simd, ew_set_occlusion_cull, NULL, NULL, NULL},
 #else
     {b_ew_assets_create, b_ew_assets_destroy, b_ew_scene_create_from_map, b_ew_scene_destroy,
      b_ew_benchmark_views, b_ew_renderer_create, b_ew_renderer_destroy, b_ew_set_classic, b_ew_set_scene,
      b_ew_render, b_ew_frame_pixels, b_ew_frame_rgba, b_ew_set_lit, b_ew_flush_surfaces, b_ew_frame_palette,
-     b_ew_set_fog, b_ew_set_hsr, b_ew_set_simd, NULL, NULL, NULL},
+     b_ew_set_fog, b_ew_set_hsr, b_ew_set_simd, b_ew_set_occlusion_cull, NULL, NULL, NULL},
 #endif
 };
 
@@ -172,6 +178,7 @@ typedef struct side_opts {
     int   classic, color, no_lit;
     int   hsr;          /* ew_hsr_method + 1 (0: the default) */
     int   simd;         /* ew_simd_level (0: the widest the processor has) */
+    int   occlusion;    /* ew_occlusion_mode + 1 (0: the default) */
     int   fog_set;      /* 0: the map's fog; else fog[] (density 0: none) */
     float fog[4];
 } side_opts;
@@ -198,6 +205,15 @@ static int draw_opt(int argc, char **argv, int *i, side_opts *o) {
         int m = ew_hsr_from_name(argv[++*i]);
         if (m < 0) return -1;
         o->hsr = m + 1;
+        return 1;
+    }
+    if (!strcmp(a, "--occlusion")) {
+        if (*i + 1 >= argc) return -1;
+        const char *m = argv[++*i];
+        if (!strcmp(m, "off")) o->occlusion = EW_OCCLUSION_OFF + 1;
+        else if (!strcmp(m, "auto")) o->occlusion = EW_OCCLUSION_AUTO + 1;
+        else if (!strcmp(m, "always")) o->occlusion = EW_OCCLUSION_ALWAYS + 1;
+        else return -1;
         return 1;
     }
     if (!strcmp(a, "--simd")) {
@@ -262,7 +278,7 @@ static double median(double *v, int n) {
 static int usage(const char *why) {
     fprintf(stderr, "inproc: %s\nusage: inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N] "
                     "[--classic] [--no-entities] [--stage front|scan|draw|models] [--per-view]\n"
-                    "       [--color 8bit|true] [--vs-color] [--no-lit] [--cold] [--fog D,R,G,B | --no-fog] [--hsr METHOD] [--simd LEVEL]\n"
+                    "       [--color 8bit|true] [--vs-color] [--no-lit] [--cold] [--fog D,R,G,B | --no-fog] [--hsr METHOD] [--simd LEVEL] [--occlusion MODE]\n"
                     "       [--a-args OPTS] [--b-args OPTS]\n"
                     "       inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model]\n", why);
     return 2;
@@ -418,6 +434,7 @@ static int run(const char *map, const char *size, const char *data, int w, int h
             return -1;
         }
         if (opts[k].fog_set) s->set_fog(s->r, opts[k].fog[0], opts[k].fog[1], opts[k].fog[2], opts[k].fog[3]);
+        if (opts[k].occlusion) s->set_occlusion(s->r, (ew_occlusion_mode)(opts[k].occlusion - 1));
         if (opts[k].simd) {
             static const char *const names[] = {"best", "sse2", "avx2", "avx512"};
             ew_simd_level got = s->set_simd(s->r, (ew_simd_level)opts[k].simd);
@@ -579,7 +596,7 @@ int main(int argc, char **argv) {
         opts[k] = both;
         if (vs_color) opts[k].color = k ? EW_COLOR_TRUE : EW_COLOR_8BIT;
         if (own[k] && side_args(own[k], &opts[k]) < 0)
-            return usage("--a-args/--b-args take --fog, --no-fog, --color, --hsr, --simd, --classic, --no-lit");
+            return usage("--a-args/--b-args take --fog, --no-fog, --color, --hsr, --simd, --occlusion, --classic, --no-lit");
     }
     for (int k = 0; k < 2; k++) {
         const side *sd = &sides[k];
@@ -588,14 +605,16 @@ int main(int argc, char **argv) {
                          : cold && !sd->flush ? "--cold (ew_flush_surfaces)"
                          : opts[k].fog_set && !sd->set_fog ? "--fog (ew_set_fog)"
                          : opts[k].hsr && !sd->set_hsr ? "--hsr (ew_set_hsr)"
-                         : opts[k].simd && !sd->set_simd ? "--simd (ew_set_simd)" : NULL;
+                         : opts[k].simd && !sd->set_simd ? "--simd (ew_set_simd)"
+                         : opts[k].occlusion && !sd->set_occlusion ? "--occlusion (ew_set_occlusion_cull)" : NULL;
         if (miss) {
             fprintf(stderr, "inproc: side %c's library has no %s\n", "AB"[k], miss);
             return 2;
         }
     }
 #ifdef EW_INPROC_OLD
-    if (own[0] || own[1] || both.color || both.hsr || both.fog_set || both.no_lit || both.simd || vs_color || cold)
+    if (own[0] || own[1] || both.color || both.hsr || both.fog_set || both.no_lit || both.simd || both.occlusion || vs_color ||
+        cold)
         return usage("side A is an old revision: only --classic of what is drawn (to B)");
     opts[0].classic = 0;  /* its one look was the classic one */
 #endif
