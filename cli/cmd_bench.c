@@ -133,6 +133,10 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             o->bands[o->nbands++] = (int)l;
         } else if (strcmp(name, "--simd") == 0) {
             static const char *const levels[] = { "best", "sse2", "avx2", "avx512" };
+            if (simd_given) {
+                error_line("bench: --simd given twice");
+                return -1;
+            }
             int k = 0;
             while (k < 4 && strcmp(v, levels[k]) != 0) k++;
             if (k == 4) {

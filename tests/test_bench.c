@@ -313,6 +313,7 @@ static void test_bad_args(void) {
     char path[512];
     expect_fail(ARGS("bench", "builtin", "--simd", "avx3"), "--simd avx3: expected best, sse2, avx2 or avx512");
     expect_fail(ARGS("bench", "--floor", "--simd", "sse2"), "--floor takes only");
+    expect_fail(ARGS("bench", "builtin", "--simd", "sse2", "--simd", "avx2"), "--simd given twice");
     expect_fail(ARGS("bench"), "missing MAP");
     expect_fail(ARGS("bench", "builtin", "--passes", "0"), "--passes");
     expect_fail(ARGS("bench", "builtin", "--passes", "x"), "--passes");
