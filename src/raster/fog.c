@@ -180,7 +180,8 @@ __attribute__((target("avx2"))) static void mix_avx2(uint8_t *p, int n, int a, c
     const __m256i alpha = _mm256_set1_epi32((int)ew_rgba(0, 0, 0));
     uint8_t *end = p + (size_t)(n - 8) * 4;
     const __m256i last = mix8(_mm256_loadu_si256((const __m256i *)end), m, fa, alpha);
-    for (; p < end; p += 32) _mm256_storeu_si256((__m256i *)p, mix8(_mm256_loadu_si256((const __m256i *)p), m, fa, alpha));
+    for (; p < end; p += 32)
+        _mm256_storeu_si256((__m256i *)p, mix8(_mm256_loadu_si256((const __m256i *)p), m, fa, alpha));
     _mm256_storeu_si256((__m256i *)end, last);
 }
 

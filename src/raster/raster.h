@@ -58,7 +58,7 @@ typedef struct ew_fog {
      * surely where 1/z <= zt_lo[k], surely not where 1/z > zt_hi[k]. */
     int      full, fill;
     int      seg;             /* the drawers' segment: 1 << subdiv_shift */
-    int      simd;            /* the widest fog loops in use: EW_FOG_SIMD_* (ew_fog_levels, ew_fog_simd) */
+    int      simd;            /* the widest fog loops in use: EW_FOG_SIMD_* (ew_fog_levels, ew_set_simd) */
     uint32_t full_px;
     float    zt[EW_FOG_LEVELS + 1], zt_lo[EW_FOG_LEVELS + 1], zt_hi[EW_FOG_LEVELS + 1];
     uint16_t first[EW_FOG_LEVELS + 1];  /* the first entry of level[] at each level or above */
