@@ -184,6 +184,17 @@ typedef struct side_opts {
 } side_opts;
 static side_opts opts[2];
 
+/* Spelled here, not asked of either library: an older side A lacks
+ * ew_simd_name (bench --simd spells them the same). */
+static const char *const simd_words[] = {"best", "sse2", "avx2", "avx512"};
+static const char *const occlusion_words[] = {"off", "auto", "always"};
+/* The index of v among n words, or -1. */
+static int word(const char *v, const char *const *words, int n) {
+    for (int k = 0; k < n; k++)
+        if (!strcmp(v, words[k])) return k;
+    return -1;
+}
+
 /* One option of what is drawn at argv[*i] (taking its value), into o:
  * 1 if it was one, 0 if not, -1 if its value is wrong. */
 static int draw_opt(int argc, char **argv, int *i, side_opts *o) {
@@ -207,23 +218,12 @@ static int draw_opt(int argc, char **argv, int *i, side_opts *o) {
         o->hsr = m + 1;
         return 1;
     }
-    if (!strcmp(a, "--occlusion")) {
-        if (*i + 1 >= argc) return -1;
-        const char *m = argv[++*i];
-        if (!strcmp(m, "off")) o->occlusion = EW_OCCLUSION_OFF + 1;
-        else if (!strcmp(m, "auto")) o->occlusion = EW_OCCLUSION_AUTO + 1;
-        else if (!strcmp(m, "always")) o->occlusion = EW_OCCLUSION_ALWAYS + 1;
-        else return -1;
+    if (!strcmp(a, "--occlusion")) {  /* ew_occlusion_mode + 1 */
+        if (*i + 1 >= argc || (o->occlusion = word(argv[++*i], occlusion_words, 3) + 1) == 0) return -1;
         return 1;
     }
-    if (!strcmp(a, "--simd")) {
-        if (*i + 1 >= argc) return -1;
-        const char *m = argv[++*i];
-        if (!strcmp(m, "best")) o->simd = EW_SIMD_BEST;
-        else if (!strcmp(m, "sse2")) o->simd = EW_SIMD_BASE;
-        else if (!strcmp(m, "avx2")) o->simd = EW_SIMD_AVX2;
-        else if (!strcmp(m, "avx512")) o->simd = EW_SIMD_AVX512;
-        else return -1;
+    if (!strcmp(a, "--simd")) {  /* ew_simd_level */
+        if (*i + 1 >= argc || (o->simd = word(argv[++*i], simd_words, 4)) < 0) return -1;
         return 1;
     }
     if (!strcmp(a, "--color")) {
@@ -436,10 +436,10 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         if (opts[k].fog_set) s->set_fog(s->r, opts[k].fog[0], opts[k].fog[1], opts[k].fog[2], opts[k].fog[3]);
         if (opts[k].occlusion) s->set_occlusion(s->r, (ew_occlusion_mode)(opts[k].occlusion - 1));
         if (opts[k].simd) {
-            static const char *const names[] = {"best", "sse2", "avx2", "avx512"};
             ew_simd_level got = s->set_simd(s->r, (ew_simd_level)opts[k].simd);
             if (got != (ew_simd_level)opts[k].simd)
-                printf("side %c: --simd %s: this processor runs %s\n", "AB"[k], names[opts[k].simd], names[got]);
+                printf("side %c: --simd %s: this processor runs %s\n", "AB"[k], simd_words[opts[k].simd],
+                       simd_words[got]);
         }
         if (s->scene) s->set_scene(s->r, s->scene);
         nv = s->views(s->assets->world, views);  /* the same cameras from either side */

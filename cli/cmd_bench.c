@@ -132,14 +132,12 @@ static int bench_parse(int argc, char **argv, bench_opts *o) {
             }
             o->bands[o->nbands++] = (int)l;
         } else if (strcmp(name, "--simd") == 0) {
-            static const char *const levels[] = { "best", "sse2", "avx2", "avx512" };
             if (simd_given) {
                 error_line("bench: --simd given twice");
                 return -1;
             }
-            int k = 0;
-            while (k < 4 && strcmp(v, levels[k]) != 0) k++;
-            if (k == 4) {
+            int k = ew_simd_from_name(v);
+            if (k < 0) {
                 error_line("bench: --simd %s: expected best, sse2, avx2 or avx512", v);
                 return -1;
             }
@@ -564,9 +562,8 @@ static void print_row_json(FILE *f, const row *r) {
         fprintf(f, ",\"%s\":", names[i]);
         json_number(f, vals[i]);
     }
-    static const char *const simd_names[] = { "best", "sse2", "avx2", "avx512" };
     fprintf(f, ",\"cold\":%s,\"simd\":\"%s\",\"max_view\":%d,\"level\":", r->cold ? "true" : "false",
-            simd_names[r->simd], r->max_view);
+            ew_simd_name((ew_simd_level)r->simd), r->max_view);
     json_number(f, r->level);
     fprintf(f, ",\"slow_view\":%d", r->slow_view);
     const char *more[] = { "view_level", "ns_per_pixel", "floor_ms", "floor_ratio", "serial_ms", "serial_share",

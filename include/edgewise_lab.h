@@ -89,6 +89,10 @@ EW_API void ew_set_front_mode(ew_renderer *r, ew_front_mode mode);
  * has.  Returns the level in use.  The frame is the same at every level. */
 typedef enum ew_simd_level { EW_SIMD_BEST, EW_SIMD_BASE, EW_SIMD_AVX2, EW_SIMD_AVX512 } ew_simd_level;
 EW_API ew_simd_level ew_set_simd(ew_renderer *r, ew_simd_level level);
+/* "best", "sse2", "avx2", "avx512" (NULL for another value), and back
+ * (-1 for another name), as `bench --simd` spells them. */
+EW_API const char *ew_simd_name(ew_simd_level level);
+EW_API int ew_simd_from_name(const char *name);
 
 /* A deliberately wrong surface cache, for the light oracle's controls
  * (tests/test_light_oracle.c): the light map read one sample to the right

@@ -334,6 +334,15 @@ ew_simd_level ew_set_simd(ew_renderer *r, ew_simd_level level) {
          : r->draw.fog.simd == EW_FOG_SIMD_AVX2   ? EW_SIMD_AVX2
                                                   : EW_SIMD_BASE;
 }
+static const char *const simd_names[] = {"best", "sse2", "avx2", "avx512"};
+const char *ew_simd_name(ew_simd_level level) {
+    return (unsigned)level <= EW_SIMD_AVX512 ? simd_names[level] : NULL;
+}
+int ew_simd_from_name(const char *name) {
+    for (int k = 0; name && k <= EW_SIMD_AVX512; k++)
+        if (!strcmp(name, simd_names[k])) return k;
+    return -1;
+}
 void ew_set_hide_occluded(ew_renderer *r, int on) { r->f.cfg.hide_occluded = on != 0; }
 void ew_set_front_mode(ew_renderer *r, ew_front_mode mode) { r->f.cfg.front_phases = mode == EW_FRONT_PHASES; }
 void ew_set_occlusion_cull(ew_renderer *r, ew_occlusion_mode mode) {

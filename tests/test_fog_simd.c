@@ -110,6 +110,11 @@ int main(void) {
         ew_renderer_destroy(r);
         ew_assets_destroy(a);
     }
+    /* The names bench --simd takes, both ways. */
+    for (ew_simd_level l = EW_SIMD_BEST; l <= EW_SIMD_AVX512; l++)
+        CHECK(ew_simd_name(l) && ew_simd_from_name(ew_simd_name(l)) == (int)l, "level %d's name", (int)l);
+    CHECK(ew_simd_name((ew_simd_level)9) == NULL && ew_simd_from_name("avx3") == -1 && ew_simd_from_name(NULL) == -1,
+          "names outside the levels");
     if (!nlevels) ew_t_skip("this processor has neither AVX2 nor AVX-512: no wider loops to check");
     const char *maps[] = {"e1m1", "e4m1"};
     for (int m = 0; m < 2 && nlevels > 0; m++) {
