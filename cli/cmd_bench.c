@@ -232,12 +232,39 @@ static void floor_fill(uint8_t *dst, int w, int h, const uint8_t tex[64 * 64], u
     }
 }
 
-/* Floor fills of one frame size, timed one at a time. */
+/* The lookup floor: one table lookup a pixel, p[x] = row[p[x]] with the
+ * row (of 64, 256 bytes each) changing every 32 pixels, as an 8-bit fog
+ * level's run looks its pixels up (four loads, then four stores), on
+ * pixels in the cache as the fog finds them right after the span draw: a
+ * 32 KB strip gone over until w x h pixels are done.  Without a
+ * 256-entry byte permute (AVX-512 VBMI) no 8-bit fog can cost less than
+ * this on top of the frame, however its levels are found. */
+enum { LOOKUP_STRIP = 32 << 10, LOOKUP_RUN = 32 };
+static void lookup_floor(uint8_t *strip, size_t npx, const uint8_t lut[64 * 256], uint32_t seed) {
+    for (size_t done = 0; done < npx; done += LOOKUP_STRIP) {
+        size_t n = npx - done < LOOKUP_STRIP ? npx - done : LOOKUP_STRIP;
+        for (size_t x0 = 0; x0 < n; x0 += LOOKUP_RUN) {
+            const uint8_t *row = lut + ((seed + done / LOOKUP_RUN + x0 / LOOKUP_RUN) & 63) * 256;
+            uint8_t *p = strip + x0;
+            size_t m = n - x0 < LOOKUP_RUN ? n - x0 : LOOKUP_RUN, x = 0;
+            for (; x + 4 <= m; x += 4) {
+                uint8_t a = row[p[x]], b = row[p[x + 1]], c = row[p[x + 2]], d = row[p[x + 3]];
+                p[x] = a, p[x + 1] = b, p[x + 2] = c, p[x + 3] = d;
+            }
+            for (; x < m; x++) p[x] = row[p[x]];
+        }
+    }
+}
+
+/* Floor fills of one frame size, timed one at a time, each followed by a
+ * lookup floor timed on its own. */
 typedef struct floor_sampler {
     int      w, h;
     uint8_t  tex[64 * 64];
+    uint8_t  lut[64 * 256];
+    uint8_t  strip[LOOKUP_STRIP];
     uint8_t *frame;
-    double  *t;
+    double  *t, *lt;
     int      n, cap;
 } floor_sampler;
 
@@ -246,11 +273,17 @@ static int floor_begin(floor_sampler *f, int w, int h, int cap) {
     f->w = w, f->h = h, f->cap = cap;
     for (int i = 0; i < 64 * 64; i++)
         f->tex[i] = (uint8_t)((i * 37) ^ (i >> 6) * 11);
+    for (int i = 0; i < 64 * 256; i++)
+        f->lut[i] = (uint8_t)(i * 7 + (i >> 8) * 13);
+    for (int i = 0; i < LOOKUP_STRIP; i++)
+        f->strip[i] = (uint8_t)((uint32_t)i * 2654435761u >> 13);
     f->frame = malloc((size_t)w * (size_t)h);
     f->t = malloc((size_t)cap * sizeof *f->t);
-    if (!f->frame || !f->t)
+    f->lt = malloc((size_t)cap * sizeof *f->lt);
+    if (!f->frame || !f->t || !f->lt)
         return -1;
     floor_fill(f->frame, w, h, f->tex, 0);   /* warm-up: page in the frame */
+    lookup_floor(f->strip, LOOKUP_STRIP, f->lut, 0);
     return 0;
 }
 
@@ -260,26 +293,35 @@ static void floor_rep(floor_sampler *f) {
         return;
     double t0 = now_ms();
     floor_fill(f->frame, f->w, f->h, f->tex, (uint32_t)f->n * 0x9E3779B9u);
-    f->t[f->n++] = now_ms() - t0;
-    sink = (uint8_t)(sink + f->frame[(size_t)(f->n * 7919) % ((size_t)f->w * (size_t)f->h)]);
+    double t1 = now_ms();
+    lookup_floor(f->strip, (size_t)f->w * (size_t)f->h, f->lut, (uint32_t)f->n);
+    f->lt[f->n] = now_ms() - t1;
+    f->t[f->n++] = t1 - t0;
+    sink = (uint8_t)(sink + f->frame[(size_t)(f->n * 7919) % ((size_t)f->w * (size_t)f->h)] +
+                     f->strip[(size_t)(f->n * 7919) % LOOKUP_STRIP]);
 }
 
-static double floor_end(floor_sampler *f) {
+/* The fill floor's median (-1: no samples); *lookup_ms the lookup floor's. */
+static double floor_end(floor_sampler *f, double *lookup_ms) {
     double m = f->n && f->t ? median_of(f->t, f->n) : -1;
+    if (lookup_ms)
+        *lookup_ms = f->n && f->lt ? median_of(f->lt, f->n) : -1;
     free(f->frame);
     free(f->t);
-    f->frame = NULL, f->t = NULL, f->n = 0;
+    free(f->lt);
+    f->frame = NULL, f->t = NULL, f->lt = NULL, f->n = 0;
     return m;
 }
 
-/* Median ms of many floor fills of a w x h frame (-1 if out of memory).
- * Runs for about a quarter second so small sizes get many samples. */
-static double measure_floor(int w, int h, int *reps_out) {
+/* Median ms of many floor fills of a w x h frame (-1 if out of memory),
+ * and in *lookup_ms the lookup floor's.  Runs for about a quarter second
+ * so small sizes get many samples. */
+static double measure_floor(int w, int h, int *reps_out, double *lookup_ms) {
     enum { MIN_REPS = 15, MAX_REPS = 1000 };
     const double budget_ms = 250;
     floor_sampler f;
     if (floor_begin(&f, w, h, MAX_REPS) < 0) {
-        floor_end(&f);
+        floor_end(&f, NULL);
         return -1;
     }
     double start = now_ms();
@@ -287,24 +329,27 @@ static double measure_floor(int w, int h, int *reps_out) {
         floor_rep(&f);
     if (reps_out)
         *reps_out = f.n;
-    return floor_end(&f);
+    return floor_end(&f, lookup_ms);
 }
 
 typedef struct floor_cache {
     int    w[MAX_SIZES], h[MAX_SIZES], reps[MAX_SIZES];
-    double ms[MAX_SIZES];
+    double ms[MAX_SIZES], lookup_ms[MAX_SIZES];
     int    n;
 } floor_cache;
 
-static double floor_for(floor_cache *c, int w, int h) {
+static double floor_for(floor_cache *c, int w, int h, double *lookup_ms) {
     for (int i = 0; i < c->n; i++)
-        if (c->w[i] == w && c->h[i] == h)
+        if (c->w[i] == w && c->h[i] == h) {
+            *lookup_ms = c->lookup_ms[i];
             return c->ms[i];
+        }
     if (c->n == MAX_SIZES)
-        return measure_floor(w, h, NULL);
+        return measure_floor(w, h, NULL, lookup_ms);
     c->w[c->n] = w;
     c->h[c->n] = h;
-    c->ms[c->n] = measure_floor(w, h, &c->reps[c->n]);
+    c->ms[c->n] = measure_floor(w, h, &c->reps[c->n], &c->lookup_ms[c->n]);
+    *lookup_ms = c->lookup_ms[c->n];
     return c->ms[c->n++];
 }
 
@@ -391,6 +436,7 @@ typedef struct row {
     int    slow_view;     /* the view with the highest median over the passes */
     draw_opts draw;       /* what was drawn */
     double median, mean, p99, max, level, ns_per_pixel, floor_ms, floor_ratio;
+    double lookup_floor_ms;  /* the lookup floor at this size (lookup_floor) */
     double view_level;    /* slow_view's median / median: level without one-off spikes */
     double part_levels[NPARTS];  /* view_level of a frame of only these stages (part_names) */
     double stages[NSTAGES];        /* median per frame */
@@ -566,10 +612,10 @@ static void print_row_json(FILE *f, const row *r) {
             ew_simd_name((ew_simd_level)r->simd), r->max_view);
     json_number(f, r->level);
     fprintf(f, ",\"slow_view\":%d", r->slow_view);
-    const char *more[] = { "view_level", "ns_per_pixel", "floor_ms", "floor_ratio", "serial_ms", "serial_share",
-                           "predict_share", "front_items_ms", "phases_share" };
-    const double morev[] = { r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->serial,
-                             r->serial_share, r->predict_share, r->front_items, r->phases_share };
+    const char *more[] = { "view_level", "ns_per_pixel", "floor_ms", "floor_ratio", "lookup_floor_ms", "serial_ms",
+                           "serial_share", "predict_share", "front_items_ms", "phases_share" };
+    const double morev[] = { r->view_level, r->ns_per_pixel, r->floor_ms, r->floor_ratio, r->lookup_floor_ms,
+                             r->serial, r->serial_share, r->predict_share, r->front_items, r->phases_share };
     for (size_t i = 0; i < sizeof more / sizeof *more; i++) {
         fprintf(f, ",\"%s\":", more[i]);
         json_number(f, morev[i]);
@@ -702,10 +748,10 @@ static void progress_clear(void) {
 
 static int bench_floor(const bench_opts *o, FILE *json) {
     if (o->table)
-        printf("%9s %9s %6s %6s\n", "size", "floor_ms", "ns/px", "reps");
+        printf("%9s %9s %6s %9s %6s %6s\n", "size", "floor_ms", "ns/px", "lookup_ms", "ns/px", "reps");
     for (int i = 0; i < o->nsizes; i++) {
         int w = o->sizes[i][0], h = o->sizes[i][1], reps = 0;
-        double ms = measure_floor(w, h, &reps);
+        double lookup = -1, ms = measure_floor(w, h, &reps, &lookup);
         if (ms < 0) {
             error_line("bench: out of memory for a %dx%d frame", w, h);
             return 1;
@@ -716,13 +762,15 @@ static int bench_floor(const bench_opts *o, FILE *json) {
             json_number(json, ms);
             fputs(",\"ns_per_pixel\":", json);
             json_number(json, nspp);
+            fputs(",\"lookup_floor_ms\":", json);
+            json_number(json, lookup);
             fprintf(json, ",\"reps\":%d}\n", reps);
             fflush(json);
         }
         if (o->table) {
             char size[24];
             snprintf(size, sizeof size, "%dx%d", w, h);
-            printf("%9s %9.4f %6.3f %6d\n", size, ms, nspp, reps);
+            printf("%9s %9.4f %6.3f %9.4f %6.3f %6d\n", size, ms, nspp, lookup, lookup * 1e6 / ((double)w * h), reps);
             fflush(stdout);
         }
     }
@@ -1064,9 +1112,9 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
         goto done;
     }
     if (fl_ok)
-        r->floor_ms = floor_end(&fl);
+        r->floor_ms = floor_end(&fl, &r->lookup_floor_ms);
     else  /* no memory for the interleaved samples: measured on its own */
-        r->floor_ms = floor_for(fc, w, h);
+        r->floor_ms = floor_for(fc, w, h, &r->lookup_floor_ms);
     summarize(r, frames, stats, labs, scratch);
     /* The one-loop frame's serial time (a one-thread row): its walk is
      * serial on up to EW_FRONT_LOOP_THREADS threads too (their prediction). */
@@ -1156,7 +1204,7 @@ static int bench_row(const bench_opts *o, const char *map, const ew_assets *a,
     }
     rc = 0;
 done:
-    floor_end(&fl);
+    floor_end(&fl, NULL);
     free(frames);
     free(scratch);
     free(stats);

@@ -88,7 +88,7 @@ const cli_option cli_options[] = {
     { "--table", NULL, CLI_ARG_NONE, NULL, B(BENCH), 0, "a human-readable table on stdout (JSON then only to --out)",
       NULL },
     { "--out", "FILE.jsonl", CLI_ARG_FILE, NULL, B(BENCH), 0, "write the JSON lines to FILE instead of stdout", NULL },
-    { "--floor", NULL, CLI_ARG_NONE, NULL, B(BENCH), 0, "only measure the fill floor for each --size", NULL },
+    { "--floor", NULL, CLI_ARG_NONE, NULL, B(BENCH), 0, "only measure the fill floor (and the lookup floor) for each --size", NULL },
     { "--per-view", NULL, CLI_ARG_NONE, NULL, B(BENCH), 0,
       "also each view's median time, stages and counts (what\nmakes the slow views slow; with --table also the "
       "level\nof the geometry, the draw and the pixel work alone)", NULL },

@@ -49,7 +49,7 @@ static void check_row(const char *what, const char *line, int w, int h, int view
     static const char *const keys[] = {
         "width", "height", "threads", "threads_applied", "entities", "views", "passes", "gap_ms",
         "median_ms", "mean_ms", "p99_ms", "max_ms", "max_view", "level", "ns_per_pixel",
-        "floor_ms", "floor_ratio", "front", "scan", "draw", "models", "total", "pixels",
+        "floor_ms", "floor_ratio", "lookup_floor_ms", "front", "scan", "draw", "models", "total", "pixels",
         "pixels_written", "pixels_covered", "edges", "edges_cached", "surfaces", "surfaces_shown", "spans",
         "surfaces_built", "surfaces_cached", "visible_leaves", "dropped", "entities_drawn", "entities_hidden",
         "alias_tris", "particles", "serial_ms", "serial_share", "begin_ms", "walk_ms", "brush_ms",
@@ -243,6 +243,8 @@ static void test_builtin(void) {
     CHECK(count_lines(r->out) == 1 && strstr(r->out, "\"floor\":true"), "floor: %s", r->out);
     CHECK(field(r->out, "width") == 320 && field(r->out, "floor_ms") >= 0 &&
               field(r->out, "reps") >= 1, "floor: %s", r->out);
+    /* The lookup floor: measured (a time above 0), not a placeholder. */
+    CHECK(field(r->out, "lookup_floor_ms") > 0, "floor: lookup_floor_ms: %s", r->out);
 
     run(r, ARGS("bench", "--help"));
     CHECK(r->status == 0 && strstr(r->out, "--passes"), "bench --help: %d", r->status);
