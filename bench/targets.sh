@@ -12,7 +12,8 @@
 # one thread's: 1.0-1.06 in an undisturbed run, well above 1 where the
 # second core ran slow, below 1 where the one-thread frames did).
 #
-#   1  fog:          frame with fog / the same frame without (one library, --b-args)
+#   1  fog:          frame with fog / the same frame without (one library, --b-args), also
+#                    with loops up to AVX2, and the lookup floor of 8-bit fog without VBMI
 #   2  true colour:  true colour / 8-bit (--vs-color), warm and --cold, with and without .lit
 #   3  worst view:   slowest view's median / fdb285d's, --classic --no-entities (compare.sh)
 #   4  two threads:  one thread / two threads in one process, and bench's model
@@ -40,6 +41,21 @@ if want 1; then
     for c in 8bit true; do
         echo "== target 1: fog $FOG over no fog, --color $c (B/A: median; slow_B/A: worst view)"
         $IN $MAPS --data "$DATA" $sizes --passes 3 --color $c --b-args "--fog $FOG"
+    done
+    # What a processor without AVX-512 VBMI runs (most desktops), and the
+    # least fog can add there: one table lookup a pixel (bench's lookup floor).
+    echo "== target 1: fog $FOG over no fog, 8-bit, loops up to AVX2 (--simd avx2)"
+    $IN $MAPS --data "$DATA" $sizes --passes 3 --simd avx2 --b-args "--fog $FOG"
+    echo "== target 1: the lookup floor: 1 + lookup_floor_ms / mean_ms of the fog-free 8-bit row"
+    printf '%-10s %9s %8s %9s %7s\n' map size mean_ms lookup_ms floor_x
+    for m in $MAPS; do
+        for s in $SIZES; do
+            ./build/edgewise bench "$m" --data "$DATA" --size "$s" --passes 3 --no-fog --quiet |
+                awk -v m="$m" -v s="$s" '{
+                    match($0, /"mean_ms":[0-9.e+-]+/); mean = substr($0, RSTART + 10, RLENGTH - 10)
+                    match($0, /"lookup_floor_ms":[0-9.e+-]+/); lf = substr($0, RSTART + 18, RLENGTH - 18)
+                    printf "%-10s %9s %8.3f %9.3f %7.3f\n", m, s, mean, lf, 1 + lf / mean }'
+        done
     done
 fi
 if want 2; then
