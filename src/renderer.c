@@ -521,6 +521,12 @@ static void front_inputs(ew_renderer *r) {
     fr->ent_frame = r->ents.scene && ew_reserve_entities(&r->ents) == 0 ? r->ents.ent_frame : NULL;
 }
 
+static void job_cube(void *ctx, int thread) {
+    ew_renderer *r = ctx;
+    (void)thread;
+    for (int k; (k = atomic_fetch_add(&r->sched.next_cube, 1)) < 64;) ew_blend_cube_slice(&r->blend, k);
+}
+
 /* Starts a frame: new frame number (resetting the marks if it wraps), view,
  * the span drawers' tables, the hidden-surface method, the PVS. */
 int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
@@ -544,10 +550,17 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     r->draw.sky_scroll = ew_sky_scroll(r->f.view.time);
     r->draw.subdiv_shift = r->f.cfg.subdiv_shift;
     r->draw.rgba = r->lit.curve.rgba;
-    /* 8-bit coloured light needs the nearest-colour cube (built once). */
+    /* 8-bit coloured light needs the nearest-colour cubes (built once, on
+     * every thread: tens of milliseconds on one). */
     if (!r->lit.nearest && r->f.target.bpp == 1 && !r->f.cfg.classic &&
-        (ew_use_rgb_light(&r->f, r->f.world) || coloured_dlights(r->ents.scene)))
-        r->lit.nearest = ew_blend_cube(&r->blend);
+        (ew_use_rgb_light(&r->f, r->f.world) || coloured_dlights(r->ents.scene))) {
+        if (ew_blend_cube_begin(&r->blend, 1) > 0) {
+            atomic_store(&r->sched.next_cube, 0);
+            ew_pool_run(r->sched.pool, job_cube, r);
+            ew_blend_cube_end(&r->blend);
+        }
+        r->lit.nearest = r->blend.nearest;
+    }
     /* Two-pass lighting's inputs, and its per-surface room (made on first use). */
     ew_tp_begin(&r->lit.tp, w, r->f.palette, r->f.colormap, r->f.cfg.lightstyle, ew_use_rgb_light(&r->f, w), r->f.target.bpp,
                 r->f.cfg.classic);

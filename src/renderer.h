@@ -59,6 +59,7 @@ typedef struct ew_sched {
     _Alignas(64) _Atomic int next_band;           /* work handed out in a phase */
     _Alignas(64) _Atomic int next_build;
     _Alignas(64) _Atomic int next_grad;
+    _Alignas(64) _Atomic int next_cube;   /* the nearest-colour cubes' red steps (job_cube) */
     _Alignas(64) _Atomic int next_item;           /* the surfaces' lookup */
     _Alignas(64) char end;
 } ew_sched;

@@ -6,7 +6,9 @@
  * for the built-in scene's palette, LibreQuake's (if ../shared is there),
  * and made-up palettes full of repeated colours and equal distances, where
  * only the tie rule decides.  The cubes' build looks at few choices a cell
- * (light/blend.c says how), so this is what keeps it exact.
+ * (light/blend.c says how), so this is what keeps it exact; built in
+ * slices (as the renderer's threads build them), in any order, they are
+ * the same.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "util.h"
@@ -74,6 +76,17 @@ static void check_palette(const char *name, const uint8_t pal[768]) {
         printf("  %-28s both cubes equal the search (%d cells each): built in %.1f ms, the search %.1f ms\n", name,
                CELLS, ms, ref_ms);
     }
+    /* In slices, in any order (as a pool's threads take them): the same. */
+    ew_blend s;
+    ew_blend_init(&s, pal);
+    CHECK(ew_blend_cube_begin(&s, 1) == 1, "%s: begin has nothing to build", name);
+    for (int r = 63; r >= 0; r -= 2) ew_blend_cube_slice(&s, r);
+    for (int r = 0; r < 64; r += 2) ew_blend_cube_slice(&s, r);
+    ew_blend_cube_end(&s);
+    CHECK(s.nearest && s.hue && cube && b.hue && !memcmp(s.nearest, cube, CELLS) && !memcmp(s.hue, b.hue, CELLS),
+          "%s: the cubes built in slices differ", name);
+    CHECK(ew_blend_cube_begin(&s, 1) == 0, "%s: begin after end builds again", name);
+    ew_blend_free(&s);
     ew_blend_free(&b);
 }
 

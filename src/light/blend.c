@@ -27,11 +27,38 @@ int ew_blend_init(ew_blend *b, const uint8_t palette[768]) {
 }
 
 void ew_blend_free(ew_blend *b) {
+    free(b->build_c);
+    free(b->build_h);
     free(b->nearest);
     free(b->hue);
     for (int i = 0; i <= EW_BLEND_LEVELS; i++) free(b->alpha[i]);
     free(b->fog);
     memset(b, 0, sizeof *b);
+}
+
+/* The RGB cubes (64 steps a channel), filled from the exact search at each
+ * cell's centre: blends then cost three shifts and one lookup to map back.
+ * with_hue also fills the cube for coloured light (EW_HUE_DIST); without
+ * memory for it, that one stays NULL and the plain cube serves.  Built a
+ * red step at a time (ew_blend_cube_slice), so a pool can share it out. */
+int ew_blend_cube_begin(ew_blend *b, int with_hue) {
+    int need_c = !b->nearest, need_h = with_hue && !b->hue;
+    if (!need_c && !need_h) return 0;
+    uint8_t *c = need_c ? malloc(64 * 64 * 64) : NULL, *h = need_h ? malloc(64 * 64 * 64) : NULL;
+    if (need_c && !c) {
+        free(h);
+        return -1;
+    }
+    if (!c && !h) return 0;
+    for (int v = 0; v < 256; v++) b->q[v] = (uint8_t)lrint(63.0 * sqrt(v / 255.0));
+    b->build_c = c, b->build_h = h;
+    return 1;
+}
+
+void ew_blend_cube_end(ew_blend *b) {
+    if (b->build_c) b->nearest = b->build_c;
+    if (b->build_h) b->hue = b->build_h;
+    b->build_c = b->build_h = NULL;
 }
 
 /* The choices in order of key (a few out of place since the last call):
@@ -45,80 +72,72 @@ static void sort_by(uint8_t *order, const int *key) {
     }
 }
 
-/* The RGB cubes (64 steps a channel), filled from the exact search at each
- * cell's centre: blends then cost three shifts and one lookup to map back.
- * with_hue also fills the cube for coloured light (EW_HUE_DIST); without
- * memory for it, that one stays NULL and the plain cube serves.
- *
- * The search gives what a loop over all the choices gives (the first
- * index at the least distance: the least of distance * 256 + index) but
- * looks at about 20 of the 224 a cell.  For each (r, g) the choices are
- * taken in order of a bound that the blue term cannot lower: for the
- * plain distance, its red-green part drg; for EW_HUE_DIST (3W d - (W - 1)
- * s^2, d = drg + db^2, s = srg + db), least over every db at (2W + 1)
- * drg - (W - 1) srg^2 times 3W / (2W + 1).  Once that bound passes the
- * best distance found, no later choice can reach it.  Each cell starts
- * from the choice of the cell below it in blue, so the bound is tight
- * from the start, and the orders change little from one g to the next.
- * (The loop over all the choices took about 130 ms for the two cubes, on
- * the first frame of every 8-bit map with coloured light.) */
+/* Red step r of the cubes ew_blend_cube_begin allocated.  The search gives
+ * what a loop over all the choices gives (the first index at the least
+ * distance: the least of distance * 256 + index) but looks at about 20 of
+ * the 224 a cell.  For each (r, g) the choices are taken in order of a
+ * bound that the blue term cannot lower: for the plain distance, its
+ * red-green part drg; for EW_HUE_DIST (3W d - (W - 1) s^2, d = drg + db^2,
+ * s = srg + db), least over every db at (2W + 1) drg - (W - 1) srg^2 times
+ * 3W / (2W + 1).  Once that bound passes the best distance found, no later
+ * choice can reach it.  Each cell starts from the choice of the cell below
+ * it in blue, so the bound is tight from the start, and the orders change
+ * little from one g to the next.  (The loop over all the choices took
+ * about 130 ms for the two cubes, on the first frame of every 8-bit map
+ * with coloured light.) */
 _Static_assert(3 * EW_HUE_WEIGHT * 3 * 255 * 255 < (1 << 23), "distance * 256 + index must fit an int");
-static int build_cube(ew_blend *b, int with_hue) {
-    int need_c = !b->nearest, need_h = with_hue && !b->hue;
-    if (!need_c && !need_h) return 0;
-    uint8_t *c = need_c ? malloc(64 * 64 * 64) : NULL, *h = need_h ? malloc(64 * 64 * 64) : NULL;
-    if (need_c && !c) {
-        free(h);
-        return -1;
-    }
-    if (!c && !h) return 0;
+void ew_blend_cube_slice(const ew_blend *b, int r) {
+    uint8_t *c = b->build_c, *h = b->build_h;
     int centre[64];
     for (int k = 0; k < 64; k++) centre[k] = (int)lrint(255.0 * (k / 63.0) * (k / 63.0));
-    for (int v = 0; v < 256; v++) b->q[v] = (uint8_t)lrint(63.0 * sqrt(v / 255.0));
     const uint8_t *p = b->palette;
     enum { W = EW_HUE_WEIGHT };
     int drg[CHOICES], srg[CHOICES], hk[CHOICES];
     uint8_t oc[CHOICES], oh[CHOICES];
     for (int i = 0; i < CHOICES; i++) oc[i] = oh[i] = (uint8_t)i;
-    for (int r = 0; r < 64; r++)
-        for (int g = 0; g < 64; g++) {
-            for (int i = 0; i < CHOICES; i++) {
-                int dr = p[i * 3] - centre[r], dg = p[i * 3 + 1] - centre[g];
-                drg[i] = dr * dr + dg * dg, srg[i] = dr + dg;
-                hk[i] = (2 * W + 1) * drg[i] - (W - 1) * srg[i] * srg[i];
+    for (int g = 0; g < 64; g++) {
+        for (int i = 0; i < CHOICES; i++) {
+            int dr = p[i * 3] - centre[r], dg = p[i * 3 + 1] - centre[g];
+            drg[i] = dr * dr + dg * dg, srg[i] = dr + dg;
+            hk[i] = (2 * W + 1) * drg[i] - (W - 1) * srg[i] * srg[i];
+        }
+        if (c) sort_by(oc, drg);
+        if (h) sort_by(oh, hk);
+        int best = oc[0], besth = oh[0];
+        for (int bl = 0; bl < 64; bl++) {
+            const int cb = centre[bl], at = (r << 12) | (g << 6) | bl;
+            if (c) {
+                int db = p[best * 3 + 2] - cb, key = (drg[best] + db * db) << 8 | best;
+                for (int j = 0; j < CHOICES; j++) {
+                    const int i = oc[j];
+                    if (drg[i] > key >> 8) break;
+                    db = p[i * 3 + 2] - cb;
+                    int k = (drg[i] + db * db) << 8 | i;
+                    key = k < key ? k : key;
+                }
+                c[at] = (uint8_t)(best = key & 255);
             }
-            if (c) sort_by(oc, drg);
-            if (h) sort_by(oh, hk);
-            int best = oc[0], besth = oh[0];
-            for (int bl = 0; bl < 64; bl++) {
-                const int cb = centre[bl], at = (r << 12) | (g << 6) | bl;
-                if (c) {
-                    int db = p[best * 3 + 2] - cb, key = (drg[best] + db * db) << 8 | best;
-                    for (int j = 0; j < CHOICES; j++) {
-                        const int i = oc[j];
-                        if (drg[i] > key >> 8) break;
-                        db = p[i * 3 + 2] - cb;
-                        int k = (drg[i] + db * db) << 8 | i;
-                        key = k < key ? k : key;
-                    }
-                    c[at] = (uint8_t)(best = key & 255);
+            if (h) {
+                int db = p[besth * 3 + 2] - cb;
+                int key = EW_HUE_DIST(drg[besth] + db * db, srg[besth] + db) << 8 | besth;
+                for (int j = 0; j < CHOICES; j++) {
+                    const int i = oh[j];
+                    if (3 * W * hk[i] > (2 * W + 1) * (key >> 8)) break;
+                    db = p[i * 3 + 2] - cb;
+                    int k = EW_HUE_DIST(drg[i] + db * db, srg[i] + db) << 8 | i;
+                    key = k < key ? k : key;
                 }
-                if (h) {
-                    int db = p[besth * 3 + 2] - cb;
-                    int key = EW_HUE_DIST(drg[besth] + db * db, srg[besth] + db) << 8 | besth;
-                    for (int j = 0; j < CHOICES; j++) {
-                        const int i = oh[j];
-                        if (3 * W * hk[i] > (2 * W + 1) * (key >> 8)) break;
-                        db = p[i * 3 + 2] - cb;
-                        int k = EW_HUE_DIST(drg[i] + db * db, srg[i] + db) << 8 | i;
-                        key = k < key ? k : key;
-                    }
-                    h[at] = (uint8_t)(besth = key & 255);
-                }
+                h[at] = (uint8_t)(besth = key & 255);
             }
         }
-    if (c) b->nearest = c;
-    if (h) b->hue = h;
+    }
+}
+
+static int build_cube(ew_blend *b, int with_hue) {
+    int k = ew_blend_cube_begin(b, with_hue);
+    if (k <= 0) return k;
+    for (int r = 0; r < 64; r++) ew_blend_cube_slice(b, r);
+    ew_blend_cube_end(b);
     return 0;
 }
 

@@ -25,6 +25,7 @@ typedef struct ew_blend {
     uint8_t   fog_full_colour;
     uint8_t   tint[256];                     /* the underwater tint for tint_rgb/tint_amount */
     int       tint_rgb[3], tint_amount;      /* tint[] is valid for these (amount 0: none built) */
+    uint8_t  *build_c, *build_h;             /* the cubes being built (ew_blend_cube_begin) */
 } ew_blend;
 
 /* Starts empty (tables are built on first use); 0, or -1 out of memory. */
@@ -37,6 +38,13 @@ void ew_blend_free(ew_blend *b);
  * is sparse and a coarse step shows as colour specks): the colour (r, g, b)
  * is at ew_blend_at(b, r, g, b). */
 const uint8_t *ew_blend_cube(ew_blend *b);
+/* The same in 64 slices that may run at once on any threads: begin
+ * allocates what is missing (1: then ew_blend_cube_slice for every red
+ * step r of 0..63, then ew_blend_cube_end; 0: nothing to build; -1: out of
+ * memory), end makes them b->nearest and b->hue. */
+int  ew_blend_cube_begin(ew_blend *b, int with_hue);
+void ew_blend_cube_slice(const ew_blend *b, int r);
+void ew_blend_cube_end(ew_blend *b);
 static inline int ew_blend_at(const ew_blend *b, int r, int g, int bl) {
     return (b->q[r] << 12) | (b->q[g] << 6) | b->q[bl];
 }
