@@ -5,8 +5,9 @@
  * written here from the definition (the first index at the least distance),
  * for the built-in scene's palette, LibreQuake's (if ../shared is there),
  * and made-up palettes full of repeated colours and equal distances, where
- * only the tie rule decides.  The cubes' build looks at few choices a cell
- * (light/blend.c says how), so this is what keeps it exact; built in
+ * only the tie rule decides.  The cubes' build does not search: it sweeps
+ * a lower envelope of lines along each blue row (light/blend.c says why
+ * that is exact), so this is what keeps it exact; built in
  * slices (as the renderer's threads build them), in any order, they are
  * the same.
  */

@@ -61,74 +61,85 @@ void ew_blend_cube_end(ew_blend *b) {
     b->build_c = b->build_h = NULL;
 }
 
-/* The choices in order of key (a few out of place since the last call):
- * an insertion sort. */
-static void sort_by(uint8_t *order, const int *key) {
+/* Each cell's choice is the least, over the choices i, of a distance that
+ * along the blue axis (x, the cell's blue centre) is A x^2 + m_i x + c_i
+ * with the same A for every choice: the plain distance drg + (pb - x)^2
+ * (m = -2 pb, c = pb^2 + drg; drg and srg the red-green part of the
+ * squared distance and of the sum of differences, pb the choice's blue),
+ * and EW_HUE_DIST, 3W (drg + u^2) - (W - 1) (srg + u)^2 with u = pb - x,
+ * (2W + 1) x^2 + (2 (W - 1) srg - 2 (2W + 1) pb) x + 3W drg - (W - 1)
+ * srg^2 + (2W + 1) pb^2 - 2 (W - 1) srg pb.  So the least at every x is
+ * the least of the lines m_i x + c_i: their lower envelope, built once for
+ * each (r, g) and swept along the 64 blue centres.  As keys 256 (m x + c)
+ * + i no two choices are equal at a whole x (their difference would be a
+ * multiple of 256 and a difference of indices), so the envelope's choice
+ * is the first index at the least distance, what a loop over all the
+ * choices picks, and the hull can drop ties freely.  All in 64 bits. */
+typedef struct line { int64_t m, b; } line;
+
+/* From the lines in order of falling slope (of equal slopes the least b
+ * kept), each of the 64 blue centres' choice, out[bl]; hull: room for the
+ * envelope. */
+static void envelope(const line *l, const uint8_t *order, const int *centre, uint8_t *out, line *hull) {
+    int h = 0;
+    for (int j = 0; j < CHOICES; j++) {
+        const line n = l[order[j]];
+        if (h && hull[h - 1].m == n.m) {
+            if (hull[h - 1].b <= n.b) continue;
+            h--;
+        }
+        /* The top is needed only if the new line crosses the one below it
+         * after the top does. */
+        while (h >= 2 && (n.b - hull[h - 2].b) * (hull[h - 2].m - hull[h - 1].m) <=
+                             (hull[h - 1].b - hull[h - 2].b) * (hull[h - 2].m - n.m))
+            h--;
+        hull[h++] = n;
+    }
+    for (int bl = 0, p = 0; bl < 64; bl++) {
+        const int64_t x = centre[bl];
+        while (p + 1 < h && hull[p + 1].m * x + hull[p + 1].b < hull[p].m * x + hull[p].b) p++;
+        out[bl] = (uint8_t)(hull[p].b & 255);
+    }
+}
+
+/* The choices by falling slope: an insertion sort from the last order,
+ * which changes little from one g to the next. */
+static void sort_falling(uint8_t *order, const line *l) {
     for (int j = 1; j < CHOICES; j++) {
         const uint8_t o = order[j];
         int k = j;
-        for (; k > 0 && key[order[k - 1]] > key[o]; k--) order[k] = order[k - 1];
+        for (; k > 0 && l[order[k - 1]].m < l[o].m; k--) order[k] = order[k - 1];
         order[k] = o;
     }
 }
 
-/* Red step r of the cubes ew_blend_cube_begin allocated.  The search gives
- * what a loop over all the choices gives (the first index at the least
- * distance: the least of distance * 256 + index) but looks at about 20 of
- * the 224 a cell.  For each (r, g) the choices are taken in order of a
- * bound that the blue term cannot lower: for the plain distance, its
- * red-green part drg; for EW_HUE_DIST (3W d - (W - 1) s^2, d = drg + db^2,
- * s = srg + db), least over every db at (2W + 1) drg - (W - 1) srg^2 times
- * 3W / (2W + 1).  Once that bound passes the best distance found, no later
- * choice can reach it.  Each cell starts from the choice of the cell below
- * it in blue, so the bound is tight from the start, and the orders change
- * little from one g to the next.  (The loop over all the choices took
- * about 130 ms for the two cubes, on the first frame of every 8-bit map
- * with coloured light.) */
-_Static_assert(3 * EW_HUE_WEIGHT * 3 * 255 * 255 < (1 << 23), "distance * 256 + index must fit an int");
+/* Red step r of the cubes ew_blend_cube_begin allocated.  (A loop over all
+ * 224 choices a cell took about 130 ms for the two cubes, on the first
+ * frame of every 8-bit map with coloured light.) */
 void ew_blend_cube_slice(const ew_blend *b, int r) {
     uint8_t *c = b->build_c, *h = b->build_h;
     int centre[64];
     for (int k = 0; k < 64; k++) centre[k] = (int)lrint(255.0 * (k / 63.0) * (k / 63.0));
     const uint8_t *p = b->palette;
     enum { W = EW_HUE_WEIGHT };
-    int drg[CHOICES], srg[CHOICES], hk[CHOICES];
+    line lc[CHOICES], lh[CHOICES], hull[CHOICES];
     uint8_t oc[CHOICES], oh[CHOICES];
     for (int i = 0; i < CHOICES; i++) oc[i] = oh[i] = (uint8_t)i;
     for (int g = 0; g < 64; g++) {
         for (int i = 0; i < CHOICES; i++) {
-            int dr = p[i * 3] - centre[r], dg = p[i * 3 + 1] - centre[g];
-            drg[i] = dr * dr + dg * dg, srg[i] = dr + dg;
-            hk[i] = (2 * W + 1) * drg[i] - (W - 1) * srg[i] * srg[i];
+            const int64_t dr = p[i * 3] - centre[r], dg = p[i * 3 + 1] - centre[g], pb = p[i * 3 + 2];
+            const int64_t drg = dr * dr + dg * dg, srg = dr + dg;
+            lc[i] = (line){256 * (-2 * pb), 256 * (pb * pb + drg) + i};
+            lh[i] = (line){256 * (2 * (W - 1) * srg - 2 * (2 * W + 1) * pb),
+                           256 * (3 * W * drg - (W - 1) * srg * srg + (2 * W + 1) * pb * pb - 2 * (W - 1) * srg * pb) + i};
         }
-        if (c) sort_by(oc, drg);
-        if (h) sort_by(oh, hk);
-        int best = oc[0], besth = oh[0];
-        for (int bl = 0; bl < 64; bl++) {
-            const int cb = centre[bl], at = (r << 12) | (g << 6) | bl;
-            if (c) {
-                int db = p[best * 3 + 2] - cb, key = (drg[best] + db * db) << 8 | best;
-                for (int j = 0; j < CHOICES; j++) {
-                    const int i = oc[j];
-                    if (drg[i] > key >> 8) break;
-                    db = p[i * 3 + 2] - cb;
-                    int k = (drg[i] + db * db) << 8 | i;
-                    key = k < key ? k : key;
-                }
-                c[at] = (uint8_t)(best = key & 255);
-            }
-            if (h) {
-                int db = p[besth * 3 + 2] - cb;
-                int key = EW_HUE_DIST(drg[besth] + db * db, srg[besth] + db) << 8 | besth;
-                for (int j = 0; j < CHOICES; j++) {
-                    const int i = oh[j];
-                    if (3 * W * hk[i] > (2 * W + 1) * (key >> 8)) break;
-                    db = p[i * 3 + 2] - cb;
-                    int k = EW_HUE_DIST(drg[i] + db * db, srg[i] + db) << 8 | i;
-                    key = k < key ? k : key;
-                }
-                h[at] = (uint8_t)(besth = key & 255);
-            }
+        if (c) {
+            sort_falling(oc, lc);
+            envelope(lc, oc, centre, c + (r << 12) + (g << 6), hull);
+        }
+        if (h) {
+            sort_falling(oh, lh);
+            envelope(lh, oh, centre, h + (r << 12) + (g << 6), hull);
         }
     }
 }
