@@ -167,6 +167,33 @@ typedef struct emitter {
 /* 4x4 ordered dither offsets, in 1/16. */
 static const int8_t bayer[4][4] = {{0, 8, 2, 10}, {12, 4, 14, 6}, {3, 11, 1, 9}, {15, 7, 13, 5}};
 
+/* OUT_NEAREST: the texel's ramp (the colormap's own colour at the
+ * channels' mean light, the 8-bit look), and in *grey whether the light is
+ * tinted less than 1/NEAR_GREY of its level (rows are 64 a light level,
+ * level 0 at row 255), so the ramp is drawn as white light would draw it. */
+static inline uint8_t ramp_of(const emitter *e, uint8_t c, const int *l, int *grey) {
+    int mean = (l[0] + l[1] + l[2]) / 3;
+    int lo = l[0] < l[1] ? l[0] : l[1], hi = l[0] < l[1] ? l[1] : l[0];
+    lo = lo < l[2] ? lo : l[2], hi = hi > l[2] ? hi : l[2];
+    *grey = (hi - lo) * NEAR_GREY <= 255 * 64 - mean;
+    return e->cmap[(mean & 0xFF00) + c];
+}
+
+/* OUT_NEAREST for a tint: the palette colour nearest the RGB by a distance
+ * that counts chroma twice (EW_HUE_DIST: a colour of the light's hue over
+ * a grey one a little nearer in brightness, so the blue cube reads blue,
+ * not grey-blue), or the ramp's where it is as near. */
+static inline uint8_t hue_pick(const emitter *e, uint8_t ramp, const int *rgb) {
+    const uint8_t *pal = e->lc->palette;
+    uint8_t near = e->hue[ew_blend_at(e->cube, rgb[0], rgb[1], rgb[2])];
+    int da = 0, dn = 0, sa = 0, sn = 0;
+    for (int k = 0; k < 3; k++) {
+        int a = pal[ramp * 3 + k] - rgb[k], n = pal[near * 3 + k] - rgb[k];
+        da += a * a, dn += n * n, sa += a, sn += n;
+    }
+    return EW_HUE_DIST(da, sa) <= EW_HUE_DIST(dn, sn) ? ramp : near;
+}
+
 /* Texel x of a row: palette index c, light rows l[0..nc-1]. */
 static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x, int dx, int dy, uint8_t c,
                         const int *l) {
@@ -185,55 +212,39 @@ static inline void emit(const emitter *e, uint8_t *out8, uint32_t *out32, int x,
         out8[x] = c;
         return;
     }
-    /* The texel's ramp (the colormap's own colour at the channels' mean
-     * light, the 8-bit look) for light that is nearly white; for a tint,
-     * the palette colour nearest the RGB by a distance that counts chroma
-     * twice (EW_HUE_DIST: a colour of the light's hue over a grey one a
-     * little nearer in brightness, so the blue cube reads blue, not
-     * grey-blue), or the ramp's where it is as near. */
-    const uint8_t *pal = lc->palette;
-    int mean = (l[0] + l[1] + l[2]) / 3;
-    uint8_t ramp = e->cmap[(mean & 0xFF00) + c];
-    /* Light tinted less than 1/NEAR_GREY of its level: the ramp, as white
-     * light would draw it (rows are 64 a light level, level 0 at row 255). */
-    int lo = l[0] < l[1] ? l[0] : l[1], hi = l[0] < l[1] ? l[1] : l[0];
-    lo = lo < l[2] ? lo : l[2], hi = hi > l[2] ? hi : l[2];
-    if ((hi - lo) * NEAR_GREY <= 255 * 64 - mean) {
+    int grey;
+    const uint8_t ramp = ramp_of(e, c, l, &grey);
+    if (grey) {
         out8[x] = ramp;
         return;
     }
-    const ew_blend *cb = e->cube;
-    if (e->dither) {
-        /* Pattern dither: DITHER_N palette colours whose mean comes near
-         * the RGB (each the nearest colour of the RGB plus the error the
-         * ones before it left), taken in order of lightness by the texel's
-         * place in the 4x4 pattern: a mix reaches colours between the
-         * palette's (more of the tint, the lightness kept) and a gradient
-         * that falls between two colours shows no contour rings. */
-        int err[3] = {0, 0, 0}, cand[DITHER_N], lum[DITHER_N];
-        for (int i = 0; i < DITHER_N; i++) {
-            int q[3];
-            for (int k = 0; k < 3; k++) {
-                int v = rgb[k] + err[k];
-                q[k] = v < 0 ? 0 : v > 255 ? 255 : v;
-            }
-            int p = cb->nearest[ew_blend_at(cb, q[0], q[1], q[2])];
-            for (int k = 0; k < 3; k++) err[k] += rgb[k] - pal[p * 3 + k];
-            /* insertion by lightness (ties keep their order) */
-            int lp = pal[p * 3] * 2 + pal[p * 3 + 1] * 3 + pal[p * 3 + 2], j = i;
-            for (; j > 0 && lum[j - 1] > lp; j--) cand[j] = cand[j - 1], lum[j] = lum[j - 1];
-            cand[j] = p, lum[j] = lp;
-        }
-        out8[x] = (uint8_t)cand[bayer[dy & 3][dx & 3] * DITHER_N / 16];
+    if (!e->dither) {
+        out8[x] = hue_pick(e, ramp, rgb);
         return;
     }
-    uint8_t near = e->hue[ew_blend_at(cb, rgb[0], rgb[1], rgb[2])];
-    int da = 0, dn = 0, sa = 0, sn = 0;
-    for (int k = 0; k < 3; k++) {
-        int a = pal[ramp * 3 + k] - rgb[k], n = pal[near * 3 + k] - rgb[k];
-        da += a * a, dn += n * n, sa += a, sn += n;
+    /* Pattern dither: DITHER_N palette colours whose mean comes near the
+     * RGB (each the nearest colour of the RGB plus the error the ones
+     * before it left), taken in order of lightness by the texel's place in
+     * the 4x4 pattern: a mix reaches colours between the palette's (more of
+     * the tint, the lightness kept) and a gradient that falls between two
+     * colours shows no contour rings. */
+    const uint8_t *pal = lc->palette;
+    const ew_blend *cb = e->cube;
+    int err[3] = {0, 0, 0}, cand[DITHER_N], lum[DITHER_N];
+    for (int i = 0; i < DITHER_N; i++) {
+        int q[3];
+        for (int k = 0; k < 3; k++) {
+            int v = rgb[k] + err[k];
+            q[k] = v < 0 ? 0 : v > 255 ? 255 : v;
+        }
+        int p = cb->nearest[ew_blend_at(cb, q[0], q[1], q[2])];
+        for (int k = 0; k < 3; k++) err[k] += rgb[k] - pal[p * 3 + k];
+        /* insertion by lightness (ties keep their order) */
+        int lp = pal[p * 3] * 2 + pal[p * 3 + 1] * 3 + pal[p * 3 + 2], j = i;
+        for (; j > 0 && lum[j - 1] > lp; j--) cand[j] = cand[j - 1], lum[j] = lum[j - 1];
+        cand[j] = p, lum[j] = lp;
     }
-    out8[x] = EW_HUE_DIST(da, sa) <= EW_HUE_DIST(dn, sn) ? ramp : near;
+    out8[x] = (uint8_t)cand[bayer[dy & 3][dx & 3] * DITHER_N / 16];
 }
 
 #if EW_SIMD4
@@ -454,6 +465,53 @@ RGBA_BLOCKS(16, 4, 1)
 RGBA_BLOCKS(16, 4, 3)
 RGBA_BLOCKS(8, 3, 1)
 RGBA_BLOCKS(8, 3, 3)
+
+/* The 8-bit coloured-light path of ew_build_surface (OUT_NEAREST, no
+ * dither) for blocks of bs >= 8 texels: each row's RGB from rgba_row (the
+ * true-colour build's, exactly ew_lightcurve_at), then each texel decided
+ * as emit decides it, from that RGB and its light. */
+static void nearest_blocks(uint8_t *out, int width, const int *bl, int smax, int tmax, const uint8_t *tp, int tw,
+                           int th, int s0, int t0, const emitter *e, int bs, int shift) {
+    uint8_t wrapped[16];
+    _Alignas(16) uint8_t rgb8[16 * 4];
+    const int16_t *pairs = &e->lc->pair[0][0][0];
+    for (int j = 0; j < tmax - 1; j++) {
+        for (int i = 0; i < smax - 1; i++) {
+            int left[3], right[3], lstep[3], rstep[3];
+            block_edges(bl, 3, smax, i, j, shift, left, right, lstep, rstep);
+            int sx0 = (s0 + i * bs + bs - 1) % tw, ty = (t0 + j * bs) % th;
+            for (int y = 0; y < bs; y++) {
+                const uint8_t *row = tp + ty * tw, *src = row + sx0 - (bs - 1);
+                if (++ty == th) ty = 0;
+                if (sx0 < bs - 1) {  /* the block runs past the texture's left edge: its columns, wrapped */
+                    for (int x = bs - 1, sx = sx0; x >= 0; x--) {
+                        wrapped[x] = row[sx];
+                        if (--sx < 0) sx = tw - 1;
+                    }
+                    src = wrapped;
+                }
+                int step[3];
+                for (int k = 0; k < 3; k++) step[k] = (left[k] - right[k]) >> shift;
+                rgba_row((uint32_t *)(void *)rgb8, src, pairs, right, step, 3, 0, bs);
+                uint8_t *d8 = out + (size_t)(j * bs + y) * width + i * bs;
+                for (int x = 0; x < bs; x++) {
+                    const uint8_t c = src[x];
+                    if (e->lc->fullbright[c]) {
+                        d8[x] = c;
+                        continue;
+                    }
+                    const int l[3] = {right[0] + (bs - 1 - x) * step[0], right[1] + (bs - 1 - x) * step[1],
+                                      right[2] + (bs - 1 - x) * step[2]};
+                    int grey;
+                    const uint8_t ramp = ramp_of(e, c, l, &grey);
+                    const int rgb[3] = {rgb8[x * 4], rgb8[x * 4 + 1], rgb8[x * 4 + 2]};
+                    d8[x] = grey ? ramp : hue_pick(e, ramp, rgb);
+                }
+                for (int k = 0; k < 3; k++) left[k] += lstep[k], right[k] += rstep[k];
+            }
+        }
+    }
+}
 #endif
 
 /* A lit surface of width x height texels in mip's colour (the mips debug mode). */
@@ -553,6 +611,10 @@ void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, 
         return;
     }
 #if EW_SIMD4
+    if (e.mode == OUT_NEAREST && bs >= 8 && !e.dither) {
+        nearest_blocks(out, width, bl, smax, tmax, tp, tw, th, s0, t0, &e, bs, shift);
+        return;
+    }
     if (e.mode == OUT_RGBA && bs >= 8) {
         rgba_block_fn *fn = bs == 16 ? (nc == 3 ? rgba_blocks16_3 : rgba_blocks16_1)
                                      : (nc == 3 ? rgba_blocks8_3 : rgba_blocks8_1);
