@@ -355,7 +355,7 @@ static inline ew_v4i curve2(ew_v4i p0, ew_v4i p1, ew_v4i f128) {
     return ew_v4i_add16(ew_v4i_lo_lo(p0, p1), ew_v4i_mulhi16(ew_v4i_hi_hi(p0, p1), f128));
 }
 
-/* One row of a true-colour block of bs (8 or 16) texels, src its bs texel
+/* One row of a true-colour block of bs (4, 8 or 16) texels, src its bs texel
  * indices: dst[x] the colour of src[x] under light l = right + (bs - 1 - x)
  * * step per channel (nc 1: white, the same light in all three; 3: RGB),
  * the light the scalar loop reaches at x stepping leftwards from right, as
@@ -368,7 +368,9 @@ static inline void rgba_row(uint32_t *dst, const uint8_t *src, const int16_t *pa
     const ew_v4i alpha = ew_v4i_set1((int32_t)0xFF000000u);
     for (int x0 = 0; x0 < bs; x0 += 8) {
         const ew_v4i k = ew_v4i_add16(ew_v4i_setr16(7, 6, 5, 4, 3, 2, 1, 0), ew_v4i_set1_16(bs - 8 - x0));
-        const ew_v4i tex = ew_v4i_bytes_lo(ew_v4i_load8(src + x0));
+        uint8_t four[8] = {0};  /* bs 4: its four texels, not a read past them */
+        if (bs < 8) memcpy(four, src, 4);
+        const ew_v4i tex = ew_v4i_bytes_lo(ew_v4i_load8(bs < 8 ? four : src + x0));
         uint16_t idx[3][8];
         ew_v4i f[3];
         for (int ch = 0; ch < nc; ch++) {
@@ -390,7 +392,8 @@ static inline void rgba_row(uint32_t *dst, const uint8_t *src, const int16_t *pa
         ew_v4i hole = zero;
         if (fence) hole = ew_v4i_eq16(tex, lo8);
         const ew_v4i *pp = (const ew_v4i *)(const void *)pairs;  /* a pair a vector, 16-byte aligned */
-        for (int h = 0; h < 2; h++) {  /* texels 0-3, then 4-7 */
+        for (int h = 0; h < (bs < 8 ? 1 : 2); h++) {  /* texels 0-3, then 4-7 (bs 4: the lanes past its
+                                                        * texels are computed, never looked up) */
             ew_v4i c[2];
             for (int q = 0; q < 2; q++) {
                 const int i = h * 4 + q * 2;
@@ -420,7 +423,7 @@ static inline void rgba_row(uint32_t *dst, const uint8_t *src, const int16_t *pa
     }
 }
 
-/* The true-colour path of ew_build_surface for blocks of bs >= 8 texels:
+/* The true-colour path of ew_build_surface for blocks of bs >= 4 texels:
  * cmap_blocks' stepping per channel, each row of a block by rgba_row. */
 #if defined(__GNUC__)
 __attribute__((always_inline))
@@ -465,9 +468,11 @@ RGBA_BLOCKS(16, 4, 1)
 RGBA_BLOCKS(16, 4, 3)
 RGBA_BLOCKS(8, 3, 1)
 RGBA_BLOCKS(8, 3, 3)
+RGBA_BLOCKS(4, 2, 1)
+RGBA_BLOCKS(4, 2, 3)
 
 /* The 8-bit coloured-light path of ew_build_surface (OUT_NEAREST, no
- * dither) for blocks of bs >= 8 texels: each row's RGB from rgba_row (the
+ * dither) for blocks of bs >= 4 texels: each row's RGB from rgba_row (the
  * true-colour build's, exactly ew_lightcurve_at), then each texel decided
  * as emit decides it, from that RGB and its light. */
 static void nearest_blocks(uint8_t *out, int width, const int *bl, int smax, int tmax, const uint8_t *tp, int tw,
@@ -611,13 +616,14 @@ void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, 
         return;
     }
 #if EW_SIMD4
-    if (e.mode == OUT_NEAREST && bs >= 8 && !e.dither) {
+    if (e.mode == OUT_NEAREST && bs >= 4 && !e.dither) {
         nearest_blocks(out, width, bl, smax, tmax, tp, tw, th, s0, t0, &e, bs, shift);
         return;
     }
-    if (e.mode == OUT_RGBA && bs >= 8) {
+    if (e.mode == OUT_RGBA && bs >= 4) {
         rgba_block_fn *fn = bs == 16 ? (nc == 3 ? rgba_blocks16_3 : rgba_blocks16_1)
-                                     : (nc == 3 ? rgba_blocks8_3 : rgba_blocks8_1);
+                          : bs == 8  ? (nc == 3 ? rgba_blocks8_3 : rgba_blocks8_1)
+                                     : (nc == 3 ? rgba_blocks4_3 : rgba_blocks4_1);
         fn(out32, width, bl, smax, tmax, tp, tw, th, s0, t0, &lit->curve.pair[0][0][0], e.fence);
         return;
     }
