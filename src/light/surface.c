@@ -423,15 +423,38 @@ static inline void rgba_row(uint32_t *dst, const uint8_t *src, const int16_t *pa
     }
 }
 
-/* The true-colour path of ew_build_surface for blocks of bs >= 4 texels:
- * cmap_blocks' stepping per channel, each row of a block by rgba_row. */
+/* One row of an 8-bit coloured-light block (OUT_NEAREST, no dither): each
+ * texel decided as emit decides it, from its RGB (rgb8, from rgba_row:
+ * exactly ew_lightcurve_at) and its light. */
+static inline void nearest_row(uint8_t *d8, const uint8_t *src, const uint8_t *rgb8, const int *right,
+                               const int *step, const emitter *e, int bs) {
+    for (int x = 0; x < bs; x++) {
+        const uint8_t c = src[x];
+        if (e->lc->fullbright[c]) {
+            d8[x] = c;
+            continue;
+        }
+        const int l[3] = {right[0] + (bs - 1 - x) * step[0], right[1] + (bs - 1 - x) * step[1],
+                          right[2] + (bs - 1 - x) * step[2]};
+        int grey;
+        const uint8_t ramp = ramp_of(e, c, l, &grey);
+        const int rgb[3] = {rgb8[x * 4], rgb8[x * 4 + 1], rgb8[x * 4 + 2]};
+        d8[x] = grey ? ramp : hue_pick(e, ramp, rgb);
+    }
+}
+
+/* The vector paths of ew_build_surface for blocks of bs >= 4 texels:
+ * cmap_blocks' stepping per channel, each row of a block by rgba_row, into
+ * true colour (near NULL), or through nearest_row into 8-bit texels for
+ * coloured light (near: the emitter, nc 3). */
 #if defined(__GNUC__)
 __attribute__((always_inline))
 #endif
-static inline void rgba_blocks(uint32_t *out, int width, const int *bl, int nc, int smax, int tmax,
-                               const uint8_t *tp, int tw, int th, int s0, int t0, const int16_t *pairs, int fence,
+static inline void rgba_blocks(void *out, int width, const int *bl, int nc, int smax, int tmax, const uint8_t *tp,
+                               int tw, int th, int s0, int t0, const int16_t *pairs, int fence, const emitter *near,
                                int bs, int shift) {
     uint8_t wrapped[16];
+    _Alignas(16) uint8_t rgb8[16 * 4];
     for (int j = 0; j < tmax - 1; j++) {
         for (int i = 0; i < smax - 1; i++) {
             int left[3], right[3], lstep[3], rstep[3];
@@ -449,7 +472,13 @@ static inline void rgba_blocks(uint32_t *out, int width, const int *bl, int nc, 
                 }
                 int step[3];
                 for (int k = 0; k < nc; k++) step[k] = (left[k] - right[k]) >> shift;
-                rgba_row(out + (size_t)(j * bs + y) * width + i * bs, src, pairs, right, step, nc, fence, bs);
+                const size_t at = (size_t)(j * bs + y) * width + i * bs;
+                if (near) {
+                    rgba_row((uint32_t *)(void *)rgb8, src, pairs, right, step, nc, 0, bs);
+                    nearest_row((uint8_t *)out + at, src, rgb8, right, step, near, bs);
+                } else {
+                    rgba_row((uint32_t *)out + at, src, pairs, right, step, nc, fence, bs);
+                }
                 for (int k = 0; k < nc; k++) left[k] += lstep[k], right[k] += rstep[k];
             }
         }
@@ -462,7 +491,7 @@ typedef void rgba_block_fn(uint32_t *, int, const int *, int, int, const uint8_t
     static void rgba_blocks##bs##_##nc(uint32_t *out, int width, const int *bl, int smax, int tmax,         \
                                        const uint8_t *tp, int tw, int th, int s0, int t0, const int16_t *pairs, \
                                        int fence) {                                                         \
-        rgba_blocks(out, width, bl, nc, smax, tmax, tp, tw, th, s0, t0, pairs, fence, bs, shift);           \
+        rgba_blocks(out, width, bl, nc, smax, tmax, tp, tw, th, s0, t0, pairs, fence, NULL, bs, shift);     \
     }
 RGBA_BLOCKS(16, 4, 1)
 RGBA_BLOCKS(16, 4, 3)
@@ -471,52 +500,16 @@ RGBA_BLOCKS(8, 3, 3)
 RGBA_BLOCKS(4, 2, 1)
 RGBA_BLOCKS(4, 2, 3)
 
-/* The 8-bit coloured-light path of ew_build_surface (OUT_NEAREST, no
- * dither) for blocks of bs >= 4 texels: each row's RGB from rgba_row (the
- * true-colour build's, exactly ew_lightcurve_at), then each texel decided
- * as emit decides it, from that RGB and its light. */
-static void nearest_blocks(uint8_t *out, int width, const int *bl, int smax, int tmax, const uint8_t *tp, int tw,
-                           int th, int s0, int t0, const emitter *e, int bs, int shift) {
-    uint8_t wrapped[16];
-    _Alignas(16) uint8_t rgb8[16 * 4];
-    const int16_t *pairs = &e->lc->pair[0][0][0];
-    for (int j = 0; j < tmax - 1; j++) {
-        for (int i = 0; i < smax - 1; i++) {
-            int left[3], right[3], lstep[3], rstep[3];
-            block_edges(bl, 3, smax, i, j, shift, left, right, lstep, rstep);
-            int sx0 = (s0 + i * bs + bs - 1) % tw, ty = (t0 + j * bs) % th;
-            for (int y = 0; y < bs; y++) {
-                const uint8_t *row = tp + ty * tw, *src = row + sx0 - (bs - 1);
-                if (++ty == th) ty = 0;
-                if (sx0 < bs - 1) {  /* the block runs past the texture's left edge: its columns, wrapped */
-                    for (int x = bs - 1, sx = sx0; x >= 0; x--) {
-                        wrapped[x] = row[sx];
-                        if (--sx < 0) sx = tw - 1;
-                    }
-                    src = wrapped;
-                }
-                int step[3];
-                for (int k = 0; k < 3; k++) step[k] = (left[k] - right[k]) >> shift;
-                rgba_row((uint32_t *)(void *)rgb8, src, pairs, right, step, 3, 0, bs);
-                uint8_t *d8 = out + (size_t)(j * bs + y) * width + i * bs;
-                for (int x = 0; x < bs; x++) {
-                    const uint8_t c = src[x];
-                    if (e->lc->fullbright[c]) {
-                        d8[x] = c;
-                        continue;
-                    }
-                    const int l[3] = {right[0] + (bs - 1 - x) * step[0], right[1] + (bs - 1 - x) * step[1],
-                                      right[2] + (bs - 1 - x) * step[2]};
-                    int grey;
-                    const uint8_t ramp = ramp_of(e, c, l, &grey);
-                    const int rgb[3] = {rgb8[x * 4], rgb8[x * 4 + 1], rgb8[x * 4 + 2]};
-                    d8[x] = grey ? ramp : hue_pick(e, ramp, rgb);
-                }
-                for (int k = 0; k < 3; k++) left[k] += lstep[k], right[k] += rstep[k];
-            }
-        }
+/* The 8-bit coloured-light path (OUT_NEAREST, no dither), bs a constant
+ * in each copy as above. */
+#define NEAREST_BLOCKS(bs, shift)                                                                              \
+    static void nearest_blocks##bs(uint8_t *out, int width, const int *bl, int smax, int tmax, const uint8_t *tp, \
+                                   int tw, int th, int s0, int t0, const emitter *e) {                          \
+        rgba_blocks(out, width, bl, 3, smax, tmax, tp, tw, th, s0, t0, &e->lc->pair[0][0][0], 0, e, bs, shift); \
     }
-}
+NEAREST_BLOCKS(16, 4)
+NEAREST_BLOCKS(8, 3)
+NEAREST_BLOCKS(4, 2)
 #endif
 
 /* A lit surface of width x height texels in mip's colour (the mips debug mode). */
@@ -617,7 +610,8 @@ void ew_build_surface(const ew_lit *lit, const ew_frame *fr, const ew_world *w, 
     }
 #if EW_SIMD4
     if (e.mode == OUT_NEAREST && bs >= 4 && !e.dither) {
-        nearest_blocks(out, width, bl, smax, tmax, tp, tw, th, s0, t0, &e, bs, shift);
+        (bs == 16 ? nearest_blocks16 : bs == 8 ? nearest_blocks8 : nearest_blocks4)(out, width, bl, smax, tmax, tp, tw,
+                                                                                  th, s0, t0, &e);
         return;
     }
     if (e.mode == OUT_RGBA && bs >= 4) {
