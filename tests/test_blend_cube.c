@@ -88,6 +88,14 @@ static void check_palette(const char *name, const uint8_t pal[768]) {
           "%s: the cubes built in slices differ", name);
     CHECK(ew_blend_cube_begin(&s, 1) == 0, "%s: begin after end builds again", name);
     ew_blend_free(&s);
+    /* The plain cube alone (translucency without coloured light): the same,
+     * and no hue cube. */
+    ew_blend_init(&s, pal);
+    CHECK(ew_blend_cube_begin(&s, 0) == 1, "%s: begin (plain) has nothing to build", name);
+    for (int r = 0; r < 64; r++) ew_blend_cube_slice(&s, r);
+    ew_blend_cube_end(&s);
+    CHECK(s.nearest && !s.hue && cube && !memcmp(s.nearest, cube, CELLS), "%s: the plain cube alone differs", name);
+    ew_blend_free(&s);
     ew_blend_free(&b);
 }
 

@@ -129,9 +129,11 @@ void ew_blend_cube_slice(const ew_blend *b, int r) {
         for (int i = 0; i < CHOICES; i++) {
             const int64_t dr = p[i * 3] - centre[r], dg = p[i * 3 + 1] - centre[g], pb = p[i * 3 + 2];
             const int64_t drg = dr * dr + dg * dg, srg = dr + dg;
-            lc[i] = (line){256 * (-2 * pb), 256 * (pb * pb + drg) + i};
-            lh[i] = (line){256 * (2 * (W - 1) * srg - 2 * (2 * W + 1) * pb),
-                           256 * (3 * W * drg - (W - 1) * srg * srg + (2 * W + 1) * pb * pb - 2 * (W - 1) * srg * pb) + i};
+            if (c) lc[i] = (line){256 * (-2 * pb), 256 * (pb * pb + drg) + i};
+            if (h)
+                lh[i] = (line){256 * (2 * (W - 1) * srg - 2 * (2 * W + 1) * pb),
+                               256 * (3 * W * drg - (W - 1) * srg * srg + (2 * W + 1) * pb * pb - 2 * (W - 1) * srg * pb) +
+                                   i};
         }
         if (c) {
             sort_falling(oc, lc);
