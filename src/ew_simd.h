@@ -58,6 +58,8 @@ EW_V4_INLINE ew_v4f ew_v4f_carry(ew_v4f prev, ew_v4f a) {
 EW_V4_INLINE ew_v4f ew_v4i_to_f(ew_v4i a) { return _mm_cvtepi32_ps(a); }
 EW_V4_INLINE ew_v4i ew_v4f_bits(ew_v4f a) { return _mm_castps_si128(a); }
 EW_V4_INLINE ew_v4i ew_v4i_eq(ew_v4i a, ew_v4i b) { return _mm_cmpeq_epi32(a, b); }
+/* All ones where a > b (signed). */
+EW_V4_INLINE ew_v4i ew_v4i_gt(ew_v4i a, ew_v4i b) { return _mm_cmpgt_epi32(a, b); }
 /* Bytes: all ones where equal. */
 EW_V4_INLINE ew_v4i ew_v4i_eq8(ew_v4i a, ew_v4i b) { return _mm_cmpeq_epi8(a, b); }
 /* ~m & a. */
@@ -171,6 +173,7 @@ EW_V4_INLINE ew_v4f ew_v4f_carry(ew_v4f prev, ew_v4f a) { return wasm_i32x4_shuf
 EW_V4_INLINE ew_v4f ew_v4i_to_f(ew_v4i a) { return wasm_f32x4_convert_i32x4(a); }
 EW_V4_INLINE ew_v4i ew_v4f_bits(ew_v4f a) { return a; }
 EW_V4_INLINE ew_v4i ew_v4i_eq(ew_v4i a, ew_v4i b) { return wasm_i32x4_eq(a, b); }
+EW_V4_INLINE ew_v4i ew_v4i_gt(ew_v4i a, ew_v4i b) { return wasm_i32x4_gt(a, b); }
 EW_V4_INLINE ew_v4i ew_v4i_eq8(ew_v4i a, ew_v4i b) { return wasm_i8x16_eq(a, b); }
 EW_V4_INLINE ew_v4i ew_v4i_andnot(ew_v4i m, ew_v4i a) { return wasm_v128_andnot(a, m); }
 

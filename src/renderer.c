@@ -275,6 +275,7 @@ void ew_renderer_destroy(ew_renderer *r) {
     free(r->see.polys), free(r->see.order);
     ew_warp_free(&r->warp);
     ew_blend_free(&r->blend);
+    ew_sky_comp_free(&r->sky);
     ew_debug_free(&r->dbg);
     ew_front_free(&r->front);
     free(r->ents.xf), free(r->ents.xverts), free(r->ents.alias_list);
@@ -548,6 +549,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
     ew_view_setup(&r->f.view, cam, r->f.target.width, r->f.target.height);
     ew_turb_table(r->draw.turb, &r->draw.turb_phase, cam->time);
     r->draw.sky_scroll = ew_sky_scroll(r->f.view.time);
+    r->draw.sky_comp = NULL;  /* prepare_surfaces makes it where the frame shows sky */
     r->draw.subdiv_shift = r->f.cfg.subdiv_shift;
     r->draw.rgba = r->lit.curve.rgba;
     /* 8-bit coloured light needs the nearest-colour cubes (built once, on
@@ -847,6 +849,11 @@ static void prepare_surfaces(ew_renderer *r) {
             const ew_face *f = &w->faces[r->el.surfs[s].face];
             d->kind = f->flags & EW_SURF_SKY ? EW_DRAW_SKY : EW_DRAW_TURB;
             d->tex = ew_face_texture(w, f, r->f.view.time);
+            /* The first sky's layers made one for the spans (a map with
+             * two skies draws the others layer by layer). */
+            if (d->kind == EW_DRAW_SKY && !r->draw.sky_comp &&
+                ew_sky_comp_make(&r->sky, d->tex, r->draw.sky_scroll) == 0)
+                r->draw.sky_comp = &r->sky;
         } else if (state == SURF_HIT) {
             ew_lit_touch(&r->lit, &r->f, r->lit.surf_cache[s]);
         }

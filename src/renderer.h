@@ -70,6 +70,7 @@ struct ew_renderer {
     ew_marks    marks;
     ew_edge_list el;
     ew_span_ctx draw;
+    ew_sky_comp sky;                             /* the sky's layers made one (draw.sky_comp) */
     ew_zfill    zf;
     ew_lit      lit;
     ew_ents     ents;                            /* the scene's entities this frame (raster/alias.h) */

@@ -95,11 +95,33 @@ static inline uint32_t ew_blend_rgba(uint32_t src, uint32_t dst, int a) {
 }
 
 /* What the span drawers read, set once per frame. */
+/* The sky's two layers made one for the frame (raster/sky.c), as the 1996
+ * renderer composited its sky: a sky pixel then reads one texel, not one
+ * of each layer.  The back layer lies at a fractional offset from the
+ * front one, so one picture cannot hold it: a span segment's back layer
+ * sits a whole number of texels E behind the front one (E the integer part
+ * of the two 16.16 starts' difference, plus one where a pixel's fraction
+ * borrows), and E takes at most three values w0..w0 + 2 across and down
+ * in a frame.  So nine planes: front over back shifted by each pair, the
+ * same pixels as reading both layers (test_sky). */
+typedef struct ew_sky_comp {
+    const ew_texture *tex;    /* the layers they were made of; NULL: none */
+    int      w0;              /* the shifts w0, w0 + 1, w0 + 2 */
+    uint8_t *planes;          /* 9 planes of (width / 2) x height: shift (w0 + a, w0 + b) at plane a + 3 b */
+    size_t   cap;
+} ew_sky_comp;
+/* The planes for t at this scroll (ew_sky_scroll), made again only when t
+ * or w0 changes: 0, or -1 for a sky the planes do not serve (not a power
+ * of two, too large) or no memory, which the spans then draw layer by layer. */
+int  ew_sky_comp_make(ew_sky_comp *sc, const ew_texture *t, float scroll);
+void ew_sky_comp_free(ew_sky_comp *sc);
+
 typedef struct ew_span_ctx {
     const ew_target *target;
     int            subdiv_shift;   /* perspective divide every 1 << shift pixels */
     const ew_view *view;           /* the sky's rays */
     float          sky_scroll;     /* sky layers' offset for this frame's time */
+    const ew_sky_comp *sky_comp;   /* its layers made one (for sky_comp->tex), or NULL */
     int32_t        turb[128];      /* liquid warp for this frame's time */
     int            turb_phase;     /* the phase turb holds, plus 129 (0: none yet) */
     ew_fog         fog;            /* this frame's fog (table NULL: none) */

@@ -8,11 +8,67 @@
 
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "ew_simd.h"
 
 #define SKY_STEP 32
+
+/* Power-of-two layers (Quake's are 128x128) wrap with a mask; the spans'
+ * lanes take those whose wrapped integer parts fit 16-bit lanes. */
+static int sky_pow2(const ew_texture *t) {
+    int half = t->width / 2, rows = t->height;
+    return half > 0 && (half & (half - 1)) == 0 && rows > 0 && (rows & (rows - 1)) == 0;
+}
+static int sky_in_lanes(const ew_texture *t) {
+    return sky_pow2(t) && t->width < 32768 && (unsigned)t->width * (unsigned)t->height <= 65536u;
+}
+
+int ew_sky_comp_make(ew_sky_comp *sc, const ew_texture *t, float scroll) {
+    if (!EW_SIMD4 || !sky_in_lanes(t) || !(scroll >= 0 && scroll < 8192)) return -1;  /* the lanes' spans read them */
+    /* A segment's back layer lies Ds = fs - bs behind the front one in 16.16
+     * (sky_span: fs = floor((S0 + 2 scroll) 65536), bs = floor((S0 + scroll)
+     * 65536), S0 under 400 texels).  The two sums round by at most 2^-11
+     * each, so Ds is within 65 of scroll * 65536: its integer part is
+     * round(scroll) - 1 or round(scroll), and a borrow adds one. */
+    const int w0 = (int)floorf(scroll + 0.5f) - 1;
+    if (sc->tex == t && sc->w0 == w0) return 0;
+    const unsigned half = (unsigned)t->width / 2, rows = (unsigned)t->height, width = (unsigned)t->width;
+    const unsigned hm = half - 1, rm = rows - 1;
+    const size_t plane = (size_t)half * rows;
+    if (sc->cap < 9 * plane) {
+        uint8_t *p = realloc(sc->planes, 9 * plane);
+        if (!p) {
+            sc->tex = NULL;
+            return -1;
+        }
+        sc->planes = p, sc->cap = 9 * plane;
+    }
+    const uint8_t *px = t->mip[0];
+    uint8_t row[16384];  /* half < 16384 (sky_in_lanes) */
+    for (int b = 0; b < 3; b++)
+        for (int a = 0; a < 3; a++) {
+            uint8_t *out = sc->planes + (size_t)(a + 3 * b) * plane;
+            const unsigned sx = (unsigned)(w0 + a) & hm;
+            for (unsigned y = 0; y < rows; y++) {
+                const uint8_t *front = px + (size_t)y * width;
+                const uint8_t *back = px + (size_t)((y - (unsigned)(w0 + b)) & rm) * width + half;
+                /* row[x] = back[(x - sx) & hm]: the back row turned by sx */
+                memcpy(row, back + half - sx, sx);
+                memcpy(row + sx, back, half - sx);
+                uint8_t *o = out + (size_t)y * half;
+                for (unsigned x = 0; x < half; x++) o[x] = front[x] ? front[x] : row[x];
+            }
+        }
+    sc->tex = t, sc->w0 = w0;
+    return 0;
+}
+
+void ew_sky_comp_free(ew_sky_comp *sc) {
+    free(sc->planes);
+    *sc = (ew_sky_comp){0};
+}
 
 static int wrap(int x, int n) {
     x %= n;
@@ -190,6 +246,64 @@ static void sky_run32(uint8_t *dst, const uint8_t *px, int32_t fs, int32_t ft, i
     }
 }
 
+/* One segment through the composited planes: the front layer's 16.16
+ * (fs, ft) stepped by (ds, dt), the back layer Ds, Dt behind it (the
+ * starts' differences, constant along the segment since both layers step
+ * alike).  Where a pixel's fraction is below the difference's, the back
+ * layer's integer part is one further behind: the next plane.  0 (nothing
+ * drawn) if the segment's shifts lie outside the planes' (a view whose
+ * numbers are not finite), for the layer-by-layer loop. */
+static int sky_comp_run(uint8_t *dst, int bpp, const uint32_t *rgba, const ew_sky_comp *sc, unsigned half,
+                        unsigned rows, int32_t fs, int32_t ft, int32_t ds, int32_t dt, int32_t Ds, int32_t Dt, int n) {
+    const int a0 = (int)((Ds - (Ds & 0xFFFF)) / 65536) - sc->w0, b0 = (int)((Dt - (Dt & 0xFFFF)) / 65536) - sc->w0;
+    if (a0 < 0 || a0 > 1 || b0 < 0 || b0 > 1) return 0;
+    const unsigned P = half * rows, hm = half - 1, rm = rows - 1;
+    const int32_t dsf = Ds & 0xFFFF, dtf = Dt & 0xFFFF;
+    const uint8_t *base = sc->planes + (size_t)(a0 + 3 * b0) * P;
+    int k = 0;
+    if (n >= 4) {
+        ew_v4i S = ew_v4i_setr(fs, (int32_t)((uint32_t)fs + (uint32_t)ds), (int32_t)((uint32_t)fs + 2u * (uint32_t)ds),
+                               (int32_t)((uint32_t)fs + 3u * (uint32_t)ds));
+        ew_v4i T = ew_v4i_setr(ft, (int32_t)((uint32_t)ft + (uint32_t)dt), (int32_t)((uint32_t)ft + 2u * (uint32_t)dt),
+                               (int32_t)((uint32_t)ft + 3u * (uint32_t)dt));
+        const ew_v4i sstep = ew_v4i_set1((int32_t)(4u * (uint32_t)ds)), tstep = ew_v4i_set1((int32_t)(4u * (uint32_t)dt));
+        const ew_v4i hmv = ew_v4i_set1((int32_t)hm), rmhi = ew_v4i_set1((int32_t)(rm << 16)), lo = ew_v4i_set1(0xFFFF);
+        const ew_v4i mul = ew_v4i_set1((int32_t)((half << 16) | 1u)), dsv = ew_v4i_set1(dsf), dtv = ew_v4i_set1(dtf);
+        const ew_v4i pv = ew_v4i_set1((int32_t)P), p3v = ew_v4i_set1((int32_t)(3 * P));
+        for (; k + 4 <= n; k += 4) {
+            /* x | y << 16 as 16-bit pairs (x <= hm < 16384, y <= rm < 32768), then x + y * half */
+            ew_v4i idx = ew_v4i_madd16(ew_v4i_or(ew_v4i_and(EW_V4I_SRL(S, 16), hmv), ew_v4i_and(T, rmhi)), mul);
+            idx = ew_v4i_add(idx, ew_v4i_and(ew_v4i_gt(dsv, ew_v4i_and(S, lo)), pv));
+            idx = ew_v4i_add(idx, ew_v4i_and(ew_v4i_gt(dtv, ew_v4i_and(T, lo)), p3v));
+            uint32_t i4[4];
+            ew_v4i_storeu(i4, idx);
+            if (bpp == 1) {
+                const uint32_t four = (uint32_t)base[i4[0]] | (uint32_t)base[i4[1]] << 8 | (uint32_t)base[i4[2]] << 16 |
+                                      (uint32_t)base[i4[3]] << 24;
+                memcpy(dst + k, &four, 4);
+            } else {
+                uint8_t *o = dst + (size_t)k * 4;
+                memcpy(o, &rgba[base[i4[0]]], 4);
+                memcpy(o + 4, &rgba[base[i4[1]]], 4);
+                memcpy(o + 8, &rgba[base[i4[2]]], 4);
+                memcpy(o + 12, &rgba[base[i4[3]]], 4);
+            }
+            S = ew_v4i_add(S, sstep), T = ew_v4i_add(T, tstep);
+        }
+        fs = EW_V4I_LANE(S, 0), ft = EW_V4I_LANE(T, 0);
+    }
+    for (; k < n; k++) {
+        const unsigned i = (((unsigned)ft >> 16) & rm) * half + (((unsigned)fs >> 16) & hm) +
+                           ((fs & 0xFFFF) < dsf ? P : 0) + ((ft & 0xFFFF) < dtf ? 3 * P : 0);
+        if (bpp == 1)
+            dst[k] = base[i];
+        else
+            memcpy(dst + (size_t)k * 4, &rgba[base[i]], 4);
+        fs = (int32_t)((uint32_t)fs + (uint32_t)ds), ft = (int32_t)((uint32_t)ft + (uint32_t)dt);
+    }
+    return 1;
+}
+
 /* A power-of-two sky's span with the default 32-pixel segments, in either
  * pixel format: ew_draw_sky_span's arithmetic, each four segments' end points,
  * 16.16 starts and steps made in the lanes of one vector (one square root
@@ -200,6 +314,7 @@ static void sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *
     const unsigned half = (unsigned)t->width / 2, rows = (unsigned)t->height, width = (unsigned)t->width;
     const float scroll = c->sky_scroll, scroll2 = 2 * scroll;
     const uint8_t *px = t->mip[0];
+    const ew_sky_comp *comp = c->sky_comp && c->sky_comp->tex == t ? c->sky_comp : NULL;
     const float y = (float)sp->v;
     float s0, t0;
     sky_st(v, t, (float)sp->u, y, &s0, &t0);
@@ -220,6 +335,10 @@ static void sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture *
         ew_v4i_storeu(dt, ew_v4f_trunc(ew_v4f_div(ew_v4f_mul(ew_v4f_sub(T, T0), k16), fstep)));
         for (int j = 0; j < 4 && i + j * SKY_STEP < sp->count; j++) {
             const int at = i + j * SKY_STEP, n = sp->count - at < SKY_STEP ? sp->count - at : SKY_STEP;
+            if (comp && sky_comp_run(dst + (size_t)at * (size_t)bpp, bpp, rgba, comp, half, rows, fs[j], ft[j], ds[j],
+                                     dt[j], (int32_t)((uint32_t)fs[j] - (uint32_t)bs[j]),
+                                     (int32_t)((uint32_t)ft[j] - (uint32_t)bt[j]), n))
+                continue;
             if (bpp == 1)
                 sky_run8(dst + at, px, fs[j], ft[j], bs[j], bt[j], ds[j], dt[j], half - 1, rows - 1, width, half, n);
             else
@@ -236,7 +355,7 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
     int half = t->width / 2, rows = t->height;
     /* Power-of-two layers (Quake's are 128x128) wrap with a mask; others
      * take the exact path per pixel. */
-    int pow2 = half > 0 && (half & (half - 1)) == 0 && rows > 0 && (rows & (rows - 1)) == 0;
+    int pow2 = sky_pow2(t);
     float scroll = c->sky_scroll;
     const uint8_t *px = t->mip[0];
     uint8_t *dst = ew_target_at(c->target, sp->u, sp->v);
@@ -246,7 +365,7 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
     float s0, t0, s1, t1;
     int step = c->subdiv_shift ? SKY_STEP : 1;  /* exact mode: every pixel */
 #if EW_SIMD4
-    if (pow2 && step == SKY_STEP && t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
+    if (step == SKY_STEP && sky_in_lanes(t)) {
         sky_span(c, sp, t, dst, bpp, rgba);
         return;
     }
