@@ -23,19 +23,33 @@ void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d) {
     const ew_node *node = &w->nodes[n];
     /* Only faces facing the camera can be seen: behind the plane, the
      * PLANEBACK ones. */
-    for (int i = 0; i < node->numfaces; i++) {
-        int fi = node->firstface + i;
-        const ew_face *f = &w->faces[fi];
-        if (mk->face_frame[fi] != mk->framecount) continue;
-        if (((f->flags & EW_SURF_PLANEBACK) != 0) != side) continue;
-        if (d == 0) continue;  /* edge-on */
-        /* The node's box crosses a plane; the face itself often does not,
-         * and then skips the clip (or is not seen at all). */
-        int cf = clipflags ? ew_cull_face(&fr->f->view, w->face_box[fi], clipflags) : 0;
-        if (cf < 0) continue;
-        float alpha;
-        int kind = ew_see_kind(fr, f, 1, &alpha);
-        wk->face(wk, fi, cf, kind, alpha);
+    if (d == 0) {  /* edge-on */
+        wk->key++;
+        return;
+    }
+    /* The faces that pass first, their corners' vertex numbers fetched
+     * meanwhile; then each handed over. */
+    enum { BATCH = 32 };
+    int list[BATCH], cfs[BATCH];
+    for (int i0 = 0; i0 < node->numfaces; i0 += BATCH) {
+        int n = 0;
+        for (int i = i0; i < node->numfaces && i < i0 + BATCH; i++) {
+            int fi = node->firstface + i;
+            const ew_face *f = &w->faces[fi];
+            if (mk->face_frame[fi] != mk->framecount) continue;
+            if (((f->flags & EW_SURF_PLANEBACK) != 0) != side) continue;
+            /* The node's box crosses a plane; the face itself often does not,
+             * and then skips the clip (or is not seen at all). */
+            int cf = clipflags ? ew_cull_face(&fr->f->view, w->face_box[fi], clipflags) : 0;
+            if (cf < 0) continue;
+            __builtin_prefetch(&w->surfverts[f->firstedge]);
+            list[n] = fi, cfs[n++] = cf;
+        }
+        for (int k = 0; k < n; k++) {
+            float alpha;
+            int kind = ew_see_kind(fr, &w->faces[list[k]], 1, &alpha);
+            wk->face(wk, list[k], cfs[k], kind, alpha);
+        }
     }
     wk->key++;
 }
@@ -82,6 +96,17 @@ void ew_walk_node(ew_walker *wk, int n, int clipflags, int depth) {
     float d;
     int side = ew_walk_enter(wk, n, &clipflags, &d);
     if (side < 0) return;
+    {
+        const ew_node *nd = &w->nodes[n];
+        for (int k = 0; k < 2; k++) {
+            int ch = nd->children[k];
+            if (ch >= 0) __builtin_prefetch(&w->nodes[ch]);
+            else __builtin_prefetch(&w->leaves[-1 - ch]);
+        }
+        for (int i = 0; i < nd->numfaces; i += 2) __builtin_prefetch(&w->faces[nd->firstface + i]);
+        for (int i = 0; i < nd->numfaces; i += 4) __builtin_prefetch(&w->face_box[nd->firstface + i]);
+        if (nd->numfaces) __builtin_prefetch(&wk->fr->marks->face_frame[nd->firstface]);
+    }
     ew_walk_node(wk, w->nodes[n].children[side], clipflags, depth + 1);
     ew_walk_faces(wk, n, clipflags, side, d);
     ew_walk_node(wk, w->nodes[n].children[!side], clipflags, depth + 1);
