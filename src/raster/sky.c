@@ -29,9 +29,11 @@ int ew_sky_comp_make(ew_sky_comp *sc, const ew_texture *t, float scroll) {
     if (!EW_SIMD4 || !sky_in_lanes(t) || !(scroll >= 0 && scroll < 8192)) return -1;  /* the lanes' spans read them */
     /* A segment's back layer lies Ds = fs - bs behind the front one in 16.16
      * (sky_span: fs = floor((S0 + 2 scroll) 65536), bs = floor((S0 + scroll)
-     * 65536), S0 under 400 texels).  The two sums round by at most 2^-11
-     * each, so Ds is within 65 of scroll * 65536: its integer part is
-     * round(scroll) - 1 or round(scroll), and a borrow adds one. */
+     * 65536), |S0| at most 6 (rows / 2 - 1): 378 texels for Quake's 128
+     * rows).  Then the two sums round by at most 2^-11 each, so Ds is within
+     * 65 of scroll * 65536: its integer part is round(scroll) - 1 or
+     * round(scroll), and a borrow adds one.  (A taller sky's segment that
+     * falls outside the planes is drawn layer by layer: sky_comp_run.) */
     const int w0 = (int)floorf(scroll + 0.5f) - 1;
     if (sc->tex == t && sc->w0 == w0) return 0;
     const unsigned half = (unsigned)t->width / 2, rows = (unsigned)t->height, width = (unsigned)t->width;
