@@ -94,7 +94,6 @@ static inline uint32_t ew_blend_rgba(uint32_t src, uint32_t dst, int a) {
     return ew_rgba(d[0], d[1], d[2]);
 }
 
-/* What the span drawers read, set once per frame. */
 /* The sky's two layers made one for the frame (raster/sky.c), as the 1996
  * renderer composited its sky: a sky pixel then reads one texel, not one
  * of each layer.  The back layer lies at a fractional offset from the
@@ -116,6 +115,7 @@ typedef struct ew_sky_comp {
 int  ew_sky_comp_make(ew_sky_comp *sc, const ew_texture *t, float scroll);
 void ew_sky_comp_free(ew_sky_comp *sc);
 
+/* What the span drawers read, set once per frame. */
 typedef struct ew_span_ctx {
     const ew_target *target;
     int            subdiv_shift;   /* perspective divide every 1 << shift pixels */

@@ -386,7 +386,7 @@ void ew_draw_sky_span(const ew_span_ctx *c, const ew_span *sp, const ew_texture 
             int32_t ds = (int32_t)((s1 - s0) * 65536.0f / step), dt = (int32_t)((t1 - t0) * 65536.0f / step);
             unsigned hm = (unsigned)half - 1, rm = (unsigned)rows - 1;
 #if EW_SIMD4
-            if (t->width < 32768 && (unsigned)t->width * (unsigned)rows <= 65536u) {
+            if (sky_in_lanes(t)) {
                 if (bpp == 1)
                     sky_run8(dst + i, px, fs, ft, bs, bt, ds, dt, hm, rm, (unsigned)t->width, (unsigned)half, n);
                 else

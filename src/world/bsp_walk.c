@@ -32,7 +32,7 @@ void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d) {
     enum { BATCH = 32 };
     int list[BATCH], cfs[BATCH];
     for (int i0 = 0; i0 < node->numfaces; i0 += BATCH) {
-        int n = 0;
+        int np = 0;
         for (int i = i0; i < node->numfaces && i < i0 + BATCH; i++) {
             int fi = node->firstface + i;
             const ew_face *f = &w->faces[fi];
@@ -43,9 +43,9 @@ void ew_walk_faces(ew_walker *wk, int n, int clipflags, int side, float d) {
             int cf = clipflags ? ew_cull_face(&fr->f->view, w->face_box[fi], clipflags) : 0;
             if (cf < 0) continue;
             __builtin_prefetch(&w->surfverts[f->firstedge]);
-            list[n] = fi, cfs[n++] = cf;
+            list[np] = fi, cfs[np++] = cf;
         }
-        for (int k = 0; k < n; k++) {
+        for (int k = 0; k < np; k++) {
             float alpha;
             int kind = ew_see_kind(fr, &w->faces[list[k]], 1, &alpha);
             wk->face(wk, list[k], cfs[k], kind, alpha);
