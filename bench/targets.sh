@@ -36,6 +36,23 @@ IN=./build/inproc
 sizes=
 for s in $SIZES; do sizes="$sizes --size $s"; done
 want() { case " $SKIP " in *" $1 "*) return 1 ;; esac; return 0; }
+# medians FILE THR XCOL [WCOL]: the rows of FILE (several runs' tables)
+# whose third field is THR, per map and size: column XCOL's median over
+# the runs beside its range, and column WCOL of each run, sorted with it.
+medians() {
+    awk -v thr="$2" -v xc="$3" -v wc="${4:-0}" '$3 == thr && $xc ~ /^[0-9.]+$/ {
+             k = $1 " " $2
+             if (!(k in m)) { order[n++] = k; m[k] = 0 }
+             x[k, m[k]] = $xc; w[k, m[k]] = wc ? $wc : ""; m[k]++
+         }
+         END { for (i = 0; i < n; i++) { k = order[i]; c = m[k]
+                   for (a = 0; a < c; a++) for (b = a + 1; b < c; b++)  # sort the runs by column XCOL
+                       if (x[k, b] < x[k, a]) { t = x[k, a]; x[k, a] = x[k, b]; x[k, b] = t
+                                                t = w[k, a]; w[k, a] = w[k, b]; w[k, b] = t }
+                   med = c % 2 ? x[k, (c - 1) / 2] : (x[k, c / 2 - 1] + x[k, c / 2]) / 2
+                   ws = ""; if (wc) { ws = "  work"; for (a = 0; a < c; a++) ws = ws " " w[k, a] }
+                   printf "%-22s median %.3f  (%.3f-%.3f)%s\n", k, med, x[k, 0], x[k, c - 1], ws } }' "$1"
+}
 
 # shellcheck disable=SC2086
 if want 1; then
@@ -81,16 +98,7 @@ if want 3; then
         done
     done
     echo "== target 3: each row's slow_B/A, the median of $runs runs (the range)"
-    awk '$3 == "1" && $8 ~ /^[0-9.]+$/ {
-             k = $1 " " $2
-             if (!(k in m)) { order[n++] = k; m[k] = 0 }
-             x[k, m[k]++] = $8
-         }
-         END { for (i = 0; i < n; i++) { k = order[i]; c = m[k]
-                   for (a = 0; a < c; a++) for (b = a + 1; b < c; b++)
-                       if (x[k, b] < x[k, a]) { t = x[k, a]; x[k, a] = x[k, b]; x[k, b] = t }
-                   med = c % 2 ? x[k, (c - 1) / 2] : (x[k, c / 2 - 1] + x[k, c / 2]) / 2
-                   printf "%-22s median %.3f  (%.3f-%.3f)\n", k, med, x[k, 0], x[k, c - 1] } }' "$out"
+    medians "$out" 1 8
     rm -f "$out"
 fi
 if want 4; then
@@ -107,18 +115,7 @@ if want 4; then
         i=$((i + 1))
     done
     echo "== target 4: each row's x_mean, the median of $runs runs (the range; each run's work)"
-    awk '$3 == "1,2" && $6 ~ /^[0-9.]+$/ {
-             k = $1 " " $2
-             if (!(k in m)) { order[n++] = k; m[k] = 0 }
-             x[k, m[k]] = $6; w[k, m[k]] = $13; m[k]++
-         }
-         END { for (i = 0; i < n; i++) { k = order[i]; c = m[k]
-                   for (a = 0; a < c; a++) for (b = a + 1; b < c; b++)  # sort the runs by x_mean
-                       if (x[k, b] < x[k, a]) { t = x[k, a]; x[k, a] = x[k, b]; x[k, b] = t
-                                                t = w[k, a]; w[k, a] = w[k, b]; w[k, b] = t }
-                   med = c % 2 ? x[k, (c - 1) / 2] : (x[k, c / 2 - 1] + x[k, c / 2]) / 2
-                   ws = ""; for (a = 0; a < c; a++) ws = ws " " w[k, a]
-                   printf "%-22s median %.3f  (%.3f-%.3f)  work%s\n", k, med, x[k, 0], x[k, c - 1], ws } }' "$out"
+    medians "$out" 1,2 6 13
     rm -f "$out"
 fi
 if want 5; then
