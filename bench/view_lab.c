@@ -65,6 +65,9 @@ int main(int argc, char **argv) {
         return 2;
     }
     int w = 640, h = 480, frames = 200, color = 0, modern = 0, threads = 1, pos = 0;
+    long n;
+    int sw, sh;
+    char extra;
     long view = whole(argv[3], 0, EW_MAX_VIEWS - 1);
     if (view < 0) {
         fprintf(stderr, "view_lab: VIEW must be a view number from 0 to %d, not '%s'\n", EW_MAX_VIEWS - 1, argv[3]);
@@ -74,16 +77,16 @@ int main(int argc, char **argv) {
         if (strcmp(argv[i], "--true") == 0) color = 1;
         else if (strcmp(argv[i], "--modern") == 0) modern = 1;
         else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
-            long n = whole(argv[++i], 0, 64);
+            n = whole(argv[++i], 0, 64);
             if (n < 0) {
                 fprintf(stderr, "view_lab: --threads must be 0 to 64, not '%s'\n", argv[i]);
                 return 2;
             }
             threads = (int)n;
-        } else if (pos == 0 && sscanf(argv[i], "%dx%d", &w, &h) == 2 && w > 0 && h > 0) {
-            pos = 1;
-        } else if (pos <= 1 && whole(argv[i], 1, 1000000) > 0) {
-            frames = (int)whole(argv[i], 1, 1000000);
+        } else if (pos == 0 && sscanf(argv[i], "%dx%d%c", &sw, &sh, &extra) == 2 && sw > 0 && sh > 0) {
+            w = sw, h = sh, pos = 1;
+        } else if (pos <= 1 && (n = whole(argv[i], 1, 1000000)) > 0) {
+            frames = (int)n;
             pos = 2;
         } else {
             fprintf(stderr, "view_lab: '%s' is not a size WxH, a number of frames or an option\n", argv[i]);
