@@ -754,6 +754,7 @@ static void job_draw(void *ctx, int thread) {
     for (int i; (i = atomic_fetch_add(&r->sched.next_band, 1)) < r->sched.nitems;) {
         double t0 = ew_now_ms();
         ew_draw_item *it = &r->sched.items[i];
+        long fogged = 0;
         if (r->dbg.mode == EW_DEBUG_SPANS) {
             ew_debug_spans(&r->draw, &r->sched.bands[i], i);
         } else {
@@ -763,14 +764,15 @@ static void job_draw(void *ctx, int thread) {
                 for (y1 = y + 1; y1 < it->y1 && zf->row_band[y1] == band && zf->row_span0[y1] == s0 + n; y1++)
                     n += zf->row_nspans[y1];
                 if (r->draw.fog.fill)  /* what fog covers whole: its colour, no texels */
-                    ew_fog_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw, zf->all,
-                                      zf->bands[band].unsorted);
+                    fogged += ew_fog_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw,
+                                                zf->all, zf->bands[band].unsorted);
                 else
                     ew_draw_spans(&r->draw, zf->bands[band].spans + s0, n, r->lit.surf_draw, zf->all);
             }
         }
         double t1 = ew_now_ms();
         memset(&it->stats, 0, sizeof it->stats);
+        it->stats.fog_pixels = fogged;
         ew_rows rows = {it->y0, it->y1, &it->stats, i == 0};
         ew_passes_draw(&r->passes, r->dbg.mode ? &r->sched.bands[i] : NULL, &rows);
         it->model_ms = ew_now_ms() - t1;

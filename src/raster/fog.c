@@ -411,24 +411,14 @@ static long fog_span(const ew_fog *f, const ew_target *t, const ew_span *sp, con
     return n + skip;
 }
 
-/* The pixels of a span whose 1/z is above 0, or all of a sky's: those the
- * fog changes (or would, at level 0). */
-static long span_fogged(const fog_line *l, int count) {
-    if (l->sky) return count;
-    if (line_zi(l->zi0, l->dz, 0) > 0 && line_zi(l->zi0, l->dz, count - 1) > 0) return count;
-    long n = 0;
-    for (int i = 0; i < count; i++) n += line_zi(l->zi0, l->dz, i) > 0;
-    return n;
-}
-
 /* A span of a sorted row fogged as it was drawn (fog->fill): what was
  * drawn over it within [lo, hi), where the z-buffer holds what is nearest
- * (a 1/z not the span's own), is fogged by its own depth. */
-static long fog_over(const ew_fog *f, const ew_target *t, const ew_span *sp, const ew_surf_draw *d, int lo, int hi) {
+ * (a 1/z not the span's own), is fogged by its own depth.  (The span's own
+ * pixels were counted as they were drawn.) */
+static void fog_over(const ew_fog *f, const ew_target *t, const ew_span *sp, const ew_surf_draw *d, int lo, int hi) {
     const ew_gradients *g = &d->g;
     fog_line l = {f, t->bpp, ew_target_at(t, 0, sp->v), ew_target_z(t, 0, sp->v), sp->u,
                   g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, g->zi_u, d->kind == EW_DRAW_SKY};
-    long n = span_fogged(&l, sp->count);
     int a = lo > sp->u ? lo : sp->u, e = hi < sp->u + sp->count ? hi : sp->u + sp->count;
     int x = a;
 #if EW_SIMD4
@@ -454,7 +444,6 @@ static long fog_over(const ew_fog *f, const ew_target *t, const ew_span *sp, con
         int k = ew_fog_level(f, z);
         if (k > 0) fog_px(f, l.bpp, l.row, x, k);
     }
-    return n;
 }
 
 /* ---- the rows the old way: every pixel's depth from the z-buffer ---- */
@@ -516,24 +505,9 @@ void ew_draw_fog(const ew_fog *fog, const ew_target *t, ew_zfill *zf, const ew_s
         }
         /* Spans in order: the z-buffer is read only where it was filled. */
         int lo = zf->all ? 0 : zf->zlo[y], hi = zf->all ? t->width : zf->zhi[y];
-        if (fog->fill) {  /* the world fogged as drawn: what is over it */
-            for (int i = 0; i < ns; i++) {
-                const ew_span *sp = &spans[i];
-                const ew_surf_draw *d = &surf_draw[sp->surf];
-                if (sp->u < hi && sp->u + sp->count > lo) {
-                    n += fog_over(fog, t, sp, d, lo, hi);
-                    continue;
-                }
-                /* only counted: the pixels fogged as drawn */
-                const ew_gradients *g = &d->g;
-                float zi0 = g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0;
-                if (d->kind == EW_DRAW_SKY || (zi0 > 0 && line_zi(zi0, g->zi_u, sp->count - 1) > 0)) {
-                    n += sp->count;
-                } else if (d->kind != EW_DRAW_BACKGROUND) {
-                    fog_line l = {fog, t->bpp, NULL, NULL, sp->u, zi0, g->zi_u, 0};
-                    n += span_fogged(&l, sp->count);
-                }
-            }
+        if (fog->fill) {  /* the world fogged and counted as drawn: only what is over it */
+            for (int i = 0; i < ns && spans[i].u < hi; i++)
+                if (spans[i].u + spans[i].count > lo) fog_over(fog, t, &spans[i], &surf_draw[spans[i].surf], lo, hi);
             continue;
         }
         for (int i = 0; i < ns; i++) n += fog_span(fog, t, &spans[i], &surf_draw[spans[i].surf], lo, hi);
@@ -554,10 +528,11 @@ static void fill_px(const ew_target *t, int u, int v, int n, uint32_t px) {
  * pixels are at hand. */
 enum { CHUNK = 64 };
 
-void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z,
+long ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z,
                        int unsorted) {
     const ew_fog *f = &c->fog;
     const ew_target *t = c->target;
+    long fogged = 0;
     for (int i0 = 0; i0 < n; i0 += CHUNK) {
         const int i1 = i0 + CHUNK < n ? i0 + CHUNK : n;
         int keep[CHUNK];  /* each span's pixels drawn, the rest filled */
@@ -587,7 +562,8 @@ void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const 
             const ew_gradients *g = &d->g;
             fog_line l = {f, t->bpp, ew_target_at(t, 0, sp->v), NULL, sp->u,
                           g->zi_u * sp->u + g->zi_v * sp->v + g->zi_0, g->zi_u, d->kind == EW_DRAW_SKY};
-            fog_piece(&l, sp->u, sp->u + keep[i - i0], 0);
+            fogged += fog_piece(&l, sp->u, sp->u + keep[i - i0], 0) + (sp->count - keep[i - i0]);
         }
     }
+    return fogged;
 }

@@ -264,8 +264,10 @@ void ew_fog_prepare(ew_span_ctx *draw, ew_frame *f, ew_blend *blend, int may_fil
  * rest is fogged as soon as drawn (unless the band is unsorted: its spans
  * overlap, and the fog pass finds each pixel's top one).  The span is cut
  * only where its drawer's pixels before the cut stay the same (after a
- * whole segment), so the fogged frame is the same. */
-void ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z,
+ * whole segment), so the fogged frame is the same.  Returns the pixels it
+ * fogged or filled (the stats' fog_pixels; 0 for an unsorted band, which
+ * ew_draw_fog counts), so the fog pass need not walk those spans again. */
+long ew_fog_draw_spans(const ew_span_ctx *c, const ew_span *spans, int n, const ew_surf_draw *draw, int full_z,
                        int unsorted);
 void ew_draw_fog(const ew_fog *fog, const ew_target *t, struct ew_zfill *zf, const ew_surf_draw *surf_draw,
                  const ew_rows *rows);
