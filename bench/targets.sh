@@ -22,7 +22,17 @@
 #   6  many cores:   bench's predicted speed-up on 4, 8 and 16 cores (no many-core machine here)
 #
 # SKIP="1 3" leaves targets out; MAPS and SIZES override the defaults.
+# At the end one table puts every target's figure side by side, a row per
+# map (bench/targets_summary.awk, which reads the tables above it).
 set -eu
+if [ -z "${EW_TARGETS_INNER:-}" ]; then  # the run itself, copied to a log the summary reads
+    log=$(mktemp)
+    { rc=0; EW_TARGETS_INNER=1 sh "$0" "$@" || rc=$?; echo "$rc" >"$log.rc"; } 2>&1 | tee "$log"
+    rc=$(cat "$log.rc")
+    awk -f "$(dirname "$0")/targets_summary.awk" "$log"
+    rm -f "$log" "$log.rc"
+    exit "$rc"
+fi
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 DATA=${1:-$ROOT/../shared/data/librequake}
 MAPS=${MAPS:-e1m1 lqdm7 e4m1 start lqdm1 e2m1 slope}
