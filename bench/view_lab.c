@@ -1,6 +1,6 @@
 /* view_lab: one view of a map's view set timed alone, warm and in the
- * benchmark's cycle (docs/performance.md, "What the worst views' scan and
- * true colour's worst views wait on").  Built as a target
+ * benchmark's cycle (docs/performance.md, "What bounds each target on this
+ * machine").  Built as a target
  * (build/view_lab); run
  *
  *     ./build/view_lab MAP DATA_DIR VIEW [WxH] [FRAMES] [options]
