@@ -48,7 +48,9 @@ for s in $SIZES; do sizes="$sizes --size $s"; done
 want() { case " $SKIP " in *" $1 "*) return 1 ;; esac; return 0; }
 # medians FILE THR XCOL [WCOL]: the rows of FILE (several runs' tables)
 # whose third field is THR, per map and size: column XCOL's median over
-# the runs beside its range, and column WCOL of each run, sorted with it.
+# the runs beside its range, and column WCOL of each run, sorted with it;
+# with WCOL also the median over the runs whose WCOL (two threads' work
+# over one's) is at most 1.06, the runs no other process disturbed.
 medians() {
     awk -v thr="$2" -v xc="$3" -v wc="${4:-0}" '$3 == thr && $xc ~ /^[0-9.]+$/ {
              k = $1 " " $2
@@ -61,7 +63,13 @@ medians() {
                                                 t = w[k, a]; w[k, a] = w[k, b]; w[k, b] = t }
                    med = c % 2 ? x[k, (c - 1) / 2] : (x[k, c / 2 - 1] + x[k, c / 2]) / 2
                    ws = ""; if (wc) { ws = "  work"; for (a = 0; a < c; a++) ws = ws " " w[k, a] }
-                   printf "%-22s median %.3f  (%.3f-%.3f)%s\n", k, med, x[k, 0], x[k, c - 1], ws } }' "$1"
+                   us = ""
+                   if (wc) {  # the runs the machine left alone: work within 6% of one thread
+                       u = 0; for (a = 0; a < c; a++) if (w[k, a] <= 1.06) q[u++] = x[k, a]
+                       us = u ? sprintf("  undisturbed %.3f of %d", u % 2 ? q[(u - 1) / 2] : (q[u / 2 - 1] + q[u / 2]) / 2, u) \
+                              : "  undisturbed - of 0"
+                   }
+                   printf "%-22s median %.3f  (%.3f-%.3f)%s%s\n", k, med, x[k, 0], x[k, c - 1], ws, us } }' "$1"
 }
 
 # shellcheck disable=SC2086
