@@ -46,6 +46,17 @@ IN=./build/inproc
 sizes=
 for s in $SIZES; do sizes="$sizes --size $s"; done
 want() { case " $SKIP " in *" $1 "*) return 1 ;; esac; return 0; }
+# check CMD...: runs CMD, and where it fails says so and marks the run
+# failed.  Most commands here feed a pipeline (sh has no pipefail), whose
+# status is its last command's: a bench that failed would pass unseen.
+fails=$(mktemp)
+trap 'rm -f "$fails"' EXIT
+check() {
+    "$@" || {
+        echo "targets: failed (exit $?): $*" >&2
+        echo x >>"$fails"
+    }
+}
 # medians FILE THR XCOL [WCOL]: the rows of FILE (several runs' tables)
 # whose third field is THR, per map and size: column XCOL's median over
 # the runs beside its range, and column WCOL of each run, sorted with it;
@@ -86,7 +97,7 @@ if want 1; then
     printf '%-10s %9s %8s %9s %7s\n' map size mean_ms lookup_ms floor_x
     for m in $MAPS; do
         for s in $SIZES; do
-            ./build/edgewise bench "$m" --data "$DATA" --size "$s" --passes 3 --no-fog --quiet |
+            check ./build/edgewise bench "$m" --data "$DATA" --size "$s" --passes 3 --no-fog --quiet |
                 awk -v m="$m" -v s="$s" '{
                     match($0, /"mean_ms":[0-9.e+-]+/); mean = substr($0, RSTART + 10, RLENGTH - 10)
                     match($0, /"lookup_floor_ms":[0-9.e+-]+/); lf = substr($0, RSTART + 18, RLENGTH - 18)
@@ -110,7 +121,7 @@ if want 3; then
         i=1
         while [ "$i" -le "$runs" ]; do
             echo "== target 3: worst view against fdb285d, $s, --classic --no-entities (slow_B/A), run $i of $runs"
-            INPROC=1 bench/compare.sh fdb285d WORKTREE $MAPS --data "$DATA" --size $s --passes 5 --threads 1 \
+            check env INPROC=1 bench/compare.sh fdb285d WORKTREE $MAPS --data "$DATA" --size $s --passes 5 --threads 1 \
                 --classic --no-entities | tee -a "$out"
             i=$((i + 1))
         done
@@ -126,7 +137,7 @@ if want 4; then
     i=1
     while [ "$i" -le "$runs" ]; do
         if [ "$i" -eq 1 ]; then
-            $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 | tee -a "$out"
+            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 | tee -a "$out"
         else  # the model does not change from run to run
             $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 --no-model >>"$out"
         fi
@@ -139,7 +150,7 @@ fi
 if want 5; then
     echo "== target 5: --gap 16: process CPU per frame over the frames' own work"
     for m in $MAPS; do
-        ./build/edgewise bench "$m" --data "$DATA" --size 1920x1080 --threads 2 --threads 0 --gap 16 --passes 2 \
+        check ./build/edgewise bench "$m" --data "$DATA" --size 1920x1080 --threads 2 --threads 0 --gap 16 --passes 2 \
             --quiet | sed -n 's/.*"map":"\([^"]*\)".*"threads_requested":\([0-9]*\).*"cpu_ms_per_frame":\([0-9.]*\).*"work_ms_per_frame":\([0-9.]*\).*"cpu_over_work":\([0-9.]*\).*/\1 threads \2: cpu \3 ms, work \4 ms, cpu\/work \5/p'
     done
 fi
@@ -147,9 +158,13 @@ if want 6; then
     echo "== target 6: predicted speed-up on 2, 4, 8, 16 cores (bench --bands; one thread measured)"
     for s in $SIZES; do
         for m in $MAPS; do
-            ./build/edgewise bench "$m" --data "$DATA" --size "$s" --threads 1 --bands 2 --bands 4 --bands 8 \
+            check ./build/edgewise bench "$m" --data "$DATA" --size "$s" --threads 1 --bands 2 --bands 4 --bands 8 \
                 --bands 16 --passes 2 --quiet |
                 sed -n 's/.*"map":"\([^"]*\)".*"width":\([0-9]*\),"height":\([0-9]*\).*"serial_share":\([0-9.]*\).*"predicted_speedup_2":\([0-9.]*\).*"predicted_speedup_4":\([0-9.]*\).*"predicted_speedup_8":\([0-9.]*\).*"predicted_speedup_16":\([0-9.]*\).*/\1 \2x\3 serial share \4: 2 \5, 4 \6, 8 \7, 16 \8/p'
         done
     done
+fi
+if [ -s "$fails" ]; then
+    echo "targets: $(wc -l <"$fails") command(s) failed; their rows are missing above" >&2
+    exit 1
 fi
