@@ -76,7 +76,7 @@ static void check_world(const ew_world *w) {
         }
         if (!(f->flags & (EW_SURF_SKY | EW_SURF_TURB)))
             for (int j = 0; j < 2; j++)
-                if (f->extents[j] < 16 || f->extents[j] > 2048 || f->extents[j] % 16) broken("face extents", i);
+                if (f->extents[j] < 0 || f->extents[j] > 2048 || f->extents[j] % 16) broken("face extents", i);
         if (f->lightofs >= 0) {
             int ns = 0;
             while (ns < 4 && f->styles[ns] != 255) ns++;
