@@ -9,8 +9,9 @@
 # rows, or slows the one-thread frames: target 4 therefore runs THREAD_RUNS
 # times (default 3) and reports each row's median run beside the range, with
 # each run's `work` (the two threads' processor time in the frames over the
-# one thread's: 1.0-1.06 in an undisturbed run, well above 1 where the
-# second core ran slow, below 1 where the one-thread frames did).
+# one thread's: 0.98-1.06 in an undisturbed run, well above 1 where the
+# second core ran slow, below 1 where the one-thread frames did, which
+# makes the speed-up look better than it is).
 #
 #   1  fog:          frame with fog / the same frame without (one library, --b-args), also
 #                    with loops up to AVX2, and the lookup floor of 8-bit fog without VBMI
@@ -61,7 +62,8 @@ check() {
 # whose third field is THR, per map and size: column XCOL's median over
 # the runs beside its range, and column WCOL of each run, sorted with it;
 # with WCOL also the median over the runs whose WCOL (two threads' work
-# over one's) is at most 1.06, the runs no other process disturbed.
+# over one's) lies within 0.98-1.06, the runs no other process disturbed
+# (below, the one-thread frames were slowed, and the ratio flatters).
 medians() {
     awk -v thr="$2" -v xc="$3" -v wc="${4:-0}" '$3 == thr && $xc ~ /^[0-9.]+$/ {
              k = $1 " " $2
@@ -75,8 +77,8 @@ medians() {
                    med = c % 2 ? x[k, (c - 1) / 2] : (x[k, c / 2 - 1] + x[k, c / 2]) / 2
                    ws = ""; if (wc) { ws = "  work"; for (a = 0; a < c; a++) ws = ws " " w[k, a] }
                    us = ""
-                   if (wc) {  # the runs the machine left alone: work within 6% of one thread
-                       u = 0; for (a = 0; a < c; a++) if (w[k, a] <= 1.06) q[u++] = x[k, a]
+                   if (wc) {  # the runs the machine left alone: work within -2%..+6% of one thread
+                       u = 0; for (a = 0; a < c; a++) if (w[k, a] >= 0.98 && w[k, a] <= 1.06) q[u++] = x[k, a]
                        us = u ? sprintf("  undisturbed %.3f of %d", u % 2 ? q[(u - 1) / 2] : (q[u / 2 - 1] + q[u / 2]) / 2, u) \
                               : "  undisturbed - of 0"
                    }
@@ -136,10 +138,11 @@ if want 4; then
     out=$(mktemp)
     i=1
     while [ "$i" -le "$runs" ]; do
+        echo "== target 4: run $i of $runs"
         if [ "$i" -eq 1 ]; then
             check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 | tee -a "$out"
         else  # the model does not change from run to run
-            $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 --no-model >>"$out"
+            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 --no-model | tee -a "$out"
         fi
         i=$((i + 1))
     done

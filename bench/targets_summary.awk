@@ -7,7 +7,7 @@
 #   worst view: slow_B/A against fdb285d, the median of the runs; in
 #     brackets the fraction BENCHMARK.md's table asks for ("-": no column)
 #   two threads: x_mean, the median of the runs / the median of the runs
-#     with work at most 1.06 (undisturbed; "-": none); target at least 1.80
+#     with work within 0.98-1.06 (undisturbed; "-": none); target at least 1.80
 #   gap: the largest cpu/work of --gap 16; target at most 1.15
 #   serial: the largest serial share of target 6, in percent; at most 2
 function num(x) { return x ~ /^[0-9]+(\.[0-9]+)?$/ }
