@@ -95,6 +95,44 @@ static int fly_paths(const char *dir) {
     return n;
 }
 
+/* The real maps of ../shared DIR (every .bsp) through the loader targets,
+ * by their magic: each must be accepted.  The targets check the loaded
+ * world against what ew_world.h promises, on their own, and abort where a
+ * promise is broken; so where the loader's promise widens (texture extent
+ * 0 since 71fbb43, for ericw-tools' faces) and those checks do not follow,
+ * this fails, where a fuzzer would stop at its first such input and fuzz
+ * nothing more.  The count of maps. */
+static int real_maps(const char *rel) {
+    if (!ew_t_need_shared(rel)) return 0;
+    const char *dir = ew_t_shared(rel);
+    char d[1024];
+    snprintf(d, sizeof d, "%s", dir);
+    int n, maps = 0;
+    char **files = list_dir(d, &n);
+    for (int i = 0; i < n; i++) {
+        size_t len = strlen(files[i]);
+        if (len < 4 || strcmp(files[i] + len - 4, ".bsp")) continue;
+        char path[2100];
+        snprintf(path, sizeof path, "%s/%s", d, files[i]);
+        uint8_t *data;
+        size_t size;
+        ew_error err = {""};
+        if (ew_read_file(path, &data, &size, &err) != 0) {
+            CHECK(0, "%s", err.msg);
+            continue;
+        }
+        int bsp2 = size >= 4 && (!memcmp(data, "BSP2", 4) || !memcmp(data, "2PSB", 4));
+        int rc = (bsp2 ? ew_fuzz_bsp2 : ew_fuzz_bsp29)(data, size);
+        CHECK(rc == 0, "%s: the %s target rejected a real map", path, bsp2 ? "bsp2" : "bsp29");
+        maps++;
+        free(data);
+    }
+    free_list(files, n);
+    CHECK(maps > 0, "no .bsp in %s", d);
+    printf("%-24s %3d real maps accepted, the loader's promises held\n", rel, maps);
+    return maps;
+}
+
 int main(void) {
     const char *src = getenv("EW_SOURCE");
     char root[1024];
@@ -148,6 +186,10 @@ int main(void) {
     free_list(targets, ntargets);
     printf("%d regression inputs\n", total);
     CHECK(total > 0, "no regression inputs under %s", root);
+
+    real_maps("data/librequake/maps");
+    real_maps("data/ericw/maps");
+    real_maps("data/demos/maps");  /* lqdm3: faces of texture extent 0 */
 
     /* The dlight NaN (render/dlight_nan_plane.bin): plane 0's normal is
      * (2.4e21, -1.4e37, 1), finite but not a direction, and the dynamic
