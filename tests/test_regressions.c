@@ -95,6 +95,26 @@ static int fly_paths(const char *dir) {
     return n;
 }
 
+/* The file at path through fn, or with fn NULL through the bsp29 or the
+ * bsp2 target by its magic (*bsp2 says which): the target's status, or -1
+ * (reported) where the file cannot be read. */
+static int replay(const char *path, ew_fuzz_fn fn, int *bsp2) {
+    uint8_t *data;
+    size_t size;
+    ew_error err = {""};
+    if (ew_read_file(path, &data, &size, &err) != 0) {
+        CHECK(0, "%s", err.msg);
+        return -1;
+    }
+    if (!fn) {
+        *bsp2 = size >= 4 && (!memcmp(data, "BSP2", 4) || !memcmp(data, "2PSB", 4));
+        fn = *bsp2 ? ew_fuzz_bsp2 : ew_fuzz_bsp29;
+    }
+    int rc = fn(data, size);
+    free(data);
+    return rc;
+}
+
 /* The real maps of ../shared DIR (every .bsp) through the loader targets,
  * by their magic: each must be accepted.  The targets check the loaded
  * world against what ew_world.h promises, on their own, and abort where a
@@ -114,18 +134,10 @@ static int real_maps(const char *rel) {
         if (len < 4 || strcmp(files[i] + len - 4, ".bsp")) continue;
         char path[2100];
         snprintf(path, sizeof path, "%s/%s", d, files[i]);
-        uint8_t *data;
-        size_t size;
-        ew_error err = {""};
-        if (ew_read_file(path, &data, &size, &err) != 0) {
-            CHECK(0, "%s", err.msg);
-            continue;
-        }
-        int bsp2 = size >= 4 && (!memcmp(data, "BSP2", 4) || !memcmp(data, "2PSB", 4));
-        int rc = (bsp2 ? ew_fuzz_bsp2 : ew_fuzz_bsp29)(data, size);
+        int bsp2 = 0, rc = replay(path, NULL, &bsp2);
+        if (rc < 0) continue;
         CHECK(rc == 0, "%s: the %s target rejected a real map", path, bsp2 ? "bsp2" : "bsp29");
         maps++;
-        free(data);
     }
     free_list(files, n);
     CHECK(maps > 0, "no .bsp in %s", d);
@@ -166,17 +178,10 @@ int main(void) {
         for (int i = 0; i < n; i++) {
             char path[2600];
             snprintf(path, sizeof path, "%s/%s", dir, files[i]);
-            uint8_t *data;
-            size_t size;
-            ew_error err = {""};
-            if (ew_read_file(path, &data, &size, &err) != 0) {
-                CHECK(0, "%s", err.msg);
-                continue;
-            }
-            int rc = fn(data, size);
+            int rc = replay(path, fn, NULL);
+            if (rc < 0) continue;
             CHECK(rc == 0 || rc == 1, "%s: returned %d", path, rc);
             accepted += rc == 0;
-            free(data);
         }
         printf("%-8s %3d inputs replayed cleanly (%d accepted, %d rejected)\n", targets[t], n,
                accepted, n - accepted);
