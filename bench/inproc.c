@@ -66,12 +66,26 @@
  * do, which the load of other processes does not change as it changes
  * wall time (NaN otherwise).
  *
+ * --per-cpu (with --threads-vs 1,N; Linux) also renders each view on side
+ * A pinned to each processor the process may run on, in turn with the
+ * other frames: each processor's own one-thread speed (cpus, the mean
+ * frame on each).  Where the processors differ (a virtual machine whose
+ * second vCPU shares its core with another tenant; a processor with fast
+ * and slow cores) N threads cannot give N times one: what they can give is
+ * the capacity of the N fastest processors together, 1 / (sum of 1 /
+ * their mean frames).  eff is that capacity over the N-thread mean frame
+ * (1: every processor busy with nothing lost), and x_eq = N x eff, the
+ * speed-up N equal processors would show at that efficiency (on equal
+ * processors it is x_mean itself).  Each pinned frame is timed the second
+ * time it is drawn, with its caches warm on that processor: the capacity
+ * is if anything overstated, and eff understated.
+ *
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
  *          [--classic] [--no-entities] [--stage S] [--per-view]
  *          [--color 8bit|true] [--vs-color] [--no-lit] [--cold]
  *          [--fog D,R,G,B | --no-fog] [--hsr METHOD] [--simd LEVEL] [--occlusion MODE] [--a-args OPTS] [--b-args OPTS]
- *   inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] */
-#define _POSIX_C_SOURCE 200809L  /* clock_gettime */
+ *   inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] [--per-cpu] */
+#define _GNU_SOURCE  /* clock_gettime; sched_setaffinity for --per-cpu */
 #include "edgewise_lab.h"  /* ew_flush_surfaces */
 /* Calls an older revision on side A may lack: weak, so a missing one is
  * NULL there and the option that needs it is refused (need() in main). */
@@ -91,6 +105,9 @@
 #endif
 
 #include <math.h>
+#ifdef __linux__
+#include <sched.h>
+#endif
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -259,6 +276,38 @@ static int vs[2] = {0, 0}, model = 1;
 static double work_ms[2];
 static const char *bench_cmd = NULL;
 
+/* --per-cpu: the processors the process may run on (at most MAX_CPUS). */
+enum { MAX_CPUS = 64 };
+static int per_cpu = 0, ncpu = 0, cpu_ids[MAX_CPUS];
+#ifdef __linux__
+static cpu_set_t cpus_all;
+#endif
+
+/* The calling thread onto processor j of cpu_ids, or (j < 0) back onto all
+ * of them. */
+static void pin(int j) {
+#ifdef __linux__
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    if (j >= 0) CPU_SET(cpu_ids[j], &one);
+    (void)sched_setaffinity(0, sizeof one, j >= 0 ? &one : &cpus_all);  /* a failure: the frame runs where it may */
+#else
+    (void)j;
+#endif
+}
+
+/* Lists the processors for --per-cpu: 0, or -1 where they cannot be known. */
+static int list_cpus(void) {
+#ifdef __linux__
+    if (sched_getaffinity(0, sizeof cpus_all, &cpus_all) != 0) return -1;
+    for (int c = 0; c < CPU_SETSIZE && ncpu < MAX_CPUS; c++)
+        if (CPU_ISSET(c, &cpus_all)) cpu_ids[ncpu++] = c;
+    return ncpu > 0 ? 0 : -1;
+#else
+    return -1;
+#endif
+}
+
 static double now_ms(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
@@ -280,7 +329,7 @@ static int usage(const char *why) {
                     "[--classic] [--no-entities] [--stage front|scan|draw|models] [--per-view]\n"
                     "       [--color 8bit|true] [--vs-color] [--no-lit] [--cold] [--fog D,R,G,B | --no-fog] [--hsr METHOD] [--simd LEVEL] [--occlusion MODE]\n"
                     "       [--a-args OPTS] [--b-args OPTS]\n"
-                    "       inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model]\n", why);
+                    "       inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] [--per-cpu]\n", why);
     return 2;
 }
 
@@ -454,7 +503,11 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         return -1;
     }
 #endif
-    double *t = malloc(sizeof(double) * 2 * (size_t)nv * (size_t)passes), *col = malloc(sizeof(double) * (size_t)passes);
+    /* Frame times: side s (0, 1, then 2 + j: side A pinned to processor j),
+     * pass p, view v at t[(s * passes + p) * nv + v]. */
+    const int nsides = 2 + (per_cpu ? ncpu : 0);
+    double *t = malloc(sizeof(double) * (size_t)nsides * (size_t)nv * (size_t)passes),
+           *col = malloc(sizeof(double) * (size_t)passes);
     double *ratio = malloc(sizeof(double) * (size_t)nv);
     uint8_t *rgb[2] = {malloc((size_t)w * h * 3), malloc((size_t)w * h * 3)};
     if (!t || !col || !ratio || !rgb[0] || !rgb[1]) {
@@ -470,9 +523,24 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         for (int v = 0; v < nv; v++) {
             int first = (p + v) & 1;  /* which side goes first swaps every frame */
             if (p == 0 && v == 0) work_ms[0] = work_ms[1] = 0;  /* the timed frames' only */
-            for (int k = 0; k < 2; k++) {
-                int s = k ^ first;
-                double ms = side_frame(s, views, v);
+            for (int k = 0; k < nsides; k++) {
+                /* two sides: A B, B A, ...; with the pinned ones each goes
+                 * first in turn */
+                int s = nsides == 2 ? k ^ first : (k + p + 1 + v) % nsides;
+                double ms;
+                if (s < 2) {
+                    ms = side_frame(s, views, v);
+                } else {  /* side A on one processor; its work is not A's */
+                    double w0 = work_ms[0];
+                    pin(s - 2);
+                    /* Timed the second time: a thread moved to another
+                     * processor finds its caches cold there (1.79 against
+                     * 1.57 ms a frame at 1080p timed the first time). */
+                    side_frame(0, views, v);
+                    ms = side_frame(0, views, v);
+                    pin(-1);
+                    work_ms[0] = w0;
+                }
                 if (p >= 0) t[((size_t)s * passes + (size_t)p) * nv + v] = ms;
             }
             if (p < 0 && compare) {
@@ -516,10 +584,32 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         double pred = NAN, sched = NAN;
         if (model) model_speedup(map, size, data, opts[1].classic, entities, &pred, &sched);
         double x = sum[0] / sum[1];
-        printf("%-10s %9s %2d,%-2d %9.4f %9.4f %7.3f %7.3f %7.3f  %.3f-%.3f %7.3f %7.3f %7.3f %6.3f  %d of %d\n", map,
+        printf("%-10s %9s %2d,%-2d %9.4f %9.4f %7.3f %7.3f %7.3f  %.3f-%.3f %7.3f %7.3f %7.3f %6.3f  %d of %d", map,
                size, vs[0], vs[1], sum[0] / nv, sum[1] / nv, x, med[1] > 0 ? med[0] / med[1] : 1, 1 / view_med,
                1 / ratio[nv - 1], 1 / ratio[0], pred, sched, x / pred,
                work_ms[0] > 0 ? work_ms[1] / work_ms[0] : NAN, differ, nv);
+        if (per_cpu) {
+            /* each processor's mean frame (the mean over the views of their
+             * medians, as A_ms), then the N fastest ones' capacity */
+            double mean[MAX_CPUS], fast[MAX_CPUS];
+            printf("  cpus ");
+            for (int j = 0; j < ncpu; j++) {
+                double c = 0;
+                for (int v = 0; v < nv; v++) {
+                    for (int p = 0; p < passes; p++) col[p] = t[((size_t)(2 + j) * passes + (size_t)p) * nv + v];
+                    c += median(col, passes);
+                }
+                mean[j] = fast[j] = c / nv;
+                printf("%s%.3f", j ? "," : "", mean[j]);
+            }
+            qsort(fast, (size_t)ncpu, sizeof *fast, cmp_double);
+            const int m = vs[1] < ncpu ? vs[1] : ncpu;
+            double rate = 0;
+            for (int j = 0; j < m; j++) rate += 1 / fast[j];
+            const double eff = sum[1] > 0 ? (1 / rate) / (sum[1] / nv) : NAN;
+            printf("  eff %.3f  x_eq %.3f", eff, m * eff);
+        }
+        printf("\n");
         free(t), free(col), free(ratio), free(rgb[0]), free(rgb[1]);
         return 0;
     }
@@ -561,6 +651,7 @@ int main(int argc, char **argv) {
                 return usage("--threads-vs must be A,N: two thread counts, 1 and up");
         } else if (!strcmp(a, "--bench") && i + 1 < argc) bench_cmd = argv[++i];
         else if (!strcmp(a, "--no-model")) model = 0;
+        else if (!strcmp(a, "--per-cpu")) per_cpu = 1;
         else if (!strcmp(a, "--vs-color")) vs_color = 1;
         else if (!strcmp(a, "--cold")) cold = 1;
         else if (!strcmp(a, "--stage") && i + 1 < argc) {
@@ -579,6 +670,8 @@ int main(int argc, char **argv) {
     }
     if (!nmaps) return usage("no map");
     if (vs[1] && vs_color) return usage("--threads-vs and --vs-color: one comparison at a time");
+    if (per_cpu && (!vs[1] || vs[0] != 1)) return usage("--per-cpu goes with --threads-vs 1,N");
+    if (per_cpu && list_cpus() < 0) return usage("--per-cpu: this system does not say which processors there are");
     char beside[4096];
     if (vs[1]) {
 #ifdef EW_INPROC_OLD
@@ -630,7 +723,9 @@ int main(int argc, char **argv) {
     if (stage != STAGE_FRAME) printf("timed: the %s stage (ew_stats.ms_%s)\n", stage_names[stage], stage_names[stage]);
     if (vs[1])
         printf("%-10s %9s %5s %9s %9s %7s %7s %7s  %-11s %7s %7s %7s %6s  %s\n", "map", "size", "thr", "A_ms", "N_ms",
-               "x_mean", "x_med", "x_view", "view range", "x_pred", "x_sched", "x/pred", "work", "frames differing");
+               "x_mean", "x_med", "x_view", "view range", "x_pred", "x_sched", "x/pred", "work",
+               per_cpu ? "frames differing  [cpus: each processor's A_ms; eff: the N fastest ones' capacity over N_ms; x_eq: N eff]"
+                       : "frames differing");
     else printf("%-10s %9s %3s %9s %9s %8s %8s %8s %8s  %s  %s\n", "map", "size", "thr", "A_ms", "B_ms", "B/A", "med_B/A",
            "slow_B/A", "view_med", "view range", "frames differing, px differing, max");
     for (int m = 0; m < nmaps; m++)

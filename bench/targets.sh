@@ -23,6 +23,10 @@
 #   6  many cores:   bench's predicted speed-up on 4, 8 and 16 cores (no many-core machine here)
 #
 # SKIP="1 3" leaves targets out; MAPS and SIZES override the defaults.
+# PER_CPU=1: target 4 also times each processor alone (inproc --per-cpu,
+# about three times as long): where the two differ in speed, as a shared
+# virtual machine's do from minute to minute, 1.8x is out of reach, and
+# x_eq, two equal processors at the efficiency measured, is printed too.
 # At the end one table puts every target's figure side by side, a row per
 # map (bench/targets_summary.awk, which reads the tables above it).
 set -eu
@@ -39,6 +43,7 @@ DATA=${1:-$ROOT/../shared/data/librequake}
 MAPS=${MAPS:-e1m1 lqdm7 e4m1 start lqdm1 e2m1 slope}
 SIZES=${SIZES:-1920x1080 3840x2160}
 SKIP=${SKIP:-}
+PER_CPU=${PER_CPU:-0}
 FOG=${FOG:-0.08,0.45,0.42,0.38}  # a map's usual fog; 1,0.3,0.3,0.35 hides all but the nearest walls (and draws less)
 cd "$ROOT"
 make build >/dev/null
@@ -135,19 +140,25 @@ fi
 if want 4; then
     echo "== target 4: two threads over one (x_mean, x_med, x_view) and bench's model (x_pred)"
     runs=${THREAD_RUNS:-3}
+    pc=
+    [ "$PER_CPU" = 1 ] && pc=--per-cpu
     out=$(mktemp)
     i=1
     while [ "$i" -le "$runs" ]; do
         echo "== target 4: run $i of $runs"
         if [ "$i" -eq 1 ]; then
-            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 | tee -a "$out"
+            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 $pc | tee -a "$out"
         else  # the model does not change from run to run
-            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 --no-model | tee -a "$out"
+            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 --no-model $pc | tee -a "$out"
         fi
         i=$((i + 1))
     done
     echo "== target 4: each row's x_mean, the median of $runs runs (the range; each run's work)"
     medians "$out" 1,2 6 13
+    if [ -n "$pc" ]; then  # field 22: x_eq, after "0 of 32  cpus A,B  eff E  x_eq"
+        echo "== target 4 (each processor alone): each row's x_eq, the median of $runs runs (the range)"
+        medians "$out" 1,2 22
+    fi
     rm -f "$out"
 fi
 if want 5; then
