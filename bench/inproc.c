@@ -70,8 +70,8 @@
  * A pinned to each processor the process may run on, in turn with the
  * other frames: each processor's own one-thread speed (cpus, the mean
  * frame on each).  Where the processors differ (a virtual machine whose
- * second vCPU shares its core with another tenant; a processor with fast
- * and slow cores) N threads cannot give N times one: what they can give is
+ * vCPUs another tenant slows unequally; a processor with fast and slow
+ * cores) N threads cannot give N times one: what they can give is
  * the capacity of the N fastest processors together, 1 / (sum of 1 /
  * their mean frames).  eff is that capacity over the N-thread mean frame
  * (1: every processor busy with nothing lost), and x_eq = N x eff, the
@@ -591,7 +591,7 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         if (per_cpu) {
             /* each processor's mean frame (the mean over the views of their
              * medians, as A_ms), then the N fastest ones' capacity */
-            double mean[MAX_CPUS], fast[MAX_CPUS];
+            double fast[MAX_CPUS];
             printf("  cpus ");
             for (int j = 0; j < ncpu; j++) {
                 double c = 0;
@@ -599,8 +599,8 @@ static int run(const char *map, const char *size, const char *data, int w, int h
                     for (int p = 0; p < passes; p++) col[p] = t[((size_t)(2 + j) * passes + (size_t)p) * nv + v];
                     c += median(col, passes);
                 }
-                mean[j] = fast[j] = c / nv;
-                printf("%s%.3f", j ? "," : "", mean[j]);
+                fast[j] = c / nv;
+                printf("%s%.3f", j ? "," : "", fast[j]);
             }
             qsort(fast, (size_t)ncpu, sizeof *fast, cmp_double);
             const int m = vs[1] < ncpu ? vs[1] : ncpu;
