@@ -506,6 +506,7 @@ void ew_draw_fog(const ew_fog *fog, const ew_target *t, ew_zfill *zf, const ew_s
         /* Spans in order: the z-buffer is read only where it was filled. */
         int lo = zf->all ? 0 : zf->zlo[y], hi = zf->all ? t->width : zf->zhi[y];
         if (fog->fill) {  /* the world fogged and counted as drawn: only what is over it */
+            if (lo >= hi) continue;  /* nothing drawn over this row's world */
             for (int i = 0; i < ns; i++)  /* (a method's row need not run left to right) */
                 if (spans[i].u < hi && spans[i].u + spans[i].count > lo) fog_over(fog, t, &spans[i], &surf_draw[spans[i].surf], lo, hi);
             continue;
