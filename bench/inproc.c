@@ -80,11 +80,18 @@
  * time it is drawn, with its caches warm on that processor: the capacity
  * is if anything overstated, and eff understated.
  *
+ * --runs (with --threads-vs) adds a line per row on the frame's parallel
+ * runs by kind (ew_lab_stats.ms_run_*: the scan, the builds, the draw, the
+ * rest): each one's speed-up (A's wall time over N's) and its work (N's
+ * busy time, every thread's time inside the run's job, over A's), then
+ * each side's wall time a frame: which part of the frame the threads
+ * share out well and which one they do not.
+ *
  *   inproc MAP... --data DIR [--size WxH]... [--passes P] [--threads N]
  *          [--classic] [--no-entities] [--stage S] [--per-view]
  *          [--color 8bit|true] [--vs-color] [--no-lit] [--cold]
  *          [--fog D,R,G,B | --no-fog] [--hsr METHOD] [--simd LEVEL] [--occlusion MODE] [--a-args OPTS] [--b-args OPTS]
- *   inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] [--per-cpu] */
+ *   inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] [--per-cpu] [--runs] */
 #define _GNU_SOURCE  /* clock_gettime; sched_setaffinity for --per-cpu */
 #include "edgewise_lab.h"  /* ew_flush_surfaces */
 /* Calls an older revision on side A may lack: weak, so a missing one is
@@ -274,6 +281,10 @@ static int vs[2] = {0, 0}, model = 1;
  * with EW_INPROC_SELF), summed over the timed ones: the work the N threads
  * do over the one thread's, what they lose beside the wall time. */
 static double work_ms[2];
+/* --runs: each side's parallel runs by kind (ew_lab_stats.ms_run_*), wall
+ * and busy time summed over the timed frames. */
+static int runs = 0;
+static double run_wall[2][4], run_busy[2][4];
 static const char *bench_cmd = NULL;
 
 /* --per-cpu: the processors the process may run on (at most MAX_CPUS). */
@@ -329,7 +340,7 @@ static int usage(const char *why) {
                     "[--classic] [--no-entities] [--stage front|scan|draw|models] [--per-view]\n"
                     "       [--color 8bit|true] [--vs-color] [--no-lit] [--cold] [--fog D,R,G,B | --no-fog] [--hsr METHOD] [--simd LEVEL] [--occlusion MODE]\n"
                     "       [--a-args OPTS] [--b-args OPTS]\n"
-                    "       inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] [--per-cpu]\n", why);
+                    "       inproc --threads-vs A,N MAP... [the same options] [--bench PATH] [--no-model] [--per-cpu] [--runs]\n", why);
     return 2;
 }
 
@@ -378,6 +389,7 @@ static double side_frame(int s, const ew_camera *views, int v) {
     ew_lab_stats lab;
     ew_frame_lab_stats(sides[s].r, &lab);
     work_ms[s] += lab.ms_work;
+    for (int k = 0; k < 4; k++) run_wall[s][k] += lab.ms_run_wall[k], run_busy[s][k] += lab.ms_run_busy[k];
 #endif
     return stage_ms(&u.st, wall);
 }
@@ -522,7 +534,10 @@ static int run(const char *map, const char *size, const char *data, int w, int h
     for (int p = -1; p < passes; p++)
         for (int v = 0; v < nv; v++) {
             int first = (p + v) & 1;  /* which side goes first swaps every frame */
-            if (p == 0 && v == 0) work_ms[0] = work_ms[1] = 0;  /* the timed frames' only */
+            if (p == 0 && v == 0) {  /* the timed frames' only */
+                work_ms[0] = work_ms[1] = 0;
+                memset(run_wall, 0, sizeof run_wall), memset(run_busy, 0, sizeof run_busy);
+            }
             for (int k = 0; k < nsides; k++) {
                 /* two sides: A B, B A, ...; with the pinned ones each goes
                  * first in turn */
@@ -531,7 +546,8 @@ static int run(const char *map, const char *size, const char *data, int w, int h
                 if (s < 2) {
                     ms = side_frame(s, views, v);
                 } else {  /* side A on one processor; its work is not A's */
-                    double w0 = work_ms[0];
+                    double w0 = work_ms[0], rw[4], rb[4];
+                    memcpy(rw, run_wall[0], sizeof rw), memcpy(rb, run_busy[0], sizeof rb);
                     pin(s - 2);
                     /* Timed the second time: a thread moved to another
                      * processor finds its caches cold there (1.79 against
@@ -540,6 +556,7 @@ static int run(const char *map, const char *size, const char *data, int w, int h
                     ms = side_frame(0, views, v);
                     pin(-1);
                     work_ms[0] = w0;
+                    memcpy(run_wall[0], rw, sizeof rw), memcpy(run_busy[0], rb, sizeof rb);
                 }
                 if (p >= 0) t[((size_t)s * passes + (size_t)p) * nv + v] = ms;
             }
@@ -610,6 +627,18 @@ static int run(const char *map, const char *size, const char *data, int w, int h
             printf("  eff %.3f  x_eq %.3f", eff, m * eff);
         }
         printf("\n");
+        if (runs) {
+            /* each kind of run: A's wall time over N's (its speed-up), and
+             * N's busy time over A's (its extra work) */
+            static const char *kind[4] = {"scan", "build", "draw", "other"};
+            printf("  runs (speed-up, work):");
+            for (int k = 0; k < 4; k++)
+                printf("  %s %.3f %.3f", kind[k], run_wall[1][k] > 0 ? run_wall[0][k] / run_wall[1][k] : NAN,
+                       run_busy[0][k] > 0 ? run_busy[1][k] / run_busy[0][k] : NAN);
+            printf("  (ms a frame, A wall, N wall:");
+            for (int k = 0; k < 4; k++) printf(" %.3f %.3f", run_wall[0][k] / (nv * passes), run_wall[1][k] / (nv * passes));
+            printf(")\n");
+        }
         free(t), free(col), free(ratio), free(rgb[0]), free(rgb[1]);
         return 0;
     }
@@ -652,6 +681,7 @@ int main(int argc, char **argv) {
         } else if (!strcmp(a, "--bench") && i + 1 < argc) bench_cmd = argv[++i];
         else if (!strcmp(a, "--no-model")) model = 0;
         else if (!strcmp(a, "--per-cpu")) per_cpu = 1;
+        else if (!strcmp(a, "--runs")) runs = 1;
         else if (!strcmp(a, "--vs-color")) vs_color = 1;
         else if (!strcmp(a, "--cold")) cold = 1;
         else if (!strcmp(a, "--stage") && i + 1 < argc) {
@@ -671,6 +701,7 @@ int main(int argc, char **argv) {
     if (!nmaps) return usage("no map");
     if (vs[1] && vs_color) return usage("--threads-vs and --vs-color: one comparison at a time");
     if (per_cpu && (!vs[1] || vs[0] != 1)) return usage("--per-cpu goes with --threads-vs 1,N");
+    if (runs && !vs[1]) return usage("--runs goes with --threads-vs A,N");
     if (per_cpu && list_cpus() < 0) return usage("--per-cpu: this system does not say which processors there are");
     char beside[4096];
     if (vs[1]) {

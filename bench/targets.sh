@@ -147,9 +147,9 @@ if want 4; then
     while [ "$i" -le "$runs" ]; do
         echo "== target 4: run $i of $runs"
         if [ "$i" -eq 1 ]; then
-            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 $pc | tee -a "$out"
+            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 --runs $pc | tee -a "$out"
         else  # the model does not change from run to run
-            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 --no-model $pc | tee -a "$out"
+            check $IN --threads-vs 1,2 $MAPS --data "$DATA" $sizes --passes 5 --no-model --runs $pc | tee -a "$out"
         fi
         i=$((i + 1))
     done

@@ -68,6 +68,11 @@ struct ew_pool {
      * own part, and the workers that came in; then how many have finished. */
     _Atomic uint64_t entry;
     atomic_int       finished;
+    /* The run's busy time in ns: each worker that came in adds its time
+     * inside the job before it counts itself finished, so the caller reads
+     * the whole sum once all are. */
+    _Atomic long long busy_ns;
+    double           last_wall_ms, last_busy_ms;  /* the last run's (ew_pool_last_run) */
     atomic_int       quit;
     atomic_int       caller_cpu;  /* where the caller was when it last woke the workers, -1 unknown */
     void           (*job)(void *ctx, int index);
@@ -222,8 +227,10 @@ static void *worker(void *vp) {
          * the sum, and count in the next frame's. */
         long long c0 = thread_cpu_ns();
         if (!join(p, g)) continue;  /* too late: the caller has done it all */
+        const double t0 = ew_now_ms();
         p->job(p->ctx, index);  /* job and ctx were set before the bump */
-        int f = atomic_fetch_add(&p->finished, 1) + 1;
+        atomic_fetch_add_explicit(&p->busy_ns, (long long)((ew_now_ms() - t0) * 1e6), memory_order_relaxed);
+        int f = atomic_fetch_add(&p->finished, 1) + 1;  /* publishes the add above */
         uint64_t e = atomic_load(&p->entry);
         if (!(e & OPEN) && f == JOINED(e)) {  /* the last one the caller waits for */
             pthread_mutex_lock(&p->mu);  /* the caller checks, or waits (wake_after) */
@@ -239,6 +246,7 @@ ew_pool *ew_pool_create(int threads) {
     ew_pool *p = calloc(1, sizeof *p);
     if (!p) return NULL;
     p->threads = 1;
+    atomic_init(&p->busy_ns, 0);
     atomic_store(&p->caller_cpu, -1);
     pthread_mutex_init(&p->mu, NULL);
     pthread_cond_init(&p->start, NULL);
@@ -304,27 +312,33 @@ double ew_pool_work_ms(const ew_pool *p) {
 
 double ew_pool_thread_cpu_ms(void) { return (double)thread_cpu_ns() / 1e6; }
 
-static void run_job(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
+/* Returns the time the threads spent inside job, summed (ms). */
+static double run_job(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
     if (p->threads == 1) {
+        const double t0 = ew_now_ms();
         job(ctx, 0);
-        return;
+        return ew_now_ms() - t0;
     }
     p->job = job, p->ctx = ctx;
     unsigned g = atomic_load(&p->generation) + 1;
     atomic_store(&p->finished, 0);
+    atomic_store_explicit(&p->busy_ns, 0, memory_order_relaxed);  /* published with the generation */
     atomic_store(&p->entry, (uint64_t)g << 32 | OPEN);
     atomic_store(&p->caller_cpu, this_cpu());
     pthread_mutex_lock(&p->mu);
     atomic_store(&p->generation, g);  /* publishes job, ctx and the open door */
     pthread_mutex_unlock(&p->mu);
     pthread_cond_broadcast(&p->start);  /* after the unlock (wake_after) */
+    const double t0 = ew_now_ms();
     job(ctx, 0);
+    const double own = ew_now_ms() - t0;
     done_wait d = {p, JOINED(atomic_fetch_and(&p->entry, ~OPEN))};  /* no one comes in after this */
     if (!spin_until(all_done, &d, SPIN_MS)) {
         pthread_mutex_lock(&p->mu);
         while (!all_done(&d)) pthread_cond_wait(&p->done, &p->mu);
         pthread_mutex_unlock(&p->mu);
     }
+    return own + (double)atomic_load_explicit(&p->busy_ns, memory_order_relaxed) / 1e6;
 }
 
 void ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
@@ -333,8 +347,14 @@ void ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx) {
         return;
     }
     double t0 = ew_now_ms();
-    run_job(p, job, ctx);
-    p->run_ms += ew_now_ms() - t0;
+    p->last_busy_ms = run_job(p, job, ctx);
+    p->last_wall_ms = ew_now_ms() - t0;
+    p->run_ms += p->last_wall_ms;
+}
+
+void ew_pool_last_run(const ew_pool *p, double *wall_ms, double *busy_ms) {
+    *wall_ms = p ? p->last_wall_ms : 0;
+    *busy_ms = p ? p->last_busy_ms : 0;
 }
 
 void ew_pool_free(ew_pool *p) {

@@ -26,6 +26,13 @@ void     ew_pool_run(ew_pool *p, void (*job)(void *ctx, int index), void *ctx);
  * return: the frame's parallel sections, whatever calls them; everything
  * else a frame does is serial (ew_stats.ms_serial).  0 for NULL. */
 double   ew_pool_parallel_ms(const ew_pool *p);
+/* The last ew_pool_run's wall time, call to return, and its busy time:
+ * the time the caller and each worker that came in spent inside the job,
+ * summed (ms).  busy / wall is how many threads the run kept busy on
+ * average (at most the pool's threads); busy on N threads over busy on
+ * one is the extra work N threads do in that run.  0 and 0 for NULL or
+ * before the first run. */
+void     ew_pool_last_run(const ew_pool *p, double *wall_ms, double *busy_ms);
 /* Gets sleeping workers polling for a while (a frame's serial front end is
  * starting), so the first parallel phase does not wait on a kernel wake-up. */
 void     ew_pool_wake(ew_pool *p);

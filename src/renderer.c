@@ -508,6 +508,20 @@ static void front_entity_light(void *ctx, const float origin[3], ew_ent_frame *e
     ef->tinted = ew_light_tint(&r->f, origin, ef->tint);
 }
 
+/* The last parallel run's times added to the frame's probes
+ * (ew_lab_stats.ms_run_*, kind EW_RUN_*). */
+static void note_run(ew_renderer *r, int kind) {
+    double wall, busy;
+    ew_pool_last_run(r->sched.pool, &wall, &busy);
+    r->lab.ms_run_wall[kind] += wall, r->lab.ms_run_busy[kind] += busy;
+}
+
+/* A parallel run of the frame's, timed (note_run). */
+static void run_timed(ew_renderer *r, int kind, void (*job)(void *ctx, int thread)) {
+    ew_pool_run(r->sched.pool, job, r);
+    note_run(r, kind);
+}
+
 /* This frame's inputs of the front end: what the method takes, the
  * threads, the scene and room for its entities' answers. */
 static void front_inputs(ew_renderer *r) {
@@ -558,7 +572,7 @@ int ew_frame_begin(ew_renderer *r, const ew_camera *cam) {
         (ew_use_rgb_light(&r->f, r->f.world) || coloured_dlights(r->ents.scene))) {
         if (ew_blend_cube_begin(&r->blend, 1) > 0) {
             atomic_store(&r->sched.next_cube, 0);
-            ew_pool_run(r->sched.pool, job_cube, r);
+            run_timed(r, EW_RUN_OTHER, job_cube);
             ew_blend_cube_end(&r->blend);
         }
         r->lit.nearest = r->blend.nearest;
@@ -841,7 +855,7 @@ static void prepare_surfaces(ew_renderer *r) {
     r->lit.ngrad = 0;
     memset(&r->lit.surf_draw[0], 0, sizeof r->lit.surf_draw[0]);  /* the background: black and far */
     atomic_store(&r->sched.next_item, 0);
-    ew_pool_run(r->sched.pool, job_surf_peek, r);
+    run_timed(r, EW_RUN_OTHER, job_surf_peek);
     for (int s = 1; s < r->el.nsurfs; s++) {
         int state = r->lit.surf_state[s];
         if (state == SURF_UNUSED) continue;
@@ -980,10 +994,11 @@ static void front_end(ew_renderer *r, frame_clock *c) {
         ew_walk_brush_models(&r->front);
         front_tail(&ft);
         serial_lap(r, c);
-        ew_pool_run(r->sched.pool, job_scan, r);
+        run_timed(r, EW_RUN_SCAN, job_scan);
         c->walk_ms = tb - tw, c->brush_ms = ft.t1 - tb;
         c->serial_in_run = 0;
     } else {
+        note_run(r, EW_RUN_SCAN);  /* the phases and the scan, one run */
         c->serial_in_run = front_serial[0] + front_serial[1] + (ft.t_end - ft.t1);
         c->walk_ms = front_serial[0], c->brush_ms = front_serial[1];
     }
@@ -1014,14 +1029,14 @@ int ew_render(ew_renderer *r, const ew_camera *cam, ew_stats *stats) {
     clock_mark(r, &clock, MARK_PASSES);
     atomic_store(&r->sched.next_build, 0);
     atomic_store(&r->sched.next_grad, 0);
-    ew_pool_run(r->sched.pool, job_build, r);
+    run_timed(r, EW_RUN_BUILD, job_build);
     place_draw(r);
     atomic_store(&r->sched.next_band, 0);
-    ew_pool_run(r->sched.pool, job_draw, r);
+    run_timed(r, EW_RUN_DRAW, job_draw);
     r->sched.bands_sized_for = r->sched.nbands;
     if (ew_passes_after_begin(&r->passes)) {  /* the underwater warp, the gamma */
         atomic_store(&r->sched.next_band, 0);
-        ew_pool_run(r->sched.pool, job_after, r);
+        run_timed(r, EW_RUN_OTHER, job_after);
     }
     ew_pool_rest(r->sched.pool);  /* the last parallel step: no polling between frames */
     clock_mark(r, &clock, MARK_DRAWN);

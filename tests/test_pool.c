@@ -186,6 +186,14 @@ int main(void) {
         CHECK(!atomic_load(&b.joined) || (w >= 1.5 && w < 1000),
               "a worker's 2 ms of processor time in a job counted as %.3f ms", w);
         CHECK(ew_pool_work_ms(NULL) == 0, "no pool: no workers' time");
+        /* The run's busy time: the caller's (it waited for the worker's
+         * 2 ms) and the worker's, summed; at most twice its wall time. */
+        double wall, busy_ms;
+        ew_pool_last_run(p, &wall, &busy_ms);
+        CHECK(wall >= 2.0 && busy_ms <= 2 * wall + 1e-6 && (!atomic_load(&b.joined) || busy_ms >= 3.5),
+              "the last run: wall %.3f ms, busy %.3f ms, a worker in: %d", wall, busy_ms, atomic_load(&b.joined));
+        ew_pool_last_run(NULL, &wall, &busy_ms);
+        CHECK(wall == 0 && busy_ms == 0, "no pool: no run");
         ew_pool_free(p);
     }
     /* NULL: the caller alone. */

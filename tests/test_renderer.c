@@ -127,6 +127,34 @@ int main(void) {
               lab2.ms_serial_begin + lab2.ms_serial_walk + lab2.ms_serial_brush + lab2.ms_serial_prepare +
                       lab2.ms_serial_passes <= s2.ms_serial + 1e-6,
           "serial %g of %g ms", s2.ms_serial, s2.ms_total);
+    /* The parallel runs' times (ew_lab_stats.ms_run_*): within the frame;
+     * on one thread each run's busy time is the caller's, within its wall
+     * time, and on two at most twice it. */
+    double walls = 0;
+    for (int k = 0; k < EW_RUNS; k++) {
+        CHECK(lab2.ms_run_busy[k] >= 0 && lab2.ms_run_busy[k] <= lab2.ms_run_wall[k] + 1e-6,
+              "one thread, run %d: busy %g ms, wall %g", k, lab2.ms_run_busy[k], lab2.ms_run_wall[k]);
+        walls += lab2.ms_run_wall[k];
+    }
+    CHECK(lab2.ms_run_busy[EW_RUN_SCAN] > 0 && lab2.ms_run_busy[EW_RUN_DRAW] > 0 && walls <= s2.ms_total + 1e-6,
+          "runs: scan %g, draw %g, all %g of %g ms", lab2.ms_run_busy[EW_RUN_SCAN], lab2.ms_run_busy[EW_RUN_DRAW], walls,
+          s2.ms_total);
+    CHECK(ew_set_threads(r, 2) == 2, "two threads");
+    ew_stats s3;
+    ew_lab_stats lab3;
+    CHECK(ew_render(r, &views[0], &s3) == 0 && count_diff(first, ew_frame_pixels(r), n) == 0,
+          "two threads: the same frame");
+    ew_frame_lab_stats(r, &lab3);
+    walls = 0;
+    for (int k = 0; k < EW_RUNS; k++) {
+        CHECK(lab3.ms_run_busy[k] >= 0 && lab3.ms_run_busy[k] <= 2 * lab3.ms_run_wall[k] + 1e-6,
+              "two threads, run %d: busy %g ms, wall %g", k, lab3.ms_run_busy[k], lab3.ms_run_wall[k]);
+        walls += lab3.ms_run_wall[k];
+    }
+    CHECK(lab3.ms_run_busy[EW_RUN_SCAN] > 0 && lab3.ms_run_busy[EW_RUN_DRAW] > 0 && walls <= s3.ms_total + 1e-6,
+          "two threads, runs: scan %g, draw %g, all %g of %g ms", lab3.ms_run_busy[EW_RUN_SCAN],
+          lab3.ms_run_busy[EW_RUN_DRAW], walls, s3.ms_total);
+    CHECK(ew_set_threads(r, 1) == 1, "one thread again");
     /* The row profile: strips of 8 rows, the same frame, a time per row. */
     CHECK(ew_set_row_profile(r, 1) == 1, "row profile on one thread");
     CHECK(ew_render(r, &views[0], NULL) == 0 && count_diff(first, ew_frame_pixels(r), n) == 0,
