@@ -284,7 +284,7 @@ static double work_ms[2];
 /* --runs: each side's parallel runs by kind (ew_lab_stats.ms_run_*), wall
  * and busy time summed over the timed frames. */
 static int runs = 0;
-static double run_wall[2][4], run_busy[2][4];
+static double run_wall[2][EW_RUNS], run_busy[2][EW_RUNS];
 static const char *bench_cmd = NULL;
 
 /* --per-cpu: the processors the process may run on (at most MAX_CPUS). */
@@ -389,7 +389,7 @@ static double side_frame(int s, const ew_camera *views, int v) {
     ew_lab_stats lab;
     ew_frame_lab_stats(sides[s].r, &lab);
     work_ms[s] += lab.ms_work;
-    for (int k = 0; k < 4; k++) run_wall[s][k] += lab.ms_run_wall[k], run_busy[s][k] += lab.ms_run_busy[k];
+    for (int k = 0; k < EW_RUNS; k++) run_wall[s][k] += lab.ms_run_wall[k], run_busy[s][k] += lab.ms_run_busy[k];
 #endif
     return stage_ms(&u.st, wall);
 }
@@ -546,7 +546,7 @@ static int run(const char *map, const char *size, const char *data, int w, int h
                 if (s < 2) {
                     ms = side_frame(s, views, v);
                 } else {  /* side A on one processor; its work is not A's */
-                    double w0 = work_ms[0], rw[4], rb[4];
+                    double w0 = work_ms[0], rw[EW_RUNS], rb[EW_RUNS];
                     memcpy(rw, run_wall[0], sizeof rw), memcpy(rb, run_busy[0], sizeof rb);
                     pin(s - 2);
                     /* Timed the second time: a thread moved to another
@@ -630,13 +630,13 @@ static int run(const char *map, const char *size, const char *data, int w, int h
         if (runs) {
             /* each kind of run: A's wall time over N's (its speed-up), and
              * N's busy time over A's (its extra work) */
-            static const char *kind[4] = {"scan", "build", "draw", "other"};
+            static const char *kind[EW_RUNS] = {"scan", "build", "draw", "other"};
             printf("  runs (speed-up, work):");
-            for (int k = 0; k < 4; k++)
+            for (int k = 0; k < EW_RUNS; k++)
                 printf("  %s %.3f %.3f", kind[k], run_wall[1][k] > 0 ? run_wall[0][k] / run_wall[1][k] : NAN,
                        run_busy[0][k] > 0 ? run_busy[1][k] / run_busy[0][k] : NAN);
             printf("  (ms a frame, A wall, N wall:");
-            for (int k = 0; k < 4; k++) printf(" %.3f %.3f", run_wall[0][k] / (nv * passes), run_wall[1][k] / (nv * passes));
+            for (int k = 0; k < EW_RUNS; k++) printf(" %.3f %.3f", run_wall[0][k] / (nv * passes), run_wall[1][k] / (nv * passes));
             printf(")\n");
         }
         free(t), free(col), free(ratio), free(rgb[0]), free(rgb[1]);

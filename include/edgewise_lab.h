@@ -153,6 +153,14 @@ EW_API int ew_frame_row_ms(const ew_renderer *r, float *scan_ms, float *draw_ms,
 
 /* ---- the last frame's probes ------------------------------------------- */
 
+/* ew_lab_stats.ms_run_*'s entries.  EW_RUN_SCAN: the scan's bands, and
+ * where the front end runs in phases on every thread (world/front_par.c),
+ * those phases too (one run); EW_RUN_BUILD: the surfaces' builds, the
+ * models' poses and the gradients; EW_RUN_DRAW: the spans and the moving
+ * things; EW_RUN_OTHER: the rest (the surface-cache peek, the colour
+ * cubes, the whole-frame passes). */
+enum { EW_RUN_SCAN, EW_RUN_BUILD, EW_RUN_DRAW, EW_RUN_OTHER, EW_RUNS };
+
 /* Where a frame's serial time goes, and what the parallel front end cannot
  * shorten: the scheduler's own measurements, for `edgewise bench`.  Their
  * sum is ew_stats.ms_serial (the frame's wall time outside the worker
@@ -180,15 +188,8 @@ typedef struct ew_lab_stats {
      * summed (a thread's waits inside the job, for the items it needs,
      * included).  busy / wall: how many threads the run kept busy; busy on
      * N threads over busy on one: the extra work N threads do there. */
-    double ms_run_wall[4], ms_run_busy[4];
+    double ms_run_wall[EW_RUNS], ms_run_busy[EW_RUNS];
 } ew_lab_stats;
-/* ew_lab_stats.ms_run_*'s entries.  EW_RUN_SCAN: the scan's bands, and
- * where the front end runs in phases on every thread (world/front_par.c),
- * those phases too (one run); EW_RUN_BUILD: the surfaces' builds, the
- * models' poses and the gradients; EW_RUN_DRAW: the spans and the moving
- * things; EW_RUN_OTHER: the rest (the surface-cache peek, the colour
- * cubes, the whole-frame passes). */
-enum { EW_RUN_SCAN, EW_RUN_BUILD, EW_RUN_DRAW, EW_RUN_OTHER, EW_RUNS };
 /* The last frame's probes (all 0 before the first frame). */
 EW_API void ew_frame_lab_stats(const ew_renderer *r, ew_lab_stats *lab);
 
