@@ -8,6 +8,7 @@
  *   --true       true colour (default 8-bit)
  *   --modern     the default look (default --classic, the 1996 look)
  *   --threads N  render threads (default 1)
+ *   --fog D,R,G,B  fog of density D and colour R,G,B (the default look's)
  *
  * and read; nothing here fails on a time.  Two rows: the view drawn
  * FRAMES times in a row (its world data, surfaces and frame stay in the
@@ -61,10 +62,11 @@ static int time_view(ew_renderer *r, const ew_camera *views, int nv, int view, i
 
 int main(int argc, char **argv) {
     if (argc < 4) {
-        fprintf(stderr, "usage: view_lab MAP DATA_DIR VIEW [WxH] [FRAMES] [--true] [--modern] [--threads N]\n");
+        fprintf(stderr, "usage: view_lab MAP DATA_DIR VIEW [WxH] [FRAMES] [--true] [--modern] [--threads N] [--fog D,R,G,B]\n");
         return 2;
     }
     int w = 640, h = 480, frames = 200, color = 0, modern = 0, threads = 1, pos = 0;
+    float fog[4] = {-1, 0, 0, 0};
     long n;
     int sw, sh;
     char extra;
@@ -76,7 +78,13 @@ int main(int argc, char **argv) {
     for (int i = 4; i < argc; i++) {
         if (strcmp(argv[i], "--true") == 0) color = 1;
         else if (strcmp(argv[i], "--modern") == 0) modern = 1;
-        else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
+        else if (strcmp(argv[i], "--fog") == 0 && i + 1 < argc) {
+            char end;
+            if (sscanf(argv[++i], "%f,%f,%f,%f%c", &fog[0], &fog[1], &fog[2], &fog[3], &end) != 4 || !(fog[0] >= 0)) {
+                fprintf(stderr, "view_lab: --fog must be D,R,G,B (density 0 or more), not '%s'\n", argv[i]);
+                return 2;
+            }
+        } else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
             n = whole(argv[++i], 0, 64);
             if (n < 0) {
                 fprintf(stderr, "view_lab: --threads must be 0 to 64, not '%s'\n", argv[i]);
@@ -110,6 +118,7 @@ int main(int argc, char **argv) {
         ew_assets_destroy(a);
         return 1;
     }
+    if (fog[0] >= 0) ew_set_fog(r, fog[0], fog[1], fog[2], fog[3]);
     ew_camera views[EW_MAX_VIEWS];
     int nv = ew_benchmark_views(a->world, views), status = 0;
     if (view >= nv) {

@@ -1,6 +1,7 @@
 /* The fog's loops at every width the processor has (ew_set_simd): the
  * build's SSE2, AVX2 (the true-colour blend 8 pixels at a time) and
- * AVX-512 (the 8-bit table row by VBMI, the blend 16 at a time) must draw
+ * AVX-512 (the 8-bit table row by VBMI, the blend 16 at a time, and what
+ * the models drew over the world fogged 16 pixels at a time) must draw
  * the same frames byte for byte.  A development machine with AVX-512 runs
  * only its widest loops unless told otherwise, so without this test the
  * loops of most desktop processors would go unchecked.  On every view of

@@ -186,7 +186,7 @@ const uint8_t *ew_blend_alpha(ew_blend *b, int level) {
 
 const uint8_t *ew_blend_fog(ew_blend *b, const float rgb[3]) {
     if (b->fog && memcmp(rgb, b->fog_rgb, sizeof b->fog_rgb) == 0) return b->fog;
-    uint8_t *t = b->fog ? b->fog : malloc(EW_FOG_LEVELS * 256);
+    uint8_t *t = b->fog ? b->fog : calloc(EW_FOG_LEVELS * 256 + 4, 1);  /* + 4: raster/fog.c's four-byte gathers */
     if (!t) return NULL;
     const uint8_t *p = b->palette;
     float fr = rgb[0] * 255, fg = rgb[1] * 255, fb = rgb[2] * 255;

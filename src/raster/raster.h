@@ -62,7 +62,9 @@ typedef struct ew_fog {
     uint32_t full_px;
     float    zt[EW_FOG_LEVELS + 1], zt_lo[EW_FOG_LEVELS + 1], zt_hi[EW_FOG_LEVELS + 1];
     uint16_t first[EW_FOG_LEVELS + 1];  /* the first entry of level[] at each level or above */
-    uint8_t level[EW_FOG_QSTEPS + 1];  /* q -> level of 1 - exp(-q) */
+    /* q -> level of 1 - exp(-q); three bytes more, so a four-byte gather
+     * at any entry stays inside (raster/fog.c) */
+    uint8_t level[EW_FOG_QSTEPS + 4];
 } ew_fog;
 /* The fog runs' loops by the instructions they use, chosen at run time
  * (the build assumes SSE2 alone): the build's four lanes (ew_simd.h),
