@@ -186,20 +186,28 @@ __attribute__((target("avx2"))) static void mix_avx2(uint8_t *p, int n, int a, c
     _mm256_storeu_si256((__m256i *)end, last);
 }
 
+/* Sixteen pixels c (256 - a) + fog a >> 8 channel by channel (c + ((fog -
+ * c) a >> 8), as ew_fog_rgba): m = 256 - a and fa = fog a in 16-bit lanes
+ * for the pixels the bytes' low and high unpacking gives (mlo, falo: the
+ * first two of each four, mhi, fahi: the last two); alpha 255. */
+__attribute__((target("avx512f,avx512bw"))) static inline __m512i blend16(__m512i v, __m512i mlo, __m512i mhi,
+                                                                          __m512i falo, __m512i fahi) {
+    const __m512i zero = _mm512_setzero_si512();
+    __m512i lo = _mm512_unpacklo_epi8(v, zero), hi = _mm512_unpackhi_epi8(v, zero);
+    lo = _mm512_srli_epi16(_mm512_add_epi16(_mm512_mullo_epi16(lo, mlo), falo), 8);
+    hi = _mm512_srli_epi16(_mm512_add_epi16(_mm512_mullo_epi16(hi, mhi), fahi), 8);
+    return _mm512_or_si512(_mm512_packus_epi16(lo, hi), _mm512_set1_epi32((int)ew_rgba(0, 0, 0)));
+}
+
 /* fog_run32's blend, 16 pixels at a time. */
 __attribute__((target("avx512f,avx512bw"))) static void mix_avx512(uint8_t *p, int n, int a, const int rgb[3]) {
-    const __m512i m = _mm512_set1_epi16((short)(256 - a)), zero = _mm512_setzero_si512();
+    const __m512i m = _mm512_set1_epi16((short)(256 - a));
     const __m512i fa = _mm512_set1_epi64((long long)((uint64_t)(rgb[0] * a) | (uint64_t)(rgb[1] * a) << 16 |
                                                      (uint64_t)(rgb[2] * a) << 32));
-    const __m512i alpha = _mm512_set1_epi32((int)ew_rgba(0, 0, 0));
     for (int x = 0; x < n; x += 16) {
         const __mmask16 k = n - x >= 16 ? (__mmask16)0xFFFF : (__mmask16)((1u << (n - x)) - 1);
-        __m512i v = _mm512_maskz_loadu_epi32(k, p + (size_t)x * 4);
-        __m512i lo = _mm512_unpacklo_epi8(v, zero), hi = _mm512_unpackhi_epi8(v, zero);
-        lo = _mm512_srli_epi16(_mm512_add_epi16(_mm512_mullo_epi16(lo, m), fa), 8);
-        hi = _mm512_srli_epi16(_mm512_add_epi16(_mm512_mullo_epi16(hi, m), fa), 8);
-        v = _mm512_or_si512(_mm512_packus_epi16(lo, hi), alpha);
-        _mm512_mask_storeu_epi32(p + (size_t)x * 4, k, v);
+        const __m512i v = _mm512_maskz_loadu_epi32(k, p + (size_t)x * 4);
+        _mm512_mask_storeu_epi32(p + (size_t)x * 4, k, blend16(v, m, m, fa, fa));
     }
 }
 
@@ -221,7 +229,6 @@ __attribute__((target("avx512f,avx512bw"))) static void over_avx512(const ew_fog
     const __m512i zero16 = _mm512_setzero_si512(), c256 = _mm512_set1_epi16(256);
     const __m512i fog16 = _mm512_set1_epi64((long long)((uint64_t)f->rgb[0] | (uint64_t)f->rgb[1] << 16 |
                                                         (uint64_t)f->rgb[2] << 32));
-    const __m512i alpha = _mm512_set1_epi32((int)ew_rgba(0, 0, 0));
     for (; x < e; x += 16) {
         const __mmask16 in = e - x >= 16 ? (__mmask16)0xFFFF : (__mmask16)((1u << (e - x)) - 1);
         const __m512 z = _mm512_maskz_loadu_ps(in, zr + x);
@@ -249,11 +256,9 @@ __attribute__((target("avx512f,avx512bw"))) static void over_avx512(const ew_fog
             const __m512i a2 = _mm512_or_si512(a, _mm512_slli_epi32(a, 16));
             const __m512i alo = _mm512_unpacklo_epi32(a2, a2), ahi = _mm512_unpackhi_epi32(a2, a2);
             uint8_t *p = row + (size_t)x * 4;
-            __m512i v = _mm512_maskz_loadu_epi32(put, p);
-            __m512i lo = _mm512_unpacklo_epi8(v, zero16), hi = _mm512_unpackhi_epi8(v, zero16);
-            lo = _mm512_srli_epi16(_mm512_add_epi16(_mm512_mullo_epi16(lo, _mm512_sub_epi16(c256, alo)), _mm512_mullo_epi16(fog16, alo)), 8);
-            hi = _mm512_srli_epi16(_mm512_add_epi16(_mm512_mullo_epi16(hi, _mm512_sub_epi16(c256, ahi)), _mm512_mullo_epi16(fog16, ahi)), 8);
-            _mm512_mask_storeu_epi32(p, put, _mm512_or_si512(_mm512_packus_epi16(lo, hi), alpha));
+            const __m512i v = _mm512_maskz_loadu_epi32(put, p);
+            _mm512_mask_storeu_epi32(p, put, blend16(v, _mm512_sub_epi16(c256, alo), _mm512_sub_epi16(c256, ahi),
+                                                    _mm512_mullo_epi16(fog16, alo), _mm512_mullo_epi16(fog16, ahi)));
         }
     }
 }
